@@ -1,0 +1,3 @@
+set(ANAMORPH_APP_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/main.cpp
+)

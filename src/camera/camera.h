@@ -1,0 +1,42 @@
+// The camera contract from the paper: the raster image is a parameter space (u, v) in [0,1]^2,
+// u left to right, v top to bottom. A camera maps a sample position to a ray origin org(u,v), a
+// unit direction dir(u,v) and their derivatives (ray differentials), or to *no ray*.
+// The renderer only ever sees this interface.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "math/vec.h"
+
+namespace anamorph {
+
+struct CameraSample {
+  Vec2 uv;                 // image position in [0,1]^2
+  Vec2 lens{0.5, 0.5};     // lens sample in [0,1)^2 for depth of field
+  double time = 0;         // shutter time in [0,1]
+};
+
+struct CameraRay {
+  Vec3 org;
+  Vec3 dir;  // unit length
+  // Differentials: derivatives of origin and unit direction with respect to u and v (per unit of
+  // parameter space, so multiply by 1/width, 1/height for one pixel's footprint).
+  Vec3 dorg_du, dorg_dv;
+  Vec3 ddir_du, ddir_dv;
+};
+
+class Camera {
+ public:
+  virtual ~Camera() = default;
+  // Must be const, thread-safe and allocation-free.
+  virtual std::optional<CameraRay> generate(const CameraSample& s) const = 0;
+  // The inverse map: every (u, v) whose ray passes through `p` (may be empty or several).
+  virtual std::vector<Vec2> project(const Vec3& p) const = 0;
+  // Human-readable one-line description for `anamorph info` and file metadata.
+  virtual std::string describe() const = 0;
+};
+
+}  // namespace anamorph

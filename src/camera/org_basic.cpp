@@ -1,0 +1,97 @@
+// Origin functions: point and plane.
+#include "camera/org_basic.h"
+
+namespace anamorph {
+
+namespace {
+
+class PointOrg final : public OrgFunction {
+ public:
+  explicit PointOrg(Vec3 p) : p_(p) {}
+  bool eval(Vec2, SurfaceSample* out) const override {
+    *out = SurfaceSample{p_, {}, {}, {}};
+    return true;
+  }
+
+ private:
+  Vec3 p_;
+};
+
+// A rectilinear grid: p(u,v) = center + (u' - 1/2) edge_u + (v' - 1/2) edge_v, with u', v' the
+// image position mapped through u_range / v_range.
+class PlaneOrg final : public OrgFunction {
+ public:
+  PlaneOrg(Vec3 center, Vec3 eu, Vec3 ev, ParamRange ur, ParamRange vr)
+      : c_(center), eu_(eu), ev_(ev), ur_(ur), vr_(vr), n_(normalize(cross(eu, ev))) {}
+  bool eval(Vec2 uv, SurfaceSample* out) const override {
+    const double s = ur_(uv.x) - 0.5, t = vr_(uv.y) - 0.5;
+    out->p = c_ + eu_ * s + ev_ * t;
+    out->dpdu = eu_ * ur_.scale();
+    out->dpdv = ev_ * vr_.scale();
+    out->n = n_;
+    return true;
+  }
+
+ private:
+  Vec3 c_, eu_, ev_;
+  ParamRange ur_, vr_;
+  Vec3 n_;
+};
+
+}  // namespace
+
+std::unique_ptr<OrgFunction> make_point_org(Vec3 p) { return std::make_unique<PointOrg>(p); }
+
+std::unique_ptr<OrgFunction> make_plane_org(Vec3 center, Vec3 edge_u, Vec3 edge_v, ParamRange ur,
+                                            ParamRange vr) {
+  return std::make_unique<PlaneOrg>(center, edge_u, edge_v, ur, vr);
+}
+
+const ParamSpec kPointParams[] = {
+    {"position", ParamType::Vec3, "[0, 0, 0]", "The single origin of every ray."},
+};
+
+const ParamSpec kPlaneParams[] = {
+    {"center", ParamType::Vec3, "[0, 0, 0]", "Center of the rectangle (image position (0.5, 0.5))."},
+    {"edge_u", ParamType::Vec3, "[1, 0, 0]",
+     "Full edge vector along u (left to right). Ignored when `size` is given."},
+    {"edge_v", ParamType::Vec3, "[0, -1, 0]",
+     "Full edge vector along v (top to bottom). Ignored when `size` is given."},
+    {"size", ParamType::Vec2, "none",
+     "Width and height; with `normal` and `up` an alternative to edge_u/edge_v.", 0, kInf, {}, true},
+    {"normal", ParamType::Vec3, "[0, 0, -1]", "Plane normal (with `size`): the side the image faces."},
+    {"up", ParamType::Vec3, "[0, 1, 0]", "Up vector in the plane (with `size`)."},
+    {"u_range", ParamType::Vec2, "[0, 1]", "Part of the rectangle along u mapped to the image; reversed if decreasing."},
+    {"v_range", ParamType::Vec2, "[0, 1]", "Part of the rectangle along v mapped to the image; reversed if decreasing."},
+};
+
+static std::unique_ptr<OrgFunction> create_point(const ParamValues& v) {
+  return make_point_org(v.vec3("position"));
+}
+
+static std::unique_ptr<OrgFunction> create_plane(const ParamValues& v) {
+  Vec3 eu = v.vec3("edge_u"), ev = v.vec3("edge_v");
+  if (v.has("size")) {
+    const Vec2 size = v.vec2("size");
+    const Vec3 n = v.vec3("normal"), up = v.vec3("up");
+    if (!(length(n) > 0)) throw ParamError("normal", "normal must not be zero");
+    const Vec3 r = cross(n, up);
+    if (!(length(r) > 1e-12)) throw ParamError("up", "up must not be parallel to normal");
+    // Looking along the normal, u runs right and v runs down; edge_u x edge_v = normal.
+    const Vec3 right = normalize(r);
+    const Vec3 down = normalize(cross(normalize(n), right));
+    eu = right * size.x;
+    ev = down * size.y;
+  }
+  if (!(length(cross(eu, ev)) > 0)) throw ParamError("edge_u", "edge_u and edge_v must span a plane");
+  const Vec2 ur = v.vec2("u_range"), vr = v.vec2("v_range");
+  return make_plane_org(v.vec3("center"), eu, ev, {ur.x, ur.y}, {vr.x, vr.y});
+}
+
+const OrgFunctionInfo kPointOrgInfo{"point", "A single point: every ray starts there (a pinhole).",
+                                    kPointParams, create_point};
+const OrgFunctionInfo kPlaneOrgInfo{
+    "plane", "A rectilinear grid on a plane (the paper's plane function); normal = edge_u x edge_v (the side the image looks at).",
+    kPlaneParams, create_plane};
+
+}  // namespace anamorph

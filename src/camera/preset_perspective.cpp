@@ -1,0 +1,51 @@
+// perspective: org = point (the eye), dir = plane (the image plane at distance 1).
+#include <cmath>
+
+#include "camera/dir_basic.h"
+#include "camera/org_basic.h"
+#include "camera/preset_list.h"
+
+namespace anamorph {
+
+namespace {
+
+const std::string_view kFovAxes[] = {"horizontal", "vertical", "diagonal"};
+
+const ParamSpec kParams[] = {
+    ANAMORPH_LOOK_AT_PARAMS,
+    {"fov", ParamType::Number, "60", "Field of view in degrees, measured along fov_axis.", 0, 180,
+     {}, true, true},
+    {"fov_axis", ParamType::String, "\"horizontal\"", "Which image extent `fov` spans.", -kInf, kInf,
+     kFovAxes},
+    {"lens_shift", ParamType::Vec2, "[0, 0]",
+     "Off-axis shift of the image window, in units of the image width and height (as a view "
+     "camera's rise and shift; +x right, +y up)."},
+};
+
+VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
+  const double t = std::tan(radians(v.number("fov")) * 0.5);
+  const double a = img.aspect();
+  const std::string& axis = v.string("fov_axis");
+  double w;  // image plane width at distance 1
+  if (axis == "horizontal") w = 2 * t;
+  else if (axis == "vertical") w = 2 * t * a;
+  else w = 2 * t * a / std::sqrt(1 + a * a);
+  const double h = w / a;
+  const Vec2 shift = v.vec2("lens_shift");
+  const Vec3 center{shift.x * w, shift.y * h, -1};
+  VirtualCameraParts p;
+  p.org = make_point_org({0, 0, 0});
+  p.dir = make_surface_dir(make_plane_org(center, {w, 0, 0}, {0, -h, 0}), {0, 0, 0});
+  p.world_from_camera = rig_from_look_at(v);
+  p.description = "perspective (org point + dir plane)";
+  return p;
+}
+
+}  // namespace
+
+const PresetInfo kPerspectivePreset{
+    "perspective",
+    "The pinhole camera: org = point (the eye), dir = plane at distance 1 through the image.",
+    kParams, create};
+
+}  // namespace anamorph

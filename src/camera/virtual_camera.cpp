@@ -1,0 +1,183 @@
+#include "camera/virtual_camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "math/frame.h"
+#include "math/sampling.h"
+
+namespace anamorph {
+
+VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
+    : org_(std::move(parts.org)),
+      dir_(std::move(parts.dir)),
+      world_from_camera_(parts.world_from_camera),
+      rig_identity_(parts.world_from_camera.is_identity()),
+      dof_(dof),
+      description_(std::move(parts.description)) {}
+
+// Unit direction and its derivative: d(d/|d|) = (dd - n (n . dd)) / |d|.
+static Vec3 normalized_derivative(const Vec3& n, double len, const Vec3& dd) {
+  return (dd - n * dot(n, dd)) / len;
+}
+
+std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
+  SurfaceSample s;
+  if (!org_->eval(uv, &s)) return std::nullopt;
+  DirSample d;
+  if (!dir_->eval(uv, s, &d)) return std::nullopt;
+  const double len = length(d.d);
+  // A zero-length or non-finite direction means "no ray", never NaN.
+  if (!(len > 0) || !std::isfinite(len) || !is_finite(s.p)) return std::nullopt;
+  CameraRay r;
+  r.org = s.p;
+  r.dir = d.d / len;
+  r.dorg_du = s.dpdu;
+  r.dorg_dv = s.dpdv;
+  r.ddir_du = normalized_derivative(r.dir, len, d.dd_du);
+  r.ddir_dv = normalized_derivative(r.dir, len, d.dd_dv);
+  return r;
+}
+
+std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
+  auto r = generate_pinhole(cs.uv);
+  if (!r) return r;
+  if (dof_.aperture_radius > 0) {
+    // Thin lens generalised to any ray: move the origin on a disk perpendicular to the ray and
+    // re-aim at the point at focus_distance along the original ray.
+    const Vec3 focus = r->org + r->dir * dof_.focus_distance;
+    const Frame f = Frame::from_normal(r->dir);
+    const Vec2 l = sample_disk_concentric(cs.lens) * dof_.aperture_radius;
+    r->org = r->org + f.s * l.x + f.t * l.y;
+    r->dir = normalize(focus - r->org);
+  }
+  if (!rig_identity_) {
+    const auto& t = world_from_camera_;
+    r->org = t.point(r->org);
+    const Vec3 d = t.vector(r->dir);
+    const double len = length(d);
+    r->dir = d / len;
+    r->dorg_du = t.vector(r->dorg_du);
+    r->dorg_dv = t.vector(r->dorg_dv);
+    r->ddir_du = normalized_derivative(r->dir, len, t.vector(r->ddir_du));
+    r->ddir_dv = normalized_derivative(r->dir, len, t.vector(r->ddir_dv));
+  }
+  return r;
+}
+
+std::vector<Vec2> VirtualCamera::project(const Vec3& p) const { return project_numeric(*this, p); }
+
+namespace {
+
+// Perpendicular offset of p from the ray, and whether p lies in front of the origin.
+struct Miss {
+  Vec3 e;
+  bool ok = false;
+  double along = 0;
+};
+
+Miss miss_at(const Camera& cam, const Vec3& p, Vec2 uv) {
+  CameraSample s;
+  s.uv = uv;
+  auto r = cam.generate(s);
+  Miss m;
+  if (!r) return m;
+  const Vec3 op = p - r->org;
+  m.along = dot(op, r->dir);
+  m.e = op - r->dir * m.along;
+  m.ok = true;
+  return m;
+}
+
+// Angle-like error that is scale free: |perpendicular| / distance, or a large value behind.
+double angular_miss(const Miss& m, const Vec3&) {
+  if (!m.ok) return kInf;
+  const double perp = length(m.e);
+  if (m.along <= 0) return 2.0 + perp;  // behind the origin: worse than any front miss
+  return perp / std::max(m.along, 1e-300);
+}
+
+}  // namespace
+
+std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid) {
+  // 1. Coarse grid of angular misses.
+  const int n = grid;
+  std::vector<double> err(size_t(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      err[size_t(j) * n + i] = angular_miss(miss_at(cam, p, {(i + 0.5) / n, (j + 0.5) / n}), p);
+
+  // 2. Gauss-Newton from every local minimum of the grid.
+  std::vector<Vec2> out;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double e0 = err[size_t(j) * n + i];
+      if (!(e0 < 1.0)) continue;
+      bool local_min = true;
+      for (int dj = -1; dj <= 1 && local_min; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int a = i + di, b = j + dj;
+          if ((di || dj) && a >= 0 && b >= 0 && a < n && b < n) {
+            const double e1 = err[size_t(b) * n + a];
+            // Strict on one side so plateaus produce a single seed.
+            if (e1 < e0 || (e1 == e0 && (dj < 0 || (dj == 0 && di < 0)))) {
+              local_min = false;
+              break;
+            }
+          }
+        }
+      if (!local_min) continue;
+
+      Vec2 uv{(i + 0.5) / n, (j + 0.5) / n};
+      bool converged = false;
+      for (int it = 0; it < 60; ++it) {
+        const Miss m = miss_at(cam, p, uv);
+        if (!m.ok || m.along <= 0) break;
+        const double scale = std::max(m.along, 1e-12);
+        if (length(m.e) / scale < 1e-12) {
+          converged = true;
+          break;
+        }
+        // Central finite differences of the miss vector (works for any camera).
+        const double h = 1e-6;
+        const Miss mu0 = miss_at(cam, p, {uv.x - h, uv.y}), mu1 = miss_at(cam, p, {uv.x + h, uv.y});
+        const Miss mv0 = miss_at(cam, p, {uv.x, uv.y - h}), mv1 = miss_at(cam, p, {uv.x, uv.y + h});
+        if (!mu0.ok || !mu1.ok || !mv0.ok || !mv1.ok) break;
+        const Vec3 ju = (mu1.e - mu0.e) / (2 * h), jv = (mv1.e - mv0.e) / (2 * h);
+        // Normal equations of the 3x2 least-squares step.
+        const double a = dot(ju, ju), b = dot(ju, jv), c = dot(jv, jv);
+        const double ru = -dot(ju, m.e), rv = -dot(jv, m.e);
+        const double det = a * c - b * b;
+        if (!(std::abs(det) > 1e-300)) break;
+        Vec2 step{(c * ru - b * rv) / det, (a * rv - b * ru) / det};
+        // Damp steps that leave the domain or grow the error.
+        const double cur = length(m.e);
+        double t = 1;
+        for (int k = 0; k < 20; ++k, t *= 0.5) {
+          Vec2 cand = uv + step * t;
+          cand.x = std::clamp(cand.x, 0.0, 1.0);
+          cand.y = std::clamp(cand.y, 0.0, 1.0);
+          const Miss mc = miss_at(cam, p, cand);
+          if (mc.ok && mc.along > 0 && length(mc.e) < cur) {
+            uv = cand;
+            break;
+          }
+        }
+        if (t < 1e-5) {
+          converged = length(m.e) / scale < 1e-9;
+          break;
+        }
+      }
+      if (!converged) {
+        const Miss m = miss_at(cam, p, uv);
+        converged = m.ok && m.along > 0 && length(m.e) / std::max(m.along, 1e-12) < 1e-9;
+      }
+      if (!converged) continue;
+      const bool dup = std::any_of(out.begin(), out.end(),
+                                   [&](const Vec2& q) { return length(q - uv) < 1e-6; });
+      if (!dup) out.push_back(uv);
+    }
+  return out;
+}
+
+}  // namespace anamorph

@@ -1,0 +1,50 @@
+// The virtual camera: org and dir functions composed with a rig transform and depth of field.
+// Presets build one of these; the renderer sees only the Camera interface.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "camera/camera.h"
+#include "camera/functions.h"
+#include "math/transform.h"
+
+namespace anamorph {
+
+struct VirtualCameraParts {
+  std::unique_ptr<OrgFunction> org;
+  std::unique_ptr<DirFunction> dir;
+  Transform world_from_camera;  // the rig; identity when functions are given in world space
+  std::string description;
+};
+
+struct DepthOfField {
+  double aperture_radius = 0;  // 0 = pinhole: the exact undisplaced ray
+  double focus_distance = 1;   // along each ray, from its origin
+};
+
+class VirtualCamera final : public Camera {
+ public:
+  VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
+
+  std::optional<CameraRay> generate(const CameraSample& s) const override;
+  std::vector<Vec2> project(const Vec3& p) const override;
+  std::string describe() const override { return description_; }
+
+  // The ray before depth of field and in camera space (for tests and the inverse map).
+  std::optional<CameraRay> generate_pinhole(Vec2 uv) const;
+
+ private:
+  std::unique_ptr<OrgFunction> org_;
+  std::unique_ptr<DirFunction> dir_;
+  Transform world_from_camera_;
+  bool rig_identity_;
+  DepthOfField dof_;
+  std::string description_;
+};
+
+// Numeric inverse map for any camera: a coarse grid over [0,1]^2, then Gauss-Newton on the
+// point-to-ray distance from each local minimum; distinct solutions within tolerance are kept.
+std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid = 48);
+
+}  // namespace anamorph

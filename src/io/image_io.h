@@ -1,0 +1,58 @@
+// Image files. Reading: PNG/JPEG/BMP/TGA/HDR (stb) and EXR (tinyexr) into linear float RGBA.
+// Writing: PNG (8-bit sRGB + alpha, metadata in tEXt chunks) and EXR (32-bit float, linear,
+// several layers, metadata as string attributes). Every write is atomic: a temporary file in the
+// target directory, then rename(2), so a failed or interrupted write never leaves a truncated
+// file where a good one was.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene/texture.h"
+
+namespace anamorph {
+
+struct ImageIoError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// 8-bit sources are treated as sRGB-encoded and linearized unless `srgb` is false (data maps
+// such as normal or metallic-roughness textures). Returns 4 channels (alpha 1 when absent).
+Image read_image(const std::filesystem::path& file, bool srgb = true);
+
+// One named layer of an EXR: channel names are "<layer>.<c>" (or bare "<c>" for the unnamed
+// beauty layer), e.g. "albedo.R". `channels` names the components, e.g. {"R","G","B","A"}.
+struct ImageLayer {
+  std::string name;                   // "" for the main RGBA layer
+  std::vector<std::string> channels;  // component names
+  std::vector<float> data;            // width * height * channels.size(), interleaved
+};
+
+struct OutputImage {
+  int width = 0, height = 0;
+  std::vector<ImageLayer> layers;               // layers[0] is the beauty RGBA
+  std::map<std::string, std::string> metadata;  // e.g. "anamorph.camera", "anamorph.command"
+};
+
+// Chooses the format by extension (.png, .exr). PNG writes only layers[0].
+void write_image(const std::filesystem::path& file, const OutputImage& img);
+void write_png(const std::filesystem::path& file, const OutputImage& img);
+void write_exr(const std::filesystem::path& file, const OutputImage& img);
+
+// Read back metadata (PNG tEXt / EXR string attributes), for tests and `anamorph info`.
+std::map<std::string, std::string> read_metadata(const std::filesystem::path& file);
+// Read every EXR channel by full name ("R", "albedo.R", ...), for tests.
+std::map<std::string, std::vector<float>> read_exr_channels(const std::filesystem::path& file,
+                                                            int* width, int* height);
+
+// Writes `bytes` to `file` atomically (temporary file + fsync + rename). Throws ImageIoError.
+void write_file_atomic(const std::filesystem::path& file, const void* bytes, size_t size);
+
+// sRGB transfer functions.
+float linear_to_srgb(float v);
+float srgb_to_linear(float v);
+
+}  // namespace anamorph

@@ -1,0 +1,35 @@
+// Light sources. Area lights made of emissive triangles are collected from meshes at build time.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "math/transform.h"
+#include "scene/texture.h"
+
+namespace anamorph {
+
+struct Light {
+  enum class Kind { Point, Spot, Directional, Quad, Sphere };
+  Kind kind = Kind::Point;
+  Color intensity{1, 1, 1};  // Point/Spot: W/sr (radiant intensity); Directional: irradiance;
+                             // Quad/Sphere: emitted radiance
+  Vec3 position{0, 0, 0};    // Point, Spot, Sphere (center), Quad (corner)
+  Vec3 direction{0, -1, 0};  // Spot, Directional (direction light travels)
+  double cone_angle = 30;    // Spot: full-intensity half angle, degrees
+  double cone_falloff = 5;   // Spot: smooth falloff width beyond cone_angle, degrees
+  Vec3 edge_u{1, 0, 0}, edge_v{0, 0, 1};  // Quad: emits on the side of edge_u x edge_v
+  double radius = 0.5;       // Sphere
+  bool two_sided = false;    // Quad
+  std::string name;
+};
+
+struct Environment {
+  Color color{0, 0, 0};                 // constant radiance (used when no image)
+  std::shared_ptr<const Image> image;   // equirectangular, linear RGB
+  double strength = 1;
+  double rotation = 0;                  // degrees about +y
+  bool present() const { return image || max_component(color) > 0; }
+};
+
+}  // namespace anamorph

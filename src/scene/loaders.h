@@ -1,0 +1,43 @@
+// Mesh file loaders: glTF 2.0 through tinygltf (.gltf, .glb, data URIs), everything else that
+// assimp reads (OBJ/MTL, PLY, STL, ...) through assimp. Both produce the same LoadedModel.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene/material.h"
+#include "scene/mesh.h"
+
+namespace anamorph {
+
+struct LoadError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A camera found in the file (glTF cameras), placed in the model's space.
+struct ModelCamera {
+  std::string name;
+  bool perspective = true;
+  double yfov = 0.8;         // radians (perspective)
+  double aspect = 0;         // 0 = use the image's
+  double xmag = 1, ymag = 1; // half extents (orthographic)
+  Transform world_from_camera;  // camera looks along -z, +y up (glTF convention)
+};
+
+struct LoadedModel {
+  std::vector<Material> materials;      // indices used by meshes refer to this list
+  std::vector<Prototype> prototypes;    // each mesh built once...
+  std::vector<Instance> instances;      // ...and placed by nodes (model space)
+  std::vector<ModelCamera> cameras;
+  std::vector<std::string> warnings;    // repaired problems (zero normals, unknown extensions)
+};
+
+// Dispatches on the extension. Throws LoadError with a message naming the file on any failure:
+// missing file, parse error, non-finite positions, out-of-range indices.
+LoadedModel load_model(const std::filesystem::path& file);
+LoadedModel load_gltf(const std::filesystem::path& file);
+LoadedModel load_with_assimp(const std::filesystem::path& file);
+
+}  // namespace anamorph

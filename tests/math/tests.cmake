@@ -1,0 +1,3 @@
+anamorph_add_test(test_math
+  ${CMAKE_CURRENT_LIST_DIR}/transform_test.cpp
+)

@@ -1,0 +1,25 @@
+// Helpers shared by tests: where fixtures live, and skipping when ../shared is absent.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace anamorph::test {
+
+inline std::filesystem::path data_dir() { return ANAMORPH_TEST_DATA; }
+inline std::filesystem::path source_dir() { return ANAMORPH_SOURCE_DIR; }
+inline std::filesystem::path binary() { return ANAMORPH_BINARY; }
+inline std::filesystem::path shared_scenes() { return ANAMORPH_SHARED_SCENES; }
+inline bool have_shared() { return std::filesystem::exists(shared_scenes() / "MANIFEST.md"); }
+
+}  // namespace anamorph::test
+
+// Skips the current test with a clear message when ../shared/scenes is not beside the repo.
+#define ANAMORPH_REQUIRE_SHARED()                                                          \
+  do {                                                                                     \
+    if (!::anamorph::test::have_shared())                                                  \
+      GTEST_SKIP() << "../shared/scenes not found at " << ::anamorph::test::shared_scenes() \
+                   << ": skipping test that needs third-party models";                      \
+  } while (0)
