@@ -1,8 +1,5 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/virtual_camera.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/org_basic.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/dir_basic.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/registry.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/presets.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/preset_perspective.cpp
 )
+include(${CMAKE_CURRENT_LIST_DIR}/functions.cmake)  # origin and direction functions
+include(${CMAKE_CURRENT_LIST_DIR}/presets.cmake)    # presets

@@ -1,3 +1,2 @@
-anamorph_add_test(test_camera
-  ${CMAKE_CURRENT_LIST_DIR}/perspective_test.cpp
-)
+include(${CMAKE_CURRENT_LIST_DIR}/functions_tests.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/presets_tests.cmake)

@@ -1,1 +1,1 @@
-# anamorph_add_test(test_scene ...)
+include(${CMAKE_CURRENT_LIST_DIR}/loaders_tests.cmake)

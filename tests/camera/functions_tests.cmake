@@ -1,0 +1,1 @@
+# anamorph_add_test(test_camera_functions ...)
