@@ -3,3 +3,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/scene.cpp
 )
 include(${CMAKE_CURRENT_LIST_DIR}/loaders.cmake)  # glTF and assimp loaders
+list(APPEND ANAMORPH_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/toml_reader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/camera_reader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scene_loader.cpp
+)

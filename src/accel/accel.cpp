@@ -1,0 +1,409 @@
+#include "accel/accel.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "accel/shapes.h"
+#include "math/frame.h"
+
+namespace anamorph {
+
+struct Accel::Record {
+  enum class Kind { FlatMesh, Instance, Shape };
+  Kind kind = Kind::FlatMesh;
+  const TriangleMesh* mesh = nullptr;     // FlatMesh (world space)
+  const Prototype* proto = nullptr;       // Instance (object space meshes)
+  const AnalyticShape* shape = nullptr;   // Shape
+  Transform world_from_object, object_from_world;
+};
+
+namespace {
+
+void embree_error(void*, RTCError code, const char* msg) {
+  // Embree reports through this callback; failures here are programming or memory errors.
+  throw std::runtime_error(fmt::format("Embree error {}: {}", int(code), msg ? msg : ""));
+}
+
+// Alpha-masked materials reject hits whose texture alpha is below the cutoff.
+struct MaskData {
+  const TriangleMesh* mesh;
+  const Material* material;
+};
+
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* md = static_cast<const MaskData*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const float bu = RTCHitN_u(args->hit, args->N, i), bv = RTCHitN_v(args->hit, args->N, i);
+    const TriangleMesh& m = *md->mesh;
+    if (m.uvs.empty()) continue;
+    const uint32_t* idx = &m.indices[size_t(prim) * 3];
+    const Vec2f a = m.uvs[idx[0]], b = m.uvs[idx[1]], c = m.uvs[idx[2]];
+    TexCoord tc;
+    tc.uv = {(1 - bu - bv) * a.x + bu * b.x + bv * c.x, (1 - bu - bv) * a.y + bu * b.y + bv * c.y};
+    double alpha = 1;
+    md->material->base_color.eval(tc, &alpha);
+    if (alpha < md->material->alpha_cutoff) args->valid[i] = 0;
+  }
+}
+
+void shape_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* rec = static_cast<const Accel::Record*>(args->geometryUserPtr);
+  const Bounds3 b = rec->world_from_object.bounds(shape_object_bounds(*rec->shape));
+  // Pad by a relative epsilon: float bounds must contain the double-precision surface.
+  const Vec3 pad = max(b.hi - b.lo, Vec3(1.0)) * 1e-6;
+  args->bounds_o->lower_x = float(b.lo.x - pad.x);
+  args->bounds_o->lower_y = float(b.lo.y - pad.y);
+  args->bounds_o->lower_z = float(b.lo.z - pad.z);
+  args->bounds_o->upper_x = float(b.hi.x + pad.x);
+  args->bounds_o->upper_y = float(b.hi.y + pad.y);
+  args->bounds_o->upper_z = float(b.hi.z + pad.z);
+}
+
+template <bool kOcclusion, class Args>
+void shape_query(const Args* args) {
+  const auto* rec = static_cast<const Accel::Record*>(args->geometryUserPtr);
+  const unsigned n = args->N;
+  RTCRayN* ray;
+  RTCHitN* hit = nullptr;
+  if constexpr (kOcclusion) {
+    ray = args->ray;
+  } else {
+    ray = RTCRayHitN_RayN(args->rayhit, n);
+    hit = RTCRayHitN_HitN(args->rayhit, n);
+  }
+  for (unsigned i = 0; i < n; ++i) {
+    if (args->valid[i] != -1) continue;
+    const Vec3 o{RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)};
+    const Vec3 d{RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
+    const double tmin = RTCRayN_tnear(ray, n, i), tmax = RTCRayN_tfar(ray, n, i);
+    const Vec3 oo = rec->object_from_world.point(o), od = rec->object_from_world.vector(d);
+    double t;
+    if (!intersect_shape(*rec->shape, oo, od, tmin, tmax, &t)) continue;
+    if constexpr (kOcclusion) {
+      RTCRayN_tfar(ray, n, i) = -std::numeric_limits<float>::infinity();
+    } else {
+      const auto tf = float(t);
+      if (!(tf < tmax)) continue;  // float rounding must not accept a farther hit
+      RTCRayN_tfar(ray, n, i) = tf;
+      const ShapeSurface ss = shape_surface(*rec->shape, oo + od * t);
+      const Vec3 ng = rec->world_from_object.normal(ss.n);
+      RTCHitN_Ng_x(hit, n, i) = float(ng.x);
+      RTCHitN_Ng_y(hit, n, i) = float(ng.y);
+      RTCHitN_Ng_z(hit, n, i) = float(ng.z);
+      RTCHitN_u(hit, n, i) = 0;
+      RTCHitN_v(hit, n, i) = 0;
+      RTCHitN_primID(hit, n, i) = args->primID;
+      RTCHitN_geomID(hit, n, i) = args->geomID;
+      RTCHitN_instID(hit, n, i, 0) = args->context->instID[0];
+    }
+  }
+}
+
+void shape_intersect(const RTCIntersectFunctionNArguments* args) { shape_query<false>(args); }
+void shape_occluded(const RTCOccludedFunctionNArguments* args) { shape_query<true>(args); }
+
+RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform* xf,
+                           const Material& mat, std::vector<std::unique_ptr<MaskData>>& masks) {
+  RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                         3 * sizeof(float), m.positions.size()));
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    Vec3 p(m.positions[i]);
+    if (xf) p = xf->point(p);
+    v[3 * i] = float(p.x);
+    v[3 * i + 1] = float(p.y);
+    v[3 * i + 2] = float(p.z);
+  }
+  auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(uint32_t), m.triangle_count()));
+  std::copy(m.indices.begin(), m.indices.end(), ix);
+  if (mat.alpha_mode != Material::AlphaMode::Opaque && mat.base_color.kind == Texture::Kind::Image) {
+    masks.push_back(std::make_unique<MaskData>(MaskData{&m, &mat}));
+    rtcSetGeometryUserData(g, masks.back().get());
+    rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
+    rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
+  }
+  rtcCommitGeometry(g);
+  return g;
+}
+
+}  // namespace
+
+struct Accel::MaskStore {
+  std::vector<std::unique_ptr<MaskData>> list;
+};
+
+Accel::Accel(const Scene& scene) : scene_(&scene) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error(fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+  top_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
+
+  masks_ = std::make_unique<MaskStore>();
+  auto& masks = masks_->list;
+
+  // Count uses of each prototype: single-use ones are flattened into the top level, which
+  // saves a level of traversal for the common one-model scene.
+  std::vector<int> uses(scene.prototypes.size(), 0);
+  for (const auto& inst : scene.instances) uses[inst.prototype]++;
+  prototype_scenes_.assign(scene.prototypes.size(), nullptr);
+
+  size_t flat_count = 0;
+  for (const auto& inst : scene.instances)
+    if (uses[inst.prototype] == 1) flat_count += scene.prototypes[inst.prototype].meshes.size();
+  flat_meshes_.reserve(flat_count);
+
+  auto attach = [&](RTCGeometry g, std::unique_ptr<Record> rec) {
+    const unsigned id = rtcAttachGeometry(top_, g);
+    rtcReleaseGeometry(g);
+    if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
+    records_.push_back(std::move(rec));
+  };
+
+  for (const auto& inst : scene.instances) {
+    const Prototype& proto = scene.prototypes[inst.prototype];
+    if (uses[inst.prototype] == 1) {
+      for (const auto& m : proto.meshes) {
+        // Move to world space once; normals by the inverse transpose.
+        TriangleMesh w = m;
+        for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
+        for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
+        if (inst.world_from_object.swaps_handedness())
+          for (size_t t = 0; t < w.indices.size(); t += 3) std::swap(w.indices[t + 1], w.indices[t + 2]);
+        flat_meshes_.push_back(std::move(w));
+        const TriangleMesh& fm = flat_meshes_.back();
+        RTCGeometry g = make_triangles(device_, fm, nullptr, scene.materials[fm.material], masks);
+        auto rec = std::make_unique<Record>();
+        rec->kind = Record::Kind::FlatMesh;
+        rec->mesh = &fm;
+        attach(g, std::move(rec));
+        stats_.unique_triangles += fm.triangle_count();
+        stats_.instanced_triangles += fm.triangle_count();
+      }
+      continue;
+    }
+    RTCScene& ps = prototype_scenes_[inst.prototype];
+    if (!ps) {
+      ps = rtcNewScene(device_);
+      rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
+      for (const auto& m : proto.meshes) {
+        RTCGeometry g = make_triangles(device_, m, nullptr, scene.materials[m.material], masks);
+        rtcAttachGeometry(ps, g);
+        rtcReleaseGeometry(g);
+        stats_.unique_triangles += m.triangle_count();
+      }
+      rtcCommitScene(ps);
+    }
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, ps);
+    float xfm[12];  // 3x4 column-major
+    const auto& a = inst.world_from_object.matrix().m;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(g);
+    auto rec = std::make_unique<Record>();
+    rec->kind = Record::Kind::Instance;
+    rec->proto = &proto;
+    rec->world_from_object = inst.world_from_object;
+    rec->object_from_world = inst.world_from_object.inverse();
+    attach(g, std::move(rec));
+    stats_.instances++;
+    for (const auto& m : proto.meshes) stats_.instanced_triangles += m.triangle_count();
+  }
+
+  for (const auto& sh : scene.shapes) {
+    auto rec = std::make_unique<Record>();
+    rec->kind = Record::Kind::Shape;
+    rec->shape = &sh;
+    rec->world_from_object = sh.world_from_object;
+    rec->object_from_world = sh.world_from_object.inverse();
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, 1);
+    rtcSetGeometryUserData(g, rec.get());
+    rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, shape_intersect);
+    rtcSetGeometryOccludedFunction(g, shape_occluded);
+    rtcCommitGeometry(g);
+    attach(g, std::move(rec));
+    stats_.shapes++;
+  }
+  rtcCommitScene(top_);
+
+  RTCBounds b;
+  rtcGetSceneBounds(top_, &b);
+  if (!records_.empty()) {
+    bounds_.extend({b.lower_x, b.lower_y, b.lower_z});
+    bounds_.extend({b.upper_x, b.upper_y, b.upper_z});
+  }
+}
+
+Accel::~Accel() {
+  if (top_) rtcReleaseScene(top_);
+  for (RTCScene s : prototype_scenes_)
+    if (s) rtcReleaseScene(s);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
+                     float bv, Hit* h) const {
+  h->t = t;
+  const unsigned top_id = inst != RTC_INVALID_GEOMETRY_ID ? inst : geom;
+  const Record& rec = *records_[top_id];
+  h->object_id = top_id;
+  if (rec.kind == Record::Kind::Shape) {
+    const AnalyticShape& s = *rec.shape;
+    // Recompute in double from the object-space ray for an exact surface point.
+    const Vec3 oo = rec.object_from_world.point(r.o), od = rec.object_from_world.vector(r.d);
+    Vec3 po = oo + od * double(t);
+    const ShapeSurface ss = shape_surface(s, po);
+    h->p = rec.world_from_object.point(po);
+    h->ng = normalize(rec.world_from_object.normal(ss.n));
+    h->ns = h->ng;
+    h->uv = ss.uv;
+    h->dpdu = rec.world_from_object.vector(ss.dpdu);
+    h->dpdv = rec.world_from_object.vector(ss.dpdv);
+    h->material = s.material;
+    h->p_object = po;
+    h->n_object = ss.n;
+    h->object_from_world = &rec.object_from_world;
+    return;
+  }
+  const TriangleMesh* m;
+  const Transform* xf = nullptr;
+  if (rec.kind == Record::Kind::FlatMesh) {
+    m = rec.mesh;
+  } else {
+    m = &rec.proto->meshes[geom];
+    xf = &rec.world_from_object;
+  }
+  const uint32_t* idx = &m->indices[size_t(prim) * 3];
+  const Vec3 p0(m->positions[idx[0]]), p1(m->positions[idx[1]]), p2(m->positions[idx[2]]);
+  const double w = 1.0 - bu - bv;
+  Vec3 po = p0 * w + p1 * double(bu) + p2 * double(bv);
+  Vec3 ngo = cross(p1 - p0, p2 - p0);
+  Vec2 uv0{0, 0}, uv1{1, 0}, uv2{0, 1};
+  if (!m->uvs.empty()) {
+    uv0 = {m->uvs[idx[0]].x, m->uvs[idx[0]].y};
+    uv1 = {m->uvs[idx[1]].x, m->uvs[idx[1]].y};
+    uv2 = {m->uvs[idx[2]].x, m->uvs[idx[2]].y};
+  }
+  h->uv = uv0 * w + uv1 * double(bu) + uv2 * double(bv);
+  // dp/du, dp/dv from the triangle's uv layout.
+  const Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+  const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+  const double det = duv02.x * duv12.y - duv02.y * duv12.x;
+  Vec3 dpdu, dpdv;
+  if (std::abs(det) > 1e-20) {
+    const double inv = 1 / det;
+    dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
+    dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
+  } else {
+    const Frame f = Frame::from_normal(normalize(ngo));
+    dpdu = f.s;
+    dpdv = f.t;
+  }
+  Vec3 ns = ngo;
+  if (!m->normals.empty())
+    ns = Vec3(m->normals[idx[0]]) * w + Vec3(m->normals[idx[1]]) * double(bu) + Vec3(m->normals[idx[2]]) * double(bv);
+  h->p_object = po;
+  h->n_object = normalize(ngo);
+  if (xf) {
+    po = xf->point(po);
+    ngo = xf->normal(ngo);
+    ns = xf->normal(ns);
+    dpdu = xf->vector(dpdu);
+    dpdv = xf->vector(dpdv);
+    h->object_from_world = &rec.object_from_world;
+  } else {
+    h->object_from_world = nullptr;
+  }
+  h->p = po;
+  h->ng = normalize(ngo);
+  ns = length(ns) > 0 ? normalize(ns) : h->ng;
+  h->ns = dot(ns, h->ng) < 0 ? -ns : ns;
+  h->dpdu = dpdu;
+  h->dpdv = dpdv;
+  h->material = m->material;
+}
+
+static void set_ray(RTCRay& ray, const Ray& r) {
+  ray.org_x = float(r.o.x);
+  ray.org_y = float(r.o.y);
+  ray.org_z = float(r.o.z);
+  ray.dir_x = float(r.d.x);
+  ray.dir_y = float(r.d.y);
+  ray.dir_z = float(r.d.z);
+  ray.tnear = float(r.tmin);
+  ray.tfar = r.tmax >= double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity()
+                                                                  : float(r.tmax);
+  ray.time = 0;
+  ray.mask = 0xFFFFFFFF;
+  ray.id = 0;
+  ray.flags = 0;
+}
+
+bool Accel::intersect(const Ray& r, Hit* hit) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  set_ray(rh.ray, r);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(top_, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  fill_hit(r, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.u, rh.hit.v, hit);
+  return true;
+}
+
+bool Accel::occluded(const Ray& r) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay ray;
+  set_ray(ray, r);
+  rtcOccluded1(top_, &ctx, &ray);
+  return ray.tfar < 0;
+}
+
+void Accel::intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(32) RTCRayHit8 rh;
+  alignas(32) int v[8];
+  for (int i = 0; i < 8; ++i) {
+    v[i] = valid[i] ? -1 : 0;
+    const Ray& r = rays[i];
+    rh.ray.org_x[i] = float(r.o.x);
+    rh.ray.org_y[i] = float(r.o.y);
+    rh.ray.org_z[i] = float(r.o.z);
+    rh.ray.dir_x[i] = float(r.d.x);
+    rh.ray.dir_y[i] = float(r.d.y);
+    rh.ray.dir_z[i] = float(r.d.z);
+    rh.ray.tnear[i] = float(r.tmin);
+    rh.ray.tfar[i] = r.tmax >= double(std::numeric_limits<float>::max())
+                         ? std::numeric_limits<float>::infinity()
+                         : float(r.tmax);
+    rh.ray.time[i] = 0;
+    rh.ray.mask[i] = 0xFFFFFFFF;
+    rh.ray.id[i] = unsigned(i);
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect8(v, top_, &ctx, &rh);
+  for (int i = 0; i < 8; ++i) {
+    found[i] = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+    if (found[i])
+      fill_hit(rays[i], rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i],
+               rh.hit.u[i], rh.hit.v[i], &hits[i]);
+  }
+}
+
+}  // namespace anamorph

@@ -1,0 +1,76 @@
+// The scene's acceleration structure: Embree 3 BVHs over triangle meshes (single-use meshes
+// flattened into the top level, shared ones instanced) and exact analytic shapes as Embree user
+// geometry. Queries are const and thread-safe.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "math/transform.h"
+#include "math/vec.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+struct Ray {
+  Vec3 o, d;  // d need not be unit; t is in units of |d|
+  double tmin = 0, tmax = kInf;
+};
+
+// Everything shading needs about a hit, in world space (double precision).
+struct Hit {
+  double t = kInf;
+  Vec3 p;         // position
+  Vec3 ng;        // geometric normal (unit, not flipped toward the ray)
+  Vec3 ns;        // interpolated shading normal (unit, same hemisphere as ng)
+  Vec2 uv;        // surface parameterization (mesh texture coordinates or shape parameters)
+  Vec3 dpdu, dpdv;  // position derivatives w.r.t. uv (for texture footprints, normal maps)
+  uint32_t material = 0;
+  uint32_t object_id = 0;  // one id per scene object instance / shape
+  Vec3 p_object;           // position in object space (procedural textures)
+  Vec3 n_object;           // geometric normal in object space
+  const Transform* object_from_world = nullptr;
+};
+
+struct AccelStats {
+  size_t unique_triangles = 0, instanced_triangles = 0, instances = 0, shapes = 0;
+};
+
+class Accel {
+ public:
+  explicit Accel(const Scene& scene);
+  ~Accel();
+  Accel(const Accel&) = delete;
+  Accel& operator=(const Accel&) = delete;
+
+  bool intersect(const Ray& r, Hit* hit) const;
+  bool occluded(const Ray& r) const;
+  // Intersects 8 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
+  void intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
+  Bounds3 bounds() const { return bounds_; }
+  const AccelStats& stats() const { return stats_; }
+  uint32_t object_count() const { return uint32_t(records_.size()); }
+
+  // Completes a hit from Embree's answer (public for the packet path and tests).
+  struct Record;
+
+ private:
+  void fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
+                float bv, Hit* hit) const;
+  struct MaskStore;
+
+  RTCDevice device_ = nullptr;
+  RTCScene top_ = nullptr;
+  std::vector<RTCScene> prototype_scenes_;
+  std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
+  std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space
+  std::unique_ptr<MaskStore> masks_;  // alpha-mask filter data, referenced by Embree
+  const Scene* scene_;
+  Bounds3 bounds_;
+  AccelStats stats_;
+};
+
+}  // namespace anamorph
