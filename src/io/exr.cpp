@@ -1,0 +1,214 @@
+// OpenEXR through tinyexr: 32-bit float channels "<layer>.<C>", metadata as string attributes.
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+
+#include <fmt/format.h>
+#include <tinyexr.h>
+
+#include "io/image_io.h"
+#include "io/io_util.h"
+
+namespace anamorph {
+
+namespace fs = std::filesystem;
+using io_detail::fail;
+
+namespace {
+
+// Attributes every scanline EXR header carries; a metadata key with one of these names would
+// be read back as the standard attribute, so it is refused.
+constexpr const char* kReservedAttributes[] = {"channels",
+                                               "compression",
+                                               "dataWindow",
+                                               "displayWindow",
+                                               "lineOrder",
+                                               "pixelAspectRatio",
+                                               "screenWindowCenter",
+                                               "screenWindowWidth",
+                                               "tiles",
+                                               "name",
+                                               "type",
+                                               "version",
+                                               "chunkCount"};
+
+std::string take_error(const char* err, const char* fallback) {
+  std::string msg = err ? err : fallback;
+  if (err) FreeEXRErrorMessage(err);
+  return msg;
+}
+
+// Owns a parsed header (and optionally its image); frees both the tinyexr way.
+struct ParsedExr {
+  EXRVersion version{};
+  EXRHeader header{};
+  EXRImage image{};
+  bool has_header = false, has_image = false;
+  ~ParsedExr() {
+    if (has_image) FreeEXRImage(&image);
+    if (has_header) FreeEXRHeader(&header);
+  }
+};
+
+void parse_header(ParsedExr& exr, const std::vector<unsigned char>& b, const fs::path& file) {
+  if (ParseEXRVersionFromMemory(&exr.version, b.data(), b.size()) != TINYEXR_SUCCESS)
+    fail("cannot read EXR", file, "not a valid OpenEXR file");
+  if (exr.version.multipart || exr.version.non_image)
+    fail("cannot read EXR", file, "multi-part and deep EXR files are not supported");
+  InitEXRHeader(&exr.header);
+  const char* err = nullptr;
+  if (ParseEXRHeaderFromMemory(&exr.header, &exr.version, b.data(), b.size(), &err) !=
+      TINYEXR_SUCCESS)
+    fail("cannot read EXR", file, take_error(err, "invalid header"));
+  exr.has_header = true;
+}
+
+}  // namespace
+
+void write_exr(const fs::path& file, const OutputImage& img) {
+  io_detail::check_output(img, file);
+  struct Channel {
+    std::string name;
+    size_t layer, component;
+  };
+  std::vector<Channel> channels;
+  for (size_t l = 0; l < img.layers.size(); ++l) {
+    const ImageLayer& layer = img.layers[l];
+    for (size_t c = 0; c < layer.channels.size(); ++c) {
+      std::string name =
+          layer.name.empty() ? layer.channels[c] : layer.name + "." + layer.channels[c];
+      if (layer.channels[c].empty() || name.size() > 255)
+        fail("cannot write EXR", file,
+             fmt::format("invalid channel name '{}' (1-255 characters)", name));
+      channels.push_back({std::move(name), l, c});
+    }
+  }
+  // OpenEXR readers expect the channel list, and so the pixel data, in sorted name order;
+  // tinyexr writes channels in the order given, so sort them here.
+  std::sort(channels.begin(), channels.end(),
+            [](const Channel& a, const Channel& b) { return a.name < b.name; });
+  for (size_t i = 1; i < channels.size(); ++i)
+    if (channels[i].name == channels[i - 1].name)
+      fail("cannot write EXR", file, fmt::format("duplicate channel '{}'", channels[i].name));
+
+  const size_t pixels = size_t(img.width) * size_t(img.height);
+  std::vector<std::vector<float>> planes(channels.size(), std::vector<float>(pixels));
+  std::vector<unsigned char*> plane_ptrs(channels.size());
+  std::vector<EXRChannelInfo> infos(channels.size());
+  for (size_t i = 0; i < channels.size(); ++i) {
+    const ImageLayer& layer = img.layers[channels[i].layer];
+    const size_t n = layer.channels.size();
+    for (size_t p = 0; p < pixels; ++p) planes[i][p] = layer.data[p * n + channels[i].component];
+    plane_ptrs[i] = reinterpret_cast<unsigned char*>(planes[i].data());
+    std::memset(&infos[i], 0, sizeof(EXRChannelInfo));
+    std::memcpy(infos[i].name, channels[i].name.c_str(), channels[i].name.size() + 1);
+  }
+  std::vector<int> pixel_types(channels.size(), TINYEXR_PIXELTYPE_FLOAT);
+
+  if (img.metadata.size() > TINYEXR_MAX_CUSTOM_ATTRIBUTES)
+    fail("cannot write EXR", file,
+         fmt::format("{} metadata entries, at most {} are supported", img.metadata.size(),
+                     TINYEXR_MAX_CUSTOM_ATTRIBUTES));
+  std::vector<EXRAttribute> attributes;
+  for (const auto& [key, value] : img.metadata) {
+    const bool reserved =
+        std::any_of(std::begin(kReservedAttributes), std::end(kReservedAttributes),
+                    [&](const char* r) { return key == r; });
+    if (key.empty() || key.size() > 255 || key.find('\0') != std::string::npos || reserved)
+      fail("cannot write EXR", file,
+           fmt::format("metadata key '{}' is empty, too long or a standard EXR attribute", key));
+    EXRAttribute a{};
+    std::memcpy(a.name, key.c_str(), key.size() + 1);
+    std::strcpy(a.type, "string");
+    // tinyexr only reads the value while saving; it never frees or modifies it here.
+    a.value = reinterpret_cast<unsigned char*>(const_cast<char*>(value.data()));
+    a.size = int(value.size());
+    attributes.push_back(a);
+  }
+
+  EXRHeader header;
+  InitEXRHeader(&header);
+  header.num_channels = int(channels.size());
+  header.channels = infos.data();
+  header.pixel_types = pixel_types.data();
+  header.requested_pixel_types = pixel_types.data();
+  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;  // lossless
+  header.num_custom_attributes = int(attributes.size());
+  header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
+
+  EXRImage image;
+  InitEXRImage(&image);
+  image.images = plane_ptrs.data();
+  image.width = img.width;
+  image.height = img.height;
+  image.num_channels = int(channels.size());
+
+  unsigned char* memory = nullptr;
+  const char* err = nullptr;
+  const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
+  std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
+  if (size == 0) fail("cannot write EXR", file, take_error(err, "encoding failed"));
+  write_file_atomic(file, memory, size);
+}
+
+io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,
+                                           const fs::path& file) {
+  ParsedExr exr;
+  parse_header(exr, b, file);
+  EXRHeader& h = exr.header;
+  for (int c = 0; c < h.num_channels; ++c)
+    if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
+      h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  InitEXRImage(&exr.image);
+  const char* err = nullptr;
+  if (LoadEXRImageFromMemory(&exr.image, &h, b.data(), b.size(), &err) != TINYEXR_SUCCESS)
+    fail("cannot read EXR", file, take_error(err, "invalid image data"));
+  exr.has_image = true;
+
+  ExrChannels out;
+  out.width = exr.image.width;
+  out.height = exr.image.height;
+  const size_t w = size_t(out.width), pixels = w * size_t(out.height);
+  for (int c = 0; c < h.num_channels; ++c) {
+    // After loading, pixel types are the requested ones: FLOAT, or UINT left as is.
+    const bool is_uint = h.requested_pixel_types[c] == TINYEXR_PIXELTYPE_UINT;
+    auto value = [&](const unsigned char* plane, size_t i) {
+      return is_uint ? float(reinterpret_cast<const uint32_t*>(plane)[i])
+                     : reinterpret_cast<const float*>(plane)[i];
+    };
+    std::vector<float> plane(pixels);
+    if (h.tiled) {
+      for (int t = 0; t < exr.image.num_tiles; ++t) {
+        const EXRTile& tile = exr.image.tiles[t];
+        if (tile.level_x != 0 || tile.level_y != 0) continue;
+        const size_t x0 = size_t(tile.offset_x) * size_t(h.tile_size_x);
+        const size_t y0 = size_t(tile.offset_y) * size_t(h.tile_size_y);
+        for (size_t y = 0; y < size_t(tile.height); ++y)
+          for (size_t x = 0; x < size_t(tile.width); ++x)
+            plane[(y0 + y) * w + x0 + x] = value(tile.images[c], y * size_t(h.tile_size_x) + x);
+      }
+    } else {
+      for (size_t i = 0; i < pixels; ++i) plane[i] = value(exr.image.images[c], i);
+    }
+    out.channels[h.channels[c].name] = std::move(plane);
+  }
+  return out;
+}
+
+std::map<std::string, std::string> io_detail::exr_metadata(const std::vector<unsigned char>& b,
+                                                           const fs::path& file) {
+  ParsedExr exr;
+  parse_header(exr, b, file);
+  std::map<std::string, std::string> meta;
+  for (int i = 0; i < exr.header.num_custom_attributes; ++i) {
+    const EXRAttribute& a = exr.header.custom_attributes[i];
+    if (std::strcmp(a.type, "string") != 0) continue;
+    std::string value(reinterpret_cast<const char*>(a.value), size_t(std::max(a.size, 0)));
+    if (value == std::string(1, '\0')) value.clear();  // tinyexr's form of an empty string
+    meta[a.name] = std::move(value);
+  }
+  return meta;
+}
+
+}  // namespace anamorph

@@ -1,0 +1,203 @@
+// Reading any supported image into linear RGBA, dispatch of writes by extension and of metadata
+// reads by file signature, the sRGB transfer functions and shared helpers.
+#include "io/image_io.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <stb_image.h>
+
+#include "io/io_util.h"
+
+namespace anamorph {
+
+namespace fs = std::filesystem;
+
+namespace io_detail {
+
+void fail(std::string_view what, const fs::path& file, std::string_view reason) {
+  throw ImageIoError(fmt::format("{} '{}': {}", what, file.string(), reason));
+}
+
+std::vector<unsigned char> read_file_bytes(const fs::path& file) {
+  auto sys_fail = [&](int e) {
+    fail("cannot read image", file, std::generic_category().message(e));
+  };
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) sys_fail(errno);
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) sys_fail(errno);
+  if (S_ISDIR(st.st_mode)) sys_fail(EISDIR);
+  std::vector<unsigned char> bytes(size_t(std::max<off_t>(st.st_size, 0)));
+  size_t got = 0;
+  while (got < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) sys_fail(errno);
+    if (n == 0) break;  // shrank while reading
+    got += size_t(n);
+  }
+  bytes.resize(got);
+  return bytes;
+}
+
+bool is_png(const std::vector<unsigned char>& b) {
+  static constexpr unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  return b.size() >= 8 && std::memcmp(b.data(), sig, 8) == 0;
+}
+
+bool is_exr(const std::vector<unsigned char>& b) {
+  return b.size() >= 4 && b[0] == 0x76 && b[1] == 0x2f && b[2] == 0x31 && b[3] == 0x01;
+}
+
+void check_output(const OutputImage& img, const fs::path& file) {
+  if (img.width <= 0 || img.height <= 0)
+    fail("cannot write image", file, fmt::format("invalid size {}x{}", img.width, img.height));
+  if (img.layers.empty()) fail("cannot write image", file, "no layers to write");
+  const size_t pixels = size_t(img.width) * size_t(img.height);
+  for (const ImageLayer& l : img.layers) {
+    if (l.channels.empty())
+      fail("cannot write image", file, fmt::format("layer '{}' has no channels", l.name));
+    if (l.data.size() != pixels * l.channels.size())
+      fail("cannot write image", file,
+           fmt::format("layer '{}' holds {} values, expected {}x{}x{} = {}", l.name, l.data.size(),
+                       img.width, img.height, l.channels.size(), pixels * l.channels.size()));
+  }
+}
+
+}  // namespace io_detail
+
+using io_detail::fail;
+
+float linear_to_srgb(float v) {
+  const double x = v;
+  return float(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055);
+}
+
+float srgb_to_linear(float v) {
+  const double x = v;
+  return float(x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4));
+}
+
+namespace {
+
+Image from_exr(io_detail::ExrChannels exr, const fs::path& file) {
+  auto find = [&](const char* name) -> const std::vector<float>* {
+    const auto it = exr.channels.find(name);
+    return it == exr.channels.end() ? nullptr : &it->second;
+  };
+  const std::vector<float>* rgb[3] = {find("R"), find("G"), find("B")};
+  if (!rgb[0] || !rgb[1] || !rgb[2]) {
+    // Luminance, or a lone data channel such as "Z", is shown as grey.
+    const std::vector<float>* y = find("Y");
+    if (!y && exr.channels.size() == 1) y = &exr.channels.begin()->second;
+    if (!y) {
+      std::string names;
+      for (const auto& [name, plane] : exr.channels) names += (names.empty() ? "" : ", ") + name;
+      fail("cannot read image", file,
+           fmt::format("no R, G, B or Y channels to show (channels: {})", names));
+    }
+    rgb[0] = rgb[1] = rgb[2] = y;
+  }
+  const std::vector<float>* alpha = find("A");
+  Image img;
+  img.width = exr.width;
+  img.height = exr.height;
+  const size_t n = size_t(img.width) * size_t(img.height);
+  img.pixels.resize(n * 4);
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) img.pixels[i * 4 + c] = (*rgb[c])[i];
+    img.pixels[i * 4 + 3] = alpha ? (*alpha)[i] : 1.0f;
+  }
+  return img;
+}
+
+struct StbFree {
+  void operator()(void* p) const { stbi_image_free(p); }
+};
+
+}  // namespace
+
+Image read_image(const fs::path& file, bool srgb) {
+  const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
+  if (io_detail::is_exr(bytes)) return from_exr(io_detail::load_exr(bytes, file), file);
+
+  if (bytes.size() > size_t(INT_MAX)) fail("cannot read image", file, "file too large");
+  const auto* data = bytes.data();
+  const int len = int(bytes.size());
+  int w = 0, h = 0, n = 0;
+  Image img;
+  auto stb_fail = [&] {
+    const char* why = stbi_failure_reason();
+    fail("cannot read image", file,
+         fmt::format("not a readable PNG, JPEG, BMP, TGA, HDR or EXR image ({})",
+                     why ? why : "unknown reason"));
+  };
+  auto finish = [&](auto* pixels, float scale, bool linearize) {
+    img.width = w;
+    img.height = h;
+    img.pixels.resize(size_t(w) * size_t(h) * 4);
+    for (size_t i = 0; i < img.pixels.size(); ++i) {
+      const float v = float(pixels[i]) * scale;
+      img.pixels[i] = linearize && i % 4 != 3 ? srgb_to_linear(v) : v;  // alpha is linear
+    }
+  };
+  // Asking stb for 4 components expands grey to RGB and adds opaque alpha.
+  if (stbi_is_hdr_from_memory(data, len)) {
+    std::unique_ptr<float, StbFree> p(stbi_loadf_from_memory(data, len, &w, &h, &n, 4));
+    if (!p) stb_fail();
+    finish(p.get(), 1.0f, false);
+  } else if (stbi_is_16_bit_from_memory(data, len)) {
+    std::unique_ptr<stbi_us, StbFree> p(stbi_load_16_from_memory(data, len, &w, &h, &n, 4));
+    if (!p) stb_fail();
+    finish(p.get(), 1.0f / 65535.0f, srgb);
+  } else {
+    std::unique_ptr<stbi_uc, StbFree> p(stbi_load_from_memory(data, len, &w, &h, &n, 4));
+    if (!p) stb_fail();
+    finish(p.get(), 1.0f / 255.0f, srgb);
+  }
+  return img;
+}
+
+void write_image(const fs::path& file, const OutputImage& img) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".png") return write_png(file, img);
+  if (ext == ".exr") return write_exr(file, img);
+  fail("cannot write image", file,
+       fmt::format("unsupported extension '{}' (supported: .png, .exr)", ext));
+}
+
+std::map<std::string, std::string> read_metadata(const fs::path& file) {
+  const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
+  if (io_detail::is_png(bytes)) return io_detail::png_metadata(bytes, file);
+  if (io_detail::is_exr(bytes)) return io_detail::exr_metadata(bytes, file);
+  fail("cannot read metadata", file, "metadata can be read from PNG and EXR files only");
+}
+
+std::map<std::string, std::vector<float>> read_exr_channels(const fs::path& file, int* width,
+                                                            int* height) {
+  const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
+  if (!io_detail::is_exr(bytes)) fail("cannot read EXR", file, "not an OpenEXR file");
+  io_detail::ExrChannels exr = io_detail::load_exr(bytes, file);
+  if (width) *width = exr.width;
+  if (height) *height = exr.height;
+  return std::move(exr.channels);
+}
+
+}  // namespace anamorph

@@ -1,0 +1,42 @@
+// Helpers shared by the image I/O files (not part of the public interface).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/image_io.h"
+
+namespace anamorph::io_detail {
+
+// ImageIoError with the file named first: "<what> '<file>': <reason>".
+[[noreturn]] void fail(std::string_view what, const std::filesystem::path& file,
+                       std::string_view reason);
+
+// The whole file; throws ImageIoError naming the file (and strerror) when it cannot be read.
+std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
+
+bool is_png(const std::vector<unsigned char>& bytes);
+bool is_exr(const std::vector<unsigned char>& bytes);
+
+// Size and per-layer value counts of an image about to be written; throws naming the file.
+void check_output(const OutputImage& img, const std::filesystem::path& file);
+
+// PNG text chunks (tEXt, zTXt, iTXt) as UTF-8; `file` only names errors.
+std::map<std::string, std::string> png_metadata(const std::vector<unsigned char>& bytes,
+                                                const std::filesystem::path& file);
+
+// Every channel of a single-part EXR, converted to float.
+struct ExrChannels {
+  int width = 0, height = 0;
+  std::map<std::string, std::vector<float>> channels;
+};
+ExrChannels load_exr(const std::vector<unsigned char>& bytes, const std::filesystem::path& file);
+std::map<std::string, std::string> exr_metadata(const std::vector<unsigned char>& bytes,
+                                                const std::filesystem::path& file);
+
+}  // namespace anamorph::io_detail

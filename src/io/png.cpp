@@ -1,0 +1,234 @@
+// PNG: stb encodes the pixels; metadata goes into tEXt/iTXt chunks spliced in after IHDR.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "io/image_io.h"
+#include "io/io_util.h"
+
+namespace anamorph {
+
+namespace fs = std::filesystem;
+using io_detail::fail;
+
+namespace {
+
+// CRC-32 (ISO 3309, polynomial 0xedb88320) as PNG chunks use it.
+constexpr std::array<uint32_t, 256> kCrcTable = [] {
+  std::array<uint32_t, 256> t{};
+  for (uint32_t n = 0; n < 256; ++n) {
+    uint32_t c = n;
+    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+    t[n] = c;
+  }
+  return t;
+}();
+
+uint32_t crc32(const unsigned char* p, size_t n) {
+  uint32_t c = 0xffffffffu;
+  for (size_t i = 0; i < n; ++i) c = kCrcTable[(c ^ p[i]) & 0xff] ^ (c >> 8);
+  return c ^ 0xffffffffu;
+}
+
+uint32_t read_be32(const unsigned char* p) {
+  return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | uint32_t(p[3]);
+}
+
+void write_be32(unsigned char* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (24 - 8 * i));
+}
+
+// length, type, data, CRC of type and data.
+std::vector<unsigned char> make_chunk(const char type[4], const std::string& data) {
+  std::vector<unsigned char> c(data.size() + 12);
+  write_be32(c.data(), uint32_t(data.size()));
+  std::memcpy(c.data() + 4, type, 4);
+  std::memcpy(c.data() + 8, data.data(), data.size());
+  write_be32(c.data() + 8 + data.size(), crc32(c.data() + 4, data.size() + 4));
+  return c;
+}
+
+// UTF-8 to code points; false on malformed input.
+bool decode_utf8(std::string_view s, std::u32string* out) {
+  out->clear();
+  for (size_t i = 0; i < s.size();) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    const int extra = b < 0x80         ? 0
+                      : (b >> 5) == 6  ? 1
+                      : (b >> 4) == 14 ? 2
+                      : (b >> 3) == 30 ? 3
+                                       : -1;
+    if (extra < 0 || i + size_t(extra) >= s.size()) return false;
+    char32_t cp = extra == 0 ? b : b & (0x3f >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      const auto c = static_cast<unsigned char>(s[i + size_t(k)]);
+      if ((c & 0xc0) != 0x80) return false;
+      cp = cp << 6 | (c & 0x3f);
+    }
+    static constexpr char32_t kMin[4] = {0, 0x80, 0x800, 0x10000};
+    if (cp < kMin[extra] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff)) return false;
+    out->push_back(cp);
+    i += size_t(extra) + 1;
+  }
+  return true;
+}
+
+// The Latin-1 bytes of a UTF-8 string, or nothing if it has characters beyond U+00FF.
+std::optional<std::string> utf8_to_latin1(std::string_view s) {
+  std::u32string cps;
+  if (!decode_utf8(s, &cps)) return std::nullopt;
+  std::string out;
+  for (char32_t cp : cps) {
+    if (cp > 0xff) return std::nullopt;
+    out.push_back(static_cast<char>(cp));
+  }
+  return out;
+}
+
+std::string latin1_to_utf8(std::string_view s) {
+  std::string out;
+  for (char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x80) {
+      out.push_back(ch);
+    } else {
+      out.push_back(static_cast<char>(0xc0 | c >> 6));
+      out.push_back(static_cast<char>(0x80 | (c & 0x3f)));
+    }
+  }
+  return out;
+}
+
+// PNG keywords: 1-79 printable Latin-1 characters, no leading, trailing or double spaces.
+bool valid_keyword(const std::string& k) {
+  if (k.empty() || k.size() > 79 || k.front() == ' ' || k.back() == ' ') return false;
+  if (k.find("  ") != std::string::npos) return false;
+  return std::all_of(k.begin(), k.end(), [](char ch) {
+    const auto c = static_cast<unsigned char>(ch);
+    return (c >= 32 && c <= 126) || c >= 161;
+  });
+}
+
+// tEXt when the value is Latin-1 (every reader understands it), iTXt (uncompressed UTF-8)
+// otherwise. Length alone does not choose iTXt: uncompressed iTXt is no smaller than tEXt.
+std::vector<unsigned char> text_chunk(const std::string& key, const std::string& value,
+                                      const fs::path& file) {
+  const std::optional<std::string> k = utf8_to_latin1(key);
+  if (!k || !valid_keyword(*k))
+    fail("cannot write PNG", file,
+         fmt::format("metadata key '{}' must be 1-79 printable Latin-1 characters", key));
+  std::u32string cps;
+  if (value.find('\0') != std::string::npos || !decode_utf8(value, &cps))
+    fail("cannot write PNG", file,
+         fmt::format("value of metadata key '{}' is not NUL-free UTF-8 text", key));
+  if (const std::optional<std::string> v = utf8_to_latin1(value))
+    return make_chunk("tEXt", *k + '\0' + *v);
+  // keyword NUL, compression flag 0, method 0, empty language tag NUL, empty translation NUL.
+  return make_chunk("iTXt", *k + std::string("\0\0\0\0\0", 5) + value);
+}
+
+unsigned char to_byte(float v) {
+  // NaN and negatives become 0; the clamp keeps out-of-gamut values from wrapping.
+  const float c = v > 0.0f ? std::min(v, 1.0f) : 0.0f;
+  return static_cast<unsigned char>(std::lround(c * 255.0f));
+}
+
+std::string inflate(const unsigned char* p, size_t n, const fs::path& file) {
+  int len = 0;
+  std::unique_ptr<char, decltype(&std::free)> out(
+      stbi_zlib_decode_malloc(reinterpret_cast<const char*>(p), int(n), &len), &std::free);
+  if (!out) fail("corrupt PNG", file, "cannot decompress a text chunk");
+  return std::string(out.get(), size_t(len));
+}
+
+}  // namespace
+
+void write_png(const fs::path& file, const OutputImage& img) {
+  io_detail::check_output(img, file);
+  const ImageLayer& beauty = img.layers[0];
+  const size_t nc = beauty.channels.size();
+  if (nc != 3 && nc != 4)
+    fail("cannot write PNG", file,
+         fmt::format("the first layer must be RGB or RGBA, it has {} channels", nc));
+
+  // Straight (un-premultiplied) colour, as the film stores it and PNG expects. Colour is
+  // sRGB-encoded; alpha is linear coverage and is not.
+  const size_t pixels = size_t(img.width) * size_t(img.height);
+  std::vector<unsigned char> rgba(pixels * 4);
+  for (size_t i = 0; i < pixels; ++i) {
+    const float* src = &beauty.data[i * nc];
+    for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = to_byte(linear_to_srgb(src[c]));
+    rgba[i * 4 + 3] = nc == 4 ? to_byte(src[3]) : 255;
+  }
+
+  // stbi_write_png_to_mem is exported by libstb but not declared in <stb_image_write.h>; the
+  // public stbi_write_png_to_func wraps it, so collect its single callback into a buffer.
+  std::vector<unsigned char> png;
+  auto collect = [](void* ctx, void* data, int size) {
+    auto* out = static_cast<std::vector<unsigned char>*>(ctx);
+    const auto* p = static_cast<const unsigned char*>(data);
+    out->insert(out->end(), p, p + size);
+  };
+  if (!stbi_write_png_to_func(collect, &png, img.width, img.height, 4, rgba.data(), img.width * 4))
+    fail("cannot write PNG", file, "PNG encoding failed");
+
+  // Signature (8) + IHDR (4 length + 4 type + 13 data + 4 CRC) = 33 bytes, then our chunks.
+  constexpr size_t kAfterIhdr = 33;
+  if (png.size() < kAfterIhdr || std::memcmp(&png[12], "IHDR", 4) != 0)
+    fail("cannot write PNG", file, "unexpected encoder output");
+  std::vector<unsigned char> text;
+  for (const auto& [key, value] : img.metadata) {
+    const std::vector<unsigned char> c = text_chunk(key, value, file);
+    text.insert(text.end(), c.begin(), c.end());
+  }
+  png.insert(png.begin() + kAfterIhdr, text.begin(), text.end());
+  write_file_atomic(file, png.data(), png.size());
+}
+
+std::map<std::string, std::string> io_detail::png_metadata(const std::vector<unsigned char>& b,
+                                                           const fs::path& file) {
+  std::map<std::string, std::string> meta;
+  auto corrupt = [&](const std::string& why) { fail("corrupt PNG", file, why); };
+  for (size_t pos = 8; pos + 12 <= b.size();) {
+    const uint32_t len = read_be32(&b[pos]);
+    if (len > b.size() - pos - 12) corrupt("a chunk runs past the end of the file");
+    const std::string type(reinterpret_cast<const char*>(&b[pos + 4]), 4);
+    const unsigned char* data = &b[pos + 8];
+    if (crc32(&b[pos + 4], size_t(len) + 4) != read_be32(data + len))
+      corrupt(fmt::format("CRC mismatch in a {} chunk", type));
+    pos += size_t(len) + 12;
+    if (type == "IEND") break;
+    if (type != "tEXt" && type != "zTXt" && type != "iTXt") continue;
+
+    const std::string body(reinterpret_cast<const char*>(data), len);
+    const size_t key_end = body.find('\0');
+    if (key_end == std::string::npos) corrupt(fmt::format("malformed {} chunk", type));
+    const std::string key = latin1_to_utf8(body.substr(0, key_end));
+    const size_t rest = key_end + 1;
+    if (type == "tEXt") {
+      meta[key] = latin1_to_utf8(body.substr(rest));
+    } else if (type == "zTXt") {
+      if (rest + 1 > body.size()) corrupt("malformed zTXt chunk");
+      meta[key] = latin1_to_utf8(inflate(data + rest + 1, len - rest - 1, file));
+    } else {  // iTXt: flag, method, language NUL, translated keyword NUL, UTF-8 text
+      const size_t lang_end = rest + 2 <= body.size() ? body.find('\0', rest + 2) : body.npos;
+      const size_t trans_end = lang_end == body.npos ? body.npos : body.find('\0', lang_end + 1);
+      if (trans_end == body.npos) corrupt("malformed iTXt chunk");
+      const bool compressed = body[rest] != 0;
+      meta[key] = compressed ? inflate(data + trans_end + 1, len - trans_end - 1, file)
+                             : body.substr(trans_end + 1);
+    }
+  }
+  return meta;
+}
+
+}  // namespace anamorph
