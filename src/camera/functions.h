@@ -1,10 +1,18 @@
 // The two building blocks of a virtual camera (the paper's "sets org and dir"). Both are pure
 // functions of the normalized image position (u, v) in [0,1]^2; each maps (u, v) linearly onto
-// its own parameter ranges.
+// its own parameter ranges (u_range / v_range; a decreasing range mirrors the image).
+//
+// Conventions shared by every function: right-handed world, +y up, the default view looks along
+// -z; image u runs left to right and v top to bottom. Open surfaces (plane, splines, expression,
+// mesh) take their normal from d/du x d/dv of their *own* parameters, which is the side the image
+// looks at when the surface is laid out as seen by the viewer (u right, v down). Closed surfaces
+// (sphere, torus, ...) have outward normals. Reversing a range never flips the normal, and every
+// surface has `flip_normal` to look the other way.
 #pragma once
 
 #include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "camera/params.h"
@@ -12,10 +20,15 @@
 
 namespace anamorph {
 
-// A point of the origin surface with its partial derivatives with respect to image (u, v) and its
-// unit normal (zero where a surface has no normal, e.g. a single point).
+// A point of the origin surface and its derivatives, all with respect to *image* (u, v), so a
+// pixel's footprint is the derivative times 1/width (1/height). Every origin function fills every
+// field (zero where it does not exist).
 struct SurfaceSample {
-  Vec3 p, dpdu, dpdv, n;
+  Vec3 p;            // the point
+  Vec3 dpdu, dpdv;   // first derivatives
+  Vec3 n;            // unit normal (zero where the surface has none, e.g. a single point)
+  Vec3 dndu, dndv;   // derivatives of the unit normal n (ray differentials of dir = normal)
+  Vec3 dpduu, dpduv, dpdvv;  // second derivatives (ray differentials of tangent directions)
 };
 
 // A (not necessarily unit) direction with its derivatives with respect to image (u, v).
@@ -26,15 +39,23 @@ struct DirSample {
 class OrgFunction {
  public:
   virtual ~OrgFunction() = default;
-  // Returns false for *no ray* (outside the function's domain).
+  // Returns false for *no ray* (outside the function's domain). Const, thread-safe, allocates
+  // nothing.
   virtual bool eval(Vec2 uv, SurfaceSample* out) const = 0;
+
+  // Batch evaluation over a grid of image positions (a tile of pixel centers): out[j * us.size()
+  // + i] is the sample at (us[i], vs[j]). A position with no ray gets p = NaN (the renderer's
+  // "no ray" test is !is_finite(p)). The default loops over eval; tensor-product splines
+  // override it to compute each column's u-basis and each row's v-basis once.
+  virtual void eval_grid(std::span<const double> us, std::span<const double> vs,
+                         SurfaceSample* out) const;
 };
 
 class DirFunction {
  public:
   virtual ~DirFunction() = default;
   // `org` is the (possibly coin-deformed) origin sample: dependent directions (normal, tangent)
-  // read it. Returns false for *no ray*.
+  // read it. Returns false for *no ray*. Const, thread-safe, allocates nothing.
   virtual bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const = 0;
 };
 
@@ -63,5 +84,23 @@ std::span<const OrgFunctionInfo> org_functions();
 std::span<const DirFunctionInfo> dir_functions();
 const OrgFunctionInfo* find_org_function(std::string_view name);
 const DirFunctionInfo* find_dir_function(std::string_view name);
+
+// Checks values against a parameter table: required keys present, numbers finite and within
+// [min, max] (each component of vectors and lists), strings among `choices`. Factories call it
+// first, so functions built in code (presets, tests) are held to the same rules as parsed ones.
+// Throws ParamError naming the key.
+void check_params(std::span<const ParamSpec> specs, const ParamValues& values);
+
+// Builds a function from TOML text holding some of its keys, the rest from the table's defaults,
+// e.g. make_org("sphere", "radius = 2\ncenter = [0, 1, 0]"). For presets, tests and tools; scene
+// files go through the scene parser, which adds file positions to errors. Throws ParamError
+// (unknown type or key, bad value).
+ParamValues params_from_toml(std::span<const ParamSpec> specs, std::string_view toml_text);
+std::unique_ptr<OrgFunction> make_org(std::string_view type, std::string_view toml_text = {});
+std::unique_ptr<DirFunction> make_dir(std::string_view type, std::string_view toml_text = {});
+
+// Markdown reference of every origin and direction function: a section per function with its
+// doc and a table name | type | default | range | meaning (for docs/cameras.md).
+std::string function_params_markdown();
 
 }  // namespace anamorph

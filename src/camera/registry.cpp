@@ -1,5 +1,12 @@
-// The one list of camera function types. Adding a function = one line here.
+// The one list of camera function types (adding a function = one line in kOrg / kDir), plus what
+// is derived from the parameter tables: validation, construction from TOML text, Markdown docs.
+#include <toml++/toml.h>
+
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <vector>
 
 #include "camera/dir_basic.h"
 #include "camera/functions.h"
@@ -11,24 +18,254 @@ namespace {
 const OrgFunctionInfo* const kOrg[] = {&kPointOrgInfo, &kPlaneOrgInfo};
 const DirFunctionInfo* const kDir[] = {&kConstantDirInfo, &kFromSurfaceDirInfo};
 
-std::vector<OrgFunctionInfo> org_list() {
-  std::vector<OrgFunctionInfo> v;
-  for (auto* i : kOrg) v.push_back(*i);
+template <class Info, size_t N>
+std::vector<Info> to_list(const Info* const (&infos)[N]) {
+  std::vector<Info> v;
+  for (auto* i : infos) v.push_back(*i);
   return v;
 }
-std::vector<DirFunctionInfo> dir_list() {
-  std::vector<DirFunctionInfo> v;
-  for (auto* i : kDir) v.push_back(*i);
+
+template <class Info>
+std::string names_of(std::span<const Info> infos) {
+  std::string s;
+  for (const auto& i : infos) s += (s.empty() ? "" : ", ") + std::string(i.name);
+  return s;
+}
+
+std::string fmt_number(double x) {
+  if (x == kInf) return "inf";
+  if (x == -kInf) return "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", x);
+  return buf;
+}
+
+// "[0, inf)", "(0, 1]", or "" when unbounded.
+std::string range_text(const ParamSpec& s) {
+  if (s.min == -kInf && s.max == kInf) return {};
+  return std::string(s.min_exclusive || s.min == -kInf ? "(" : "[") + fmt_number(s.min) + ", " +
+         fmt_number(s.max) + (s.max_exclusive || s.max == kInf ? ")" : "]");
+}
+
+// Variant alternative index of each ParamType (the order of ParamValue).
+size_t variant_index(ParamType t) {
+  switch (t) {
+    case ParamType::Number: return 0;
+    case ParamType::Integer: return 1;
+    case ParamType::Bool: return 2;
+    case ParamType::String: return 3;
+    case ParamType::Vec2: return 4;
+    case ParamType::Vec3: return 5;
+    case ParamType::NumberList: return 6;
+    case ParamType::Vec3List: return 7;
+    case ParamType::Vec3Grid: return 8;
+    case ParamType::NumberGrid: return 9;
+    case ParamType::StringMap: return 10;
+    case ParamType::Function: return 11;
+  }
+  return size_t(-1);
+}
+
+void check_number(const ParamSpec& s, double x) {
+  const std::string key(s.name);
+  if (!std::isfinite(x)) throw ParamError(key, key + " must be a finite number");
+  const bool lo_ok = s.min_exclusive ? x > s.min : x >= s.min;
+  const bool hi_ok = s.max_exclusive ? x < s.max : x <= s.max;
+  if (!lo_ok || !hi_ok)
+    throw ParamError(key, key + " must be in " + range_text(s) + " (got " + fmt_number(x) + ")");
+}
+
+const ParamSpec* find_spec(std::span<const ParamSpec> specs, std::string_view name) {
+  for (const auto& s : specs)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+std::string spec_names(std::span<const ParamSpec> specs) {
+  std::string s;
+  for (const auto& p : specs) s += (s.empty() ? "" : ", ") + std::string(p.name);
+  return s;
+}
+
+// --- TOML text to ParamValues (the same conversions as the scene parser, without positions) ---
+
+ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::table& t);
+
+double toml_number(const ParamSpec& s, const toml::node& n) {
+  if (auto i = n.value_exact<int64_t>()) return double(*i);
+  if (auto d = n.value_exact<double>()) return *d;
+  throw ParamError(std::string(s.name), std::string(s.name) + ": expected a number");
+}
+
+const toml::array& toml_array(const ParamSpec& s, const toml::node& n) {
+  if (const toml::array* a = n.as_array()) return *a;
+  throw ParamError(std::string(s.name), std::string(s.name) + ": expected an array");
+}
+
+Vec3 toml_vec(const ParamSpec& s, const toml::node& n, size_t dim) {
+  const toml::array& a = toml_array(s, n);
+  if (a.size() != dim)
+    throw ParamError(std::string(s.name),
+                     std::string(s.name) + ": expected " + std::to_string(dim) + " numbers");
+  Vec3 v;
+  for (size_t i = 0; i < dim; ++i) v[int(i)] = toml_number(s, *a.get(i));
   return v;
 }
+
+ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
+  const std::string key(s.name);
+  switch (s.type) {
+    case ParamType::Number: return toml_number(s, n);
+    case ParamType::Integer:
+      if (auto i = n.value_exact<int64_t>()) return *i;
+      throw ParamError(key, key + ": expected an integer");
+    case ParamType::Bool:
+      if (auto b = n.value_exact<bool>()) return *b;
+      throw ParamError(key, key + ": expected true or false");
+    case ParamType::String:
+      if (auto str = n.value_exact<std::string>()) return *str;
+      throw ParamError(key, key + ": expected a string");
+    case ParamType::Vec2: {
+      const Vec3 v = toml_vec(s, n, 2);
+      return Vec2{v.x, v.y};
+    }
+    case ParamType::Vec3: return toml_vec(s, n, 3);
+    case ParamType::NumberList: {
+      std::vector<double> out;
+      for (const auto& e : toml_array(s, n)) out.push_back(toml_number(s, e));
+      return out;
+    }
+    case ParamType::Vec3List: {
+      std::vector<Vec3> out;
+      for (const auto& e : toml_array(s, n)) out.push_back(toml_vec(s, e, 3));
+      return out;
+    }
+    case ParamType::Vec3Grid: {
+      std::vector<std::vector<Vec3>> out;
+      for (const auto& row : toml_array(s, n)) {
+        out.emplace_back();
+        for (const auto& e : toml_array(s, row)) out.back().push_back(toml_vec(s, e, 3));
+      }
+      return out;
+    }
+    case ParamType::NumberGrid: {
+      std::vector<std::vector<double>> out;
+      for (const auto& row : toml_array(s, n)) {
+        out.emplace_back();
+        for (const auto& e : toml_array(s, row)) out.back().push_back(toml_number(s, e));
+      }
+      return out;
+    }
+    case ParamType::StringMap: {
+      const toml::table* t = n.as_table();
+      if (!t) throw ParamError(key, key + ": expected a table { name = number, ... }");
+      std::map<std::string, double> out;
+      for (const auto& [k, x] : *t) out[std::string(k.str())] = toml_number(s, x);
+      return out;
+    }
+    case ParamType::Function: {
+      const toml::table* t = n.as_table();
+      if (!t) throw ParamError(key, key + ": expected a table { type = \"...\", ... }");
+      const auto type = (*t)["type"].value<std::string>();
+      if (!type) throw ParamError(key, key + ": the table needs type = \"...\"");
+      const OrgFunctionInfo* info = find_org_function(*type);
+      if (!info)
+        throw ParamError(key, key + ": unknown type '" + *type + "' (valid: " +
+                                  names_of(org_functions()) + ")");
+      toml::table rest = *t;
+      rest.erase("type");
+      auto nf = std::make_shared<NestedFunction>();
+      nf->type = *type;
+      nf->values = values_from_table(info->params, rest);
+      return std::shared_ptr<const NestedFunction>(nf);
+    }
+  }
+  throw ParamError(key, "internal: unsupported parameter type");
+}
+
+ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::table& t) {
+  ParamValues out;
+  for (const auto& [k, n] : t) {
+    const ParamSpec* s = find_spec(specs, k.str());
+    if (!s)
+      throw ParamError(std::string(k.str()), "unknown key '" + std::string(k.str()) +
+                                                 "' (valid: " + spec_names(specs) + ")");
+    out.set(std::string(s->name), toml_value(*s, n));
+  }
+  for (const auto& s : specs) {
+    if (out.has(s.name) || s.default_value == "none") continue;
+    if (s.default_value.empty())
+      throw ParamError(std::string(s.name), "missing required key '" + std::string(s.name) + "'");
+    const toml::table d = toml::parse("v = " + std::string(s.default_value));
+    out.set(std::string(s.name), toml_value(s, *d.get("v")));
+  }
+  return out;
+}
+
+void markdown_section(std::ostringstream& os, std::string_view kind, std::string_view name,
+                      std::string_view doc, std::span<const ParamSpec> params) {
+  const auto cell = [](std::string_view text) {
+    std::string r;
+    for (char c : text) {
+      if (c == '|') r += "\\|";
+      else if (c == '\n') r += ' ';
+      else r += c;
+    }
+    return r;
+  };
+  os << "### " << kind << " `" << name << "`\n\n" << doc << "\n\n";
+  if (params.empty()) {
+    os << "No parameters.\n\n";
+    return;
+  }
+  os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
+  for (const auto& p : params) {
+    std::string def;
+    if (p.default_value.empty()) def = "*required*";
+    else if (p.default_value == "none") def = "*optional*";
+    else def.append("`").append(cell(p.default_value)).append("`");
+    std::string range = range_text(p);
+    if (!p.choices.empty()) {
+      range.clear();
+      for (auto c : p.choices) {
+        if (!range.empty()) range += ", ";
+        range += "`\"";
+        range += c;
+        range += "\"`";
+      }
+    }
+    os << "| `" << p.name << "` | " << to_string(p.type) << " | " << def << " | " << cell(range)
+       << " | " << cell(p.doc) << " |\n";
+  }
+  os << "\n";
+}
+
 }  // namespace
 
+std::string_view to_string(ParamType t) {
+  switch (t) {
+    case ParamType::Number: return "number";
+    case ParamType::Integer: return "integer";
+    case ParamType::Bool: return "bool";
+    case ParamType::String: return "string";
+    case ParamType::Vec2: return "[a, b]";
+    case ParamType::Vec3: return "[x, y, z]";
+    case ParamType::NumberList: return "number list";
+    case ParamType::Vec3List: return "list of [x, y, z]";
+    case ParamType::Vec3Grid: return "grid of [x, y, z]";
+    case ParamType::NumberGrid: return "grid of numbers";
+    case ParamType::StringMap: return "table name = number";
+    case ParamType::Function: return "origin function";
+  }
+  return "?";
+}
+
 std::span<const OrgFunctionInfo> org_functions() {
-  static const std::vector<OrgFunctionInfo> list = org_list();
+  static const std::vector<OrgFunctionInfo> list = to_list(kOrg);
   return list;
 }
 std::span<const DirFunctionInfo> dir_functions() {
-  static const std::vector<DirFunctionInfo> list = dir_list();
+  static const std::vector<DirFunctionInfo> list = to_list(kDir);
   return list;
 }
 const OrgFunctionInfo* find_org_function(std::string_view name) {
@@ -40,6 +277,108 @@ const DirFunctionInfo* find_dir_function(std::string_view name) {
   for (const auto& f : dir_functions())
     if (f.name == name) return &f;
   return nullptr;
+}
+
+void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
+  for (const auto& [name, value] : values.all())
+    if (!find_spec(specs, name))
+      throw ParamError(name, "unknown key '" + name + "' (valid: " + spec_names(specs) + ")");
+  for (const auto& s : specs) {
+    const std::string key(s.name);
+    if (!values.has(s.name)) {
+      if (s.default_value.empty())
+        throw ParamError(key, "missing required key '" + key + "'");
+      continue;
+    }
+    const ParamValue& v = values.all().find(s.name)->second;
+    if (v.index() != variant_index(s.type))
+      throw ParamError(key, key + " must be of type " + std::string(to_string(s.type)));
+    switch (s.type) {
+      case ParamType::Number: check_number(s, std::get<double>(v)); break;
+      case ParamType::Integer: check_number(s, double(std::get<int64_t>(v))); break;
+      case ParamType::Vec2:
+        check_number(s, std::get<Vec2>(v).x);
+        check_number(s, std::get<Vec2>(v).y);
+        break;
+      case ParamType::Vec3:
+        for (int i = 0; i < 3; ++i) check_number(s, std::get<Vec3>(v)[i]);
+        break;
+      case ParamType::NumberList:
+        for (double x : std::get<std::vector<double>>(v)) check_number(s, x);
+        break;
+      case ParamType::Vec3List:
+        for (const Vec3& p : std::get<std::vector<Vec3>>(v))
+          for (int i = 0; i < 3; ++i) check_number(s, p[i]);
+        break;
+      case ParamType::Vec3Grid:
+        for (const auto& row : std::get<std::vector<std::vector<Vec3>>>(v))
+          for (const Vec3& p : row)
+            for (int i = 0; i < 3; ++i) check_number(s, p[i]);
+        break;
+      case ParamType::NumberGrid:
+        for (const auto& row : std::get<std::vector<std::vector<double>>>(v))
+          for (double x : row) check_number(s, x);
+        break;
+      case ParamType::StringMap:
+        for (const auto& [k, x] : std::get<std::map<std::string, double>>(v)) check_number(s, x);
+        break;
+      case ParamType::String:
+        if (!s.choices.empty()) {
+          const std::string& str = std::get<std::string>(v);
+          if (std::find(s.choices.begin(), s.choices.end(), str) == s.choices.end()) {
+            std::string valid;
+            for (auto c : s.choices) valid += (valid.empty() ? "" : ", ") + std::string(c);
+            throw ParamError(key, key + ": unknown value \"" + str + "\" (valid: " + valid + ")");
+          }
+        }
+        break;
+      case ParamType::Function:
+        if (!std::get<std::shared_ptr<const NestedFunction>>(v))
+          throw ParamError(key, key + " must not be empty");
+        break;
+      case ParamType::Bool: break;
+    }
+  }
+}
+
+ParamValues params_from_toml(std::span<const ParamSpec> specs, std::string_view toml_text) {
+  toml::table t;
+  try {
+    t = toml::parse(toml_text);
+  } catch (const toml::parse_error& e) {
+    throw ParamError("", "invalid TOML: " + std::string(e.description()));
+  }
+  return values_from_table(specs, t);
+}
+
+std::unique_ptr<OrgFunction> make_org(std::string_view type, std::string_view toml_text) {
+  const OrgFunctionInfo* info = find_org_function(type);
+  if (!info)
+    throw ParamError("type", "unknown origin function '" + std::string(type) +
+                                 "' (valid: " + names_of(org_functions()) + ")");
+  return info->create(params_from_toml(info->params, toml_text));
+}
+
+std::unique_ptr<DirFunction> make_dir(std::string_view type, std::string_view toml_text) {
+  const DirFunctionInfo* info = find_dir_function(type);
+  if (!info)
+    throw ParamError("type", "unknown direction function '" + std::string(type) +
+                                 "' (valid: " + names_of(dir_functions()) + ")");
+  return info->create(params_from_toml(info->params, toml_text));
+}
+
+std::string function_params_markdown() {
+  std::ostringstream os;
+  os << "## Origin functions (`camera.org`)\n\n"
+        "Each maps the image position (u, v) in [0,1]^2 (u left to right, v top to bottom) "
+        "linearly onto its own parameter ranges and gives the ray origin, its derivatives and "
+        "the surface normal. Right-handed world, +y up.\n\n";
+  for (const auto& f : org_functions()) markdown_section(os, "org", f.name, f.doc, f.params);
+  os << "## Direction functions (`camera.dir`)\n\n"
+        "Each gives the ray direction at (u, v) (normalized by the camera); dependent directions "
+        "read the origin surface at the same (u, v).\n\n";
+  for (const auto& f : dir_functions()) markdown_section(os, "dir", f.name, f.doc, f.params);
+  return os.str();
 }
 
 }  // namespace anamorph
