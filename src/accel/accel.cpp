@@ -11,14 +11,6 @@
 
 namespace anamorph {
 
-struct Accel::Record {
-  enum class Kind { FlatMesh, Instance, Shape };
-  Kind kind = Kind::FlatMesh;
-  const TriangleMesh* mesh = nullptr;     // FlatMesh (world space)
-  const Prototype* proto = nullptr;       // Instance (object space meshes)
-  const AnalyticShape* shape = nullptr;   // Shape
-  Transform world_from_object, object_from_world;
-};
 
 namespace {
 
@@ -257,6 +249,8 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   const unsigned top_id = inst != RTC_INVALID_GEOMETRY_ID ? inst : geom;
   const Record& rec = *records_[top_id];
   h->object_id = top_id;
+  h->mesh = inst != RTC_INVALID_GEOMETRY_ID ? geom : 0;
+  h->prim = prim;
   if (rec.kind == Record::Kind::Shape) {
     const AnalyticShape& s = *rec.shape;
     // Recompute in double from the object-space ray for an exact surface point.

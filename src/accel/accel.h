@@ -29,7 +29,9 @@ struct Hit {
   Vec2 uv;        // surface parameterization (mesh texture coordinates or shape parameters)
   Vec3 dpdu, dpdv;  // position derivatives w.r.t. uv (for texture footprints, normal maps)
   uint32_t material = 0;
-  uint32_t object_id = 0;  // one id per scene object instance / shape
+  uint32_t object_id = 0;  // one id per scene object instance / shape (top-level geometry)
+  uint32_t mesh = 0;       // mesh within an instanced prototype (0 otherwise)
+  uint32_t prim = 0;       // triangle index within the mesh
   Vec3 p_object;           // position in object space (procedural textures)
   Vec3 n_object;           // geometric normal in object space
   const Transform* object_from_world = nullptr;
@@ -54,8 +56,16 @@ class Accel {
   const AccelStats& stats() const { return stats_; }
   uint32_t object_count() const { return uint32_t(records_.size()); }
 
-  // Completes a hit from Embree's answer (public for the packet path and tests).
-  struct Record;
+  // What each top-level geometry (object id) is; lights use it to find emissive triangles.
+  struct Record {
+    enum class Kind { FlatMesh, Instance, Shape };
+    Kind kind = Kind::FlatMesh;
+    const TriangleMesh* mesh = nullptr;    // FlatMesh (already in world space)
+    const Prototype* proto = nullptr;      // Instance (object-space meshes)
+    const AnalyticShape* shape = nullptr;  // Shape
+    Transform world_from_object, object_from_world;
+  };
+  const Record& record(uint32_t object_id) const { return *records_[object_id]; }
 
  private:
   void fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,

@@ -1,2 +1,8 @@
 list(APPEND ANAMORPH_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/bsdf.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/film.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/lights.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/renderer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/shading.cpp
 )

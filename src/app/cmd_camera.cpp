@@ -1,0 +1,111 @@
+// `anamorph rays` and `anamorph project`: the camera's ray field and its inverse map.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "app/common.h"
+#include "io/image_io.h"
+
+namespace anamorph::app {
+
+namespace {
+
+struct RaysArgs {
+  SceneOptions scene;
+  std::string output;
+};
+
+int run_rays(const RaysArgs& a) {
+  namespace fs = std::filesystem;
+  const fs::path out = a.output;
+  const std::string ext = out.extension().string();
+  if (ext != ".csv" && ext != ".exr") {
+    fmt::print(stderr, "error: -o {}: use .csv or .exr\n", a.output);
+    return kBadInput;
+  }
+  const Scene s = load(a.scene);
+  const int W = s.render.width, H = s.render.height;
+  if (ext == ".csv") {
+    std::ostringstream os;
+    os << "px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n";
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+        const auto r = s.camera->generate({uv});
+        if (r)
+          os << fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n", x, y, uv.x,
+                            uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z);
+        else
+          os << fmt::format("{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y, uv.x, uv.y);
+      }
+    const std::string text = os.str();
+    write_file_atomic(out, text.data(), text.size());
+    return kOk;
+  }
+  OutputImage img;
+  img.width = W;
+  img.height = H;
+  ImageLayer org{"org", {"X", "Y", "Z"}, {}}, dir{"dir", {"X", "Y", "Z"}, {}}, valid{"valid", {"V"}, {}};
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const auto r = s.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
+      const Vec3 o = r ? r->org : Vec3{}, d = r ? r->dir : Vec3{};
+      for (int k = 0; k < 3; ++k) {
+        org.data.push_back(float(o[k]));
+        dir.data.push_back(float(d[k]));
+      }
+      valid.data.push_back(r ? 1.0f : 0.0f);
+    }
+  img.layers = {std::move(org), std::move(dir), std::move(valid)};
+  img.metadata["anamorph.command"] = command_line();
+  img.metadata["anamorph.camera"] = s.camera->describe() + "\n" + s.camera_toml;
+  write_exr(out, img);
+  return kOk;
+}
+
+struct ProjectArgs {
+  SceneOptions scene;
+  std::string point;
+};
+
+int run_project(const ProjectArgs& a) {
+  Vec3 p;
+  {
+    std::string t = a.point;
+    for (char& c : t)
+      if (c == ',') c = ' ';
+    std::istringstream is(t);
+    if (!(is >> p.x >> p.y >> p.z) || !is_finite(p)) {
+      fmt::print(stderr, "error: --point {}: expected X,Y,Z (three finite numbers)\n", a.point);
+      return kBadInput;
+    }
+  }
+  const Scene s = load(a.scene);
+  for (const Vec2& uv : s.camera->project(p))
+    fmt::print("{:.6f} {:.6f}\n", uv.x * s.render.width, uv.y * s.render.height);
+  return kOk;
+}
+
+}  // namespace
+
+void add_rays(CLI::App& app, std::function<int()>& runner) {
+  auto a = std::make_shared<RaysArgs>();
+  CLI::App* cmd = app.add_subcommand("rays", "Write the camera's rays at pixel centers (.csv or .exr)");
+  a->scene.add_to(*cmd);
+  cmd->add_option("-o,--output", a->output, "Output file: .csv (header px,py,u,v,ox,oy,oz,dx,dy,dz,valid) or .exr")
+      ->required();
+  cmd->callback([a, &runner] { runner = [a] { return run_rays(*a); }; });
+}
+
+void add_project(CLI::App& app, std::function<int()>& runner) {
+  auto a = std::make_shared<ProjectArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "project", "Print every image position (px py, floating-point pixels from the top-left) where a point appears");
+  a->scene.add_to(*cmd);
+  cmd->add_option("--point", a->point, "World point X,Y,Z")->required();
+  cmd->callback([a, &runner] { runner = [a] { return run_project(*a); }; });
+}
+
+}  // namespace anamorph::app

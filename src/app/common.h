@@ -1,0 +1,41 @@
+// Shared pieces of the command-line front end: scene options every command takes, and the
+// mapping of errors to messages and exit codes (0 ok, 1 runtime failure, 2 bad usage or scene).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace anamorph::app {
+
+enum ExitCode { kOk = 0, kFailure = 1, kBadInput = 2 };
+
+struct SceneOptions {
+  std::string scene;
+  std::optional<int> width, height;
+  std::vector<std::string> set;
+  void add_to(CLI::App& cmd);
+  std::vector<std::string> overrides() const;  // --set plus --width/--height as overrides
+};
+
+// Loads the scene, printing warnings to stderr. Throws on errors (see run_guarded).
+Scene load(const SceneOptions& o, const std::vector<std::string>& extra_overrides = {});
+
+// Runs a command body and turns exceptions into messages and exit codes.
+int run_guarded(const std::function<int()>& body);
+
+// The command line as typed, for metadata.
+std::string command_line();
+void set_command_line(int argc, char** argv);
+
+void add_render(CLI::App& app, std::function<int()>& run);
+void add_info(CLI::App& app, std::function<int()>& run);
+void add_rays(CLI::App& app, std::function<int()>& run);
+void add_project(CLI::App& app, std::function<int()>& run);
+
+}  // namespace anamorph::app

@@ -1,0 +1,162 @@
+#include "render/bsdf.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "math/sampling.h"
+
+namespace anamorph {
+
+double fresnel_dielectric(double cos_i, double eta) {
+  cos_i = std::clamp(cos_i, -1.0, 1.0);
+  if (cos_i < 0) {
+    eta = 1 / eta;
+    cos_i = -cos_i;
+  }
+  const double sin2_t = (1 - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= 1) return 1;  // total internal reflection
+  const double cos_t = std::sqrt(1 - sin2_t);
+  const double rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  const double rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+Color fresnel_schlick(const Color& f0, double c) {
+  const double m = std::pow(std::clamp(1 - c, 0.0, 1.0), 5);
+  return f0 + (Color(1) - f0) * m;
+}
+
+namespace {
+
+double ggx_d(double cos_h, double a) {
+  const double a2 = a * a;
+  const double d = cos_h * cos_h * (a2 - 1) + 1;
+  return a2 / (kPi * d * d);
+}
+double smith_g1(double cos_v, double a) {
+  const double a2 = a * a;
+  const double c2 = cos_v * cos_v;
+  return 2 * cos_v / (cos_v + std::sqrt(a2 + (1 - a2) * c2));
+}
+
+// Lobe selection probabilities from rough albedo estimates.
+struct LobeWeights {
+  double diffuse, phong, ggx, mirror, dielectric, total;
+};
+LobeWeights lobe_weights(const Bsdf& b) {
+  LobeWeights w{luminance(b.diffuse), luminance(b.phong), luminance(b.ggx_f0) > 0 ? std::max(0.1, luminance(b.ggx_f0)) : 0.0,
+                luminance(b.mirror), b.transmission, 0};
+  w.total = w.diffuse + w.phong + w.ggx + w.mirror + w.dielectric;
+  return w;
+}
+
+}  // namespace
+
+Color Bsdf::eval(const Vec3& wo_w, const Vec3& wi_w) const {
+  const Vec3 wo = frame.to_local(wo_w), wi = frame.to_local(wi_w);
+  // Reflection only, and only when both directions are on the geometric outside as well, which
+  // avoids light leaking through shading-normal mismatches.
+  if (wo.z <= 0 || wi.z <= 0 || dot(wi_w, ng) <= 0) return {};
+  Color f = diffuse * kInvPi;
+  if (max_component(phong) > 0) {
+    const Vec3 r{-wo.x, -wo.y, wo.z};
+    const double c = std::max(0.0, dot(r, wi));
+    f += phong * ((phong_exponent + 2) / (2 * kPi) * std::pow(c, phong_exponent));
+  }
+  if (max_component(ggx_f0) > 0) {
+    const Vec3 h = normalize(wo + wi);
+    const double d = ggx_d(h.z, ggx_alpha);
+    const double g = smith_g1(wo.z, ggx_alpha) * smith_g1(wi.z, ggx_alpha);
+    f += fresnel_schlick(ggx_f0, dot(wi, h)) * (d * g / (4 * wo.z * wi.z));
+  }
+  return f;
+}
+
+double Bsdf::pdf(const Vec3& wo_w, const Vec3& wi_w) const {
+  const Vec3 wo = frame.to_local(wo_w), wi = frame.to_local(wi_w);
+  if (wo.z <= 0 || wi.z <= 0) return 0;
+  const LobeWeights w = lobe_weights(*this);
+  if (w.total <= 0) return 0;
+  double p = w.diffuse * cosine_hemisphere_pdf(wi.z);
+  if (w.phong > 0) {
+    const Vec3 r{-wo.x, -wo.y, wo.z};
+    const double c = std::max(0.0, dot(r, wi));
+    p += w.phong * (phong_exponent + 1) / (2 * kPi) * std::pow(c, phong_exponent);
+  }
+  if (w.ggx > 0) {
+    const Vec3 h = normalize(wo + wi);
+    p += w.ggx * ggx_d(h.z, ggx_alpha) * h.z / (4 * dot(wo, h));
+  }
+  return p / w.total;
+}
+
+bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
+  const Vec3 wo = frame.to_local(wo_w);
+  if (wo.z <= 0) return false;
+  const LobeWeights w = lobe_weights(*this);
+  if (w.total <= 0) return false;
+  double x = u3 * w.total;
+  // Delta lobes first: their choice probability enters the weight.
+  if (x < w.mirror) {
+    out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
+    out->delta = true;
+    out->pdf = w.mirror / w.total;
+    out->f = mirror;
+    out->weight = mirror / out->pdf;
+    return true;
+  }
+  x -= w.mirror;
+  if (x < w.dielectric) {
+    const double sel = w.dielectric / w.total;
+    const double e = entering ? eta : 1 / eta;
+    const double fr = fresnel_dielectric(wo.z, e);
+    // Split the random number again: reflect with probability F.
+    const double v = x / w.dielectric;
+    out->delta = true;
+    if (v < fr) {
+      out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
+      out->pdf = sel * fr;
+      out->weight = Color(transmission / sel);
+    } else {
+      const double sin2_t = (1 - wo.z * wo.z) / (e * e);
+      const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
+      const Vec3 wt = Vec3{-wo.x / e, -wo.y / e, -cos_t};
+      out->wi = frame.to_world(normalize(wt));
+      out->pdf = sel * (1 - fr);
+      // Radiance is scaled by 1/eta^2 crossing into the denser medium (non-symmetric BTDF).
+      out->weight = Color(transmission / sel / (e * e));
+    }
+    out->f = out->weight;
+    return true;
+  }
+  x -= w.dielectric;
+  Vec3 wi;
+  if (x < w.diffuse) {
+    wi = sample_cosine_hemisphere(u);
+  } else if (x < w.diffuse + w.phong) {
+    // cos^n lobe around the mirror direction.
+    const double cos_a = std::pow(u.x, 1 / (phong_exponent + 1));
+    const double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
+    const double phi = 2 * kPi * u.y;
+    const Frame rf = Frame::from_normal({-wo.x, -wo.y, wo.z});
+    wi = rf.to_world({sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a});
+  } else {
+    // GGX distribution of normals.
+    const double a2 = ggx_alpha * ggx_alpha;
+    const double cos_h = std::sqrt((1 - u.x) / (1 + (a2 - 1) * u.x));
+    const double sin_h = std::sqrt(std::max(0.0, 1 - cos_h * cos_h));
+    const double phi = 2 * kPi * u.y;
+    const Vec3 h{sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
+    wi = h * (2 * dot(wo, h)) - wo;
+  }
+  if (wi.z <= 0) return false;
+  out->wi = frame.to_world(wi);
+  out->delta = false;
+  out->pdf = pdf(wo_w, out->wi);
+  if (!(out->pdf > 0)) return false;
+  out->f = eval(wo_w, out->wi);
+  out->weight = out->f * (std::abs(wi.z) / out->pdf);
+  return true;
+}
+
+}  // namespace anamorph

@@ -1,0 +1,68 @@
+// The film: per-pixel sums of samples for the beauty pass and any AOVs. Every pixel is written by
+// exactly one thread (its tile's), in sample order, so sums are bit-identical for any thread count.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/image_io.h"
+#include "math/vec.h"
+
+namespace anamorph {
+
+enum class Aov { Albedo, Normal, Depth, Position, Id, Uv };
+
+struct AovInfo {
+  Aov aov;
+  const char* name;
+  std::vector<std::string> channels;
+};
+const std::vector<AovInfo>& aov_table();
+// Parses "albedo,normal,depth"; throws std::invalid_argument naming a bad entry.
+std::vector<Aov> parse_aovs(const std::string& list);
+const AovInfo& aov_info(Aov a);
+
+// What one camera sample contributes to the AOVs (valid only when `hit`).
+struct AovSample {
+  bool hit = false;
+  Color albedo;
+  Vec3 normal, position;
+  double depth = 0;
+  double id = -1;
+  Vec2 uv;
+};
+
+class Film {
+ public:
+  Film(int width, int height, std::vector<Aov> aovs);
+  int width() const { return w_; }
+  int height() const { return h_; }
+  const std::vector<Aov>& aovs() const { return aovs_; }
+
+  // One camera sample: radiance, coverage (0 for "no ray") and AOV values.
+  void add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample);
+  uint32_t samples(int x, int y) const { return px(x, y).n; }
+
+  // Averages: beauty as RGBA (straight alpha), AOV layers as their channels.
+  OutputImage output() const;
+  Color pixel(int x, int y) const;  // averaged beauty RGB (premultiplied by coverage)
+  double alpha(int x, int y) const;
+
+ private:
+  struct Pixel {
+    double rgb[3] = {0, 0, 0};
+    double alpha = 0;
+    uint32_t n = 0;      // samples
+    uint32_t hits = 0;   // samples that hit a surface (AOV averages)
+    size_t aov_offset = 0;
+  };
+  Pixel& px(int x, int y) { return pixels_[size_t(y) * w_ + x]; }
+  const Pixel& px(int x, int y) const { return pixels_[size_t(y) * w_ + x]; }
+  int w_, h_;
+  std::vector<Aov> aovs_;
+  std::vector<Pixel> pixels_;
+  size_t aov_floats_ = 0;     // per pixel
+  std::vector<double> aov_;   // per pixel sums, aov_floats_ each
+};
+
+}  // namespace anamorph

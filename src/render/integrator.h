@@ -1,0 +1,41 @@
+// Integrators compute the radiance arriving along a camera ray. The renderer finds the first hit
+// (possibly with packet tracing) and hands it over, so AOVs and integrators share one trace.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "accel/accel.h"
+#include "math/rng.h"
+#include "render/lights.h"
+#include "render/shading.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+struct RenderContext {
+  const Scene& scene;
+  const Accel& accel;
+  const Lights& lights;
+  int max_depth;
+};
+
+class Integrator {
+ public:
+  explicit Integrator(const RenderContext& ctx) : ctx_(ctx) {}
+  virtual ~Integrator() = default;
+  // `first` is the first hit of `ray` or null for a miss; `fp` its pixel footprint. Rays traced
+  // beyond the primary one are added to `rays`.
+  virtual Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
+                         uint64_t& rays) const = 0;
+
+ protected:
+  // A ray leaving a surface point, offset along the geometric normal to avoid self-hits.
+  static Ray spawn(const Hit& h, const Vec3& dir);
+  const RenderContext& ctx_;
+};
+
+// "whitted" or "path"; AOV integrators are handled by the renderer.
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx);
+
+}  // namespace anamorph

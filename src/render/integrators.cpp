@@ -1,0 +1,179 @@
+// The two radiance integrators: the paper's Whitted ray tracer and a unidirectional path tracer
+// with next-event estimation and multiple importance sampling.
+#include <cmath>
+
+#include "math/sampling.h"
+#include "render/integrator.h"
+
+namespace anamorph {
+
+namespace {
+
+double offset_scale(const Vec3& p) {
+  return 1e-5 * (1 + std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+}
+
+bool visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint64_t& rays) {
+  const double eps = offset_scale(h.p);
+  const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
+  Ray r{h.p + n * eps, ls.wi, 0, std::isinf(ls.dist) ? kInf : ls.dist * (1 - 1e-6) - eps};
+  ++rays;
+  return !ctx.accel.occluded(r);
+}
+
+// ---- Whitted ---------------------------------------------------------------------------------
+
+class Whitted final : public Integrator {
+ public:
+  using Integrator::Integrator;
+
+  Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
+                 uint64_t& rays) const override {
+    return trace(ray, first, fp, rng, 0, rays);
+  }
+
+ private:
+  Color trace(const Ray& ray, const Hit* h, const Footprint& fp, Rng& rng, int depth, uint64_t& rays) const {
+    const Lights& lights = ctx_.lights;
+    const Vec3 dir = normalize(ray.d);
+    if (!h) return lights.has_environment() ? lights.environment(dir) : Color{};
+    const Vec3 wo = -dir;
+    const Material& m = ctx_.scene.materials[h->material];
+    const TexCoord tc = texcoord_at(*h, fp);
+    const Bsdf b = make_bsdf(m, *h, wo, tc, nullptr);
+    Color L = lights.emitted(*h, wo);
+
+    if (b.has_smooth()) {
+      auto add = [&](size_t li, double pmf) {
+        LightSample ls;
+        if (!lights.sample(li, h->p, {rng.uniform(), rng.uniform()}, &ls) || !(ls.pdf > 0)) return;
+        const Color f = b.eval(wo, ls.wi);
+        if (max_component(f) <= 0 || !visible(ctx_, *h, ls, rays)) return;
+        L += f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) / (ls.pdf * pmf));
+      };
+      for (uint32_t li : lights.delta_lights()) add(li, 1.0);
+      if (lights.has_area()) {
+        double pmf;
+        const size_t li = lights.pick_area(rng.uniform(), &pmf);
+        if (pmf > 0) add(li, pmf);
+      }
+    }
+    if (depth >= ctx_.max_depth) return L;
+
+    const Vec3 wr = b.frame.to_world(reflect(b.frame.to_local(wo), {0, 0, 1}));
+    if (max_component(b.mirror) > 0) L += b.mirror * follow(*h, wr, rng, depth, rays);
+    if (b.transmission > 0) {
+      const double e = b.entering ? b.eta : 1 / b.eta;
+      const double cos_i = dot(wo, b.frame.n);
+      const double F = fresnel_dielectric(cos_i, e);
+      Color t = follow(*h, wr, rng, depth, rays) * F;
+      if (F < 1) {
+        const double sin2_t = (1 - cos_i * cos_i) / (e * e);
+        const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
+        const Vec3 wt = normalize(-wo / e + b.frame.n * (cos_i / e - cos_t));
+        t += follow(*h, wt, rng, depth, rays) * ((1 - F) / (e * e));
+      }
+      L += t * b.transmission;
+    }
+    return L;
+  }
+
+  Color follow(const Hit& h, const Vec3& d, Rng& rng, int depth, uint64_t& rays) const {
+    const Ray r = spawn(h, d);
+    Hit next;
+    ++rays;
+    const bool found = ctx_.accel.intersect(r, &next);
+    return trace(r, found ? &next : nullptr, Footprint{}, rng, depth + 1, rays);
+  }
+};
+
+// ---- Path tracing ----------------------------------------------------------------------------
+
+class PathTracer final : public Integrator {
+ public:
+  using Integrator::Integrator;
+
+  Color radiance(const Ray& ray0, const Hit* first, const Footprint& fp0, Rng& rng,
+                 uint64_t& rays) const override {
+    const Lights& lights = ctx_.lights;
+    Color L, beta(1.0);
+    Ray ray = ray0;
+    Hit hit;
+    bool found = first != nullptr;
+    if (found) hit = *first;
+    Footprint fp = fp0;
+    double prev_pdf = 0;
+    bool prev_delta = true;
+    Vec3 prev_p;
+    for (int depth = 0;; ++depth) {
+      const Vec3 dir = normalize(ray.d);
+      if (!found) {
+        if (lights.has_environment()) {
+          const double w = prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_environment(dir));
+          L += beta * lights.environment(dir) * w;
+        }
+        break;
+      }
+      const Vec3 wo = -dir;
+      const Color le = lights.emitted(hit, wo);
+      if (max_component(le) > 0) {
+        const double w = prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, dir));
+        L += beta * le * w;
+      }
+      if (depth >= ctx_.max_depth) break;
+      const Material& m = ctx_.scene.materials[hit.material];
+      const Bsdf b = make_bsdf(m, hit, wo, texcoord_at(hit, fp), nullptr);
+
+      // Next-event estimation.
+      if (b.has_smooth() && lights.count() > 0) {
+        double pmf;
+        const size_t li = lights.pick(rng.uniform(), &pmf);
+        LightSample ls;
+        const Vec2 u{rng.uniform(), rng.uniform()};
+        if (pmf > 0 && lights.sample(li, hit.p, u, &ls) && ls.pdf > 0) {
+          const Color f = b.eval(wo, ls.wi);
+          if (max_component(f) > 0 && visible(ctx_, hit, ls, rays)) {
+            const double lpdf = ls.pdf * pmf;
+            const double w = ls.delta ? 1 : power_heuristic(lpdf, b.pdf(wo, ls.wi));
+            L += beta * f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) * w / lpdf);
+          }
+        }
+      } else {
+        (void)rng.uniform(), (void)rng.uniform(), (void)rng.uniform();  // keep streams aligned
+      }
+
+      BsdfSample s;
+      const Vec2 u{rng.uniform(), rng.uniform()};
+      if (!b.sample(wo, u, rng.uniform(), &s)) break;
+      beta *= s.weight;
+      prev_pdf = s.pdf;
+      prev_delta = s.delta;
+      prev_p = hit.p;
+      if (depth >= 3) {
+        const double q = std::max(0.05, 1 - max_component(beta));
+        if (rng.uniform() < q) break;
+        beta /= 1 - q;
+      }
+      if (max_component(beta) <= 0) break;
+      ray = spawn(hit, s.wi);
+      fp = Footprint{};
+      ++rays;
+      found = ctx_.accel.intersect(ray, &hit);
+    }
+    return L;
+  }
+};
+
+}  // namespace
+
+Ray Integrator::spawn(const Hit& h, const Vec3& dir) {
+  const Vec3 n = dot(dir, h.ng) >= 0 ? h.ng : -h.ng;
+  return Ray{h.p + n * offset_scale(h.p), dir, 0, kInf};
+}
+
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx) {
+  if (name == "path") return std::make_unique<PathTracer>(ctx);
+  return std::make_unique<Whitted>(ctx);
+}
+
+}  // namespace anamorph

@@ -1,0 +1,302 @@
+#include "render/lights.h"
+
+#include <cmath>
+
+#include "math/frame.h"
+#include "math/sampling.h"
+
+namespace anamorph {
+
+namespace {
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
+}  // namespace
+
+Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
+  const Bounds3 b = accel.bounds();
+  if (!b.empty()) {
+    scene_center_ = b.center();
+    scene_radius_ = std::max(1e-3, 0.5 * length(b.diagonal()));
+  }
+  std::vector<double> power;
+  for (const Light& l : scene.lights) {
+    Emitter e{};
+    e.L = l.intensity;
+    e.p0 = l.position;
+    e.dir = normalize(l.direction);
+    switch (l.kind) {
+      case Light::Kind::Point:
+        e.kind = Emitter::Kind::Point;
+        power.push_back(4 * kPi * luminance(e.L));
+        break;
+      case Light::Kind::Spot:
+        e.kind = Emitter::Kind::Spot;
+        e.cos_inner = std::cos(radians(l.cone_angle));
+        e.cos_outer = std::cos(radians(std::min(180.0, l.cone_angle + l.cone_falloff)));
+        power.push_back(2 * kPi * (1 - 0.5 * (e.cos_inner + e.cos_outer)) * luminance(e.L));
+        break;
+      case Light::Kind::Directional:
+        e.kind = Emitter::Kind::Directional;
+        power.push_back(kPi * scene_radius_ * scene_radius_ * luminance(e.L));
+        break;
+      default: continue;  // area lights arrive as emissive geometry
+    }
+    emitters_.push_back(e);
+  }
+
+  // Emissive geometry.
+  for (uint32_t id = 0; id < accel.object_count(); ++id) {
+    const Accel::Record& rec = accel.record(id);
+    auto add_mesh = [&](const TriangleMesh& m, const Transform* xf, uint32_t mesh_index) {
+      const Material& mat = scene.materials[m.material];
+      if (!mat.is_emissive()) return;
+      const Color scale = mat.emission.value *
+                          mat.emission_strength;
+      for (size_t t = 0; t < m.triangle_count(); ++t) {
+        Emitter e{};
+        e.kind = Emitter::Kind::Triangle;
+        const uint32_t* ix = &m.indices[t * 3];
+        Vec3 p[3];
+        Vec2 uv[3];
+        for (int k = 0; k < 3; ++k) {
+          p[k] = Vec3(m.positions[ix[k]]);
+          if (xf) p[k] = xf->point(p[k]);
+          uv[k] = m.uvs.empty() ? Vec2{} : Vec2{m.uvs[ix[k]].x, m.uvs[ix[k]].y};
+        }
+        e.p0 = p[0], e.p1 = p[1], e.p2 = p[2];
+        e.uv0 = uv[0], e.uv1 = uv[1], e.uv2 = uv[2];
+        e.area = triangle_area(p[0], p[1], p[2]);
+        if (!(e.area > 0)) continue;
+        e.material = &mat;
+        e.two_sided = mat.double_sided;
+        e.L = scale;
+        by_surface_[{id, mesh_index, uint32_t(t)}] = uint32_t(emitters_.size());
+        emitters_.push_back(e);
+        power.push_back(e.area * kPi * (e.two_sided ? 2 : 1) * std::max(1e-6, luminance(scale)));
+      }
+    };
+    if (rec.kind == Accel::Record::Kind::FlatMesh) {
+      add_mesh(*rec.mesh, nullptr, 0);
+    } else if (rec.kind == Accel::Record::Kind::Instance) {
+      for (uint32_t j = 0; j < rec.proto->meshes.size(); ++j) add_mesh(rec.proto->meshes[j], &rec.world_from_object, j);
+    } else if (rec.shape->kind == AnalyticShape::Kind::Sphere) {
+      const Material& mat = scene.materials[rec.shape->material];
+      if (!mat.is_emissive()) continue;
+      Emitter e{};
+      e.kind = Emitter::Kind::Sphere;
+      e.p0 = rec.world_from_object.point({0, 0, 0});
+      // Spheres are placed by translation (and the object transform); take its mean scale.
+      e.radius = rec.shape->radius * std::cbrt(std::abs(
+          dot(cross(rec.world_from_object.vector({1, 0, 0}), rec.world_from_object.vector({0, 1, 0})),
+              rec.world_from_object.vector({0, 0, 1}))));
+      e.material = &mat;
+      e.L = mat.emission.value * mat.emission_strength;
+      by_surface_[{id, 0, 0}] = uint32_t(emitters_.size());
+      emitters_.push_back(e);
+      power.push_back(4 * kPi * e.radius * e.radius * kPi * luminance(e.L));
+    }
+  }
+
+  const Environment& env = scene.environment;
+  if (env.present()) {
+    Emitter e{};
+    e.kind = Emitter::Kind::Environment;
+    e.L = env.color * env.strength;
+    double avg = luminance(e.L);
+    if (env.image) {
+      const Image& im = *env.image;
+      std::vector<double> f(size_t(im.width) * im.height);
+      double sum = 0;
+      for (int y = 0; y < im.height; ++y) {
+        const double sin_t = std::sin(kPi * (y + 0.5) / im.height);
+        for (int x = 0; x < im.width; ++x) {
+          const double l = luminance({im.at(x, y, 0), im.at(x, y, 1), im.at(x, y, 2)});
+          f[size_t(y) * im.width + x] = (l + 1e-4) * sin_t;  // keep every texel reachable
+          sum += l * sin_t;
+        }
+      }
+      env_dist_ = Distribution2D(f, size_t(im.width), size_t(im.height));
+      avg = env.strength * sum / (double(im.width) * im.height) * 2;  // ~ mean over the sphere
+    }
+    env_index_ = int(emitters_.size());
+    emitters_.push_back(e);
+    power.push_back(kPi * scene_radius_ * scene_radius_ * kPi * std::max(1e-6, avg));
+  }
+  pick_ = Distribution1D(power);
+  std::vector<double> area_power;
+  for (uint32_t i = 0; i < emitters_.size(); ++i) {
+    const auto k = emitters_[i].kind;
+    if (k == Emitter::Kind::Point || k == Emitter::Kind::Spot || k == Emitter::Kind::Directional) {
+      delta_.push_back(i);
+    } else {
+      area_.push_back(i);
+      area_power.push_back(power[i]);
+    }
+  }
+  if (!area_.empty()) area_pick_ = Distribution1D(area_power);
+}
+
+Vec2 Lights::env_uv(const Vec3& d) const {
+  const double phi = std::atan2(d.x, -d.z) - radians(scene_.environment.rotation);
+  double u = phi / (2 * kPi) + 0.5;
+  u -= std::floor(u);
+  const double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi;
+  return {u, v};
+}
+
+Vec3 Lights::env_dir(Vec2 uv) const {
+  const double phi = 2 * kPi * (uv.x - 0.5) + radians(scene_.environment.rotation);
+  const double theta = kPi * uv.y;
+  const double s = std::sin(theta);
+  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+}
+
+Color Lights::environment(const Vec3& d) const {
+  const Environment& env = scene_.environment;
+  if (!env.image) return env.color * env.strength;
+  const Vec2 uv = env_uv(d);
+  const Image& im = *env.image;
+  // Bilinear, wrapping in u and clamping in v.
+  const double x = uv.x * im.width - 0.5, y = std::clamp(uv.y * im.height - 0.5, 0.0, im.height - 1.0);
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  const double tx = x - x0, ty = y - y0;
+  auto px = [&](int xi, int yi) {
+    xi = ((xi % im.width) + im.width) % im.width;
+    yi = std::clamp(yi, 0, im.height - 1);
+    return Color{im.at(xi, yi, 0), im.at(xi, yi, 1), im.at(xi, yi, 2)};
+  };
+  const Color c = (px(x0, y0) * (1 - tx) + px(x0 + 1, y0) * tx) * (1 - ty) +
+                  (px(x0, y0 + 1) * (1 - tx) + px(x0 + 1, y0 + 1) * tx) * ty;
+  return c * env.strength;
+}
+
+double Lights::pdf_environment(const Vec3& d) const {
+  if (env_index_ < 0) return 0;
+  const double pick = pick_.pmf(size_t(env_index_));
+  if (!scene_.environment.image) return pick * uniform_sphere_pdf();
+  const Vec2 uv = env_uv(d);
+  const double s = std::sin(kPi * uv.y);
+  if (s <= 0) return 0;
+  return pick * env_dist_.pdf(uv) / (2 * kPi * kPi * s);
+}
+
+Color Lights::emission_at(const Emitter& e, Vec2 uv) const {
+  if (!e.material || e.material->emission.kind == Texture::Kind::Constant) return e.L;
+  TexCoord tc;
+  tc.uv = uv;
+  return e.material->emission.eval(tc) * e.material->emission_strength;
+}
+
+bool Lights::sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
+  const Emitter& e = emitters_[i];
+  switch (e.kind) {
+    case Emitter::Kind::Point:
+    case Emitter::Kind::Spot: {
+      const Vec3 d = e.p0 - p;
+      const double d2 = dot(d, d);
+      if (!(d2 > 0)) return false;
+      out->dist = std::sqrt(d2);
+      out->wi = d / out->dist;
+      double falloff = 1;
+      if (e.kind == Emitter::Kind::Spot) {
+        const double c = dot(-out->wi, e.dir);
+        if (c <= e.cos_outer) return false;
+        if (c < e.cos_inner) {
+          const double t = (c - e.cos_outer) / (e.cos_inner - e.cos_outer);
+          falloff = t * t * (3 - 2 * t);  // smoothstep
+        }
+      }
+      out->L = e.L * (falloff / d2);
+      out->pdf = 1;
+      out->delta = true;
+      return true;
+    }
+    case Emitter::Kind::Directional:
+      out->wi = -e.dir;
+      out->dist = kInf;
+      out->L = e.L;
+      out->pdf = 1;
+      out->delta = true;
+      return true;
+    case Emitter::Kind::Triangle: {
+      const Vec2 b = sample_uniform_triangle(u);
+      const Vec3 q = e.p0 * b.x + e.p1 * b.y + e.p2 * (1 - b.x - b.y);
+      const Vec3 n = normalize(cross(e.p1 - e.p0, e.p2 - e.p0));
+      const Vec3 d = q - p;
+      const double d2 = dot(d, d);
+      if (!(d2 > 0)) return false;
+      out->dist = std::sqrt(d2);
+      out->wi = d / out->dist;
+      const double cos_l = dot(-out->wi, n);
+      if (std::abs(cos_l) < 1e-12 || (!e.two_sided && cos_l < 0)) return false;
+      out->pdf = d2 / (std::abs(cos_l) * e.area);
+      out->L = emission_at(e, e.uv0 * b.x + e.uv1 * b.y + e.uv2 * (1 - b.x - b.y));
+      out->delta = false;
+      return true;
+    }
+    case Emitter::Kind::Sphere: {
+      // Uniform cone of directions subtended by the sphere.
+      const Vec3 dc = e.p0 - p;
+      const double dc2 = dot(dc, dc);
+      if (dc2 <= e.radius * e.radius) return false;  // inside the light
+      const double sin2 = e.radius * e.radius / dc2;
+      const double cos_max = std::sqrt(std::max(0.0, 1 - sin2));
+      const Frame f = Frame::from_normal(dc / std::sqrt(dc2));
+      const Vec3 w = f.to_world(sample_uniform_cone(u, cos_max));
+      // Distance to the sphere along w.
+      const double b = dot(dc, w);
+      const double disc = b * b - (dc2 - e.radius * e.radius);
+      out->dist = b - std::sqrt(std::max(0.0, disc));
+      out->wi = w;
+      out->pdf = uniform_cone_pdf(cos_max);
+      out->L = e.L;
+      out->delta = false;
+      return true;
+    }
+    case Emitter::Kind::Environment: {
+      if (!scene_.environment.image) {
+        out->wi = sample_uniform_sphere(u);
+        out->pdf = uniform_sphere_pdf();
+      } else {
+        double pdf_uv;
+        const Vec2 uv = env_dist_.sample(u, &pdf_uv);
+        const double s = std::sin(kPi * uv.y);
+        if (!(s > 0) || !(pdf_uv > 0)) return false;
+        out->wi = env_dir(uv);
+        out->pdf = pdf_uv / (2 * kPi * kPi * s);
+      }
+      out->dist = kInf;
+      out->L = environment(out->wi);
+      out->delta = false;
+      return true;
+    }
+  }
+  return false;
+}
+
+Color Lights::emitted(const Hit& h, const Vec3& wo) const {
+  const Material& m = scene_.materials[h.material];
+  if (!m.is_emissive()) return {};
+  if (!m.double_sided && dot(wo, h.ng) <= 0) return {};
+  TexCoord tc;
+  tc.uv = h.uv;
+  return m.emission.eval(tc) * m.emission_strength;
+}
+
+double Lights::pdf_emitter(const Hit& h, const Vec3& from, const Vec3& wi) const {
+  auto it = by_surface_.find({h.object_id, h.mesh, h.prim});
+  if (it == by_surface_.end()) return 0;
+  const Emitter& e = emitters_[it->second];
+  const double pick = pick_.pmf(it->second);
+  if (e.kind == Emitter::Kind::Triangle) {
+    const double cos_l = std::abs(dot(wi, h.ng));
+    if (cos_l < 1e-12) return 0;
+    const double d2 = length_squared(h.p - from);
+    return pick * d2 / (cos_l * e.area);
+  }
+  const double dc2 = length_squared(e.p0 - from);
+  if (dc2 <= e.radius * e.radius) return 0;
+  const double cos_max = std::sqrt(std::max(0.0, 1 - e.radius * e.radius / dc2));
+  return pick * uniform_cone_pdf(cos_max);
+}
+
+}  // namespace anamorph

@@ -1,0 +1,84 @@
+// All emitters of a scene behind one sampling interface: point, spot and directional lights
+// (delta), emissive triangles (quad lights become two of them), emissive spheres, and the
+// environment (importance-sampled by luminance when it is an image).
+#pragma once
+
+#include <unordered_map>
+#include <vector>
+
+#include "accel/accel.h"
+#include "math/distribution.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+struct LightSample {
+  Color L;            // incident radiance (or intensity / d^2 for point-like lights)
+  Vec3 wi;            // unit direction toward the light
+  double dist = kInf; // distance to the sampled point (kInf for directional / environment)
+  double pdf = 0;     // solid-angle density (1 for delta lights), not including the pick pmf
+  bool delta = false;
+};
+
+class Lights {
+ public:
+  Lights(const Scene& scene, const Accel& accel);
+
+  size_t count() const { return emitters_.size(); }
+  // Chooses a light proportionally to its estimated power.
+  size_t pick(double u, double* pmf) const { return pick_.sample_discrete(u, pmf); }
+  double pick_pmf(size_t i) const { return pick_.pmf(i); }
+  bool sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const;
+  // Whitted shades every delta light and one power-chosen area emitter.
+  const std::vector<uint32_t>& delta_lights() const { return delta_; }
+  bool has_area() const { return area_pick_.size() > 0 && area_pick_.total() > 0; }
+  size_t pick_area(double u, double* pmf) const { return area_[area_pick_.sample_discrete(u, pmf)]; }
+
+  // Radiance leaving an emissive surface at a hit toward wo (zero if not emissive).
+  Color emitted(const Hit& h, const Vec3& wo) const;
+  // Density (solid angle, pick pmf included) with which light sampling at `from` would have
+  // produced direction wi reaching the emitter at `h` (for MIS).
+  double pdf_emitter(const Hit& h, const Vec3& from, const Vec3& wi) const;
+
+  Color environment(const Vec3& dir) const;
+  bool has_environment() const { return env_index_ >= 0; }
+  double pdf_environment(const Vec3& dir) const;  // pick pmf included
+
+ private:
+  struct Emitter {
+    enum class Kind { Point, Spot, Directional, Triangle, Sphere, Environment } kind;
+    Color L;                    // intensity / irradiance / radiance (constant part)
+    Vec3 p0, p1, p2;            // triangle vertices; p0 = position / sphere center
+    Vec2 uv0, uv1, uv2;         // triangle uvs (textured emission)
+    Vec3 dir;                   // spot axis / directional travel direction
+    double cos_inner = 1, cos_outer = 1;  // spot
+    double radius = 0, area = 0;
+    const Material* material = nullptr;   // triangles and spheres: emission texture
+    bool two_sided = true;
+  };
+  struct Key {
+    uint32_t object, mesh, prim;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      return std::hash<uint64_t>()((uint64_t(k.object) << 32 | k.mesh) * 0x9E3779B97F4A7C15ULL ^ k.prim);
+    }
+  };
+
+  Color emission_at(const Emitter& e, Vec2 uv) const;
+  Vec2 env_uv(const Vec3& d) const;
+  Vec3 env_dir(Vec2 uv) const;
+
+  const Scene& scene_;
+  std::vector<Emitter> emitters_;
+  std::unordered_map<Key, uint32_t, KeyHash> by_surface_;
+  Distribution1D pick_, area_pick_;
+  std::vector<uint32_t> delta_, area_;
+  int env_index_ = -1;
+  Distribution2D env_dist_;
+  double scene_radius_ = 1;
+  Vec3 scene_center_;
+};
+
+}  // namespace anamorph
