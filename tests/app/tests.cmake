@@ -1,1 +1,4 @@
-# anamorph_add_test(test_app ...)
+anamorph_add_test(test_cli
+  ${CMAKE_CURRENT_LIST_DIR}/cli_test.cpp
+)
+add_dependencies(test_cli anamorph)

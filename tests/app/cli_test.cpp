@@ -1,0 +1,212 @@
+// The command line as a user meets it: exit codes, messages, no half-written output files.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "io/image_io.h"
+#include "test_util.h"
+
+namespace anamorph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = test::binary().string() + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("anamorph_cli_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string write(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+const char* kSmall =
+    "[image]\nwidth = 24\nheight = 16\n[camera]\nlook_from = [0, 1, 4]\nlook_at = [0, 0, 0]\n"
+    "[[object]]\ntype = \"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 3, 2]\nintensity = 10\n";
+
+#define EXPECT_CONTAINS(hay, needle) \
+  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
+
+}  // namespace
+
+TEST(Cli, VersionAndHelp) {
+  const Result v = run("--version");
+  EXPECT_EQ(v.code, 0);
+  EXPECT_CONTAINS(v.out, "anamorph " ANAMORPH_VERSION);
+  for (const char* cmd : {"render", "info", "rays", "project"}) {
+    const Result h = run(std::string(cmd) + " --help");
+    EXPECT_EQ(h.code, 0) << cmd;
+    EXPECT_CONTAINS(h.out, "--set");
+  }
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("render").code, 2) << "missing scene argument";
+}
+
+TEST(Cli, RendersPngWithMetadata) {
+  const fs::path d = temp_dir("png");
+  const std::string scene = write(d / "s.toml", kSmall);
+  const fs::path out = d / "out.png";
+  const Result r = run("render " + scene + " -o " + out.string() + " --set camera.fov=70");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "Mrays/s");
+  const auto meta = read_metadata(out);
+  ASSERT_TRUE(meta.count("anamorph.command"));
+  EXPECT_CONTAINS(meta.at("anamorph.command"), "camera.fov=70");
+  EXPECT_CONTAINS(meta.at("anamorph.camera"), "perspective");
+  const Image im = read_image(out);
+  EXPECT_EQ(im.width, 24);
+  EXPECT_EQ(im.height, 16);
+  fs::remove_all(d);
+}
+
+TEST(Cli, AovsGoToOneExr) {
+  const fs::path d = temp_dir("aov");
+  const std::string scene = write(d / "s.toml", kSmall);
+  const Result r = run("render " + scene + " -o " + (d / "o.exr").string() + " --aov albedo,normal,depth -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  int w, h;
+  const auto ch = read_exr_channels(d / "o.exr", &w, &h);
+  for (const char* c : {"R", "G", "B", "A", "albedo.R", "normal.X", "depth.Z"}) EXPECT_TRUE(ch.count(c)) << c;
+  EXPECT_EQ(run("render " + scene + " -o " + (d / "o.exr").string() + " --aov albedo,bogus").code, 2);
+  fs::remove_all(d);
+}
+
+TEST(Cli, BadSceneExitCode2WithLocationAndNoOutput) {
+  const fs::path d = temp_dir("bad");
+  const fs::path out = d / "out.png";
+  struct Case {
+    std::string text, expect;
+  };
+  const Case cases[] = {
+      {"[image]\nwidth = 10\nhieght = 5\n", "s.toml:3:1: image.hieght: unknown key (did you mean 'height'?)"},
+      {"[camera\n", "TOML syntax error"},
+      {"[camera]\nfov = 200\n", "camera.fov"},
+      {"[camera]\nfov = -1\n", "out of range"},
+      {"[camera]\nfov = nan\n", "finite"},
+      {"[[object]]\ntype = \"sphere\"\nradius = -2\n", "object[0].radius"},
+      {"[[object]]\ntype = \"mesh\"\nfile = \"missing.obj\"\n", "file not found"},
+      {"[render]\nspp = \"many\"\n", "expected an integer"},
+  };
+  for (const Case& c : cases) {
+    const std::string scene = write(d / "s.toml", c.text);
+    const Result r = run("render " + scene + " -o " + out.string());
+    EXPECT_EQ(r.code, 2) << c.text << "\n" << r.out;
+    EXPECT_CONTAINS(r.out, c.expect);
+    EXPECT_FALSE(fs::exists(out)) << "no output for a bad scene";
+  }
+  EXPECT_EQ(run("render " + (d / "nope.toml").string()).code, 2);
+  EXPECT_EQ(run("render " + write(d / "s.toml", kSmall) + " -o " + (d / "x.jpg").string()).code, 2);
+  fs::remove_all(d);
+}
+
+TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
+  const fs::path d = temp_dir("kill");
+  const std::string scene = write(d / "s.toml", kSmall);
+  const fs::path out = d / "out.png";
+  ASSERT_EQ(run("render " + scene + " -q -o " + out.string()).code, 0);
+  const std::string before = slurp(out);
+  // A render that takes far longer than we wait, then SIGKILL (no chance to clean up).
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string bin = test::binary().string();
+    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "-o", out.c_str(), "--width", "2000",
+          "--height", "2000", "--spp", "4096", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid, SIGKILL);
+  int status;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFSIGNALED(status)) << "the render finished before it was killed";
+  EXPECT_EQ(slurp(out), before) << "the previous image must survive byte for byte";
+  // SIGINT: the renderer stops, writes nothing and says so.
+  const pid_t pid2 = fork();
+  if (pid2 == 0) {
+    const std::string bin = test::binary().string();
+    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "-o", out.c_str(), "--width", "2000",
+          "--height", "2000", "--spp", "4096", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid2, SIGINT);
+  waitpid(pid2, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1);
+  EXPECT_EQ(slurp(out), before);
+  fs::remove_all(d);
+}
+
+TEST(Cli, InfoRaysProject) {
+  const fs::path d = temp_dir("info");
+  const std::string scene = write(d / "s.toml", kSmall);
+  const Result info = run("info " + scene);
+  ASSERT_EQ(info.code, 0) << info.out;
+  EXPECT_CONTAINS(info.out, "shapes      1");
+  EXPECT_CONTAINS(info.out, "perspective");
+  const Result rays = run("rays " + scene + " --width 4 --height 3 -o " + (d / "r.csv").string());
+  ASSERT_EQ(rays.code, 0) << rays.out;
+  const std::string csv = slurp(d / "r.csv");
+  EXPECT_EQ(csv.rfind("px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n", 0), 0u);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
+  // The camera looks at the origin: it projects to the image center.
+  const Result pr = run("project " + scene + " --point 0,0,0");
+  ASSERT_EQ(pr.code, 0) << pr.out;
+  EXPECT_CONTAINS(pr.out, "12.000000 8.000000");
+  EXPECT_EQ(run("project " + scene + " --point 1,2").code, 2);
+  fs::remove_all(d);
+}
+
+TEST(Cli, RobustnessModels) {
+  ANAMORPH_REQUIRE_SHARED();
+  const fs::path d = temp_dir("robust");
+  const fs::path gl = test::shared_scenes() / "gltf" / "robustness";
+  const std::string bad = write(d / "inf.toml", std::string(kSmall) + "[[object]]\ntype = \"mesh\"\nfile = \"" +
+                                                    (gl / "BoxWithInfinites.glb").string() + "\"\n");
+  const Result r1 = run("render " + bad + " -o " + (d / "o.png").string());
+  EXPECT_EQ(r1.code, 2) << r1.out;
+  EXPECT_CONTAINS(r1.out, "non-finite");
+  EXPECT_FALSE(fs::exists(d / "o.png"));
+  const std::string fix = write(d / "bad_normals.toml", std::string(kSmall) + "[[object]]\ntype = \"mesh\"\nfile = \"" +
+                                                            (gl / "BoxBadNormals.glb").string() + "\"\n");
+  const Result r2 = run("render " + fix + " -q -o " + (d / "o.png").string());
+  EXPECT_EQ(r2.code, 0) << r2.out;
+  EXPECT_CONTAINS(r2.out, "warning");
+  fs::remove_all(d);
+}
+
+}  // namespace anamorph

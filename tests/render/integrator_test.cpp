@@ -1,0 +1,127 @@
+// Integrators against analytic values: the furnace, Whitted mirror / glass / diffuse by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "render_util.h"
+
+namespace anamorph {
+
+namespace {
+// A camera straight at the origin from +z, one pixel at its exact center.
+const std::string kOnePixel =
+    "[image]\nwidth = 1\nheight = 1\n[render]\nsampler = \"center\"\n"
+    "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 10\n";
+}  // namespace
+
+TEST(Furnace, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
+  // A convex diffuse object under radiance 1 everywhere: every path leaves after one bounce,
+  // so the exact pixel value is the albedo.
+  const std::string scene =
+      "[image]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"path\"\nspp = 64\nmax_depth = 8\n"
+      "[camera]\nlook_from = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 8\n"
+      "[[material]]\nname = \"white\"\ncolor = 0.8\n"
+      "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"white\"\n"
+      "[environment]\ncolor = 1\n";
+  const auto r = test::render_text(scene);
+  double sum = 0;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) sum += luminance(r.film->pixel(x, y));
+  EXPECT_NEAR(sum / 64, 0.8, 0.01) << "mean radiance of the furnace";
+}
+
+TEST(Furnace, MetallicRoughnessWhiteFurnaceStaysBelowOne) {
+  const std::string scene =
+      "[image]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"path\"\nspp = 64\n"
+      "[camera]\nlook_from = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 8\n"
+      "[[material]]\nname = \"m\"\ntype = \"metallic_roughness\"\ncolor = 1\nmetallic = 1\nroughness = 0.5\n"
+      "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"m\"\n"
+      "[environment]\ncolor = 1\n";
+  const auto r = test::render_text(scene);
+  double sum = 0;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) sum += luminance(r.film->pixel(x, y));
+  // A single-scattering GGX metal loses some energy (no multiple scattering): in (0.85, 1].
+  EXPECT_GT(sum / 64, 0.85);
+  EXPECT_LE(sum / 64, 1.01);
+}
+
+TEST(Whitted, PerfectMirrorShowsTheSky) {
+  const auto r = test::render_text(kOnePixel +
+                                   "[[material]]\nname = \"m\"\ncolor = 0\nreflectivity = 1\n"
+                                   "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"m\"\n"
+                                   "[environment]\ncolor = [0.2, 0.4, 0.6]\n");
+  const Color c = r.film->pixel(0, 0);
+  EXPECT_NEAR(c.x, 0.2, 1e-9);
+  EXPECT_NEAR(c.y, 0.4, 1e-9);
+  EXPECT_NEAR(c.z, 0.6, 1e-9);
+}
+
+TEST(Whitted, GlassSphereAtNormalIncidence) {
+  // Along the axis every interface has F = ((1.5 - 1) / 2.5)^2 = 0.04.
+  // max_depth 1: only the front reflection reaches the sky: 0.04 c.
+  // max_depth 2: plus the ray through both interfaces: (0.96 / 1.5^2) * (0.96 * 1.5^2) c.
+  const std::string scene = kOnePixel +
+                            "[[material]]\nname = \"g\"\ncolor = 1\ntransmission = 1\nior = 1.5\n"
+                            "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"g\"\n"
+                            "[environment]\ncolor = 0.5\n";
+  const double F = 0.04;
+  const auto r1 = test::render_text(scene, {"render.max_depth=1"});
+  EXPECT_NEAR(r1.film->pixel(0, 0).x, F * 0.5, 1e-9);
+  const auto r2 = test::render_text(scene, {"render.max_depth=2"});
+  EXPECT_NEAR(r2.film->pixel(0, 0).x, (F + (1 - F) * (1 - F)) * 0.5, 1e-9);
+}
+
+TEST(Whitted, DiffuseUnderPointLight) {
+  // L = albedo / pi * I / h^2 at normal incidence, seen head on.
+  const std::string scene =
+      "[image]\nwidth = 1\nheight = 1\n[render]\nsampler = \"center\"\n"
+      "[camera]\nlook_from = [0, 5, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 10\n"
+      "[[material]]\nname = \"d\"\ncolor = 0.5\n"
+      "[[object]]\ntype = \"plane\"\nmaterial = \"d\"\n"
+      "[[light]]\ntype = \"point\"\nposition = [0, 2, 0]\nintensity = 8\n";
+  const auto r = test::render_text(scene);
+  EXPECT_NEAR(r.film->pixel(0, 0).x, 0.5 / kPi * 8 / 4, 1e-5);
+}
+
+TEST(Whitted, ShadowBlocksTheLight) {
+  const std::string scene =
+      "[image]\nwidth = 1\nheight = 1\n[render]\nsampler = \"center\"\n"
+      "[camera]\nlook_from = [0, 5, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 1\n"
+      "[[object]]\ntype = \"plane\"\n"
+      "[[object]]\ntype = \"disk\"\ncenter = [0, 1, 0]\nradius = 0.1\nnormal = [0, 1, 0]\n"
+      "[[light]]\ntype = \"point\"\nposition = [0, 2, 0]\nintensity = 8\n";
+  // The camera sees the disk at y = 1 (it is between), so move it: look past the disk.
+  const auto lit = test::render_text(scene, {"object.1.center=[5, 1, 0]"});
+  const auto shadowed = test::render_text(scene, {"camera.look_from=[0.3, 5, 0]", "camera.look_at=[0.3, 0, 0]",
+                                                  "object.1.center=[0.15, 1, 0]"});
+  EXPECT_GT(lit.film->pixel(0, 0).x, 0.1);
+  EXPECT_EQ(shadowed.film->pixel(0, 0).x, 0.0);
+}
+
+TEST(Aov, DepthIsDistanceAlongTheRay) {
+  const auto r = test::render_text(
+      "[image]\nwidth = 3\nheight = 3\n[render]\nintegrator = \"depth\"\nsampler = \"center\"\n"
+      "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 60\n"
+      "[[object]]\ntype = \"plane\"\nnormal = [0, 0, 1]\n",
+      {}, 0, {Aov::Depth, Aov::Normal});
+  // Center pixel: 5. Corner pixel: 5 / cos(angle to the axis).
+  EXPECT_NEAR(r.film->pixel(1, 1).x, 5, 1e-5);
+  const auto ray = r.scene.camera->generate({{0.5 / 3, 0.5 / 3}});
+  EXPECT_NEAR(r.film->pixel(0, 0).x, 5 / -ray->dir.z, 1e-5);
+  const OutputImage out = r.film->output();
+  ASSERT_EQ(out.layers.size(), 3u);
+  EXPECT_EQ(out.layers[1].name, "depth");
+  EXPECT_NEAR(out.layers[2].data[4 * 3 + 2], 1.0, 1e-9) << "normal faces the camera";
+}
+
+TEST(Film, NoRaySamplesAreTransparent) {
+  // A fisheye-like composition that yields no ray: a zero direction.
+  const auto r = test::render_text(
+      "[image]\nwidth = 2\nheight = 2\n"
+      "[camera]\norg = { type = \"plane\" }\ndir = { type = \"from_surface\", surface = { type = \"point\" } }\n");
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 2; ++x) EXPECT_EQ(r.film->alpha(x, y), 0.0);
+}
+
+}  // namespace anamorph

@@ -1,0 +1,3 @@
+anamorph_add_test(test_scene_parser
+  ${CMAKE_CURRENT_LIST_DIR}/scene_parser_test.cpp
+)
