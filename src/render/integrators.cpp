@@ -42,6 +42,9 @@ class Whitted final : public Integrator {
     const TexCoord tc = texcoord_at(*h, fp);
     const Bsdf b = make_bsdf(m, *h, wo, tc, nullptr);
     Color L = lights.emitted(*h, wo);
+    // The classic ambient term: the environment's mean radiance on the diffuse part, unshadowed.
+    // (Sampling it with one shadow ray per hit would only add noise to the Whitted image.)
+    L += b.diffuse * lights.environment_average();
 
     if (b.has_smooth()) {
       auto add = [&](size_t li, double pmf) {

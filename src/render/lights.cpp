@@ -102,19 +102,25 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     e.kind = Emitter::Kind::Environment;
     e.L = env.color * env.strength;
     double avg = luminance(e.L);
+    env_average_ = e.L;
     if (env.image) {
       const Image& im = *env.image;
       std::vector<double> f(size_t(im.width) * im.height);
-      double sum = 0;
+      double sum = 0, weight = 0;
+      Color csum;
       for (int y = 0; y < im.height; ++y) {
         const double sin_t = std::sin(kPi * (y + 0.5) / im.height);
         for (int x = 0; x < im.width; ++x) {
-          const double l = luminance({im.at(x, y, 0), im.at(x, y, 1), im.at(x, y, 2)});
+          const Color c{im.at(x, y, 0), im.at(x, y, 1), im.at(x, y, 2)};
+          const double l = luminance(c);
+          csum += c * sin_t;
+          weight += sin_t;
           f[size_t(y) * im.width + x] = (l + 1e-4) * sin_t;  // keep every texel reachable
           sum += l * sin_t;
         }
       }
       env_dist_ = Distribution2D(f, size_t(im.width), size_t(im.height));
+      env_average_ = csum / std::max(weight, 1e-30) * env.strength;
       avg = env.strength * sum / (double(im.width) * im.height) * 2;  // ~ mean over the sphere
     }
     env_index_ = int(emitters_.size());
@@ -127,7 +133,7 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     const auto k = emitters_[i].kind;
     if (k == Emitter::Kind::Point || k == Emitter::Kind::Spot || k == Emitter::Kind::Directional) {
       delta_.push_back(i);
-    } else {
+    } else if (k != Emitter::Kind::Environment) {  // Whitted lights with the environment as ambient
       area_.push_back(i);
       area_power.push_back(power[i]);
     }

@@ -43,6 +43,9 @@ class Lights {
   Color environment(const Vec3& dir) const;
   bool has_environment() const { return env_index_ >= 0; }
   double pdf_environment(const Vec3& dir) const;  // pick pmf included
+  // Mean radiance of the environment over the sphere (Whitted's ambient term).
+  Color environment_average() const { return env_average_; }
+  bool is_environment(size_t i) const { return int(i) == env_index_; }
 
  private:
   struct Emitter {
@@ -76,6 +79,7 @@ class Lights {
   Distribution1D pick_, area_pick_;
   std::vector<uint32_t> delta_, area_;
   int env_index_ = -1;
+  Color env_average_;
   Distribution2D env_dist_;
   double scene_radius_ = 1;
   Vec3 scene_center_;
