@@ -9,14 +9,27 @@
 #include <vector>
 
 #include "camera/dir_basic.h"
+#include "camera/dir_dependent.h"
+#include "camera/dir_expression.h"
 #include "camera/functions.h"
 #include "camera/org_basic.h"
+#include "camera/org_expression.h"
+#include "camera/org_quadric.h"
+#include "camera/org_spline.h"
+#include "camera/org_revolution.h"
+#include "camera/org_superquadric.h"
 
 namespace anamorph {
 
 namespace {
-const OrgFunctionInfo* const kOrg[] = {&kPointOrgInfo, &kPlaneOrgInfo};
-const DirFunctionInfo* const kDir[] = {&kConstantDirInfo, &kFromSurfaceDirInfo};
+const OrgFunctionInfo* const kOrg[] = {
+    &kPointOrgInfo,    &kPlaneOrgInfo,  &kSphereOrgInfo, &kCylinderOrgInfo,     &kConeOrgInfo,
+    &kTorusOrgInfo,    &kEllipsoidOrgInfo, &kQuadricOrgInfo, &kSuperquadricOrgInfo,
+    &kBezierOrgInfo, &kBSplineOrgInfo, &kNurbsOrgInfo, &kExpressionOrgInfo};
+const DirFunctionInfo* const kDir[] = {&kConstantDirInfo, &kFromSurfaceDirInfo, &kTowardDirInfo,
+                                       &kAwayFromDirInfo, &kNormalDirInfo,  &kTangentUDirInfo,
+                                       &kTangentVDirInfo, &kDeviatedNormalDirInfo,
+                                       &kExpressionDirInfo};
 
 template <class Info, size_t N>
 std::vector<Info> to_list(const Info* const (&infos)[N]) {

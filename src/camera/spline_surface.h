@@ -1,0 +1,100 @@
+// Tensor-product spline surfaces (B-spline, NURBS, Bezier) in their own parameters, with first
+// and second derivatives. All setup happens in the constructor; evaluation uses fixed-size stack
+// arrays only. A row of samples shares its v-basis, a run of samples in one knot span shares the
+// column sums, which is what makes grid evaluation cheaper than separate evaluations.
+#pragma once
+
+#include <algorithm>
+#include <span>
+#include <vector>
+
+#include "camera/bspline.h"
+#include "camera/org_common.h"
+
+namespace anamorph {
+
+// A control net: nu points per row (along u, left to right), nv rows (along v, top to bottom).
+struct SplineNet {
+  int nu = 0, nv = 0;
+  std::vector<Vec3> points;     // row-major: points[j * nu + i]
+  std::vector<double> weights;  // same layout; empty = non-rational (all weights 1)
+};
+
+class SplineSurface {
+ public:
+  enum class Basis { BSpline, Bernstein };
+
+  // For Basis::BSpline the knot vectors must be valid (spline::knot_vector_problem); for
+  // Basis::Bernstein p = nu - 1, q = nv - 1 and the knots are ignored.
+  SplineSurface(SplineNet net, int p, int q, Basis basis, std::vector<double> knots_u = {},
+                std::vector<double> knots_v = {});
+
+  // The valid parameter domain.
+  double s_lo() const { return s_lo_; }
+  double s_hi() const { return s_hi_; }
+  double t_lo() const { return t_lo_; }
+  double t_hi() const { return t_hi_; }
+  // A length scale of the net (its bounding box diagonal), for degeneracy tests.
+  double size() const { return size_; }
+
+  LocalGeom eval(double s, double t) const {
+    Basis1 bu, bv;
+    basis_u(s, &bu);
+    basis_v(t, &bv);
+    H q[spline::kMaxBezierDegree + 1][3];
+    columns(bv, bu.span - p_, q);
+    return combine(bu, q);
+  }
+
+  // Calls emit(i, j, geom) for every (ss[i], ts[j]); bases computed once per column (in chunks)
+  // and once per row and chunk.
+  template <class Emit>
+  void for_grid(std::span<const double> ss, std::span<const double> ts, Emit&& emit) const {
+    constexpr size_t kChunk = 16;
+    Basis1 bu[kChunk], bv;
+    H q[spline::kMaxBezierDegree + 1][3];
+    for (size_t i0 = 0; i0 < ss.size(); i0 += kChunk) {
+      const size_t i1 = std::min(ss.size(), i0 + kChunk);
+      for (size_t i = i0; i < i1; ++i) basis_u(ss[i], &bu[i - i0]);
+      for (size_t j = 0; j < ts.size(); ++j) {
+        basis_v(ts[j], &bv);
+        int cached = -1;
+        for (size_t i = i0; i < i1; ++i) {
+          const Basis1& b = bu[i - i0];
+          if (b.span != cached) {
+            columns(bv, b.span - p_, q);
+            cached = b.span;
+          }
+          emit(i, j, combine(b, q));
+        }
+      }
+    }
+  }
+
+ private:
+  // Non-zero basis functions at one parameter: derivatives 0..2 of N[span - degree .. span].
+  struct Basis1 {
+    int span = 0;
+    spline::BasisDers d;
+  };
+  // Homogeneous point (w * P, w).
+  struct H {
+    Vec3 a;
+    double w = 0;
+  };
+
+  void basis_u(double s, Basis1* b) const;
+  void basis_v(double t, Basis1* b) const;
+  // q[l][k]: the k-th t-derivative of the column sum for control column first_col + l.
+  void columns(const Basis1& bv, int first_col, H (*q)[3]) const;
+  LocalGeom combine(const Basis1& bu, const H (*q)[3]) const;
+
+  int nu_, nv_, p_, q_;
+  Basis basis_;
+  bool rational_;
+  std::vector<H> ctrl_;
+  std::vector<double> ku_, kv_;
+  double s_lo_ = 0, s_hi_ = 1, t_lo_ = 0, t_hi_ = 1, size_ = 1;
+};
+
+}  // namespace anamorph
