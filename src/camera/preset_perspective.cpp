@@ -4,6 +4,7 @@
 #include "camera/dir_basic.h"
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
+#include "camera/preset_util.h"
 
 namespace anamorph {
 
@@ -23,14 +24,11 @@ const ParamSpec kParams[] = {
 };
 
 VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
-  const double t = std::tan(radians(v.number("fov")) * 0.5);
-  const double a = img.aspect();
-  const std::string& axis = v.string("fov_axis");
-  double w;  // image plane width at distance 1
-  if (axis == "horizontal") w = 2 * t;
-  else if (axis == "vertical") w = 2 * t * a;
-  else w = 2 * t * a / std::sqrt(1 + a * a);
-  const double h = w / a;
+  check_params(kParams, v);
+  // Image plane window at distance 1: width w, height h, centered at (cx, cy, -1).
+  const Vec2 half = window_half_extent(std::tan(radians(v.number("fov")) * 0.5),
+                                       v.string("fov_axis"), img.aspect());
+  const double w = 2 * half.x, h = 2 * half.y;
   const Vec2 shift = v.vec2("lens_shift");
   const Vec3 center{shift.x * w, shift.y * h, -1};
   VirtualCameraParts p;
@@ -38,6 +36,13 @@ VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
   p.dir = make_surface_dir(make_plane_org(center, {w, 0, 0}, {0, -h, 0}), {0, 0, 0});
   p.world_from_camera = rig_from_look_at(v);
   p.description = "perspective (org point + dir plane)";
+  // Central projection onto z = -1, then the window.
+  p.inverse = make_inverse([w, h, center](const Vec3& q) -> std::vector<Vec2> {
+    if (!(q.z < 0)) return {};
+    Vec2 uv{0.5 + (q.x / -q.z - center.x) / w, 0.5 - (q.y / -q.z - center.y) / h};
+    if (!clamp_to_image(&uv)) return {};
+    return {uv};
+  });
   return p;
 }
 

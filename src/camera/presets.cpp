@@ -1,7 +1,12 @@
+// The one list of presets (adding a preset = one line in camera_presets), and what is derived
+// from their parameter tables.
 #include "camera/presets.h"
 
+#include <cstdio>
+#include <sstream>
 #include <vector>
 
+#include "camera/functions.h"
 #include "camera/preset_list.h"
 
 namespace anamorph {
@@ -15,7 +20,12 @@ Transform rig_from_look_at(const ParamValues& v) {
 }
 
 std::span<const PresetInfo> camera_presets() {
-  static const std::vector<PresetInfo> list = {kPerspectivePreset};
+  static const std::vector<PresetInfo> list = {
+      kPerspectivePreset,     kOrthographicPreset,   kFisheyePreset,        kMirrorBallPreset,
+      kDomePreset,            kOpenCvPinholePreset,  kOpenCvFisheyePreset,  kEquirectangularPreset,
+      kCylindricalPreset,     kMercatorPreset,       kLambertEqualAreaPreset, kStereographicPreset,
+      kPaniniPreset,          kCubemapPreset,        kOdsPreset,            kLightFieldPreset,
+      kIntegralPreset,        kPushbroomPreset,      kCrossedSlitsPreset};
   return list;
 }
 
@@ -23,6 +33,61 @@ const PresetInfo* find_preset(std::string_view name) {
   for (const auto& p : camera_presets())
     if (p.name == name) return &p;
   return nullptr;
+}
+
+VirtualCameraParts make_preset(std::string_view name, std::string_view toml_text, ImageInfo img) {
+  const PresetInfo* info = find_preset(name);
+  if (!info) {
+    std::ostringstream msg;
+    msg << "unknown preset '" << name << "' (valid:";
+    for (const auto& p : camera_presets()) msg << ' ' << p.name;
+    msg << ')';
+    throw ParamError("preset", msg.str());
+  }
+  return info->create(params_from_toml(info->params, toml_text), img);
+}
+
+namespace {
+
+std::string fmt_number(double x) {
+  if (x == kInf) return "inf";
+  if (x == -kInf) return "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", x);
+  return buf;
+}
+
+std::string cell(std::string_view text) {
+  std::string r;
+  for (char c : text) {
+    if (c == '|') r += "\\|";
+    else if (c == '\n') r += ' ';
+    else r += c;
+  }
+  return r;
+}
+
+}  // namespace
+
+std::string preset_params_markdown(const PresetInfo& p) {
+  std::ostringstream os;
+  os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
+  for (const ParamSpec& s : p.params) {
+    os << "| `" << s.name << "` | " << to_string(s.type) << " | ";
+    if (s.default_value.empty()) os << "*required*";
+    else if (s.default_value == "none") os << "*optional*";
+    else os << '`' << cell(s.default_value) << '`';
+    os << " | ";
+    if (!s.choices.empty()) {
+      for (size_t i = 0; i < s.choices.size(); ++i)
+        os << (i ? ", " : "") << "`\"" << s.choices[i] << "\"`";
+    } else if (s.min != -kInf || s.max != kInf) {
+      os << (s.min_exclusive || s.min == -kInf ? '(' : '[') << fmt_number(s.min) << ", "
+         << fmt_number(s.max) << (s.max_exclusive || s.max == kInf ? ')' : ']');
+    }
+    os << " | " << cell(s.doc) << " |\n";
+  }
+  return os.str();
 }
 
 }  // namespace anamorph

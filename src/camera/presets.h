@@ -3,6 +3,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "camera/params.h"
@@ -25,6 +26,15 @@ struct PresetInfo {
 
 std::span<const PresetInfo> camera_presets();
 const PresetInfo* find_preset(std::string_view name);
+
+// Builds a preset from TOML text holding some of its keys, the rest from the table's defaults,
+// e.g. make_preset("fisheye", "fov = 200", {1024, 1024}). For tests and tools; scene files go
+// through the scene parser. Throws ParamError (unknown preset or key, bad value).
+VirtualCameraParts make_preset(std::string_view name, std::string_view toml_text, ImageInfo img);
+
+// The Markdown parameter table of one preset (name | type | default | range | meaning), as
+// docs/cameras.md shows it.
+std::string preset_params_markdown(const PresetInfo& p);
 
 // Shared by presets: the rig from look_from / look_at / up (forward f, right r = f x up,
 // true up = r x f), mapping camera space (x right, y up, -z forward) to world.

@@ -11,6 +11,7 @@ namespace anamorph {
 VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
     : org_(std::move(parts.org)),
       dir_(std::move(parts.dir)),
+      inverse_(std::move(parts.inverse)),
       world_from_camera_(parts.world_from_camera),
       rig_identity_(parts.world_from_camera.is_identity()),
       dof_(dof),
@@ -65,7 +66,10 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
   return r;
 }
 
-std::vector<Vec2> VirtualCamera::project(const Vec3& p) const { return project_numeric(*this, p); }
+std::vector<Vec2> VirtualCamera::project(const Vec3& p) const {
+  if (!inverse_) return project_numeric(*this, p);
+  return inverse_->project(rig_identity_ ? p : world_from_camera_.inverse().point(p));
+}
 
 namespace {
 

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "camera/camera.h"
 #include "camera/functions.h"
@@ -11,11 +12,21 @@
 
 namespace anamorph {
 
+// A closed-form inverse of a preset's org/dir: every (u, v) whose pinhole ray passes through a
+// point given in camera space (before the rig). Valid only for the undeformed org/dir it was built
+// with; without one, VirtualCamera::project falls back to project_numeric.
+class InverseMap {
+ public:
+  virtual ~InverseMap() = default;
+  virtual std::vector<Vec2> project(const Vec3& p_camera) const = 0;
+};
+
 struct VirtualCameraParts {
   std::unique_ptr<OrgFunction> org;
   std::unique_ptr<DirFunction> dir;
   Transform world_from_camera;  // the rig; identity when functions are given in world space
   std::string description;
+  std::unique_ptr<InverseMap> inverse;  // optional closed-form inverse (see InverseMap)
 };
 
 struct DepthOfField {
@@ -37,6 +48,7 @@ class VirtualCamera final : public Camera {
  private:
   std::unique_ptr<OrgFunction> org_;
   std::unique_ptr<DirFunction> dir_;
+  std::unique_ptr<InverseMap> inverse_;
   Transform world_from_camera_;
   bool rig_identity_;
   DepthOfField dof_;

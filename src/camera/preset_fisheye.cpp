@@ -1,0 +1,340 @@
+// The fisheye family: fisheye, mirror_ball and dome. All three are org = point (the eye) and
+// dir = FisheyeDir, the points of a sphere laid out by a radial mapping theta(r) around an axis:
+// dir(u,v) = radius * s(theta(r), azimuth) - eye. For fisheye and mirror_ball the sphere is the
+// unit sphere around the eye; for dome it is the dome itself and the eye may sit off its center
+// (the paper's "org: point, dir: sphere, not concentric").
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "camera/org_basic.h"
+#include "camera/preset_list.h"
+#include "camera/preset_util.h"
+
+namespace anamorph {
+
+namespace {
+
+// theta(r): the angle from the axis at normalized image radius r (r = 1 on the image circle).
+struct FisheyeMapping {
+  enum Kind { kEquidistant, kEquisolid, kStereographic, kOrthographic, kPolynomial };
+  Kind kind = kEquidistant;
+  double theta_max = kPi / 2;  // fov / 2
+  std::array<double, 5> k{};   // polynomial coefficients, radians
+
+  double poly(double r, double* dtheta) const {
+    double t = 0, dt = 0;
+    for (int i = 4; i >= 0; --i) {
+      dt = dt * r + t;
+      t = t * r + k[size_t(i)];
+    }
+    *dtheta = dt;
+    return t;
+  }
+
+  double theta(double r, double* dtheta) const {
+    *dtheta = 0;
+    switch (kind) {
+      case kEquidistant: *dtheta = theta_max; return r * theta_max;
+      case kEquisolid: {  // r = sin(theta/2) / sin(theta_max/2)
+        const double s = std::sin(theta_max / 2);
+        *dtheta = 2 * s / std::sqrt(std::max(1 - r * r * s * s, 1e-24));
+        return 2 * std::asin(std::min(r * s, 1.0));
+      }
+      case kStereographic: {  // r = tan(theta/2) / tan(theta_max/2)
+        const double t = std::tan(theta_max / 2);
+        *dtheta = 2 * t / (1 + r * r * t * t);
+        return 2 * std::atan(r * t);
+      }
+      case kOrthographic: {  // r = sin(theta) / sin(theta_max)
+        const double s = std::sin(theta_max);
+        *dtheta = s / std::sqrt(std::max(1 - r * r * s * s, 1e-24));
+        return std::asin(std::min(r * s, 1.0));
+      }
+      case kPolynomial: return poly(r, dtheta);
+    }
+    return 0;
+  }
+
+  // The image radius of angle theta; false when theta is outside the image circle.
+  bool radius(double theta, double* r) const {
+    constexpr double tol = 1e-12;
+    *r = 0;
+    switch (kind) {
+      case kEquidistant: *r = theta / theta_max; break;
+      case kEquisolid: *r = std::sin(theta / 2) / std::sin(theta_max / 2); break;
+      case kStereographic:
+        if (theta >= kPi) return false;
+        *r = std::tan(theta / 2) / std::tan(theta_max / 2);
+        break;
+      case kOrthographic:
+        if (theta > kPi / 2) return false;
+        *r = std::sin(theta) / std::sin(theta_max);
+        break;
+      case kPolynomial: {
+        // theta(r) increases on [0, 1] (checked at construction): safeguarded Newton.
+        double d;
+        const double t0 = poly(0, &d), t1 = poly(1, &d);
+        if (theta < t0 - tol || theta > t1 + tol) return false;
+        double lo = 0, hi = 1, x = (t1 > t0) ? (theta - t0) / (t1 - t0) : 0;
+        for (int i = 0; i < 100; ++i) {
+          const double f = poly(x, &d) - theta;
+          if (f > 0) hi = x;
+          else lo = x;
+          if (std::abs(f) < 1e-15) break;
+          double nx = x - f / d;
+          if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
+          if (std::abs(nx - x) < 1e-16) break;
+          x = nx;
+        }
+        *r = x;
+        break;
+      }
+    }
+    if (!(*r <= 1 + tol) || !(*r >= 0)) return false;
+    *r = std::min(*r, 1.0);
+    return true;
+  }
+};
+
+// An orthonormal frame for the fisheye sphere: the axis (image center) and the directions that
+// image right (+a) and image up (+b) lean towards.
+struct FisheyeFrame {
+  Vec3 right{1, 0, 0}, up{0, 1, 0}, axis{0, 0, -1};
+  // Local radial_direction() vectors have the axis at -z.
+  Vec3 to_camera(const Vec3& l) const { return right * l.x + up * l.y - axis * l.z; }
+  Vec3 to_local(const Vec3& c) const { return {dot(c, right), dot(c, up), -dot(c, axis)}; }
+};
+
+// Image coordinates: a = (u - 1/2) sa, b = (1/2 - v) sb, so that r = |(a, b)| = 1 on the circle.
+struct FisheyeGeometry {
+  FisheyeMapping map;
+  FisheyeFrame frame;
+  double sa = 2, sb = 2;
+  double radius = 1;  // of the sphere, around the camera-space origin
+  Vec3 eye;           // the ray origin
+};
+
+class FisheyeDir final : public DirFunction {
+ public:
+  explicit FisheyeDir(const FisheyeGeometry& g) : g_(g) {}
+  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
+    double a = (uv.x - 0.5) * g_.sa, b = (0.5 - uv.y) * g_.sb;
+    const double r = std::sqrt(a * a + b * b);
+    if (!(r <= 1 + 1e-12)) return false;  // outside the image circle: no ray
+    if (r > 1) a /= r, b /= r;
+    double dtheta;
+    const double theta = g_.map.theta(std::min(r, 1.0), &dtheta);
+    RadialDirection rd;
+    if (!radial_direction(a, b, theta, dtheta, &rd)) return false;
+    const double R = g_.radius;
+    out->d = g_.frame.to_camera(rd.d) * R - g_.eye;
+    out->dd_du = g_.frame.to_camera(rd.dd_da) * (R * g_.sa);
+    out->dd_dv = g_.frame.to_camera(rd.dd_db) * (-R * g_.sb);
+    return true;
+  }
+
+ private:
+  FisheyeGeometry g_;
+};
+
+// Closed form: the sphere point on the eye's ray through q, then the mapping's inverse.
+std::vector<Vec2> fisheye_project(const FisheyeGeometry& g, const Vec3& q) {
+  const Vec3 w = q - g.eye;
+  const double len = length(w);
+  if (!(len > 0)) return {};
+  const Vec3 wn = w / len;
+  const double b = dot(g.eye, wn), c = dot(g.eye, g.eye) - g.radius * g.radius;
+  const double disc = b * b - c;
+  if (disc < 0) return {};
+  const double t = -b + std::sqrt(disc);
+  if (!(t > 0)) return {};
+  Vec2 az;
+  const double theta = polar_angle(g.frame.to_local(g.eye + wn * t), &az);
+  double r;
+  if (!g.map.radius(theta, &r)) return {};
+  Vec2 uv{0.5 + r * az.x / g.sa, 0.5 - r * az.y / g.sb};
+  if (!clamp_to_image(&uv)) return {};
+  return {uv};
+}
+
+VirtualCameraParts fisheye_parts(const FisheyeGeometry& g, const ParamValues& v,
+                                 std::string description) {
+  VirtualCameraParts p;
+  p.org = make_point_org(g.eye);
+  p.dir = std::make_unique<FisheyeDir>(g);
+  p.world_from_camera = rig_from_look_at(v);
+  p.description = std::move(description);
+  p.inverse = make_inverse([g](const Vec3& q) { return fisheye_project(g, q); });
+  return p;
+}
+
+// Scale from (u, v) to image radius for a circle of `diameter` pixels.
+void set_circle(FisheyeGeometry* g, const ImageInfo& img, double diameter) {
+  g->sa = 2 * img.width / diameter;
+  g->sb = 2 * img.height / diameter;
+}
+
+std::string fmt_deg(double rad) { return std::to_string(degrees(rad)); }
+
+// --- fisheye ---------------------------------------------------------------------------------
+
+const std::string_view kMappings[] = {"equidistant", "equisolid", "stereographic", "orthographic",
+                                      "polynomial"};
+const std::string_view kFits[] = {"circle", "full_frame", "pixels"};
+
+const ParamSpec kFisheyeParams[] = {
+    ANAMORPH_LOOK_AT_PARAMS,
+    {"fov", ParamType::Number, "180",
+     "Field of view in degrees across the image circle (the edge of the circle is fov/2 from the "
+     "axis). Up to 360; stereographic < 360, orthographic <= 180.",
+     0, 360, {}, true},
+    {"mapping", ParamType::String, "\"equidistant\"",
+     "theta(r) for r in [0, 1]: equidistant theta = r fov/2; equisolid r = sin(theta/2) / "
+     "sin(fov/4); stereographic r = tan(theta/2) / tan(fov/4); orthographic r = sin(theta) / "
+     "sin(fov/2); polynomial theta = k0 + k1 r + ... + k4 r^4 (from `poly`).",
+     -kInf, kInf, kMappings},
+    {"poly", ParamType::NumberList, "none",
+     "Polynomial coefficients [k0, ..., k4] in radians (missing ones are 0), for mapping = "
+     "\"polynomial\". theta(r) must increase on [0, 1] and theta(1) must equal fov/2."},
+    {"fit", ParamType::String, "\"circle\"",
+     "Image circle diameter: \"circle\" = the shorter image side (the whole circle visible), "
+     "\"full_frame\" = the image diagonal (the frame filled), \"pixels\" = circle_diameter.",
+     -kInf, kInf, kFits},
+    {"circle_diameter", ParamType::Number, "none",
+     "Diameter of the image circle in pixels, with fit = \"pixels\".", 0, kInf, {}, true},
+};
+
+FisheyeMapping read_mapping(const ParamValues& v) {
+  FisheyeMapping m;
+  const double fov = v.number("fov");
+  m.theta_max = radians(fov) / 2;
+  const std::string& name = v.string("mapping");
+  if (name == "equidistant") m.kind = FisheyeMapping::kEquidistant;
+  else if (name == "equisolid") m.kind = FisheyeMapping::kEquisolid;
+  else if (name == "stereographic") m.kind = FisheyeMapping::kStereographic;
+  else if (name == "orthographic") m.kind = FisheyeMapping::kOrthographic;
+  else m.kind = FisheyeMapping::kPolynomial;
+  if (m.kind == FisheyeMapping::kStereographic && !(fov < 360))
+    throw ParamError("fov", "fov must be < 360 with mapping = \"stereographic\"");
+  if (m.kind == FisheyeMapping::kOrthographic && !(fov <= 180))
+    throw ParamError("fov", "fov must be <= 180 with mapping = \"orthographic\"");
+  if (m.kind != FisheyeMapping::kPolynomial) {
+    if (v.has("poly")) throw ParamError("poly", "poly is only used with mapping = \"polynomial\"");
+    return m;
+  }
+  if (!v.has("poly"))
+    throw ParamError("mapping", "mapping = \"polynomial\" needs poly = [k0, k1, k2, k3, k4]");
+  const auto& k = v.numbers("poly");
+  if (k.empty() || k.size() > 5) throw ParamError("poly", "poly needs 1 to 5 coefficients (k0..k4)");
+  for (size_t i = 0; i < k.size(); ++i) m.k[i] = k[i];
+  double d;
+  if (m.k[0] < 0) throw ParamError("poly", "theta(0) = k0 must be >= 0");
+  for (int i = 0; i <= 1000; ++i) {
+    m.poly(i / 1000.0, &d);
+    if (!(d > 0))
+      throw ParamError("poly", "theta(r) must increase on [0, 1]; its slope is " +
+                                   std::to_string(d) + " at r = " + std::to_string(i / 1000.0));
+  }
+  const double t1 = m.poly(1, &d);
+  if (t1 > kPi + 1e-12) throw ParamError("poly", "theta(1) = " + fmt_deg(t1) + " deg exceeds 180");
+  if (std::abs(degrees(2 * t1) - fov) > 1e-2)
+    throw ParamError("fov", "with this poly the image circle spans 2 theta(1) = " +
+                                fmt_deg(2 * t1) + " degrees; set fov to that (it is " +
+                                std::to_string(fov) + ")");
+  return m;
+}
+
+VirtualCameraParts create_fisheye(const ParamValues& v, const ImageInfo& img) {
+  check_params(kFisheyeParams, v);
+  FisheyeGeometry g;
+  g.map = read_mapping(v);
+  const std::string& fit = v.string("fit");
+  if (fit != "pixels" && v.has("circle_diameter"))
+    throw ParamError("circle_diameter", "circle_diameter is only used with fit = \"pixels\"");
+  double diameter;
+  if (fit == "circle") diameter = std::min(img.width, img.height);
+  else if (fit == "full_frame") diameter = std::hypot(double(img.width), double(img.height));
+  else if (v.has("circle_diameter")) diameter = v.number("circle_diameter");
+  else throw ParamError("fit", "fit = \"pixels\" needs circle_diameter");
+  set_circle(&g, img, diameter);
+  return fisheye_parts(g, v,
+                       "fisheye " + v.string("mapping") + " " + std::to_string(v.number("fov")) +
+                           " deg (org point + dir fisheye sphere)");
+}
+
+// --- mirror_ball -----------------------------------------------------------------------------
+
+const ParamSpec kMirrorBallParams[] = {ANAMORPH_LOOK_AT_PARAMS};
+
+VirtualCameraParts create_mirror_ball(const ParamValues& v, const ImageInfo& img) {
+  check_params(kMirrorBallParams, v);
+  // A distant camera looking along -z at a mirrored ball: the center reflects +z (back towards
+  // that camera), the rim -z; right and up are the camera's (+x, +y). Normal tilt alpha = asin(r)
+  // turns the ray by 2 alpha, so theta = 2 asin(r): equisolid over 360 degrees.
+  FisheyeGeometry g;
+  g.map.kind = FisheyeMapping::kEquisolid;
+  g.map.theta_max = kPi;
+  g.frame = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  set_circle(&g, img, std::min(img.width, img.height));
+  return fisheye_parts(g, v, "mirror ball (org point + dir equisolid 360 sphere)");
+}
+
+// --- dome ------------------------------------------------------------------------------------
+
+const ParamSpec kDomeParams[] = {
+    {"look_from", ParamType::Vec3, "[0, 0, 0]", "Center of the dome (world)."},
+    {"look_at", ParamType::Vec3, "[0, 0, -1]",
+     "A point in the direction the audience faces (the front of the dome, world)."},
+    {"up", ParamType::Vec3, "[0, 1, 0]", "The theatre's up (the zenith of an untilted dome)."},
+    {"fov", ParamType::Number, "180", "Angular diameter of the dome in degrees (180 = hemisphere).",
+     0, 360, {}, true},
+    {"tilt", ParamType::Number, "0",
+     "Dome tilt in degrees: the zenith leans towards the front (OMNIMAX and tilted planetaria "
+     "use 10 to 30).",
+     -90, 90},
+    {"radius", ParamType::Number, "1", "Dome radius in world units.", 0, kInf, {}, true},
+    {"eye_offset", ParamType::Vec3, "[0, 0, 0]",
+     "The spectator's eye relative to the dome center, in world units in the theatre frame "
+     "(x right, y up, z back); must lie inside the dome."},
+};
+
+VirtualCameraParts create_dome(const ParamValues& v, const ImageInfo& img) {
+  check_params(kDomeParams, v);
+  FisheyeGeometry g;
+  g.map.kind = FisheyeMapping::kEquidistant;
+  g.map.theta_max = radians(v.number("fov")) / 2;
+  // Domemaster: image center = zenith, image bottom = the front of the dome, right = right.
+  const double t = radians(v.number("tilt"));
+  g.frame.axis = {0, std::cos(t), -std::sin(t)};
+  g.frame.up = {0, std::sin(t), std::cos(t)};
+  g.frame.right = {1, 0, 0};
+  g.radius = v.number("radius");
+  g.eye = v.vec3("eye_offset");
+  if (!(length(g.eye) < g.radius))
+    throw ParamError("eye_offset", "eye_offset must lie inside the dome (|eye_offset| < radius)");
+  set_circle(&g, img, std::min(img.width, img.height));
+  return fisheye_parts(g, v, "dome master (org point eye + dir dome sphere)");
+}
+
+}  // namespace
+
+const PresetInfo kFisheyePreset{
+    "fisheye",
+    "A fisheye lens: org = point, dir = a unit sphere laid out by the radial mapping theta(r) "
+    "inside the image circle (no ray outside it).",
+    kFisheyeParams, create_fisheye};
+
+const PresetInfo kMirrorBallPreset{
+    "mirror_ball",
+    "A light probe: what a distant camera looking along look_at - look_from sees in a mirrored "
+    "ball at look_from. Same functions as fisheye (equisolid, 360 degrees), seen in the mirror.",
+    kMirrorBallParams, create_mirror_ball};
+
+const PresetInfo kDomePreset{
+    "dome",
+    "Fulldome / OMNIMAX dome master: equidistant fisheye of the dome seen from its center; org = "
+    "the spectator's eye, dir = dome point - eye (a sphere not concentric with the eye).",
+    kDomeParams, create_dome};
+
+}  // namespace anamorph

@@ -1,0 +1,213 @@
+// Tiled multi-view images: light_field (a quilt of off-axis perspective views for light-field
+// displays) and integral (an array of elemental images for integral imaging and holographic
+// stereograms). Both are org = TileOrg, one point per tile (constant inside it), and a
+// direction set per tile:
+//   light_field: dir = focal-plane point - eye, the focal plane shared by every view, so the
+//     views converge on it (off-axis frusta, no toe-in);
+//   integral:    dir = (x, y, -1) over each lens' field of view, the same for every lens.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "camera/preset_list.h"
+#include "camera/preset_util.h"
+
+namespace anamorph {
+
+namespace {
+
+struct TileGeometry {
+  int cols = 1, rows = 1;
+  bool light_field = true;
+  // light_field: eye x of each view (index = view number), the focal plane at z = -focus with
+  // a window of half extents half_window.
+  std::vector<double> eye_x;
+  double focus = 1;
+  Vec2 half_window;
+  // integral: lens pitch, and the half extent of the direction window at z = -1.
+  Vec2 pitch, half_field;
+
+  // View number of the tile at (col, row from the top): Looking Glass quilts start at the
+  // bottom-left tile and go left to right, then bottom to top.
+  int view(int col, int row) const { return (rows - 1 - row) * cols + col; }
+
+  Vec3 origin(int col, int row) const {
+    if (light_field) return {eye_x[size_t(view(col, row))], 0, 0};
+    return {(col + 0.5 - 0.5 * cols) * pitch.x, (0.5 * rows - row - 0.5) * pitch.y, 0};
+  }
+  // Direction at tile position st, and its derivatives with respect to s and t.
+  Vec3 direction(const Vec3& org, Vec2 st, Vec3* ds, Vec3* dt) const {
+    if (light_field) {
+      *ds = {2 * half_window.x, 0, 0};
+      *dt = {0, -2 * half_window.y, 0};
+      return Vec3{(2 * st.x - 1) * half_window.x, (1 - 2 * st.y) * half_window.y, -focus} - org;
+    }
+    *ds = {2 * half_field.x, 0, 0};
+    *dt = {0, -2 * half_field.y, 0};
+    return {(2 * st.x - 1) * half_field.x, (1 - 2 * st.y) * half_field.y, -1};
+  }
+};
+
+class TileOrg final : public OrgFunction {
+ public:
+  explicit TileOrg(const TileGeometry& g) : g_(g) {}
+  bool eval(Vec2 uv, SurfaceSample* out) const override {
+    const TileCoord t = tile_of(uv, g_.cols, g_.rows);
+    *out = SurfaceSample{};
+    out->p = g_.origin(t.col, t.row);
+    return true;
+  }
+
+ private:
+  TileGeometry g_;
+};
+
+class TileDir final : public DirFunction {
+ public:
+  explicit TileDir(const TileGeometry& g) : g_(g) {}
+  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
+    const TileCoord t = tile_of(uv, g_.cols, g_.rows);
+    Vec3 ds, dt;
+    // The tile's own origin (not the sample's, which coins may have moved).
+    out->d = g_.direction(g_.origin(t.col, t.row), t.st, &ds, &dt);
+    out->dd_du = ds * double(g_.cols);
+    out->dd_dv = dt * double(g_.rows);
+    return true;
+  }
+
+ private:
+  TileGeometry g_;
+};
+
+// Image position of tile (col, row) at tile position st, if st lies inside the tile.
+bool tile_uv(const TileGeometry& g, int col, int row, Vec2 st, Vec2* uv) {
+  if (!(st.x >= -1e-9 && st.x <= 1 + 1e-9 && st.y >= -1e-9 && st.y <= 1 + 1e-9)) return false;
+  *uv = {(col + std::clamp(st.x, 0.0, 1.0)) / g.cols, (row + std::clamp(st.y, 0.0, 1.0)) / g.rows};
+  return true;
+}
+
+// Every tile whose ray passes through q (one per view or lens that sees it).
+std::vector<Vec2> tile_project(const TileGeometry& g, const Vec3& q) {
+  std::vector<Vec2> out;
+  if (!(q.z < 0)) return out;
+  Vec2 uv;
+  if (g.light_field) {
+    for (int row = 0; row < g.rows; ++row)
+      for (int col = 0; col < g.cols; ++col) {
+        const Vec3 e = g.origin(col, row);
+        // The focal-plane point on the line from the eye through q.
+        const Vec3 f = e + (q - e) * (g.focus / -q.z);
+        const Vec2 st{(f.x / g.half_window.x + 1) / 2, (1 - f.y / g.half_window.y) / 2};
+        if (tile_uv(g, col, row, st, &uv)) out.push_back(uv);
+      }
+    return out;
+  }
+  // Only lenses within the field of view's footprint can see q.
+  const double depth = -q.z;
+  const auto col_of = [&](double x) { return x / g.pitch.x + 0.5 * g.cols - 0.5; };
+  const auto row_of = [&](double y) { return 0.5 * g.rows - 0.5 - y / g.pitch.y; };
+  const int c0 = std::max(0, int(std::floor(col_of(q.x - g.half_field.x * depth))));
+  const int c1 = std::min(g.cols - 1, int(std::ceil(col_of(q.x + g.half_field.x * depth))));
+  const int r0 = std::max(0, int(std::floor(row_of(q.y + g.half_field.y * depth))));
+  const int r1 = std::min(g.rows - 1, int(std::ceil(row_of(q.y - g.half_field.y * depth))));
+  for (int row = r0; row <= r1; ++row)
+    for (int col = c0; col <= c1; ++col) {
+      const Vec3 d = q - g.origin(col, row);
+      const Vec2 st{(d.x / depth / g.half_field.x + 1) / 2, (1 - d.y / depth / g.half_field.y) / 2};
+      if (tile_uv(g, col, row, st, &uv)) out.push_back(uv);
+    }
+  return out;
+}
+
+VirtualCameraParts tile_parts(const TileGeometry& g, const ParamValues& v, std::string desc) {
+  VirtualCameraParts p;
+  p.org = std::make_unique<TileOrg>(g);
+  p.dir = std::make_unique<TileDir>(g);
+  p.world_from_camera = rig_from_look_at(v);
+  p.description = std::move(desc);
+  p.inverse = make_inverse([g](const Vec3& q) { return tile_project(g, q); });
+  return p;
+}
+
+// --- light_field -----------------------------------------------------------------------------
+
+const ParamSpec kLightFieldParams[] = {
+    ANAMORPH_LOOK_AT_PARAMS,
+    {"columns", ParamType::Integer, "8", "Tiles per quilt row.", 1, 1024},
+    {"rows", ParamType::Integer, "6", "Quilt rows.", 1, 1024},
+    {"view_cone", ParamType::Number, "40",
+     "Angle in degrees between the outermost views, seen from the focal plane's center.", 0, 180,
+     {}, false, true},
+    {"fov", ParamType::Number, "14",
+     "Vertical field of view of each view in degrees (from the central eye); the focal plane "
+     "passes through look_at.",
+     0, 180, {}, true, true},
+};
+
+VirtualCameraParts create_light_field(const ParamValues& v, const ImageInfo& img) {
+  check_params(kLightFieldParams, v);
+  TileGeometry g;
+  g.light_field = true;
+  g.cols = int(v.integer("columns")), g.rows = int(v.integer("rows"));
+  g.focus = length(v.vec3("look_at") - v.vec3("look_from"));
+  const double tile_aspect = (double(img.width) / g.cols) / (double(img.height) / g.rows);
+  g.half_window.y = g.focus * std::tan(radians(v.number("fov")) / 2);
+  g.half_window.x = g.half_window.y * tile_aspect;
+  // View i of n at angle -cone/2 + cone i / (n - 1): view 0 is the leftmost eye.
+  const int n = g.cols * g.rows;
+  const double cone = radians(v.number("view_cone"));
+  for (int i = 0; i < n; ++i) {
+    const double a = n > 1 ? -cone / 2 + cone * i / (n - 1) : 0;
+    g.eye_x.push_back(g.focus * std::tan(a));
+  }
+  return tile_parts(g, v,
+                    "light field quilt " + std::to_string(g.cols) + "x" + std::to_string(g.rows) +
+                        " (org eye per tile + dir toward the shared focal plane)");
+}
+
+// --- integral --------------------------------------------------------------------------------
+
+const ParamSpec kIntegralParams[] = {
+    ANAMORPH_LOOK_AT_PARAMS,
+    {"columns", ParamType::Integer, "32", "Lenses per row (elemental images across).", 1, 100000},
+    {"rows", ParamType::Integer, "18", "Rows of lenses.", 1, 100000},
+    {"width", ParamType::Number, "1",
+     "Width of the lens array in world units, centered on look_from; its height follows from "
+     "the image aspect.",
+     0, kInf, {}, true},
+    {"lens_fov", ParamType::Number, "40",
+     "Horizontal field of view of each elemental image in degrees.", 0, 180, {}, true, true},
+};
+
+VirtualCameraParts create_integral(const ParamValues& v, const ImageInfo& img) {
+  check_params(kIntegralParams, v);
+  TileGeometry g;
+  g.light_field = false;
+  g.cols = int(v.integer("columns")), g.rows = int(v.integer("rows"));
+  const double w = v.number("width"), h = w / img.aspect();
+  g.pitch = {w / g.cols, h / g.rows};
+  const double tile_aspect = g.pitch.x / g.pitch.y;
+  g.half_field.x = std::tan(radians(v.number("lens_fov")) / 2);
+  g.half_field.y = g.half_field.x / tile_aspect;
+  return tile_parts(g, v,
+                    "integral " + std::to_string(g.cols) + "x" + std::to_string(g.rows) +
+                        " lenses (org lens centers + dir elemental perspective)");
+}
+
+}  // namespace
+
+const PresetInfo kLightFieldPreset{
+    "light_field",
+    "A light-field display quilt: columns x rows off-axis perspective views across view_cone, "
+    "converging on the focal plane through look_at. View 0 (leftmost eye) is the bottom-left "
+    "tile; views go left to right, then bottom to top (Looking Glass order).",
+    kLightFieldParams, create_light_field};
+
+const PresetInfo kIntegralPreset{
+    "integral",
+    "An integral-imaging / holographic-stereogram lens array: columns x rows elemental images, "
+    "each a small perspective view from its lens center, un-flipped for display behind the same "
+    "lens array.",
+    kIntegralParams, create_integral};
+
+}  // namespace anamorph

@@ -1,0 +1,311 @@
+// Calibrated real lenses with OpenCV's models, in OpenCV's pixel units, so a render lines up
+// with a photograph from the calibrated camera.
+//
+// Frames: OpenCV's camera looks along +Z with X right and Y down; ours looks along -z with y up,
+// so (X, Y, Z) = (x, -y, -z). Pixels: OpenCV puts pixel centers at integers (column i is x = i),
+// our u of column i's center is (i + 0.5) / W, so x_pixel = u W - 0.5 (W, H the calibration
+// image size, by default the rendered size).
+//
+// opencv_pinhole (Brown-Conrady, cv::projectPoints with k1 k2 p1 p2 k3):
+//   x' = X/Z, y' = Y/Z, r^2 = x'^2 + y'^2, L = 1 + k1 r^2 + k2 r^4 + k3 r^6,
+//   x'' = x' L + 2 p1 x'y' + p2 (r^2 + 2 x'^2),  y'' = y' L + p1 (r^2 + 2 y'^2) + 2 p2 x'y',
+//   px = fx x'' + cx,  py = fy y'' + cy.
+// opencv_fisheye (Kannala-Brandt, cv::fisheye::projectPoints without skew):
+//   theta = atan(r) with r = |(X/Z, Y/Z)|, theta_d = theta (1 + k1 theta^2 + k2 theta^4 +
+//   k3 theta^6 + k4 theta^8), px = fx theta_d X/(Z r) + cx, py = fy theta_d Y/(Z r) + cy.
+//
+// These forward maps are the closed-form inverse (`project`). The ray of a pixel needs the
+// distortion inverted: Newton's method on the 2x2 system (pinhole) or on theta_d(theta)
+// (fisheye), restricted to the region where the map is one-to-one (beyond the radius where
+// r L(r) or theta_d(theta) stops increasing a lens folds back, and such pixels get no ray).
+#include <cmath>
+#include <string>
+
+#include "camera/org_basic.h"
+#include "camera/preset_list.h"
+#include "camera/preset_util.h"
+
+namespace anamorph {
+
+namespace {
+
+// Pixel <-> image position and the calibrated intrinsics.
+struct Intrinsics {
+  double fx = 1, fy = 1, cx = 0, cy = 0;
+  double w = 1, h = 1;  // calibration image size
+  // Normalized distorted coordinates (x'', y'') of image position uv, and back.
+  Vec2 distorted(Vec2 uv) const { return {(uv.x * w - 0.5 - cx) / fx, (uv.y * h - 0.5 - cy) / fy}; }
+  Vec2 image(Vec2 xd) const { return {(fx * xd.x + cx + 0.5) / w, (fy * xd.y + cy + 0.5) / h}; }
+};
+
+#define ANAMORPH_INTRINSICS_PARAMS                                                              \
+  {"fx", ParamType::Number, "", "Focal length in pixels along x (OpenCV camera matrix).", 0,   \
+   kInf, {}, true},                                                                             \
+      {"fy", ParamType::Number, "", "Focal length in pixels along y.", 0, kInf, {}, true},      \
+      {"cx", ParamType::Number, "none",                                                         \
+       "Principal point x in pixels (pixel centers at integers). Default: (width - 1) / 2."},   \
+      {"cy", ParamType::Number, "none", "Principal point y in pixels. Default: (height - 1) / 2."}, \
+      {"calibration_size", ParamType::Vec2, "none",                                             \
+       "[width, height] of the calibration images, when rendering at another resolution of "    \
+       "the same aspect. Default: the rendered size.",                                          \
+       1, kInf}
+
+Intrinsics read_intrinsics(const ParamValues& v, const ImageInfo& img) {
+  Intrinsics k;
+  k.w = img.width, k.h = img.height;
+  if (v.has("calibration_size")) {
+    const Vec2 s = v.vec2("calibration_size");
+    if (std::abs(s.x / s.y - img.aspect()) > 1e-3 * img.aspect())
+      throw ParamError("calibration_size",
+                       "calibration_size has aspect " + std::to_string(s.x / s.y) +
+                           " but the image has " + std::to_string(img.aspect()));
+    k.w = s.x, k.h = s.y;
+  }
+  k.fx = v.number("fx"), k.fy = v.number("fy");
+  k.cx = v.has("cx") ? v.number("cx") : (k.w - 1) / 2;
+  k.cy = v.has("cy") ? v.number("cy") : (k.h - 1) / 2;
+  return k;
+}
+
+// First r in (0, limit] where f(r) stops increasing, or `limit`; f' given by `slope`.
+template <class Slope>
+double monotone_limit(Slope slope, double limit) {
+  const int n = 20000;
+  double prev = 0;
+  for (int i = 1; i <= n; ++i) {
+    const double r = limit * i / n;
+    if (!(slope(r) > 0)) {
+      double lo = prev, hi = r;  // slope > 0 at lo, <= 0 at hi
+      for (int j = 0; j < 80; ++j) {
+        const double m = 0.5 * (lo + hi);
+        (slope(m) > 0 ? lo : hi) = m;
+      }
+      return lo;
+    }
+    prev = r;
+  }
+  return limit;
+}
+
+// --- opencv_pinhole --------------------------------------------------------------------------
+
+struct BrownConrady {
+  double k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0;
+  double r_max = kInf;  // undistorted radius where r L(r) stops increasing
+
+  // Distorted point of undistorted x and the Jacobian d(x'')/d(x') as columns (ju, jv).
+  Vec2 distort(Vec2 x, Vec2* jx, Vec2* jy) const {
+    const double r2 = x.x * x.x + x.y * x.y;
+    const double L = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+    const double dL = k1 + r2 * (2 * k2 + 3 * k3 * r2);  // dL / d(r^2)
+    const Vec2 out{x.x * L + 2 * p1 * x.x * x.y + p2 * (r2 + 2 * x.x * x.x),
+                   x.y * L + p1 * (r2 + 2 * x.y * x.y) + 2 * p2 * x.x * x.y};
+    if (jx) {
+      const double xy = 2 * x.x * x.y * dL + 2 * p1 * x.x + 2 * p2 * x.y;
+      *jx = {L + 2 * x.x * x.x * dL + 2 * p1 * x.y + 6 * p2 * x.x, xy};
+      *jy = {xy, L + 2 * x.y * x.y * dL + 6 * p1 * x.y + 2 * p2 * x.x};
+    }
+    return out;
+  }
+
+  bool valid(Vec2 x, Vec2 jx, Vec2 jy) const {
+    return x.x * x.x + x.y * x.y <= r_max * r_max && jx.x * jy.y - jy.x * jx.y > 0;
+  }
+
+  // Newton's method for the undistorted x with distort(x) = target.
+  bool undistort(Vec2 target, Vec2* x, Vec2* jx, Vec2* jy) const {
+    Vec2 p = target;
+    for (int it = 0; it < 100; ++it) {
+      const Vec2 f = distort(p, jx, jy) - target;
+      const double err = std::abs(f.x) + std::abs(f.y);
+      if (err < 1e-14 * (1 + std::abs(target.x) + std::abs(target.y))) {
+        *x = p;
+        distort(p, jx, jy);
+        return valid(p, *jx, *jy);
+      }
+      const double det = jx->x * jy->y - jy->x * jx->y;
+      if (!(std::abs(det) > 1e-300)) return false;
+      Vec2 step{(jy->y * f.x - jy->x * f.y) / det, (-jx->y * f.x + jx->x * f.y) / det};
+      // Halve steps that do not reduce the residual (folds, large distortion).
+      double t = 1;
+      for (int k = 0; k < 30; ++k, t *= 0.5) {
+        const Vec2 f2 = distort(p - step * t, nullptr, nullptr) - target;
+        if (std::abs(f2.x) + std::abs(f2.y) < err) break;
+      }
+      p = p - step * t;
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
+    }
+    return false;
+  }
+};
+
+class PinholeDir final : public DirFunction {
+ public:
+  PinholeDir(Intrinsics k, BrownConrady d) : k_(k), d_(d) {}
+  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
+    Vec2 x, jx, jy;
+    if (!d_.undistort(k_.distorted(uv), &x, &jx, &jy)) return false;
+    // d(x')/du = J^-1 (w / fx, 0), d(x')/dv = J^-1 (0, h / fy).
+    const double det = jx.x * jy.y - jy.x * jx.y;
+    const Vec2 ix{jy.y / det, -jx.y / det}, iy{-jy.x / det, jx.x / det};  // columns of J^-1
+    const Vec2 du = ix * (k_.w / k_.fx), dv = iy * (k_.h / k_.fy);
+    out->d = {x.x, -x.y, -1};
+    out->dd_du = {du.x, -du.y, 0};
+    out->dd_dv = {dv.x, -dv.y, 0};
+    return true;
+  }
+
+ private:
+  Intrinsics k_;
+  BrownConrady d_;
+};
+
+const ParamSpec kPinholeParams[] = {
+    ANAMORPH_LOOK_AT_PARAMS,
+    ANAMORPH_INTRINSICS_PARAMS,
+    {"k1", ParamType::Number, "0", "Radial distortion coefficient k1."},
+    {"k2", ParamType::Number, "0", "Radial distortion coefficient k2."},
+    {"k3", ParamType::Number, "0", "Radial distortion coefficient k3."},
+    {"p1", ParamType::Number, "0", "Tangential distortion coefficient p1."},
+    {"p2", ParamType::Number, "0", "Tangential distortion coefficient p2."},
+};
+
+VirtualCameraParts create_pinhole(const ParamValues& v, const ImageInfo& img) {
+  check_params(kPinholeParams, v);
+  const Intrinsics k = read_intrinsics(v, img);
+  BrownConrady d;
+  d.k1 = v.number("k1"), d.k2 = v.number("k2"), d.k3 = v.number("k3");
+  d.p1 = v.number("p1"), d.p2 = v.number("p2");
+  // d(r L(r))/dr = L + 2 r^2 dL/d(r^2); scanned up to r = 1e3 (89.9 degrees).
+  d.r_max = monotone_limit(
+      [&](double r) {
+        const double r2 = r * r;
+        return 1 + r2 * (3 * d.k1 + r2 * (5 * d.k2 + 7 * d.k3 * r2));
+      },
+      1e3);
+  VirtualCameraParts p;
+  p.org = make_point_org({});
+  p.dir = std::make_unique<PinholeDir>(k, d);
+  p.world_from_camera = rig_from_look_at(v);
+  p.description = "opencv_pinhole (org point + dir Brown-Conrady undistorted plane)";
+  p.inverse = make_inverse([k, d](const Vec3& q) -> std::vector<Vec2> {
+    if (!(q.z < 0)) return {};
+    const Vec2 x{q.x / -q.z, -q.y / -q.z};  // OpenCV's (X/Z, Y/Z)
+    Vec2 jx, jy;
+    const Vec2 xd = d.distort(x, &jx, &jy);
+    if (!d.valid(x, jx, jy)) return {};
+    Vec2 uv = k.image(xd);
+    if (!clamp_to_image(&uv)) return {};
+    return {uv};
+  });
+  return p;
+}
+
+// --- opencv_fisheye --------------------------------------------------------------------------
+
+struct KannalaBrandt {
+  double k1 = 0, k2 = 0, k3 = 0, k4 = 0;
+  double theta_max = kPi;  // where theta_d(theta) stops increasing, at most pi
+
+  double theta_d(double t, double* slope) const {
+    const double t2 = t * t;
+    *slope = 1 + t2 * (3 * k1 + t2 * (5 * k2 + t2 * (7 * k3 + t2 * 9 * k4)));
+    return t * (1 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4))));
+  }
+  // theta with theta_d(theta) = td, by safeguarded Newton on [0, theta_max].
+  bool theta(double td, double* t, double* slope) const {
+    const double top = theta_d(theta_max, slope);
+    if (!(td >= 0 && td <= top)) return false;
+    double lo = 0, hi = theta_max, x = std::min(td, theta_max);
+    for (int i = 0; i < 200; ++i) {
+      const double f = theta_d(x, slope) - td;
+      if (f > 0) hi = x;
+      else lo = x;
+      if (std::abs(f) < 1e-15 * (1 + td)) break;
+      double nx = x - f / *slope;
+      if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
+      if (nx == x) break;
+      x = nx;
+    }
+    *t = x;
+    theta_d(x, slope);
+    return true;
+  }
+};
+
+class FisheyeCvDir final : public DirFunction {
+ public:
+  FisheyeCvDir(Intrinsics k, KannalaBrandt d) : k_(k), d_(d) {}
+  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
+    const Vec2 xd = k_.distorted(uv);
+    double theta, slope;
+    if (!d_.theta(std::sqrt(xd.x * xd.x + xd.y * xd.y), &theta, &slope)) return false;
+    // Our image-plane (a right, b up) is OpenCV's (x, -y); theta(rho) has slope 1/theta_d'.
+    RadialDirection rd;
+    if (!radial_direction(xd.x, -xd.y, theta, 1 / slope, &rd)) return false;
+    out->d = rd.d;
+    out->dd_du = rd.dd_da * (k_.w / k_.fx);
+    out->dd_dv = rd.dd_db * (-k_.h / k_.fy);
+    return true;
+  }
+
+ private:
+  Intrinsics k_;
+  KannalaBrandt d_;
+};
+
+const ParamSpec kFisheyeParams[] = {
+    ANAMORPH_LOOK_AT_PARAMS,
+    ANAMORPH_INTRINSICS_PARAMS,
+    {"k1", ParamType::Number, "0", "Kannala-Brandt coefficient k1 (of theta^3)."},
+    {"k2", ParamType::Number, "0", "Kannala-Brandt coefficient k2 (of theta^5)."},
+    {"k3", ParamType::Number, "0", "Kannala-Brandt coefficient k3 (of theta^7)."},
+    {"k4", ParamType::Number, "0", "Kannala-Brandt coefficient k4 (of theta^9)."},
+};
+
+VirtualCameraParts create_fisheye_cv(const ParamValues& v, const ImageInfo& img) {
+  check_params(kFisheyeParams, v);
+  const Intrinsics k = read_intrinsics(v, img);
+  KannalaBrandt d;
+  d.k1 = v.number("k1"), d.k2 = v.number("k2"), d.k3 = v.number("k3"), d.k4 = v.number("k4");
+  d.theta_max = monotone_limit(
+      [&](double t) {
+        double s;
+        d.theta_d(t, &s);
+        return s;
+      },
+      kPi);
+  VirtualCameraParts p;
+  p.org = make_point_org({});
+  p.dir = std::make_unique<FisheyeCvDir>(k, d);
+  p.world_from_camera = rig_from_look_at(v);
+  p.description = "opencv_fisheye (org point + dir Kannala-Brandt sphere)";
+  p.inverse = make_inverse([k, d](const Vec3& q) -> std::vector<Vec2> {
+    Vec2 az;
+    const double theta = polar_angle(q, &az);
+    if (!(length(q) > 0) || !(theta <= d.theta_max)) return {};
+    double slope;
+    const double td = d.theta_d(theta, &slope);
+    Vec2 uv = k.image({td * az.x, -td * az.y});
+    if (!clamp_to_image(&uv)) return {};
+    return {uv};
+  });
+  return p;
+}
+
+}  // namespace
+
+const PresetInfo kOpenCvPinholePreset{
+    "opencv_pinhole",
+    "A calibrated camera with OpenCV's pinhole model and Brown-Conrady distortion (k1 k2 k3 "
+    "radial, p1 p2 tangential), in OpenCV pixel units. org = point, dir = the undistorted image "
+    "plane (Newton's method per pixel).",
+    kPinholeParams, create_pinhole};
+
+const PresetInfo kOpenCvFisheyePreset{
+    "opencv_fisheye",
+    "A calibrated fisheye with OpenCV's Kannala-Brandt model (cv::fisheye, k1..k4), in OpenCV "
+    "pixel units. org = point, dir = sphere by the inverted theta_d(theta) (Newton per pixel).",
+    kFisheyeParams, create_fisheye_cv};
+
+}  // namespace anamorph

@@ -1,0 +1,109 @@
+#include "camera/preset_util.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace anamorph {
+
+Vec2 window_half_extent(double e, std::string_view axis, double a) {
+  if (axis == "vertical") return {e * a, e};
+  if (axis == "diagonal") {
+    const double d = std::sqrt(1 + a * a);
+    return {e * a / d, e / d};
+  }
+  return {e, e / a};
+}
+
+bool radial_direction(double a, double b, double theta, double dtheta, RadialDirection* out) {
+  const double rho = std::sqrt(a * a + b * b);
+  const double st = std::sin(theta), ct = std::cos(theta);
+  if (rho < 1e-12) {
+    // On the axis: sin(theta)/rho -> dtheta/drho when theta(0) = 0.
+    if (std::abs(theta) > 1e-9) return false;
+    out->d = {0, 0, -1};
+    out->dd_da = {dtheta, 0, 0};
+    out->dd_db = {0, dtheta, 0};
+    return true;
+  }
+  const double s = st / rho;                              // sin(theta) / rho
+  const double ds = (ct * dtheta * rho - st) / (rho * rho);  // d s / d rho
+  const double ca = a / rho, cb = b / rho;               // d rho / da, d rho / db
+  out->d = {s * a, s * b, -ct};
+  out->dd_da = {s + a * ds * ca, b * ds * ca, st * dtheta * ca};
+  out->dd_db = {a * ds * cb, s + b * ds * cb, st * dtheta * cb};
+  return true;
+}
+
+double polar_angle(const Vec3& v, Vec2* azimuth) {
+  const double rho = std::sqrt(v.x * v.x + v.y * v.y);
+  *azimuth = rho > 0 ? Vec2{v.x / rho, v.y / rho} : Vec2{0, 0};
+  return std::atan2(rho, -v.z);
+}
+
+namespace {
+
+class SegmentOrg final : public OrgFunction {
+ public:
+  SegmentOrg(Vec3 c, Vec3 e, bool along_v) : c_(c), e_(e), along_v_(along_v) {}
+  bool eval(Vec2 uv, SurfaceSample* out) const override {
+    *out = SurfaceSample{};
+    const double t = along_v_ ? uv.y : uv.x;
+    out->p = c_ + e_ * (t - 0.5);
+    (along_v_ ? out->dpdv : out->dpdu) = e_;
+    return true;
+  }
+
+ private:
+  Vec3 c_, e_;
+  bool along_v_;
+};
+
+}  // namespace
+
+std::unique_ptr<OrgFunction> make_segment_org(Vec3 center, Vec3 edge, bool along_v) {
+  return std::make_unique<SegmentOrg>(center, edge, along_v);
+}
+
+AngleRange read_angle_range(const ParamValues& v, std::string_view key, double limit_deg) {
+  const Vec2 r = v.vec2(key);
+  const std::string k(key);
+  if (!(r.x < r.y))
+    throw ParamError(k, k + " must be [low, high] with low < high (got [" + std::to_string(r.x) +
+                            ", " + std::to_string(r.y) + "])");
+  if (r.y - r.x > 2 * limit_deg + 1e-9)
+    throw ParamError(k, k + " may span at most " + std::to_string(int(2 * limit_deg)) + " degrees");
+  return {radians(r.x), radians(r.y)};
+}
+
+int longitude_to_u(double lon, const AngleRange& r, double out[3]) {
+  int n = 0;
+  for (double shift : {0.0, -2 * kPi, 2 * kPi}) {
+    double u = (lon + shift - r.lo) / r.span();
+    if (!(u >= -1e-9 && u <= 1 + 1e-9)) continue;
+    u = std::clamp(u, 0.0, 1.0);
+    bool dup = false;
+    for (int i = 0; i < n; ++i) dup |= std::abs(out[i] - u) < 1e-12;
+    if (!dup) out[n++] = u;
+  }
+  return n;
+}
+
+bool clamp_to_image(Vec2* uv) {
+  constexpr double tol = 1e-9;
+  if (!(uv->x >= -tol && uv->x <= 1 + tol && uv->y >= -tol && uv->y <= 1 + tol)) return false;
+  uv->x = std::clamp(uv->x, 0.0, 1.0);
+  uv->y = std::clamp(uv->y, 0.0, 1.0);
+  return true;
+}
+
+TileCoord tile_of(Vec2 uv, int cols, int rows) {
+  TileCoord t;
+  const double x = uv.x * cols, y = uv.y * rows;
+  // floor, clamped; a NaN position lands in tile 0 and is rejected by the caller's checks.
+  t.col = std::clamp(int(std::floor(std::isfinite(x) ? x : 0)), 0, cols - 1);
+  t.row = std::clamp(int(std::floor(std::isfinite(y) ? y : 0)), 0, rows - 1);
+  t.st = {x - t.col, y - t.row};
+  return t;
+}
+
+}  // namespace anamorph
