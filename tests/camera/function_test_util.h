@@ -22,6 +22,7 @@ inline std::string str(const Vec3& v) {
 template <class... T>
 std::string cat(const T&... parts) {
   std::ostringstream os;
+  os.precision(17);  // numbers round-trip exactly through TOML text
   (os << ... << parts);
   return os.str();
 }

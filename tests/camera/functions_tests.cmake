@@ -1,3 +1,4 @@
 anamorph_add_test(test_camera_functions
   ${CMAKE_CURRENT_LIST_DIR}/org_function_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/spline_function_test.cpp
 )
