@@ -1,5 +1,17 @@
 // Mesh file loaders: glTF 2.0 through tinygltf (.gltf, .glb, data URIs), everything else that
 // assimp reads (OBJ/MTL, PLY, STL, ...) through assimp. Both produce the same LoadedModel.
+//
+// Conventions of a LoadedModel (the details of each format are at the top of gltf_loader.cpp
+// and assimp_loader.cpp):
+// - uvs have (0,0) at the image's top-left, v growing downwards (glTF's convention, and the
+//   texture lookup's: image row 0 = top). glTF uvs are stored as given; assimp's (OpenGL,
+//   v up) are stored as (u, 1 - v).
+// - normals are unit length. Empty normals mean flat shading: glTF asks for that when a
+//   primitive has none; assimp meshes without normals get smooth normals with a 60 degree
+//   crease instead.
+// - positions are finite, indices in range, zero-area triangles dropped.
+// - materials holds only the materials the loaded meshes use (in first-use order); glTF files
+//   give MetallicRoughness materials, assimp files Whitted ones.
 #pragma once
 
 #include <filesystem>
@@ -20,18 +32,25 @@ struct LoadError : std::runtime_error {
 struct ModelCamera {
   std::string name;
   bool perspective = true;
-  double yfov = 0.8;         // radians (perspective)
-  double aspect = 0;         // 0 = use the image's
-  double xmag = 1, ymag = 1; // half extents (orthographic)
+  double yfov = 0.8;            // radians (perspective)
+  double aspect = 0;            // 0 = use the image's
+  double xmag = 1, ymag = 1;    // half extents (orthographic)
   Transform world_from_camera;  // camera looks along -z, +y up (glTF convention)
 };
 
 struct LoadedModel {
-  std::vector<Material> materials;      // indices used by meshes refer to this list
-  std::vector<Prototype> prototypes;    // each mesh built once...
-  std::vector<Instance> instances;      // ...and placed by nodes (model space)
+  std::vector<Material> materials;    // indices used by meshes refer to this list
+  std::vector<Prototype> prototypes;  // each mesh built once...
+  std::vector<Instance> instances;    // ...and placed by nodes (model space)
   std::vector<ModelCamera> cameras;
-  std::vector<std::string> warnings;    // repaired problems (zero normals, unknown extensions)
+  std::vector<std::string> warnings;  // repaired problems (zero normals, unknown extensions)
+
+  size_t triangle_count() const {  // unique triangles (each prototype once)
+    size_t n = 0;
+    for (const auto& p : prototypes)
+      for (const auto& m : p.meshes) n += m.triangle_count();
+    return n;
+  }
 };
 
 // Dispatches on the extension. Throws LoadError with a message naming the file on any failure:

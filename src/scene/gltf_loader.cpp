@@ -1,0 +1,669 @@
+// glTF 2.0 (.gltf with external or data-URI buffers, .glb) through tinygltf.
+//
+// What is read, and how it maps:
+//   scene         `scene`, else scene 0 (older files such as Cameras.gltf have no `scene`), else
+//                 every root node. Nodes: `matrix` or T * R * S, accumulated down the hierarchy.
+//   meshes        each glTF mesh used by any node becomes ONE Prototype (one TriangleMesh per
+//                 primitive); every node using it adds an Instance. TRIANGLES are read, strips
+//                 and fans converted, points and lines skipped with a warning. Morph targets
+//                 are applied with the mesh's default weights (the static pose); skins ignored.
+//   attributes    POSITION, NORMAL, TEXCOORD_n (n from the material's textures) in any
+//                 component type, normalized or not, sparse, any byteStride (0 = packed).
+//                 Missing normals stay empty: the spec asks for flat shading then.
+//   uvs           stored as given: glTF's (0,0) is the image's top-left, as in our textures.
+//   materials     MetallicRoughness model: baseColor factor x texture (sRGB), metallic and
+//                 roughness factors (which scale the metallicRoughness texture's B and G;
+//                 the texture itself is kept unscaled, value white), normal texture + scale,
+//                 emissive factor x texture (sRGB) x KHR_materials_emissive_strength, alphaMode
+//                 (BLEND becomes MASK at 0.5, with a warning), doubleSided, KHR_materials_ior,
+//                 samplers (wrap modes; magFilter NEAREST), KHR_texture_transform.
+//   cameras       perspective and orthographic, placed by their node.
+// Embedded images are decoded by tinygltf (stb); image files are read with read_image.
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <string_view>
+#include <tuple>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "io/image_io.h"
+#include "scene/load_common.h"
+#include "scene/load_gltf_accessor.h"
+#include "scene/load_mesh_repair.h"
+#include "scene/loaders.h"
+
+namespace anamorph {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Extensions whose content this loader maps into our data. Others are warned about.
+constexpr std::array<std::string_view, 4> kSupportedExtensions = {
+    "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
+    "KHR_materials_ior"};
+
+bool supported(const std::string& ext) {
+  return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), ext) !=
+         kSupportedExtensions.end();
+}
+
+// tinygltf image callback: embedded images (data URIs, .glb buffer views) are decoded by
+// tinygltf's own stb loader; image files (uri set) are left for read_image, which knows more
+// formats and the colour handling of the project.
+bool decode_embedded_image(tinygltf::Image* image, const int index, std::string* err,
+                           std::string* warn, int req_width, int req_height,
+                           const unsigned char* bytes, int size, void* /*user*/) {
+  if (!image->uri.empty()) return true;
+  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size,
+                                 nullptr);
+}
+
+std::string percent_decode(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
+      out += char(std::stoi(s.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+double number(const tinygltf::Value& obj, const char* key, double fallback) {
+  if (!obj.IsObject() || !obj.Has(key)) return fallback;
+  const tinygltf::Value& v = obj.Get(key);
+  return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+Vec2 vec2(const tinygltf::Value& obj, const char* key, Vec2 fallback) {
+  if (!obj.IsObject() || !obj.Has(key)) return fallback;
+  const tinygltf::Value& v = obj.Get(key);
+  if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+    return fallback;
+  return {v.Get(0).GetNumberAsDouble(), v.Get(1).GetNumberAsDouble()};
+}
+
+Wrap wrap_mode(int gl) {
+  switch (gl) {
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+      return Wrap::Clamp;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+      return Wrap::Mirror;
+    default:
+      return Wrap::Repeat;
+  }
+}
+
+// The node's own transform: `matrix` (column-major) or translation * rotation * scale.
+Mat4 local_matrix(const tinygltf::Node& n) {
+  Mat4 m = Mat4::identity();
+  if (n.matrix.size() == 16) {
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) m.m[r][c] = n.matrix[size_t(c * 4 + r)];
+    return m;
+  }
+  Mat4 t = Mat4::identity(), rot = Mat4::identity(), s = Mat4::identity();
+  if (n.translation.size() == 3)
+    for (int k = 0; k < 3; ++k) t.m[k][3] = n.translation[size_t(k)];
+  if (n.scale.size() == 3)
+    for (int k = 0; k < 3; ++k) s.m[k][k] = n.scale[size_t(k)];
+  if (n.rotation.size() == 4) {
+    double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
+    const double len = std::sqrt(x * x + y * y + z * z + w * w);
+    if (len > 0) x /= len, y /= len, z /= len, w /= len;
+    rot.m[0][0] = 1 - 2 * (y * y + z * z);
+    rot.m[0][1] = 2 * (x * y - z * w);
+    rot.m[0][2] = 2 * (x * z + y * w);
+    rot.m[1][0] = 2 * (x * y + z * w);
+    rot.m[1][1] = 1 - 2 * (x * x + z * z);
+    rot.m[1][2] = 2 * (y * z - x * w);
+    rot.m[2][0] = 2 * (x * z - y * w);
+    rot.m[2][1] = 2 * (y * z + x * w);
+    rot.m[2][2] = 1 - 2 * (x * x + y * y);
+  }
+  return t * rot * s;
+}
+
+// A textureInfo of any of tinygltf's three kinds.
+struct TexRef {
+  int index = -1;
+  int tex_coord = 0;
+  const tinygltf::ExtensionMap* extensions = nullptr;
+};
+template <class Info>
+TexRef tex_ref(const Info& info) {
+  return {info.index, info.texCoord, &info.extensions};
+}
+
+class GltfBuilder {
+ public:
+  GltfBuilder(const tinygltf::Model& m, const fs::path& file)
+      : m_(m), dir_(file.parent_path()), file_(file.string()) {
+    material_index_.assign(m.materials.size(), -1);
+    material_uv_set_.assign(m.materials.size(), 0);
+    prototype_of_mesh_.assign(m.meshes.size(), kNotBuilt);
+  }
+
+  LoadedModel build(const std::string& tinygltf_warnings) {
+    if (!tinygltf_warnings.empty()) warnings_.add(file_ + ": " + trim(tinygltf_warnings));
+    check_extensions();
+    std::vector<int> roots;
+    if (m_.defaultScene >= 0) {
+      if (size_t(m_.defaultScene) >= m_.scenes.size())
+        throw LoadError(
+            fmt::format("scene {} does not exist ({} scenes)", m_.defaultScene, m_.scenes.size()));
+      roots = m_.scenes[size_t(m_.defaultScene)].nodes;
+    } else if (!m_.scenes.empty()) {
+      roots = m_.scenes[0].nodes;
+    } else {
+      std::vector<bool> is_child(m_.nodes.size(), false);
+      for (const auto& n : m_.nodes)
+        for (int c : n.children)
+          if (c >= 0 && size_t(c) < is_child.size()) is_child[size_t(c)] = true;
+      for (size_t i = 0; i < m_.nodes.size(); ++i)
+        if (!is_child[i]) roots.push_back(int(i));
+    }
+    for (int r : roots) visit(r, Mat4::identity(), 0);
+    finish_warnings();
+    out_.warnings = warnings_.take();
+    return std::move(out_);
+  }
+
+ private:
+  static constexpr int kNotBuilt = -1, kEmpty = -2;
+
+  void check_extensions() {
+    for (const auto& e : m_.extensionsRequired)
+      if (!supported(e))
+        warnings_.add(
+            fmt::format("{}: required glTF extension {} is not supported; parts of "
+                        "the model may be missing or look wrong",
+                        file_, e));
+    for (const auto& e : m_.extensionsUsed)
+      if (!supported(e) && std::find(m_.extensionsRequired.begin(), m_.extensionsRequired.end(),
+                                     e) == m_.extensionsRequired.end())
+        warnings_.add(
+            fmt::format("{}: glTF extension {} is not supported and is ignored", file_, e));
+  }
+
+  void visit(int index, const Mat4& parent, size_t depth) {
+    if (index < 0 || size_t(index) >= m_.nodes.size())
+      throw LoadError(fmt::format("node {} does not exist ({} nodes)", index, m_.nodes.size()));
+    if (depth > m_.nodes.size())
+      throw LoadError(fmt::format("node hierarchy contains a cycle through node {}", index));
+    const tinygltf::Node& n = m_.nodes[size_t(index)];
+    const Mat4 world = parent * local_matrix(n);
+    const std::string name = n.name.empty() ? fmt::format("node {}", index) : n.name;
+    if (n.mesh >= 0) {
+      if (size_t(n.mesh) >= m_.meshes.size())
+        throw LoadError(fmt::format("node {}: mesh {} does not exist", index, n.mesh));
+      if (n.skin >= 0) ++skinned_nodes_;
+      if (!n.weights.empty() && n.weights != m_.meshes[size_t(n.mesh)].weights)
+        ++node_weights_ignored_;
+      const int proto = prototype(n.mesh);
+      if (proto >= 0) {
+        bool ok = false;
+        const Mat4 inv = inverse(world, &ok);
+        if (ok)
+          out_.instances.push_back({uint32_t(proto), Transform(world, inv), name});
+        else
+          ++singular_nodes_;
+      }
+    }
+    if (n.camera >= 0) add_camera(n, name, world);
+    for (int c : n.children) visit(c, world, depth + 1);
+  }
+
+  void add_camera(const tinygltf::Node& n, const std::string& node_name, const Mat4& world) {
+    if (size_t(n.camera) >= m_.cameras.size())
+      throw LoadError(fmt::format("node '{}': camera {} does not exist", node_name, n.camera));
+    const tinygltf::Camera& c = m_.cameras[size_t(n.camera)];
+    ModelCamera mc;
+    mc.name = c.name.empty() ? node_name : c.name;
+    if (c.type == "perspective") {
+      mc.perspective = true;
+      mc.yfov = c.perspective.yfov;
+      mc.aspect = c.perspective.aspectRatio;
+      if (!(mc.yfov > 0 && mc.yfov < kPi))
+        throw LoadError(fmt::format("camera '{}': yfov {} is not in (0, pi)", mc.name, mc.yfov));
+    } else if (c.type == "orthographic") {
+      mc.perspective = false;
+      mc.xmag = c.orthographic.xmag;
+      mc.ymag = c.orthographic.ymag;
+      if (mc.xmag == 0 || mc.ymag == 0)
+        throw LoadError(fmt::format("camera '{}': xmag and ymag must not be zero", mc.name));
+    } else {
+      throw LoadError(
+          fmt::format("camera '{}': type '{}' is neither perspective nor "
+                      "orthographic",
+                      mc.name, c.type));
+    }
+    mc.world_from_camera = Transform(world);
+    out_.cameras.push_back(std::move(mc));
+  }
+
+  // Index into out_.prototypes of glTF mesh `mesh`, building it on first use; -2 when it has
+  // nothing to render.
+  int prototype(int mesh) {
+    int& slot = prototype_of_mesh_[size_t(mesh)];
+    if (slot != kNotBuilt) return slot;
+    const tinygltf::Mesh& gm = m_.meshes[size_t(mesh)];
+    Prototype p;
+    p.name = gm.name.empty() ? fmt::format("mesh {}", mesh) : gm.name;
+    for (size_t i = 0; i < gm.primitives.size(); ++i) {
+      std::string name = p.name;
+      if (gm.primitives.size() > 1) name += fmt::format(" primitive {}", i);
+      if (auto tm = primitive(gm, gm.primitives[i], name)) p.meshes.push_back(std::move(*tm));
+    }
+    if (p.meshes.empty()) return slot = kEmpty;
+    out_.prototypes.push_back(std::move(p));
+    return slot = int(out_.prototypes.size() - 1);
+  }
+
+  std::optional<TriangleMesh> primitive(const tinygltf::Mesh& gm, const tinygltf::Primitive& pr,
+                                        const std::string& name) {
+    const int mode = pr.mode < 0 ? TINYGLTF_MODE_TRIANGLES : pr.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      ++skipped_modes_[mode];
+      return std::nullopt;
+    }
+    auto attr = [&](const std::string& key) {
+      auto it = pr.attributes.find(key);
+      return it == pr.attributes.end() ? -1 : it->second;
+    };
+    const int pos = attr("POSITION");
+    if (pos < 0) {
+      warnings_.add(fmt::format("{}: mesh '{}' has no POSITION; skipped", file_, name));
+      return std::nullopt;
+    }
+    TriangleMesh tm;
+    tm.name = name;
+    tm.material = pr.material >= 0 ? material(pr.material) : default_material();
+    const int uv_set = pr.material >= 0 ? material_uv_set_[size_t(pr.material)] : 0;
+
+    auto where = [&](const char* what) { return fmt::format("mesh '{}' {}: ", name, what); };
+    try {
+      tm.positions = to_vec3(read_accessor_floats(m_, pos, 3));
+      if (const int a = attr("NORMAL"); a >= 0)
+        tm.normals = to_vec3(read_accessor_floats(m_, a, 3));
+      if (const int a = attr(fmt::format("TEXCOORD_{}", uv_set)); a >= 0) {
+        const auto f = read_accessor_floats(m_, a, 2);
+        tm.uvs.resize(f.size() / 2);
+        for (size_t i = 0; i < tm.uvs.size(); ++i) tm.uvs[i] = {f[2 * i], f[2 * i + 1]};
+      }
+    } catch (const LoadError& e) {
+      throw LoadError(where("attributes") + e.what());
+    }
+    apply_morph_targets(gm, pr, tm, name);
+    if (attr("COLOR_0") >= 0) ++vertex_colors_ignored_;
+
+    std::vector<uint32_t> idx;
+    try {
+      if (pr.indices >= 0) {
+        idx = read_accessor_indices(m_, pr.indices);
+      } else {
+        idx.resize(tm.positions.size());
+        std::iota(idx.begin(), idx.end(), 0u);
+      }
+    } catch (const LoadError& e) {
+      throw LoadError(where("indices") + e.what());
+    }
+    tm.indices = to_triangles(idx, mode);
+    check_mesh(tm, repairs_);
+    if (tm.indices.empty()) return std::nullopt;
+    return tm;
+  }
+
+  static std::vector<Vec3f> to_vec3(const std::vector<float>& f) {
+    std::vector<Vec3f> v(f.size() / 3);
+    for (size_t i = 0; i < v.size(); ++i) v[i] = {f[3 * i], f[3 * i + 1], f[3 * i + 2]};
+    return v;
+  }
+
+  // Triangle list from TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (glTF spec, section 3.7.2.1).
+  static std::vector<uint32_t> to_triangles(const std::vector<uint32_t>& idx, int mode) {
+    if (mode == TINYGLTF_MODE_TRIANGLES) return idx;
+    std::vector<uint32_t> out;
+    for (size_t i = 0; i + 2 < idx.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        // Every other triangle swaps its first two vertices to keep the winding.
+        const size_t odd = i % 2;
+        out.insert(out.end(), {idx[i + odd], idx[i + 1 - odd], idx[i + 2]});
+      } else {
+        out.insert(out.end(), {idx[i + 1], idx[i + 2], idx[0]});
+      }
+    }
+    return out;
+  }
+
+  // Static pose: base + sum of weight * target for the mesh's default weights.
+  void apply_morph_targets(const tinygltf::Mesh& gm, const tinygltf::Primitive& pr,
+                           TriangleMesh& tm, const std::string& name) {
+    for (size_t t = 0; t < pr.targets.size() && t < gm.weights.size(); ++t) {
+      const double w = gm.weights[t];
+      if (w == 0) continue;
+      auto add = [&](const char* key, std::vector<Vec3f>& dst) {
+        auto it = pr.targets[t].find(key);
+        if (it == pr.targets[t].end() || dst.empty()) return;
+        const auto d = to_vec3(read_accessor_floats(m_, it->second, 3));
+        if (d.size() != dst.size())
+          throw LoadError(fmt::format("mesh '{}': morph target {} {} has {} elements, base has {}",
+                                      name, t, key, d.size(), dst.size()));
+        for (size_t i = 0; i < dst.size(); ++i) dst[i] += d[i] * float(w);
+      };
+      add("POSITION", tm.positions);
+      add("NORMAL", tm.normals);
+    }
+  }
+
+  uint32_t default_material() {
+    if (default_material_ < 0) {
+      Material mat;  // glTF's default: white, metallic 1, roughness 1, single-sided
+      mat.name = "glTF default";
+      mat.model = Material::Model::MetallicRoughness;
+      mat.base_color = Texture::constant({1, 1, 1});
+      mat.double_sided = false;
+      out_.materials.push_back(std::move(mat));
+      default_material_ = int(out_.materials.size() - 1);
+    }
+    return uint32_t(default_material_);
+  }
+
+  uint32_t material(int index) {
+    if (size_t(index) >= m_.materials.size())
+      throw LoadError(
+          fmt::format("material {} does not exist ({} materials)", index, m_.materials.size()));
+    int& slot = material_index_[size_t(index)];
+    if (slot < 0) {
+      out_.materials.push_back(convert_material(index));
+      slot = int(out_.materials.size() - 1);
+    }
+    return uint32_t(slot);
+  }
+
+  Material convert_material(int index) {
+    const tinygltf::Material& gm = m_.materials[size_t(index)];
+    Material mat;
+    mat.model = Material::Model::MetallicRoughness;
+    mat.name = gm.name.empty() ? fmt::format("material {}", index) : gm.name;
+    if (gm.alphaMode == "MASK") {
+      mat.alpha_mode = Material::AlphaMode::Mask;
+      mat.alpha_cutoff = gm.alphaCutoff;
+    } else if (gm.alphaMode == "BLEND") {
+      // No sorted transparency in a ray tracer: a cut-out at 0.5 is the closest cheap reading.
+      mat.alpha_mode = Material::AlphaMode::Mask;
+      mat.alpha_cutoff = 0.5;
+      blend_materials_.push_back(mat.name);
+    }
+    const bool uses_alpha = mat.alpha_mode != Material::AlphaMode::Opaque;
+    mat.double_sided = gm.doubleSided;
+
+    int uv_set = -1;
+    auto texture = [&](const TexRef& ref, bool srgb, Color value, float alpha_scale) {
+      int set = 0;
+      Texture t = make_texture(ref, srgb, value, alpha_scale, &set);
+      if (t.kind == Texture::Kind::Image) {
+        if (uv_set < 0) uv_set = set;
+        if (set != uv_set)
+          warnings_.add(
+              fmt::format("{}: material '{}' uses several TEXCOORD sets; all its "
+                          "textures use TEXCOORD_{}",
+                          file_, mat.name, uv_set));
+      }
+      return t;
+    };
+
+    const auto& pbr = gm.pbrMetallicRoughness;
+    Color base{1, 1, 1};
+    double alpha = 1;
+    if (pbr.baseColorFactor.size() == 4) {
+      base = {pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]};
+      alpha = pbr.baseColorFactor[3];
+    }
+    // The base colour factor's alpha multiplies the texture's alpha; Texture has no alpha
+    // factor, so it is baked into the image (or a 1x1 image when there is no texture).
+    const float alpha_scale = uses_alpha ? float(alpha) : 1.0f;
+    if (pbr.baseColorTexture.index >= 0)
+      mat.base_color = texture(tex_ref(pbr.baseColorTexture), true, base, alpha_scale);
+    else if (alpha_scale < 1)
+      mat.base_color = constant_with_alpha(base, alpha_scale);
+    else
+      mat.base_color = Texture::constant(base);
+
+    mat.metallic = pbr.metallicFactor;
+    mat.roughness = pbr.roughnessFactor;
+    if (pbr.metallicRoughnessTexture.index >= 0)
+      mat.metallic_roughness = texture(tex_ref(pbr.metallicRoughnessTexture), false, {1, 1, 1}, 1);
+    if (gm.normalTexture.index >= 0) {
+      mat.normal_map = texture(tex_ref(gm.normalTexture), false, {1, 1, 1}, 1);
+      mat.has_normal_map = mat.normal_map.kind == Texture::Kind::Image;
+      mat.normal_scale = gm.normalTexture.scale;
+    }
+
+    Color emissive{0, 0, 0};
+    if (gm.emissiveFactor.size() == 3)
+      emissive = {gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]};
+    if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
+      mat.emission_strength = number(it->second, "emissiveStrength", 1.0);
+    if (max_component(emissive) > 0) {
+      mat.emission = gm.emissiveTexture.index >= 0
+                         ? texture(tex_ref(gm.emissiveTexture), true, emissive, 1)
+                         : Texture::constant(emissive);
+    }
+    if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end())
+      mat.ior = number(it->second, "ior", 1.5);
+    material_uv_set_[size_t(index)] = std::max(uv_set, 0);
+    return mat;
+  }
+
+  static Texture constant_with_alpha(Color c, float alpha) {
+    Image img;
+    img.width = img.height = 1;
+    img.channels = 4;
+    img.pixels = {1, 1, 1, alpha};
+    Texture t;
+    t.kind = Texture::Kind::Image;
+    t.value = c;
+    t.image = std::make_shared<const MipMap>(std::move(img));
+    return t;
+  }
+
+  Texture make_texture(const TexRef& ref, bool srgb, Color value, float alpha_scale, int* uv_set) {
+    if (ref.index < 0 || size_t(ref.index) >= m_.textures.size())
+      throw LoadError(
+          fmt::format("texture {} does not exist ({} textures)", ref.index, m_.textures.size()));
+    const tinygltf::Texture& gt = m_.textures[size_t(ref.index)];
+    if (gt.source < 0) {
+      warnings_.add(
+          fmt::format("{}: texture {} has no image we can read (only an extension's "
+                      "source); its factor is used alone",
+                      file_, ref.index));
+      return Texture::constant(value);
+    }
+    Texture t;
+    t.kind = Texture::Kind::Image;
+    t.value = value;
+    t.image = image(gt.source, srgb, alpha_scale);
+    if (gt.sampler >= 0) {
+      if (size_t(gt.sampler) >= m_.samplers.size())
+        throw LoadError(
+            fmt::format("texture {}: sampler {} does not exist", ref.index, gt.sampler));
+      const tinygltf::Sampler& s = m_.samplers[size_t(gt.sampler)];
+      t.wrap_s = wrap_mode(s.wrapS);
+      t.wrap_t = wrap_mode(s.wrapT);
+      t.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    *uv_set = ref.tex_coord;
+    if (ref.extensions) {
+      auto it = ref.extensions->find("KHR_texture_transform");
+      if (it != ref.extensions->end()) {
+        const tinygltf::Value& x = it->second;
+        t.uv_transform = UvTransform::from_offset_rotation_scale(
+            vec2(x, "offset", {0, 0}), number(x, "rotation", 0), vec2(x, "scale", {1, 1}));
+        *uv_set = int(number(x, "texCoord", ref.tex_coord));
+      }
+    }
+    return t;
+  }
+
+  std::shared_ptr<const MipMap> image(int source, bool srgb, float alpha_scale) {
+    if (size_t(source) >= m_.images.size())
+      throw LoadError(fmt::format("image {} does not exist ({} images)", source, m_.images.size()));
+    const auto key = std::make_tuple(source, srgb, alpha_scale);
+    if (auto it = images_.find(key); it != images_.end()) return it->second;
+    const tinygltf::Image& gi = m_.images[size_t(source)];
+    Image img;
+    if (!gi.uri.empty()) {
+      const fs::path path = dir_ / percent_decode(gi.uri);
+      try {
+        img = read_image(path, srgb);
+      } catch (const std::exception& e) {
+        throw LoadError(fmt::format("image {} ({}): {}", source, path.string(), e.what()));
+      }
+    } else {
+      img = decoded_image(gi, source, srgb);
+    }
+    if (alpha_scale != 1 && img.channels == 4)
+      for (size_t i = 3; i < img.pixels.size(); i += 4) img.pixels[i] *= alpha_scale;
+    auto mip = std::make_shared<const MipMap>(std::move(img));
+    images_.emplace(key, mip);
+    return mip;
+  }
+
+  // tinygltf's decoded 8- or 16-bit image as linear float RGBA.
+  static Image decoded_image(const tinygltf::Image& gi, int source, bool srgb) {
+    const int comp = gi.component, bytes = gi.bits == 16 ? 2 : 1;
+    if (gi.width <= 0 || gi.height <= 0 || comp < 1 || comp > 4 ||
+        gi.image.size() < size_t(gi.width) * size_t(gi.height) * size_t(comp * bytes))
+      throw LoadError(fmt::format("image {}: not decoded ({}x{}, {} channels, {} bytes)", source,
+                                  gi.width, gi.height, comp, gi.image.size()));
+    Image img;
+    img.width = gi.width;
+    img.height = gi.height;
+    img.channels = 4;
+    img.pixels.resize(size_t(img.width) * size_t(img.height) * 4);
+    const double scale = bytes == 2 ? 1.0 / 65535.0 : 1.0 / 255.0;
+    const size_t n = size_t(img.width) * size_t(img.height);
+    for (size_t i = 0; i < n; ++i) {
+      float v[4];
+      for (int c = 0; c < comp; ++c) {
+        const size_t at = (i * size_t(comp) + size_t(c)) * size_t(bytes);
+        const unsigned raw = bytes == 2 ? unsigned(gi.image[at]) | unsigned(gi.image[at + 1]) << 8
+                                        : unsigned(gi.image[at]);
+        v[c] = float(raw * scale);
+      }
+      // Grey (+alpha) images spread to RGB (+A).
+      float rgba[4] = {v[0], comp >= 3 ? v[1] : v[0], comp >= 3 ? v[2] : v[0],
+                       comp == 4 ? v[3] : (comp == 2 ? v[1] : 1.0f)};
+      for (int c = 0; c < 3; ++c)
+        img.pixels[4 * i + size_t(c)] = srgb ? srgb_to_linear(rgba[c]) : rgba[c];
+      img.pixels[4 * i + 3] = rgba[3];
+    }
+    return img;
+  }
+
+  void finish_warnings() {
+    add_repair_warnings(repairs_, file_, buffer_);
+    for (auto& w : buffer_) warnings_.add(std::move(w));
+    if (!blend_materials_.empty())
+      warnings_.add(
+          fmt::format("{}: alphaMode BLEND is rendered as MASK with cutoff 0.5 in {} "
+                      "material(s): {}",
+                      file_, blend_materials_.size(), fmt::join(blend_materials_, ", ")));
+    for (const auto& [mode, count] : skipped_modes_)
+      warnings_.add(fmt::format("{}: {} primitive(s) of mode {} (points or lines) skipped", file_,
+                                count, mode));
+    if (skinned_nodes_ > 0)
+      warnings_.add(fmt::format("{}: skins ignored on {} node(s); meshes are shown unskinned",
+                                file_, skinned_nodes_));
+    if (node_weights_ignored_ > 0)
+      warnings_.add(
+          fmt::format("{}: morph weights of {} node(s) ignored; the mesh's default "
+                      "weights are used",
+                      file_, node_weights_ignored_));
+    if (singular_nodes_ > 0)
+      warnings_.add(
+          fmt::format("{}: {} mesh node(s) with a singular (zero-scale) transform "
+                      "skipped",
+                      file_, singular_nodes_));
+    if (vertex_colors_ignored_ > 0)
+      warnings_.add(fmt::format("{}: COLOR_0 vertex colours ignored on {} primitive(s)", file_,
+                                vertex_colors_ignored_));
+    if (!m_.animations.empty())
+      warnings_.add(fmt::format("{}: {} animation(s) ignored; the static pose is used", file_,
+                                m_.animations.size()));
+  }
+
+  const tinygltf::Model& m_;
+  fs::path dir_;
+  std::string file_;
+  LoadedModel out_;
+  WarningList warnings_;
+  std::vector<std::string> buffer_;
+  MeshRepairs repairs_;
+  std::vector<int> material_index_, material_uv_set_, prototype_of_mesh_;
+  int default_material_ = -1;
+  std::map<std::tuple<int, bool, float>, std::shared_ptr<const MipMap>> images_;
+  std::map<int, size_t> skipped_modes_;
+  std::vector<std::string> blend_materials_;
+  size_t skinned_nodes_ = 0, node_weights_ignored_ = 0, singular_nodes_ = 0;
+  size_t vertex_colors_ignored_ = 0;
+};
+
+}  // namespace
+
+LoadedModel load_gltf(const fs::path& file) {
+  const std::vector<unsigned char> bytes = read_file_bytes(file);
+  if (bytes.size() > std::numeric_limits<unsigned>::max())
+    throw LoadError(file.string() + ": file too large for the glTF parser");
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&decode_embedded_image, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const std::string base_dir = file.parent_path().string();
+  // The container is recognised by its magic, not its extension: a .gltf that is really a .glb
+  // still loads.
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  bool ok = false;
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
+                                              unsigned(bytes.size()), base_dir)
+                : loader.LoadASCIIFromString(&model, &err, &warn,
+                                             reinterpret_cast<const char*>(bytes.data()),
+                                             unsigned(bytes.size()), base_dir);
+  } catch (const std::exception& e) {
+    ok = false;
+    err = e.what();
+  }
+  if (!ok)
+    throw LoadError(file.string() + ": " + (err.empty() ? "not a valid glTF file" : trim(err)));
+  if (model.asset.version.empty() || model.asset.version[0] != '2')
+    throw LoadError(file.string() + ": glTF version '" + model.asset.version +
+                    "' is not supported (2.x only)");
+  try {
+    return GltfBuilder(model, file).build(warn);
+  } catch (const LoadError& e) {
+    throw LoadError(file.string() + ": " + e.what());
+  }
+}
+
+}  // namespace anamorph

@@ -1,0 +1,54 @@
+#include "scene/load_common.h"
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "io/image_io.h"
+#include "scene/loaders.h"
+
+namespace anamorph {
+
+namespace fs = std::filesystem;
+
+void require_readable(const fs::path& file) {
+  std::error_code ec;
+  if (fs::is_directory(file, ec))
+    throw LoadError("cannot open " + file.string() + ": is a directory");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw LoadError("cannot open " + file.string() + ": " + std::strerror(errno));
+}
+
+std::vector<unsigned char> read_file_bytes(const fs::path& file) {
+  require_readable(file);
+  std::ifstream in(file, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (in.bad()) throw LoadError("cannot read " + file.string() + ": " + std::strerror(errno));
+  return bytes;
+}
+
+std::string lowercase_extension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+std::shared_ptr<const MipMap> ImageFileCache::get(const fs::path& file, bool srgb) {
+  auto key = std::make_pair(file.lexically_normal().string(), srgb);
+  auto it = cache_.find(key);
+  if (it != cache_.end()) return it->second;
+  Image img;
+  try {
+    img = read_image(file, srgb);
+  } catch (const std::exception& e) {
+    throw LoadError("texture " + file.string() + ": " + e.what());
+  }
+  auto mip = std::make_shared<const MipMap>(std::move(img));
+  cache_.emplace(std::move(key), mip);
+  return mip;
+}
+
+}  // namespace anamorph

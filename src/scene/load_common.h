@@ -1,0 +1,48 @@
+// Small pieces shared by the loaders: opening files with a clear error, collecting warnings once,
+// and textures read from image files.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scene/texture.h"
+
+namespace anamorph {
+
+// Throws LoadError "cannot open <path>: <reason>" (reason from the OS, e.g. "No such file or
+// directory") unless `file` is a readable regular file.
+void require_readable(const std::filesystem::path& file);
+// The whole file; same error as require_readable.
+std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
+// ".GLB" -> ".glb".
+std::string lowercase_extension(const std::filesystem::path& file);
+
+// Warnings in first-seen order, each distinct message once.
+class WarningList {
+ public:
+  void add(std::string w) {
+    if (seen_.insert(w).second) list_.push_back(std::move(w));
+  }
+  std::vector<std::string> take() { return std::move(list_); }
+
+ private:
+  std::set<std::string> seen_;
+  std::vector<std::string> list_;
+};
+
+// Image files used as textures, each decoded once per (path, colour space).
+class ImageFileCache {
+ public:
+  // Throws LoadError naming the image when it cannot be read.
+  std::shared_ptr<const MipMap> get(const std::filesystem::path& file, bool srgb);
+
+ private:
+  std::map<std::pair<std::string, bool>, std::shared_ptr<const MipMap>> cache_;
+};
+
+}  // namespace anamorph
