@@ -365,13 +365,15 @@ bool Accel::occluded(const Ray& r) const {
   return ray.tfar < 0;
 }
 
-void Accel::intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
+template <int N, class RayHitN, class F>
+static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RTCScene scene, F&& fill,
+                             void (*trace)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  alignas(32) RTCRayHit8 rh;
-  alignas(32) int v[8];
-  for (int i = 0; i < 8; ++i) {
+  alignas(64) RayHitN rh;
+  alignas(64) int v[N];
+  for (int i = 0; i < N; ++i) {
     v[i] = valid[i] ? -1 : 0;
     const Ray& r = rays[i];
     rh.ray.org_x[i] = float(r.o.x);
@@ -391,13 +393,30 @@ void Accel::intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* foun
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
-  rtcIntersect8(v, top_, &ctx, &rh);
-  for (int i = 0; i < 8; ++i) {
+  trace(v, scene, &ctx, &rh);
+  for (int i = 0; i < N; ++i) {
     found[i] = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
     if (found[i])
-      fill_hit(rays[i], rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i],
-               rh.hit.u[i], rh.hit.v[i], &hits[i]);
+      fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i], rh.hit.v[i]);
   }
+}
+
+void Accel::intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
+  intersect_packet<8, RTCRayHit8>(
+      rays, valid, found, top_,
+      [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
+        fill_hit(rays[i], t, g, p, in, u, v, &hits[i]);
+      },
+      rtcIntersect8);
+}
+
+void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
+  intersect_packet<16, RTCRayHit16>(
+      rays, valid, found, top_,
+      [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
+        fill_hit(rays[i], t, g, p, in, u, v, &hits[i]);
+      },
+      rtcIntersect16);
 }
 
 }  // namespace anamorph

@@ -52,6 +52,7 @@ class Accel {
   bool occluded(const Ray& r) const;
   // Intersects 8 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
   void intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
+  void intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
   Bounds3 bounds() const { return bounds_; }
   const AccelStats& stats() const { return stats_; }
   uint32_t object_count() const { return uint32_t(records_.size()); }

@@ -15,7 +15,48 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       world_from_camera_(parts.world_from_camera),
       rig_identity_(parts.world_from_camera.is_identity()),
       dof_(dof),
-      description_(std::move(parts.description)) {}
+      description_(std::move(parts.description)) {
+  detect_linear_field();
+}
+
+void VirtualCamera::detect_linear_field() {
+  // Probe the functions on a grid plus a few irrational positions; an affine org and dir must
+  // reproduce every probe from the corner values and derivatives. Functions that are only
+  // piecewise affine (quilts, cubemaps) or curved fail the test and keep the general path.
+  SurfaceSample s0;
+  DirSample d0;
+  if (!org_->eval({0, 0}, &s0) || !dir_->eval({0, 0}, s0, &d0)) return;
+  std::vector<Vec2> probes;
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 0; i <= 4; ++i) probes.push_back({i / 4.0, j / 4.0});
+  probes.push_back({0.3819660112501051, 0.6180339887498949});
+  probes.push_back({0.7071067811865476, 0.1415926535897932});
+  probes.push_back({0.0577215664901533, 0.9189385332046727});
+  const double scale_o = 1 + length(s0.p) + length(s0.dpdu) + length(s0.dpdv);
+  const double scale_d = length(d0.d) + length(d0.dd_du) + length(d0.dd_dv);
+  if (!(scale_d > 0)) return;
+  for (const Vec2& uv : probes) {
+    SurfaceSample s;
+    DirSample d;
+    if (!org_->eval(uv, &s) || !dir_->eval(uv, s, &d)) return;
+    const Vec3 po = s0.p + s0.dpdu * uv.x + s0.dpdv * uv.y;
+    const Vec3 pd = d0.d + d0.dd_du * uv.x + d0.dd_dv * uv.y;
+    if (length(s.p - po) > 1e-12 * scale_o || length(s.dpdu - s0.dpdu) > 1e-12 * scale_o ||
+        length(s.dpdv - s0.dpdv) > 1e-12 * scale_o)
+      return;
+    if (length(d.d - pd) > 1e-12 * scale_d || length(d.dd_du - d0.dd_du) > 1e-12 * scale_d ||
+        length(d.dd_dv - d0.dd_dv) > 1e-12 * scale_d || !(length(d.d) > 0))
+      return;
+  }
+  const Transform& t = world_from_camera_;
+  o0_ = t.point(s0.p);
+  o_u_ = t.vector(s0.dpdu);
+  o_v_ = t.vector(s0.dpdv);
+  d0_ = t.vector(d0.d);
+  d_u_ = t.vector(d0.dd_du);
+  d_v_ = t.vector(d0.dd_dv);
+  linear_ = true;
+}
 
 // Unit direction and its derivative: d(d/|d|) = (dd - n (n . dd)) / |d|.
 static Vec3 normalized_derivative(const Vec3& n, double len, const Vec3& dd) {
@@ -41,6 +82,24 @@ std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
 }
 
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
+  if (linear_ && dof_.aperture_radius == 0) {
+    const double u = cs.uv.x, v = cs.uv.y;
+    const Vec3 d = d0_ + d_u_ * u + d_v_ * v;
+    const double len = length(d);
+    if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
+    CameraRay r;
+    r.org = o0_ + o_u_ * u + o_v_ * v;
+    r.dir = d / len;
+    r.dorg_du = o_u_;
+    r.dorg_dv = o_v_;
+    r.ddir_du = normalized_derivative(r.dir, len, d_u_);
+    r.ddir_dv = normalized_derivative(r.dir, len, d_v_);
+    return r;
+  }
+  return generate_general(cs);
+}
+
+std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs) const {
   auto r = generate_pinhole(cs.uv);
   if (!r) return r;
   if (dof_.aperture_radius > 0) {

@@ -44,8 +44,14 @@ class VirtualCamera final : public Camera {
 
   // The ray before depth of field and in camera space (for tests and the inverse map).
   std::optional<CameraRay> generate_pinhole(Vec2 uv) const;
+  // True when org and dir are affine in (u, v) (perspective, orthographic, off-axis views): rays
+  // then come from a closed form precomputed in world space instead of the function calls.
+  bool has_linear_fast_path() const { return linear_; }
 
  private:
+  void detect_linear_field();
+  std::optional<CameraRay> generate_general(const CameraSample& s) const;
+
   std::unique_ptr<OrgFunction> org_;
   std::unique_ptr<DirFunction> dir_;
   std::unique_ptr<InverseMap> inverse_;
@@ -53,6 +59,9 @@ class VirtualCamera final : public Camera {
   bool rig_identity_;
   DepthOfField dof_;
   std::string description_;
+  // Affine ray field in world space: org = o0 + u o_u + v o_v, raw dir = d0 + u d_u + v d_v.
+  bool linear_ = false;
+  Vec3 o0_, o_u_, o_v_, d0_, d_u_, d_v_;
 };
 
 // Numeric inverse map for any camera: a coarse grid over [0,1]^2, then Gauss-Newton on the

@@ -117,16 +117,17 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
           const Tile& t = tiles[ti];
           TileStats& st = tile_stats[ti];
           for (uint32_t s = s_begin; s < s_end; ++s) {
-            // Coherent packets of 4x2 pixels for the primary rays.
-            for (int y = t.y0; y < t.y1; y += 2)
+            // Coherent packets of 4x4 pixels for the primary rays.
+            constexpr int kPacket = 16;
+            for (int y = t.y0; y < t.y1; y += 4)
               for (int x = t.x0; x < t.x1; x += 4) {
-                Ray rays[8];
-                CameraRay cam[8];
-                bool valid[8], found[8];
-                Hit hits[8];
-                Rng rng[8];
-                int lx[8], ly[8];
-                for (int k = 0; k < 8; ++k) {
+                Ray rays[kPacket];
+                CameraRay cam[kPacket];
+                bool valid[kPacket], found[kPacket];
+                Hit hits[kPacket];
+                Rng rng[kPacket];
+                int lx[kPacket], ly[kPacket];
+                for (int k = 0; k < kPacket; ++k) {
                   lx[k] = x + (k & 3);
                   ly[k] = y + (k >> 2);
                   valid[k] = false;
@@ -144,8 +145,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                   rays[k] = Ray{r->org, r->dir, 0, kInf};
                   valid[k] = true;
                 }
-                accel_->intersect8(rays, valid, hits, found);
-                for (int k = 0; k < 8; ++k) {
+                accel_->intersect16(rays, valid, hits, found);
+                for (int k = 0; k < kPacket; ++k) {
                   if (lx[k] >= t.x1 || ly[k] >= t.y1) continue;
                   AovSample a;
                   if (!valid[k]) {
