@@ -34,9 +34,9 @@
 #include <map>
 #include <optional>
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include <fmt/format.h>
 
@@ -276,12 +276,24 @@ class AssimpBuilder {
                       file_, p));
       return Texture::constant(value);
     }
+    // MTL files written on Windows use backslashes.
+    std::string portable = p;
+    std::replace(portable.begin(), portable.end(), '\\', '/');
+    fs::path file = portable;
+    if (file.is_relative()) file = dir_ / file;
+    std::string error;
+    auto image = images_.get(file, srgb, &error);
+    if (!image) {
+      warnings_.add(
+          fmt::format("{}: texture {} cannot be read ({}); the material's colour is "
+                      "used alone",
+                      file_, file.string(), error));
+      return Texture::constant(value);
+    }
     Texture t;
     t.kind = Texture::Kind::Image;
     t.value = value;
-    fs::path file = p;
-    if (file.is_relative()) file = dir_ / file;
-    t.image = images_.get(file, srgb);
+    t.image = std::move(image);
     t.wrap_s = to_wrap(modes[0]);
     t.wrap_t = to_wrap(modes[1]);
     return t;

@@ -159,11 +159,16 @@ class GltfBuilder {
       : m_(m), dir_(file.parent_path()), file_(file.string()) {
     material_index_.assign(m.materials.size(), -1);
     material_uv_set_.assign(m.materials.size(), 0);
+    material_textured_.assign(m.materials.size(), false);
     prototype_of_mesh_.assign(m.meshes.size(), kNotBuilt);
   }
 
   LoadedModel build(const std::string& tinygltf_warnings) {
-    if (!tinygltf_warnings.empty()) warnings_.add(file_ + ": " + trim(tinygltf_warnings));
+    for (size_t at = 0; at < tinygltf_warnings.size();) {
+      const size_t end = std::min(tinygltf_warnings.find('\n', at), tinygltf_warnings.size());
+      if (end > at) warnings_.add(file_ + ": " + tinygltf_warnings.substr(at, end - at));
+      at = end + 1;
+    }
     check_extensions();
     std::vector<int> roots;
     if (m_.defaultScene >= 0) {
@@ -299,6 +304,7 @@ class GltfBuilder {
     tm.name = name;
     tm.material = pr.material >= 0 ? material(pr.material) : default_material();
     const int uv_set = pr.material >= 0 ? material_uv_set_[size_t(pr.material)] : 0;
+    const bool textured = pr.material >= 0 && material_textured_[size_t(pr.material)];
 
     auto where = [&](const char* what) { return fmt::format("mesh '{}' {}: ", name, what); };
     try {
@@ -313,6 +319,11 @@ class GltfBuilder {
     } catch (const LoadError& e) {
       throw LoadError(where("attributes") + e.what());
     }
+    if (textured && tm.uvs.empty())
+      warnings_.add(
+          fmt::format("{}: mesh '{}' has a textured material but no TEXCOORD_{}; its "
+                      "textures are read at uv (0, 0)",
+                      file_, name, uv_set));
     apply_morph_targets(gm, pr, tm, name);
     if (attr("COLOR_0") >= 0) ++vertex_colors_ignored_;
 
@@ -472,6 +483,7 @@ class GltfBuilder {
     if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end())
       mat.ior = number(it->second, "ior", 1.5);
     material_uv_set_[size_t(index)] = std::max(uv_set, 0);
+    material_textured_[size_t(index)] = uv_set >= 0;
     return mat;
   }
 
@@ -503,6 +515,7 @@ class GltfBuilder {
     t.kind = Texture::Kind::Image;
     t.value = value;
     t.image = image(gt.source, srgb, alpha_scale);
+    if (!t.image) return Texture::constant(value);  // unreadable image file, warned
     if (gt.sampler >= 0) {
       if (size_t(gt.sampler) >= m_.samplers.size())
         throw LoadError(
@@ -533,11 +546,18 @@ class GltfBuilder {
     const tinygltf::Image& gi = m_.images[size_t(source)];
     Image img;
     if (!gi.uri.empty()) {
+      // A missing or unreadable image file is a warning, not an error: the material's
+      // factor still renders, and models often travel without some of their textures.
       const fs::path path = dir_ / percent_decode(gi.uri);
       try {
         img = read_image(path, srgb);
       } catch (const std::exception& e) {
-        throw LoadError(fmt::format("image {} ({}): {}", source, path.string(), e.what()));
+        warnings_.add(
+            fmt::format("{}: image {} ({}) cannot be read ({}); its texture's factor "
+                        "is used alone",
+                        file_, source, path.string(), e.what()));
+        images_.emplace(key, nullptr);
+        return nullptr;
       }
     } else {
       img = decoded_image(gi, source, srgb);
@@ -621,6 +641,7 @@ class GltfBuilder {
   std::vector<std::string> buffer_;
   MeshRepairs repairs_;
   std::vector<int> material_index_, material_uv_set_, prototype_of_mesh_;
+  std::vector<bool> material_textured_;
   int default_material_ = -1;
   std::map<std::tuple<int, bool, float>, std::shared_ptr<const MipMap>> images_;
   std::map<int, size_t> skipped_modes_;

@@ -36,19 +36,21 @@ std::string lowercase_extension(const fs::path& file) {
   return ext;
 }
 
-std::shared_ptr<const MipMap> ImageFileCache::get(const fs::path& file, bool srgb) {
+std::shared_ptr<const MipMap> ImageFileCache::get(const fs::path& file, bool srgb,
+                                                  std::string* error) {
   auto key = std::make_pair(file.lexically_normal().string(), srgb);
   auto it = cache_.find(key);
-  if (it != cache_.end()) return it->second;
-  Image img;
-  try {
-    img = read_image(file, srgb);
-  } catch (const std::exception& e) {
-    throw LoadError("texture " + file.string() + ": " + e.what());
+  if (it == cache_.end()) {
+    std::pair<std::shared_ptr<const MipMap>, std::string> entry;
+    try {
+      entry.first = std::make_shared<const MipMap>(read_image(file, srgb));
+    } catch (const std::exception& e) {
+      entry.second = e.what();
+    }
+    it = cache_.emplace(std::move(key), std::move(entry)).first;
   }
-  auto mip = std::make_shared<const MipMap>(std::move(img));
-  cache_.emplace(std::move(key), mip);
-  return mip;
+  if (!it->second.first) *error = it->second.second;
+  return it->second.first;
 }
 
 }  // namespace anamorph

@@ -35,14 +35,17 @@ class WarningList {
   std::vector<std::string> list_;
 };
 
-// Image files used as textures, each decoded once per (path, colour space).
+// Image files used as textures, each decoded once per (path, colour space). A texture that
+// cannot be read gives null and the reason in *error (the caller warns and falls back to the
+// material's colour: models often reference textures that did not travel with them).
 class ImageFileCache {
  public:
-  // Throws LoadError naming the image when it cannot be read.
-  std::shared_ptr<const MipMap> get(const std::filesystem::path& file, bool srgb);
+  std::shared_ptr<const MipMap> get(const std::filesystem::path& file, bool srgb,
+                                    std::string* error);
 
  private:
-  std::map<std::pair<std::string, bool>, std::shared_ptr<const MipMap>> cache_;
+  std::map<std::pair<std::string, bool>, std::pair<std::shared_ptr<const MipMap>, std::string>>
+      cache_;  // image or the reason it could not be read
 };
 
 }  // namespace anamorph

@@ -204,6 +204,19 @@ f 7 8 9
   EXPECT_FALSE(test::has_warning(m, "'glow'")) << test::all_warnings(m);
 }
 
+TEST(AssimpLoader, UnreadableTextureIsAWarningAndKdRemains) {
+  ScratchDir dir;
+  dir.write("t.mtl", "newmtl m\nKd 0.25 0.5 0.75\nmap_Kd textures\\gone.png\n");
+  const auto obj =
+      dir.write("t.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n");
+  const LoadedModel m = load_model(obj);
+  ASSERT_EQ(m.materials.size(), 1u);
+  EXPECT_EQ(m.materials[0].base_color.kind, Texture::Kind::Constant);
+  EXPECT_EQ(m.materials[0].base_color.value, Color(0.25, 0.5, 0.75));
+  // The Windows separator is read as a directory separator.
+  EXPECT_TRUE(test::has_warning(m, "textures/gone.png")) << test::all_warnings(m);
+}
+
 TEST(AssimpLoader, OutOfRangeObjIndexIsALoadError) {
   ScratchDir dir;
   // assimp rejects faces that name missing vertices; the loader must turn that into a LoadError.

@@ -428,6 +428,39 @@ TEST(UvTransform, MatchesTheKhrTextureTransformExample) {
   }
 }
 
+TEST(GltfLoader, UnreadableImageFileIsAWarningAndTheFactorRemains) {
+  ScratchDir dir;
+  GltfWriter w;
+  w.j["images"] = {{{"uri", "not%20here.png"}}};
+  w.j["textures"] = {{{"source", 0}}};
+  w.j["materials"] = {
+      {{"pbrMetallicRoughness",
+        {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {0.1, 0.2, 0.3, 1}}}}}};
+  w.node({{"mesh", w.mesh({{"POSITION", w.floats(kQuad, "VEC3")}}, quad_indices(w), 0)}});
+  const LoadedModel m = load_gltf(dir.write("missing_tex.gltf", w.text()));
+  const Material& mat = m.materials.at(0);
+  EXPECT_EQ(mat.base_color.kind, Texture::Kind::Constant);
+  EXPECT_EQ(mat.base_color.value, Color(0.1, 0.2, 0.3));
+  // The URI is percent-decoded before the file is looked for.
+  EXPECT_TRUE(test::has_warning(m, "not here.png")) << test::all_warnings(m);
+  // Without its image the material is not textured, so the missing TEXCOORD_0 is no concern.
+  EXPECT_FALSE(test::has_warning(m, "no TEXCOORD")) << test::all_warnings(m);
+}
+
+TEST_F(GltfMaterials, TexturedMaterialWithoutTexcoordsIsWarned) {
+  GltfWriter w;
+  w.j["images"] = {
+      {{"uri", "data:image/png;base64," +
+                   test::base64(test::read_bytes(test::data_dir() / "models/quadrants.png"))}}};
+  w.j["textures"] = {{{"source", 0}}};
+  w.j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  w.node(
+      {{"mesh", w.mesh({{"POSITION", w.floats(kQuad, "VEC3")}}, quad_indices(w), 0, 4, "bare")}});
+  const LoadedModel m = load_gltf(dir.write("nouv.gltf", w.text()));
+  EXPECT_TRUE(test::has_warning(m, "mesh 'bare' has a textured material but no TEXCOORD_0"))
+      << test::all_warnings(m);
+}
+
 TEST(GltfLoader, UnsupportedExtensionsAreWarningsNamingThem) {
   ScratchDir dir;
   GltfWriter w;
