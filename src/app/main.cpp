@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   add_info(app, run);
   add_rays(app, run);
   add_project(app, run);
+  add_bench(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
