@@ -165,3 +165,51 @@ TEST(SceneParser, OrgDirCompositionAndWarnings) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+TEST(SceneParser, SharedGltfMeshIsInstancedNotCopied) {
+  const std::string file = (test::data_dir() / "models" / "shared_mesh.gltf").string();
+  const Scene s = load_scene_from_string("[[object]]\ntype = \"mesh\"\nfile = \"" + file +
+                                             "\"\ntransform = { translate = [10, 0, 0] }\n",
+                                         "t.toml");
+  EXPECT_EQ(s.prototypes.size(), 1u);
+  ASSERT_EQ(s.instances.size(), 2u);
+  // The object transform applies on top of each node's.
+  const Vec3 o = s.instances[0].world_from_object.point({0, 0, 0});
+  EXPECT_GE(o.x, 9.0) << o.x;
+}
+
+TEST(SceneParser, GltfCameraSelectable) {
+  ANAMORPH_REQUIRE_SHARED();
+  const std::string file = (test::shared_scenes() / "gltf" / "Cameras" / "Cameras.gltf").string();
+  const std::string base = "[image]\nwidth = 100\nheight = 100\n[[object]]\ntype = \"mesh\"\nfile = \"" + file + "\"\n";
+  const Scene s = load_scene_from_string(base + "[camera]\ngltf_camera = 0\n", "t.toml");
+  EXPECT_NE(s.camera->describe().find("glTF perspective"), std::string::npos) << s.camera->describe();
+  // yfov 0.7 rad with aspect 1: the vertical edge-to-edge angle is 0.7 rad.
+  const auto top = s.camera->generate({{0.5, 0.0}}), bottom = s.camera->generate({{0.5, 1.0}});
+  EXPECT_NEAR(std::acos(dot(top->dir, bottom->dir)), 0.7, 1e-9);
+  const Scene o = load_scene_from_string(base + "[camera]\ngltf_camera = 1\n", "t.toml");
+  EXPECT_NE(o.camera->describe().find("orthographic"), std::string::npos);
+  try {
+    load_scene_from_string(base + "[camera]\ngltf_camera = 5\n", "t.toml");
+    FAIL() << "camera 5 does not exist";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("there are 2 cameras"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneParser, ThreeBoxTexturedContainersRenderAlike) {
+  ANAMORPH_REQUIRE_SHARED();
+  const auto g = test::shared_scenes() / "gltf";
+  size_t tris = 0;
+  for (const auto& f : {g / "BoxTextured-glTF" / "BoxTextured.gltf", g / "BoxTextured-glTF-Binary" / "BoxTextured.glb",
+                        g / "BoxTextured-glTF-Embedded" / "BoxTextured.gltf"}) {
+    const Scene s = load_scene_from_string("[[object]]\ntype = \"mesh\"\nfile = \"" + f.string() + "\"\n", "t.toml");
+    EXPECT_EQ(s.instanced_triangle_count(), 12u) << f;
+    tris += s.triangle_count();
+  }
+  EXPECT_EQ(tris, 36u);
+}
+
+}  // namespace anamorph
