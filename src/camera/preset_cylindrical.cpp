@@ -1,5 +1,7 @@
-// Longitude/latitude maps: equirectangular, cylindrical, mercator, lambert_equal_area. All are
-// org = point and dir = LatLongDir, a direction on the unit sphere written as
+// Longitude/latitude maps: equirectangular, cylindrical, mercator, lambert_equal_area.
+// equirectangular is org = point and dir = the unit sphere (the generic sphere function with
+// longitude and latitude ranges). The others are org = point and dir = LatLongDir, a direction
+// written as
 //   dir(u,v) = (c sin(lon), s, -c cos(lon)),  lon = lon(u) linear,
 // where (c, s) is (cos(lat), sin(lat)) up to a positive factor and comes from a vertical map
 // coordinate y = y(v) that is linear in v. The maps differ only in y:
@@ -9,7 +11,9 @@
 // segment, y = height) and keeps every ray horizontal.
 #include <cmath>
 
+#include "camera/dir_basic.h"
 #include "camera/org_basic.h"
+#include "camera/org_quadric.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
 
@@ -110,10 +114,11 @@ std::vector<Vec2> latlong_project(const LatLongGeometry& g, const Vec3& q) {
 }
 
 VirtualCameraParts latlong_parts(const LatLongGeometry& g, std::unique_ptr<OrgFunction> org,
-                                 const ParamValues& v, std::string description) {
+                                 const ParamValues& v, std::string description,
+                                 std::unique_ptr<DirFunction> dir = nullptr) {
   VirtualCameraParts p;
   p.org = std::move(org);
-  p.dir = std::make_unique<LatLongDir>(g);
+  p.dir = dir ? std::move(dir) : std::make_unique<LatLongDir>(g);
   p.world_from_camera = rig_from_look_at(v);
   p.description = std::move(description);
   p.inverse = make_inverse([g](const Vec3& q) { return latlong_project(g, q); });
@@ -159,7 +164,9 @@ VirtualCameraParts create_equirect(const ParamValues& v, const ImageInfo& img) {
   g.map = LatMap::kLatitude;
   g.lon = read_angle_range(v, "longitude_range", 180);
   set_vertical(&g, v, img, 90);
-  return latlong_parts(g, make_point_org({}), v, "equirectangular (org point + dir sphere)");
+  const Vec2 lon = v.vec2("longitude_range"), lat = v.vec2("latitude_range");
+  return latlong_parts(g, make_point_org({}), v, "equirectangular (org point + dir sphere)",
+                       make_surface_dir(make_sphere_org({}, 1, {lon.x, lon.y}, {lat.y, lat.x}), {}));
 }
 
 // --- cylindrical -----------------------------------------------------------------------------

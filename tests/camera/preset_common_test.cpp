@@ -153,6 +153,27 @@ TEST_P(EveryPreset, CenterLooksAtTarget) {
   EXPECT_LT(angle_deg(r->dir, forward), 1e-9) << c.label() << " dir " << str(r->dir);
 }
 
+TEST_P(EveryPreset, RightIsRightAndUpIsUp) {
+  const PresetCase& c = GetParam();
+  if (std::isnan(c.center.x)) GTEST_SKIP() << "no single view direction for " << c.preset;
+  const VirtualCamera cam = test::camera(c.preset, c.toml, c.img);
+  // kRig's frame: f = normalize(look_at - look_from), r = normalize(f x up), true up = r x f.
+  const Vec3 f = normalize(Vec3{2, 2.5, -4} - Vec3{1, 2, 3});
+  const Vec3 r = normalize(cross(f, Vec3{0.1, 1, 0})), u = cross(r, f);
+  const auto c0 = ray(cam, c.center), cr = ray(cam, {c.center.x + 1e-3, c.center.y}),
+             cu = ray(cam, {c.center.x, c.center.y - 1e-3});
+  ASSERT_TRUE(c0 && cr && cu) << c.label();
+  // Moving right in the image moves what is seen (a point far along the ray, beyond any slit)
+  // towards r; moving up (v decreasing) towards u. Lens distortion may leak a little into the
+  // other axis.
+  const auto seen = [](const CameraRay& x) { return x.org + x.dir * 10.0; };
+  const Vec3 dr = seen(*cr) - seen(*c0), du = seen(*cu) - seen(*c0);
+  EXPECT_GT(dot(dr, r), 0) << c.label();
+  EXPECT_LT(std::abs(dot(dr, u)), 1e-3 * dot(dr, r)) << c.label();
+  EXPECT_GT(dot(du, u), 0) << c.label();
+  EXPECT_LT(std::abs(dot(du, r)), 1e-3 * dot(du, u)) << c.label();
+}
+
 TEST_P(EveryPreset, ClosedFormInverseAgreesWithNumeric) {
   const PresetCase& c = GetParam();
   // The tiled cameras see a point from many tiles; a coarse grid cannot be expected to find

@@ -1,4 +1,11 @@
 anamorph_add_test(test_camera_presets
   ${CMAKE_CURRENT_LIST_DIR}/perspective_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/preset_common_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_fisheye_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_opencv_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_map_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_ods_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_light_field_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_cubemap_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/preset_multiperspective_test.cpp
 )
