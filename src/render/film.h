@@ -54,7 +54,6 @@ class Film {
     double alpha = 0;
     uint32_t n = 0;      // samples
     uint32_t hits = 0;   // samples that hit a surface (AOV averages)
-    size_t aov_offset = 0;
   };
   Pixel& px(int x, int y) { return pixels_[size_t(y) * w_ + x]; }
   const Pixel& px(int x, int y) const { return pixels_[size_t(y) * w_ + x]; }
