@@ -7,6 +7,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/bspline.cpp
   ${CMAKE_CURRENT_LIST_DIR}/spline_surface.cpp
   ${CMAKE_CURRENT_LIST_DIR}/org_spline.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/org_mesh.cpp
   ${CMAKE_CURRENT_LIST_DIR}/org_expression.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_basic.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_dependent.cpp

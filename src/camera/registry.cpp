@@ -14,6 +14,7 @@
 #include "camera/functions.h"
 #include "camera/org_basic.h"
 #include "camera/org_expression.h"
+#include "camera/org_mesh.h"
 #include "camera/org_quadric.h"
 #include "camera/org_spline.h"
 #include "camera/org_revolution.h"
@@ -25,7 +26,8 @@ namespace {
 const OrgFunctionInfo* const kOrg[] = {
     &kPointOrgInfo,    &kPlaneOrgInfo,  &kSphereOrgInfo, &kCylinderOrgInfo,     &kConeOrgInfo,
     &kTorusOrgInfo,    &kEllipsoidOrgInfo, &kQuadricOrgInfo, &kSuperquadricOrgInfo,
-    &kBezierOrgInfo, &kBSplineOrgInfo, &kNurbsOrgInfo, &kExpressionOrgInfo};
+    &kBezierOrgInfo, &kBSplineOrgInfo, &kNurbsOrgInfo, &kMeshOrgInfo,
+    &kExpressionOrgInfo};
 const DirFunctionInfo* const kDir[] = {&kConstantDirInfo, &kFromSurfaceDirInfo, &kTowardDirInfo,
                                        &kAwayFromDirInfo, &kNormalDirInfo,  &kTangentUDirInfo,
                                        &kTangentVDirInfo, &kDeviatedNormalDirInfo,

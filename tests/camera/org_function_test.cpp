@@ -3,7 +3,11 @@
 // and eval_grid agrees with eval.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -47,6 +51,22 @@ std::string weights(int nu, int nv) {
     rows += "]";
   }
   return rows + "]";
+}
+
+// A parallelogram as an OBJ file (two triangles), written once per test run and removed at exit.
+std::string quad_obj() {
+  struct File {
+    std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                 test::cat("anamorph_org_test_", ::getpid(), ".obj");
+    File() {
+      std::ofstream o(path);
+      o << "v 0 0 -2\nv 2 0 -1\nv 2.5 1.5 -1\nv 0.5 1.5 -2\n"
+           "vt 0.1 0.2\nvt 0.9 0.2\nvt 0.9 0.8\nvt 0.1 0.8\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+    }
+    ~File() { std::filesystem::remove(path); }
+  };
+  static const File f;
+  return f.path.string();
 }
 
 std::vector<Case> cases() {
@@ -103,6 +123,7 @@ std::vector<Case> cases() {
        test::cat("points = ", net(5, 4), "\nweights = ", weights(5, 4),
                  "\ndegree_u = 3\ndegree_v = 2\nknots_u = [0, 0, 0, 0, 0.6, 1, 1, 1, 1]"),
        "[0, 1]", "[0, 1]"},
+      {"mesh", "mesh", test::cat("file = \"", quad_obj(), "\""), "[0.15, 0.85]", "[0.75, 0.25]"},
       {"expression", "expression",
        "x = \"u + a * sin(v)\"\ny = \"v^2 - u * v\"\nz = \"k * cos(u) + u * v^2\"\n"
        "constants = { a = 0.5, k = 2 }",
@@ -147,7 +168,12 @@ TEST_P(OrgFunctionTest, NormalIsUnitAndOrthogonal) {
 
 TEST_P(OrgFunctionTest, ReversedRangesMirrorTheImage) {
   const Case& c = GetParam();
-  if (c.u_range.empty()) GTEST_SKIP() << c.type << " has no parameter ranges";
+  if (c.u_range.empty()) {
+    // Without ranges the function does not depend on (u, v) at all.
+    const auto f = build(c);
+    for (const Vec2 uv : kPoints) expect_close(sample(*f, uv).p, sample(*f, {0, 0}).p, 0, "p");
+    return;
+  }
   const auto f = build(c), fu = build(c, true, false), fv = build(c, false, true);
   for (const Vec2 uv : kPoints) {
     const SurfaceSample s = sample(*f, uv);
@@ -167,7 +193,15 @@ TEST_P(OrgFunctionTest, ReversedRangesMirrorTheImage) {
 
 TEST_P(OrgFunctionTest, FlipNormalReversesNormalOnly) {
   const Case& c = GetParam();
-  if (!c.has_normal) GTEST_SKIP() << c.type << " has no normal";
+  if (!c.has_normal) {
+    try {
+      build(c, false, false, "flip_normal = true");
+      ADD_FAILURE() << c.type << " has no normal, so flip_normal must be an unknown key";
+    } catch (const ParamError& e) {
+      EXPECT_EQ(e.key, "flip_normal");
+    }
+    return;
+  }
   const auto f = build(c), g = build(c, false, false, "flip_normal = true");
   for (const Vec2 uv : kPoints) {
     const SurfaceSample a = sample(*f, uv), b = sample(*g, uv);
