@@ -24,8 +24,6 @@ const char* light_name(Light::Kind k) {
     case Light::Kind::Point: return "point";
     case Light::Kind::Spot: return "spot";
     case Light::Kind::Directional: return "directional";
-    case Light::Kind::Quad: return "quad";
-    case Light::Kind::Sphere: return "sphere";
   }
   return "?";
 }

@@ -38,7 +38,6 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
         e.kind = Emitter::Kind::Directional;
         power.push_back(kPi * scene_radius_ * scene_radius_ * luminance(e.L));
         break;
-      default: continue;  // area lights arrive as emissive geometry
     }
     emitters_.push_back(e);
   }

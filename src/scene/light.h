@@ -1,4 +1,5 @@
-// Light sources. Area lights made of emissive triangles are collected from meshes at build time.
+// Delta light sources. Area lights (quad and sphere lights in the scene file, emissive meshes and
+// shapes) are emissive geometry; the renderer's light sampler collects them.
 #pragma once
 
 #include <memory>
@@ -10,17 +11,13 @@
 namespace anamorph {
 
 struct Light {
-  enum class Kind { Point, Spot, Directional, Quad, Sphere };
+  enum class Kind { Point, Spot, Directional };
   Kind kind = Kind::Point;
-  Color intensity{1, 1, 1};  // Point/Spot: W/sr (radiant intensity); Directional: irradiance;
-                             // Quad/Sphere: emitted radiance
-  Vec3 position{0, 0, 0};    // Point, Spot, Sphere (center), Quad (corner)
+  Color intensity{1, 1, 1};  // Point/Spot: W/sr (radiant intensity); Directional: irradiance
+  Vec3 position{0, 0, 0};    // Point, Spot
   Vec3 direction{0, -1, 0};  // Spot, Directional (direction light travels)
   double cone_angle = 30;    // Spot: full-intensity half angle, degrees
   double cone_falloff = 5;   // Spot: smooth falloff width beyond cone_angle, degrees
-  Vec3 edge_u{1, 0, 0}, edge_v{0, 0, 1};  // Quad: emits on the side of edge_u x edge_v
-  double radius = 0.5;       // Sphere
-  bool two_sided = false;    // Quad
   std::string name;
 };
 

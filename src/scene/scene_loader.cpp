@@ -328,6 +328,17 @@ void read_object(Context& c, TableReader& r, int index) {
   s.shapes.push_back(sh);
 }
 
+// A black, emitting material for an area light.
+uint32_t emissive_material(Scene& s, const std::string& name, Color radiance, bool two_sided) {
+  Material m;
+  m.name = name;
+  m.base_color = Texture::constant({0, 0, 0});
+  m.emission = Texture::constant(radiance);
+  m.double_sided = two_sided;
+  s.materials.push_back(m);
+  return uint32_t(s.materials.size() - 1);
+}
+
 void read_light(TableReader& r, Scene& s, int index) {
   Light l;
   const std::string type = r.string("type", "", kLightTypes);
@@ -353,19 +364,37 @@ void read_light(TableReader& r, Scene& s, int index) {
     l.direction = normalize(l.direction);
     l.intensity = r.color("irradiance", {1, 1, 1}) * strength;
   } else if (type == "quad") {
-    l.kind = Light::Kind::Quad;
-    l.position = r.vec3("corner", {0, 0, 0});
-    l.edge_u = r.vec3("edge_u", {1, 0, 0});
-    l.edge_v = r.vec3("edge_v", {0, 0, 1});
-    if (!(length(cross(l.edge_u, l.edge_v)) > 0)) r.fail("edge_v", "edge_u and edge_v must span an area");
-    l.intensity = r.color("radiance", {1, 1, 1}) * strength;
-    l.two_sided = r.boolean("two_sided", false);
+    // Area lights are real emissive geometry: the camera and reflections see them, and the
+    // light sampler finds them among the emissive triangles.
+    const Vec3 corner = r.vec3("corner", {0, 0, 0});
+    const Vec3 eu = r.vec3("edge_u", {1, 0, 0}), ev = r.vec3("edge_v", {0, 0, 1});
+    if (!(length(cross(eu, ev)) > 0)) r.fail("edge_v", "edge_u and edge_v must span an area");
+    const uint32_t mat = emissive_material(s, l.name, r.color("radiance", {1, 1, 1}) * strength,
+                                           r.boolean("two_sided", false));
+    TriangleMesh m;
+    m.name = l.name;
+    for (const Vec3& p : {corner, corner + eu, corner + eu + ev, corner + ev}) m.positions.push_back(Vec3f(p));
+    // Counter-clockwise seen from the emitting side (edge_u x edge_v).
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = mat;
+    Prototype pr;
+    pr.name = l.name;
+    pr.meshes.push_back(std::move(m));
+    s.prototypes.push_back(std::move(pr));
+    s.instances.push_back(Instance{uint32_t(s.prototypes.size() - 1), Transform(), l.name});
+    r.finish();
+    return;
   } else {
-    l.kind = Light::Kind::Sphere;
-    l.position = r.vec3("center", {0, 0, 0});
-    l.radius = r.number("radius", 0.5, 0);
-    if (l.radius <= 0) r.fail("radius", "must be > 0");
-    l.intensity = r.color("radiance", {1, 1, 1}) * strength;
+    AnalyticShape sh;
+    sh.kind = AnalyticShape::Kind::Sphere;
+    sh.name = l.name;
+    sh.radius = r.number("radius", 0.5, 0);
+    if (sh.radius <= 0) r.fail("radius", "must be > 0");
+    sh.world_from_object = Transform::translate(r.vec3("center", {0, 0, 0}));
+    sh.material = emissive_material(s, l.name, r.color("radiance", {1, 1, 1}) * strength, true);
+    s.shapes.push_back(sh);
+    r.finish();
+    return;
   }
   r.finish();
   s.lights.push_back(l);

@@ -3,6 +3,9 @@
 
 #include <cmath>
 
+#include <filesystem>
+
+#include "io/image_io.h"
 #include "render_util.h"
 
 namespace anamorph {
@@ -122,6 +125,81 @@ TEST(Film, NoRaySamplesAreTransparent) {
       "[camera]\norg = { type = \"plane\" }\ndir = { type = \"from_surface\", surface = { type = \"point\" } }\n");
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 2; ++x) EXPECT_EQ(r.film->alpha(x, y), 0.0);
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+namespace {
+// A diffuse floor seen straight down at one point; a sphere light of radiance 10, radius 0.5,
+// centred 3 above it. Irradiance pi L (r/d)^2, so the floor's radiance is albedo L (r/d)^2.
+const std::string kSphereLight =
+    "[image]\nwidth = 2\nheight = 2\n[render]\nspp = 256\n"
+    "[camera]\nlook_from = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 0.01\n"
+    "[[material]]\nname = \"d\"\ncolor = 0.5\n"
+    "[[object]]\ntype = \"plane\"\nmaterial = \"d\"\n"
+    "[[light]]\ntype = \"sphere\"\ncenter = [0, 3, 0]\nradius = 0.5\nradiance = 10\n";
+double mean_red(const test::Rendered& r) {
+  double s = 0;
+  for (int y = 0; y < r.film->height(); ++y)
+    for (int x = 0; x < r.film->width(); ++x) s += r.film->pixel(x, y).x;
+  return s / (r.film->width() * r.film->height());
+}
+}  // namespace
+
+TEST(AreaLights, SphereLightIrradianceWhittedAndPath) {
+  const double want = 0.5 * 10 * (0.5 / 3) * (0.5 / 3);
+  EXPECT_NEAR(mean_red(test::render_text(kSphereLight, {"render.integrator=whitted"})), want, 0.01 * want);
+  EXPECT_NEAR(mean_red(test::render_text(kSphereLight, {"render.integrator=path", "render.max_depth=1"})), want,
+              0.01 * want);
+}
+
+TEST(AreaLights, QuadLightMatchesTheSphereOfEqualSolidAngleRoughly) {
+  // A small quad light of area A at height h: irradiance ~ L A / h^2 at the point below it.
+  const std::string scene =
+      "[image]\nwidth = 2\nheight = 2\n[render]\nspp = 256\nintegrator = \"path\"\nmax_depth = 1\n"
+      "[camera]\nlook_from = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 0.01\n"
+      "[[material]]\nname = \"d\"\ncolor = 0.5\n"
+      "[[object]]\ntype = \"plane\"\nmaterial = \"d\"\n"
+      "[[light]]\ntype = \"quad\"\ncorner = [-0.05, 3, -0.05]\nedge_u = [0.1, 0, 0]\nedge_v = [0, 0, 0.1]\n"
+      "radiance = 100\n";
+  const double want = 0.5 / kPi * 100 * 0.01 / 9;
+  EXPECT_NEAR(mean_red(test::render_text(scene)), want, 0.01 * want);
+}
+
+TEST(Environment, ImageFurnaceIsImportanceSampledWithoutBias) {
+  // A constant-valued environment image must give the same furnace answer as a constant colour.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "anamorph_env_test";
+  fs::create_directories(dir);
+  OutputImage img;
+  img.width = 16;
+  img.height = 8;
+  ImageLayer l;
+  l.channels = {"R", "G", "B", "A"};
+  for (int i = 0; i < 16 * 8; ++i) l.data.insert(l.data.end(), {1.f, 1.f, 1.f, 1.f});
+  // A bright band near the horizon makes the importance sampling non-trivial.
+  for (int x = 0; x < 16; ++x)
+    for (int c = 0; c < 3; ++c) l.data[size_t((4 * 16 + x) * 4 + c)] = 5.f;
+  img.layers.push_back(l);
+  write_exr(dir / "env.exr", img);
+  const std::string scene =
+      "[image]\nwidth = 4\nheight = 4\n[render]\nintegrator = \"path\"\nspp = 256\n"
+      "[camera]\nlook_from = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 5\n"
+      "[[material]]\nname = \"w\"\ncolor = 0.8\n"
+      "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"w\"\n"
+      "[environment]\nfile = \"" + (dir / "env.exr").string() + "\"\n";
+  const auto r = test::render_text(scene);
+  // Reference: the same scene lit by a brute-force estimate is hard to state analytically, so
+  // check the invariant instead: doubling `strength` doubles the image (linearity) and the
+  // value lies between the darkest and brightest sky times the albedo.
+  const double v = mean_red(r);
+  EXPECT_GT(v, 0.8 * 1.0);
+  EXPECT_LT(v, 0.8 * 5.0);
+  const auto r2 = test::render_text(scene, {"environment.strength=2"});
+  EXPECT_NEAR(mean_red(r2), 2 * v, 1e-9 * v);
+  fs::remove_all(dir);
 }
 
 }  // namespace anamorph
