@@ -7,6 +7,8 @@
 #include <cmath>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
@@ -175,7 +177,7 @@ void set_circle(FisheyeGeometry* g, const ImageInfo& img, double diameter) {
   g->sb = 2 * img.height / diameter;
 }
 
-std::string fmt_deg(double rad) { return std::to_string(degrees(rad)); }
+std::string fmt_deg(double rad) { return fmt::format("{:.10g}", degrees(rad)); }
 
 // --- fisheye ---------------------------------------------------------------------------------
 
@@ -233,15 +235,16 @@ FisheyeMapping read_mapping(const ParamValues& v) {
   for (int i = 0; i <= 1000; ++i) {
     m.poly(i / 1000.0, &d);
     if (!(d > 0))
-      throw ParamError("poly", "theta(r) must increase on [0, 1]; its slope is " +
-                                   std::to_string(d) + " at r = " + std::to_string(i / 1000.0));
+      throw ParamError("poly", fmt::format("theta(r) must increase on [0, 1]; its slope is {:g} "
+                                           "at r = {:g}",
+                                           d, i / 1000.0));
   }
   const double t1 = m.poly(1, &d);
   if (t1 > kPi + 1e-12) throw ParamError("poly", "theta(1) = " + fmt_deg(t1) + " deg exceeds 180");
   if (std::abs(degrees(2 * t1) - fov) > 1e-2)
-    throw ParamError("fov", "with this poly the image circle spans 2 theta(1) = " +
-                                fmt_deg(2 * t1) + " degrees; set fov to that (it is " +
-                                std::to_string(fov) + ")");
+    throw ParamError("fov", fmt::format("with this poly the image circle spans 2 theta(1) = {} "
+                                        "degrees; set fov to that (it is {:g})",
+                                        fmt_deg(2 * t1), fov));
   return m;
 }
 
@@ -259,8 +262,8 @@ VirtualCameraParts create_fisheye(const ParamValues& v, const ImageInfo& img) {
   else throw ParamError("fit", "fit = \"pixels\" needs circle_diameter");
   set_circle(&g, img, diameter);
   return fisheye_parts(g, v,
-                       "fisheye " + v.string("mapping") + " " + std::to_string(v.number("fov")) +
-                           " deg (org point + dir fisheye sphere)");
+                       fmt::format("fisheye {} {:g} deg (org point + dir fisheye sphere)",
+                                   v.string("mapping"), v.number("fov")));
 }
 
 // --- mirror_ball -----------------------------------------------------------------------------

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
 
@@ -161,8 +163,9 @@ VirtualCameraParts create_light_field(const ParamValues& v, const ImageInfo& img
     g.eye_x.push_back(g.focus * std::tan(a));
   }
   return tile_parts(g, v,
-                    "light field quilt " + std::to_string(g.cols) + "x" + std::to_string(g.rows) +
-                        " (org eye per tile + dir toward the shared focal plane)");
+                    fmt::format("light field quilt {}x{} (org eye per tile + dir toward the "
+                                "shared focal plane)",
+                                g.cols, g.rows));
 }
 
 // --- integral --------------------------------------------------------------------------------
@@ -190,8 +193,9 @@ VirtualCameraParts create_integral(const ParamValues& v, const ImageInfo& img) {
   g.half_field.x = std::tan(radians(v.number("lens_fov")) / 2);
   g.half_field.y = g.half_field.x / tile_aspect;
   return tile_parts(g, v,
-                    "integral " + std::to_string(g.cols) + "x" + std::to_string(g.rows) +
-                        " lenses (org lens centers + dir elemental perspective)");
+                    fmt::format("integral {}x{} lenses (org lens centers + dir elemental "
+                                "perspective)",
+                                g.cols, g.rows));
 }
 
 }  // namespace

@@ -21,6 +21,8 @@
 #include <cmath>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
@@ -57,8 +59,8 @@ Intrinsics read_intrinsics(const ParamValues& v, const ImageInfo& img) {
     const Vec2 s = v.vec2("calibration_size");
     if (std::abs(s.x / s.y - img.aspect()) > 1e-3 * img.aspect())
       throw ParamError("calibration_size",
-                       "calibration_size has aspect " + std::to_string(s.x / s.y) +
-                           " but the image has " + std::to_string(img.aspect()));
+                       fmt::format("calibration_size has aspect {:g} but the image has {:g}",
+                                   s.x / s.y, img.aspect()));
     k.w = s.x, k.h = s.y;
   }
   k.fx = v.number("fx"), k.fy = v.number("fy");

@@ -6,6 +6,8 @@
 // (k + 1) c^2 + 2 k d c + k d^2 - 1 = 0 with k = x^2 / (d + 1)^2 (the larger root).
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
@@ -64,9 +66,9 @@ VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
   Vec2 half;
   if (v.string("fov_axis") == "horizontal") {
     if (!(half_fov < lon_max))
-      throw ParamError("fov", "with compression " + std::to_string(d) +
-                                  " the horizontal fov must be below " +
-                                  std::to_string(degrees(2 * lon_max)) + " degrees");
+      throw ParamError("fov", fmt::format("with compression {:g} the horizontal fov must be "
+                                          "below {:.6g} degrees",
+                                          d, degrees(2 * lon_max)));
     half.x = (d + 1) * std::sin(half_fov) / (d + std::cos(half_fov));
     half.y = half.x / img.aspect();
   } else {

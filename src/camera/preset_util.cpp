@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 namespace anamorph {
 
 Vec2 window_half_extent(double e, std::string_view axis, double a) {
@@ -68,10 +70,10 @@ AngleRange read_angle_range(const ParamValues& v, std::string_view key, double l
   const Vec2 r = v.vec2(key);
   const std::string k(key);
   if (!(r.x < r.y))
-    throw ParamError(k, k + " must be [low, high] with low < high (got [" + std::to_string(r.x) +
-                            ", " + std::to_string(r.y) + "])");
+    throw ParamError(k, fmt::format("{} must be [low, high] with low < high (got [{:g}, {:g}])", k,
+                                    r.x, r.y));
   if (r.y - r.x > 2 * limit_deg + 1e-9)
-    throw ParamError(k, k + " may span at most " + std::to_string(int(2 * limit_deg)) + " degrees");
+    throw ParamError(k, fmt::format("{} may span at most {:g} degrees", k, 2 * limit_deg));
   return {radians(r.x), radians(r.y)};
 }
 

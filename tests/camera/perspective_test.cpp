@@ -61,6 +61,22 @@ TEST(Perspective, DifferentialsMatchFiniteDifferences) {
   EXPECT_NEAR(length(fdv - r->ddir_dv), 0, 1e-5);
 }
 
+TEST(Perspective, LensShiftMovesTheWindow) {
+  // Shift (0.1, -0.2) of a 2t x 2t/a window at distance 1: the center ray goes through
+  // (0.1 w, -0.2 h, -1) in camera space.
+  ParamValues v = look_at_values(90, "horizontal");
+  v.set("lens_shift", Vec2{0.1, -0.2});
+  const ImageInfo img{400, 200};
+  const VirtualCamera cam(find_preset("perspective")->create(v, img));
+  const double w = 2 * std::tan(radians(45)), h = w / img.aspect();
+  const auto r = cam.generate({{0.5, 0.5}});
+  ASSERT_TRUE(r);
+  EXPECT_NEAR(length(r->dir - normalize(Vec3{0.1 * w, -0.2 * h, -1})), 0, 1e-12);
+  // The edges are no longer symmetric: the left edge is 0.4 w left, the right 0.6 w right.
+  EXPECT_NEAR(cam.generate({{0, 0.5}})->dir.x / -cam.generate({{0, 0.5}})->dir.z, -0.4 * w, 1e-12);
+  EXPECT_NEAR(cam.generate({{1, 0.5}})->dir.x / -cam.generate({{1, 0.5}})->dir.z, 0.6 * w, 1e-12);
+}
+
 TEST(Perspective, ProjectRoundTrip) {
   const VirtualCamera cam = make(60, "horizontal", {640, 480});
   const Vec2 uv{0.23, 0.81};

@@ -117,6 +117,17 @@ TEST(Fisheye, OutsideTheCircleThereIsNoRay) {
   EXPECT_EQ(cam.project(Vec3{1, 0, -1e-3}).size(), 1u) << "just in front of the rim";
 }
 
+TEST(Fisheye, AnnularPolynomialHasNoDirectionAtTheCenter) {
+  // theta(0) = k0 > 0: the center pixel is a whole cone of directions, so it gets no ray (never
+  // a NaN); its neighbours look k0 off the axis.
+  const VirtualCamera cam = camera(
+      "fisheye", "fov = 180\nmapping = \"polynomial\"\npoly = [0.2, 1.3707963267948966]", {101, 101});
+  EXPECT_FALSE(ray(cam, {0.5, 0.5}));
+  const auto r = ray(cam, {0.5 + 1e-9, 0.5});
+  ASSERT_TRUE(r);
+  EXPECT_NEAR(angle_deg(r->dir, kForward), degrees(0.2), 1e-6);
+}
+
 TEST(Fisheye, StrictParameters) {
   const auto key_of = [](const std::string& toml) -> std::string {
     try {
