@@ -93,7 +93,16 @@ double monotone_limit(Slope slope, double limit) {
 
 struct BrownConrady {
   double k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0;
-  double r_max = kInf;  // undistorted radius where r L(r) stops increasing
+  double r_max = kInf;      // undistorted radius where r L(r) stops increasing
+  double reach = kInf;      // bound on |distorted| for undistorted radius <= r_max
+
+  void set_limits(double r) {
+    r_max = r;
+    if (!std::isfinite(r)) return;
+    const double r2 = r * r;
+    // r L(r) increases up to r_max; the tangential terms are at most 4 (|p1| + |p2|) r^2.
+    reach = r * (1 + r2 * (k1 + r2 * (k2 + r2 * k3))) + 4 * (std::abs(p1) + std::abs(p2)) * r2;
+  }
 
   // Distorted point of undistorted x and the Jacobian d(x'')/d(x') as columns (ju, jv).
   Vec2 distort(Vec2 x, Vec2* jx, Vec2* jy) const {
@@ -116,8 +125,11 @@ struct BrownConrady {
 
   // Newton's method for the undistorted x with distort(x) = target.
   bool undistort(Vec2 target, Vec2* x, Vec2* jx, Vec2* jy) const {
+    // Beyond what any point inside the fold reaches there is nothing to find (and Newton would
+    // wander): a quick, safe rejection.
+    if (!(target.x * target.x + target.y * target.y <= reach * reach)) return false;
     Vec2 p = target;
-    for (int it = 0; it < 100; ++it) {
+    for (int it = 0; it < 50; ++it) {
       const Vec2 f = distort(p, jx, jy) - target;
       const double err = std::abs(f.x) + std::abs(f.y);
       if (err < 1e-14 * (1 + std::abs(target.x) + std::abs(target.y))) {
@@ -130,7 +142,7 @@ struct BrownConrady {
       Vec2 step{(jy->y * f.x - jy->x * f.y) / det, (-jx->y * f.x + jx->x * f.y) / det};
       // Halve steps that do not reduce the residual (folds, large distortion).
       double t = 1;
-      for (int k = 0; k < 30; ++k, t *= 0.5) {
+      for (int k = 0; k < 20; ++k, t *= 0.5) {
         const Vec2 f2 = distort(p - step * t, nullptr, nullptr) - target;
         if (std::abs(f2.x) + std::abs(f2.y) < err) break;
       }
@@ -179,12 +191,13 @@ VirtualCameraParts create_pinhole(const ParamValues& v, const ImageInfo& img) {
   d.k1 = v.number("k1"), d.k2 = v.number("k2"), d.k3 = v.number("k3");
   d.p1 = v.number("p1"), d.p2 = v.number("p2");
   // d(r L(r))/dr = L + 2 r^2 dL/d(r^2); scanned up to r = 1e3 (89.9 degrees).
-  d.r_max = monotone_limit(
+  const double r_max = monotone_limit(
       [&](double r) {
         const double r2 = r * r;
         return 1 + r2 * (3 * d.k1 + r2 * (5 * d.k2 + 7 * d.k3 * r2));
       },
       1e3);
+  d.set_limits(r_max < 1e3 ? r_max : kInf);
   VirtualCameraParts p;
   p.org = make_point_org({});
   p.dir = std::make_unique<PinholeDir>(k, d);
