@@ -101,9 +101,13 @@ int run(const RenderArgs& a) {
     write_exr(out, img);
   }
   if (!a.quiet) {
-    fmt::print("{}: {}x{}, {} spp, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples dropped\n",
-               out.string(), scene.render.width, scene.render.height, scene.render.spp,
-               scene.render.integrator, st.seconds, st.mrays_per_second(), st.rays * 1e-6, st.nan_samples);
+    const double per_pixel = double(st.samples) / (double(scene.render.width) * scene.render.height);
+    const std::string sampling = scene.render.antialias == "adaptive"
+                                     ? fmt::format("adaptive, {:.2f} samples/pixel", per_pixel)
+                                     : fmt::format("{} spp", scene.render.spp);
+    fmt::print("{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples dropped\n",
+               out.string(), scene.render.width, scene.render.height, sampling, scene.render.integrator,
+               st.seconds, st.mrays_per_second(), st.rays * 1e-6, st.nan_samples);
   }
   if (st.nan_samples > 0)
     fmt::print(stderr, "warning: {} samples had NaN or Inf radiance and were dropped (first at pixel {},{} sample {})\n",
@@ -125,7 +129,7 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
                   "whitted | path | albedo | normal | depth | position | id | uv");
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
-                  "Extra layers written to EXR (beside a PNG: <output>.exr): albedo,normal,depth,position,id,uv");
+                  "Extra layers written to EXR (beside a PNG: <output>.exr): albedo,normal,depth,position,id,uv,spp");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar or summary");
   cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
 }

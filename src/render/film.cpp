@@ -1,5 +1,7 @@
 #include "render/film.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -10,6 +12,7 @@ const std::vector<AovInfo>& aov_table() {
       {Aov::Albedo, "albedo", {"R", "G", "B"}},   {Aov::Normal, "normal", {"X", "Y", "Z"}},
       {Aov::Depth, "depth", {"Z"}},               {Aov::Position, "position", {"X", "Y", "Z"}},
       {Aov::Id, "id", {"id"}},                    {Aov::Uv, "uv", {"U", "V"}},
+      {Aov::Spp, "spp", {"N"}},
   };
   return t;
 }
@@ -55,7 +58,37 @@ void Film::add(int x, int y, const Color& L, double alpha, const AovSample& a, b
   p.rgb[1] += L.y;
   p.rgb[2] += L.z;
   p.alpha += alpha;
+  const double l = luminance(L);
+  p.lum2 += l * l;
   p.n++;
+  p.spp++;
+  add_aovs(x, y, a, first_sample);
+}
+
+void Film::set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a) {
+  Pixel& p = px(x, y);
+  p = Pixel{};
+  p.rgb[0] = L.x;
+  p.rgb[1] = L.y;
+  p.rgb[2] = L.z;
+  p.alpha = alpha;
+  p.n = 1;
+  p.spp = spp;
+  std::fill_n(&aov_[(size_t(y) * w_ + x) * aov_floats_], aov_floats_, 0.0);
+  add_aovs(x, y, a, true);
+}
+
+double Film::standard_error(int x, int y) const {
+  const Pixel& p = px(x, y);
+  if (p.n < 2) return kInf;
+  const double n = p.n;
+  const double mean = luminance({p.rgb[0], p.rgb[1], p.rgb[2]}) / n;
+  const double var = std::max(0.0, (p.lum2 - n * mean * mean) / (n - 1));
+  return std::sqrt(var / n);
+}
+
+void Film::add_aovs(int x, int y, const AovSample& a, bool first_sample) {
+  Pixel& p = px(x, y);
   if (aov_floats_ == 0 || !a.hit) return;
   p.hits++;
   double* v = &aov_[(size_t(y) * w_ + x) * aov_floats_];
@@ -71,6 +104,7 @@ void Film::add(int x, int y, const Color& L, double alpha, const AovSample& a, b
         v += 1;
         break;
       case Aov::Uv: v[0] += a.uv.x, v[1] += a.uv.y, v += 2; break;
+      case Aov::Spp: v += 1; break;  // read from the pixel's sample count at output
     }
   }
 }
@@ -117,6 +151,7 @@ OutputImage Film::output() const {
       for (size_t c = 0; c < nc; ++c) {
         float val;
         if (k == Aov::Id) val = v[c] > 0 ? float(v[c] - 1) : -1.0f;
+        else if (k == Aov::Spp) val = float(p.spp);
         else if (p.hits == 0) val = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
         else val = float(v[c] / p.hits);
         l.data[i * nc + c] = val;

@@ -10,7 +10,7 @@
 
 namespace anamorph {
 
-enum class Aov { Albedo, Normal, Depth, Position, Id, Uv };
+enum class Aov { Albedo, Normal, Depth, Position, Id, Uv, Spp };
 
 struct AovInfo {
   Aov aov;
@@ -41,7 +41,12 @@ class Film {
 
   // One camera sample: radiance, coverage (0 for "no ray") and AOV values.
   void add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample);
-  uint32_t samples(int x, int y) const { return px(x, y).n; }
+  // A pixel finished elsewhere (adaptive subdivision): its value and how many samples it took.
+  void set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a);
+  // Camera samples that went into a pixel (the `spp` AOV).
+  uint32_t samples(int x, int y) const { return px(x, y).spp; }
+  // Standard error of the pixel's mean luminance (noise-driven adaptive sampling).
+  double standard_error(int x, int y) const;
 
   // Averages: beauty as RGBA (straight alpha), AOV layers as their channels.
   OutputImage output() const;
@@ -52,9 +57,12 @@ class Film {
   struct Pixel {
     double rgb[3] = {0, 0, 0};
     double alpha = 0;
-    uint32_t n = 0;      // samples
+    double lum2 = 0;     // sum of squared luminance (variance estimate)
+    uint32_t n = 0;      // terms in the sums
     uint32_t hits = 0;   // samples that hit a surface (AOV averages)
+    uint32_t spp = 0;    // camera samples taken (equals n for uniform sampling)
   };
+  void add_aovs(int x, int y, const AovSample& a, bool first_sample);
   Pixel& px(int x, int y) { return pixels_[size_t(y) * w_ + x]; }
   const Pixel& px(int x, int y) const { return pixels_[size_t(y) * w_ + x]; }
   int w_, h_;

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -10,6 +11,7 @@
 #include <mutex>
 
 #include "accel/accel.h"
+#include "render/adaptive.h"
 #include "render/integrator.h"
 #include "render/lights.h"
 #include "render/sampler.h"
@@ -54,43 +56,188 @@ struct Tile {
   int x0, y0, x1, y1;
 };
 
-struct TileStats {
-  uint64_t rays = 0, samples = 0, nans = 0;
-  int nan_x = -1, nan_y = -1, nan_s = -1;
-};
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 }  // namespace
+
+// Everything one render call shares between its tiles.
+struct Renderer::Job {
+  const Renderer& r;
+  const RenderSettings& rs;
+  Mode mode;
+  std::unique_ptr<Integrator> integrator;
+  SamplerKind sampler;
+  bool gaussian;
+  bool want_aovs;
+  int W, H;
+  double du, dv;  // one sample's share of a pixel, in image units (ray differentials)
+
+  Job(const Renderer& rr, const RenderContext& ctx, const Film& film, bool aovs)
+      : r(rr), rs(rr.scene_.render), mode(mode_of(rs.integrator)),
+        integrator(mode == Mode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
+        sampler(sampler_kind(rs.sampler)), gaussian(rs.filter == "gaussian"),
+        want_aovs(aovs || mode != Mode::Radiance), W(film.width()), H(film.height()) {
+    const double spp = rs.antialias == "adaptive" && rs.integrator == "whitted" ? 4.0 : double(rs.spp);
+    const double s = std::max(0.125, 1.0 / std::sqrt(spp));
+    du = s / W;
+    dv = s / H;
+  }
+
+  // Completes a camera sample whose first hit is known.
+  SampleResult finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays) const {
+    SampleResult out;
+    out.alpha = 1;
+    Footprint fp;
+    if (hit) fp = footprint_at(cam, du, dv, *hit);
+    if (want_aovs && hit) {
+      const Material& m = r.scene_.materials[hit->material];
+      out.aov.hit = true;
+      out.aov.albedo = m.base_color.eval(texcoord_at(*hit, fp));
+      out.aov.normal = dot(hit->ns, cam.dir) > 0 ? -hit->ns : hit->ns;
+      out.aov.position = hit->p;
+      out.aov.depth = hit->t;  // distance along the camera ray from its origin (dir is unit)
+      out.aov.id = hit->object_id;
+      out.aov.uv = hit->uv;
+    }
+    out.L = mode == Mode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays) : aov_beauty(mode, out.aov);
+    return out;
+  }
+
+  // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
+  SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays) const {
+    CameraSample cs;
+    cs.uv = uv;
+    cs.lens = {rng.uniform(), rng.uniform()};
+    const auto cam = r.scene_.camera->generate(cs);
+    if (!cam) return SampleResult{};  // no ray: transparent
+    const Ray ray{cam->org, cam->dir, 0, kInf};
+    Hit h;
+    ++rays;
+    const bool found = r.accel_->intersect(ray, &h);
+    return finish(ray, *cam, found ? &h : nullptr, rng, rays);
+  }
+};
+
+SampleResult Renderer::sample(Vec2 uv, uint64_t seed_index) const {
+  Film dummy(1, 1, {});
+  const RenderContext ctx{scene_, *accel_, *lights_, scene_.render.max_depth};
+  const Job job(*this, ctx, dummy, true);
+  Rng rng(seed_index, scene_.render.seed);
+  uint64_t rays = 0;
+  return job.sample_at(uv, rng, rays);
+}
 
 Renderer::Renderer(const Scene& scene)
     : scene_(scene), accel_(std::make_unique<Accel>(scene)), lights_(std::make_unique<Lights>(scene, *accel_)) {}
 
 Renderer::~Renderer() = default;
 
+namespace {
+
+struct TileStats {
+  uint64_t rays = 0, samples = 0, nans = 0;
+  int nan_x = -1, nan_y = -1, nan_s = -1;
+  void nan(int x, int y, int s) {
+    if (nans++ == 0) nan_x = x, nan_y = y, nan_s = s;
+  }
+};
+
+void merge(RenderStats& stats, const std::vector<TileStats>& tiles) {
+  for (const TileStats& st : tiles) {
+    stats.rays += st.rays;
+    stats.samples += st.samples;
+    if (!st.nans) continue;
+    // Keep the first in (y, x, sample) order so reports do not depend on scheduling.
+    const bool earlier = stats.nan_samples == 0 || st.nan_y < stats.nan_y ||
+                         (st.nan_y == stats.nan_y &&
+                          (st.nan_x < stats.nan_x || (st.nan_x == stats.nan_x && st.nan_s < stats.nan_sample)));
+    if (earlier) stats.nan_x = st.nan_x, stats.nan_y = st.nan_y, stats.nan_sample = st.nan_s;
+    stats.nan_samples += st.nans;
+  }
+}
+
+}  // namespace
+
 RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const auto t0 = std::chrono::steady_clock::now();
   const RenderSettings& rs = scene_.render;
-  const int W = film.width(), H = film.height();
-  const Mode mode = mode_of(rs.integrator);
   const RenderContext ctx{scene_, *accel_, *lights_, rs.max_depth};
-  const std::unique_ptr<Integrator> integrator =
-      mode == Mode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr;
-  const SamplerKind sk = sampler_kind(rs.sampler);
-  const bool gaussian = rs.filter == "gaussian";
-  const auto spp = uint32_t(rs.spp);
-  const bool want_aovs = !opt.aovs.empty() || mode != Mode::Radiance;
-  // Differentials of one sample's share of a pixel: rays of many samples cover less each.
-  const double fp_scale = std::max(0.125, 1.0 / std::sqrt(double(spp)));
-  const double du = fp_scale / W, dv = fp_scale / H;
+  const Job job(*this, ctx, film, !opt.aovs.empty());
+  const int W = film.width(), H = film.height();
+  const bool adaptive = rs.antialias == "adaptive";
+  const bool corners = adaptive && job.mode == Mode::Radiance && rs.integrator == "whitted";
+  const bool noise_driven = adaptive && !corners && job.mode == Mode::Radiance;
 
   std::vector<Tile> tiles;
   const int ts = rs.tile_size;
   for (int y = 0; y < H; y += ts)
     for (int x = 0; x < W; x += ts) tiles.push_back({x, y, std::min(x + ts, W), std::min(y + ts, H)});
 
-  // Progressive passes: 1, 1, 2, 4, ... samples per pixel until spp.
+  RenderStats stats;
+  std::mutex mu;
+  uint64_t work_done = 0, rays_done = 0;
+  tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+  auto report = [&](uint64_t work, uint64_t work_total, uint64_t rays, int pass, int passes) {
+    if (!opt.on_progress) return;
+    std::lock_guard<std::mutex> lock(mu);
+    work_done += work;
+    rays_done += rays;
+    Progress p;
+    p.fraction = std::min(1.0, double(work_done) / double(std::max<uint64_t>(1, work_total)));
+    p.seconds = seconds_since(t0);
+    p.rays = rays_done;
+    p.pass = pass;
+    p.passes = passes;
+    opt.on_progress(p);
+  };
+  auto cancelled = [&] { return opt.cancel && opt.cancel->load(std::memory_order_relaxed); };
+
+  if (corners) {
+    // The paper's adaptive supersampling: corners shared between pixels, squares split where
+    // they differ, stretched pixels split from the start.
+    const AdaptiveGrid grid(*scene_.camera, W, H, rs, accel_->bounds());
+    tbb::enumerable_thread_specific<AdaptiveWorkspace> spaces;
+    std::vector<TileStats> tile_stats(tiles.size());
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t ti = range.begin(); ti != range.end(); ++ti) {
+          if (cancelled()) return;
+          const Tile& t = tiles[ti];
+          TileStats& st = tile_stats[ti];
+          AdaptiveWorkspace& ws = spaces.local();
+          auto eval = [&](Vec2 uv, uint64_t key, uint64_t& rays) {
+            Rng rng(key, rs.seed);
+            return job.sample_at(uv, rng, rays);
+          };
+          grid.render_tile(t.x0, t.y0, t.x1, t.y1, ws, eval, [&](int x, int y, const PixelResult& p) {
+            AovSample a;
+            if (job.want_aovs && !film.aovs().empty()) {
+              Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), rs.seed);
+              a = job.sample_at({(x + 0.5) / W, (y + 0.5) / H}, rng, st.rays).aov;
+            }
+            if (p.nans) st.nan(x, y, 0);
+            film.set(x, y, p.L, p.alpha, p.samples, a);
+            st.samples += p.samples;
+          }, st.rays);
+          report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
+        }
+      }, tbb::simple_partitioner());
+    });
+    merge(stats, tile_stats);
+    stats.cancelled = cancelled();
+    stats.seconds = seconds_since(t0);
+    if (!stats.cancelled && opt.on_pass) opt.on_pass(film, 0);
+    return stats;
+  }
+
+  // Sample passes: progressive 1, 1, 2, 4, ... samples per pixel; with noise-driven sampling the
+  // same schedule from min_spp on, skipping pixels whose neighbourhood has converged.
+  const auto spp = uint32_t(noise_driven ? rs.max_spp : rs.spp);
   std::vector<uint32_t> pass_end;
-  if (opt.progressive) {
-    uint32_t done = 0, step = 1;
+  if (opt.progressive || noise_driven) {
+    uint32_t done = 0, step = noise_driven ? uint32_t(rs.min_spp) : 1;
     while (done < spp) {
       done = std::min(spp, done + step);
       pass_end.push_back(done);
@@ -99,12 +246,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   } else {
     pass_end.push_back(spp);
   }
-
-  RenderStats stats;
-  std::mutex mu;
-  uint64_t samples_done = 0, rays_done = 0;
-  const uint64_t samples_total = uint64_t(W) * H * spp;
-  tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+  std::vector<uint8_t> active(size_t(W) * H, 1);
+  const uint64_t work_total = uint64_t(W) * H * spp;
 
   uint32_t s_begin = 0;
   for (size_t pass = 0; pass < pass_end.size(); ++pass) {
@@ -113,7 +256,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t ti = range.begin(); ti != range.end(); ++ti) {
-          if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) return;
+          if (cancelled()) return;
           const Tile& t = tiles[ti];
           TileStats& st = tile_stats[ti];
           for (uint32_t s = s_begin; s < s_end; ++s) {
@@ -123,7 +266,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               for (int x = t.x0; x < t.x1; x += 4) {
                 Ray rays[kPacket];
                 CameraRay cam[kPacket];
-                bool valid[kPacket], found[kPacket];
+                bool valid[kPacket], found[kPacket], use[kPacket];
                 Hit hits[kPacket];
                 Rng rng[kPacket];
                 int lx[kPacket], ly[kPacket];
@@ -131,11 +274,12 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                   lx[k] = x + (k & 3);
                   ly[k] = y + (k >> 2);
                   valid[k] = false;
-                  if (lx[k] >= t.x1 || ly[k] >= t.y1) continue;
+                  use[k] = lx[k] < t.x1 && ly[k] < t.y1 && active[size_t(ly[k]) * W + lx[k]];
+                  if (!use[k]) continue;
                   rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
                   const uint32_t key = uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
-                  Vec2 off = pixel_offset(sk, s, spp, key, rng[k]);
-                  if (gaussian) off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
+                  Vec2 off = pixel_offset(job.sampler, s, spp, key, rng[k]);
+                  if (job.gaussian) off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
                   CameraSample cs;
                   cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0), std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
                   cs.lens = {rng[k].uniform(), rng[k].uniform()};
@@ -147,74 +291,40 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                 }
                 accel_->intersect16(rays, valid, hits, found);
                 for (int k = 0; k < kPacket; ++k) {
-                  if (lx[k] >= t.x1 || ly[k] >= t.y1) continue;
-                  AovSample a;
+                  if (!use[k]) continue;
+                  st.samples++;
                   if (!valid[k]) {
-                    film.add(lx[k], ly[k], {}, 0, a, s == 0);  // no ray: transparent
-                    st.samples++;
+                    film.add(lx[k], ly[k], {}, 0, AovSample{}, s == 0);  // no ray: transparent
                     continue;
                   }
                   st.rays++;
-                  Footprint fp;
-                  if (found[k]) fp = footprint_at(cam[k], du, dv, hits[k]);
-                  if (want_aovs && found[k]) {
-                    const Hit& h = hits[k];
-                    const Material& m = scene_.materials[h.material];
-                    a.hit = true;
-                    a.albedo = m.base_color.eval(texcoord_at(h, fp));
-                    a.normal = dot(h.ns, cam[k].dir) > 0 ? -h.ns : h.ns;
-                    a.position = h.p;
-                    a.depth = h.t;  // distance along the camera ray from its origin (dir is unit)
-                    a.id = h.object_id;
-                    a.uv = h.uv;
-                  }
-                  Color L = mode == Mode::Radiance
-                                ? integrator->radiance(rays[k], found[k] ? &hits[k] : nullptr, fp, rng[k], st.rays)
-                                : aov_beauty(mode, a);
-                  st.samples++;
-                  if (!is_finite(L)) {
-                    if (st.nans++ == 0) st.nan_x = lx[k], st.nan_y = ly[k], st.nan_s = int(s);
+                  const SampleResult res = job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays);
+                  if (!is_finite(res.L)) {
+                    st.nan(lx[k], ly[k], int(s));
                     continue;  // dropped
                   }
-                  film.add(lx[k], ly[k], L, 1, a, s == 0);
+                  film.add(lx[k], ly[k], res.L, res.alpha, res.aov, s == 0);
                 }
               }
           }
-          if (opt.on_progress) {
-            std::lock_guard<std::mutex> lock(mu);
-            samples_done += uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) * (s_end - s_begin);
-            rays_done += st.rays;
-            Progress p;
-            p.fraction = double(samples_done) / double(samples_total);
-            p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            p.rays = rays_done;
-            p.pass = int(pass);
-            p.passes = int(pass_end.size());
-            opt.on_progress(p);
-          }
+          report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) * (s_end - s_begin), work_total, st.rays, int(pass),
+                 int(pass_end.size()));
         }
       }, tbb::simple_partitioner());
     });
-    for (const TileStats& st : tile_stats) {
-      stats.rays += st.rays;
-      stats.samples += st.samples;
-      if (st.nans) {
-        // Keep the first in (y, x, sample) order so reports do not depend on scheduling.
-        const bool earlier = stats.nan_samples == 0 || st.nan_y < stats.nan_y ||
-                             (st.nan_y == stats.nan_y && (st.nan_x < stats.nan_x ||
-                                                          (st.nan_x == stats.nan_x && st.nan_s < stats.nan_sample)));
-        if (earlier) stats.nan_x = st.nan_x, stats.nan_y = st.nan_y, stats.nan_sample = st.nan_s;
-        stats.nan_samples += st.nans;
-      }
-    }
-    if (opt.cancel && opt.cancel->load()) {
+    merge(stats, tile_stats);
+    if (cancelled()) {
       stats.cancelled = true;
       break;
     }
     if (opt.on_pass) opt.on_pass(film, int(pass));
     s_begin = s_end;
+    if (noise_driven) {
+      if (rs.time_limit > 0 && seconds_since(t0) > rs.time_limit) break;
+      if (update_active(film, rs.noise_threshold, &active) == 0) break;
+    }
   }
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats.seconds = seconds_since(t0);
   return stats;
 }
 

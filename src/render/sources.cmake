@@ -1,4 +1,5 @@
 list(APPEND ANAMORPH_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/adaptive.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bsdf.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp

@@ -22,8 +22,18 @@ struct RenderSettings {
   uint64_t seed = 0;
   std::string filter = "box";          // box | gaussian
   double filter_radius = 1.5;          // gaussian: radius in pixels (box: pixel area)
-  double ray_epsilon = 1e-4;           // offset of secondary ray origins (relative to scale)
   int tile_size = 32;
+  // Antialiasing. "uniform": spp samples per pixel. "adaptive": for whitted, the paper's
+  // contrast-driven corner subdivision seeded by the camera's distortion; for path, noise-driven
+  // sampling between min_spp and max_spp.
+  std::string antialias = "adaptive";
+  double aa_threshold = 0.1;       // contrast that splits a square (whitted adaptive)
+  int aa_depth = 3;                // maximum subdivision levels per pixel (whitted adaptive)
+  bool aa_distortion = true;       // stretched pixels start subdivided (whitted adaptive)
+  int min_spp = 8;                 // path adaptive
+  int max_spp = 1024;              // path adaptive
+  double noise_threshold = 0.01;   // path adaptive: relative standard error that stops a pixel
+  double time_limit = 0;           // path adaptive: seconds, 0 = none (breaks determinism)
 };
 
 struct Scene {

@@ -22,6 +22,7 @@ const std::string_view kIntegrators[] = {"whitted", "path", "albedo", "normal", 
                                          "position", "id", "uv"};
 const std::string_view kSamplers[] = {"center", "stratified", "random"};
 const std::string_view kFilters[] = {"box", "gaussian"};
+const std::string_view kAntialias[] = {"uniform", "adaptive"};
 const std::string_view kObjectTypes[] = {"mesh", "sphere", "plane", "box", "cylinder", "disk"};
 const std::string_view kLightTypes[] = {"point", "spot", "directional", "quad", "sphere"};
 const std::string_view kMaterialTypes[] = {"whitted", "metallic_roughness"};
@@ -459,6 +460,17 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     rs.filter = r.string("filter", rs.filter, kFilters);
     rs.filter_radius = r.number("filter_radius", rs.filter_radius, 0.5, 8);
     rs.tile_size = int(r.integer("tile_size", rs.tile_size, 4, 1024));
+    // Whitted antialiases adaptively unless the file asks for a fixed sampler or scheme.
+    const bool whitted = rs.integrator == "whitted";
+    rs.antialias = r.string("antialias", whitted && !r.has("sampler") && !r.has("spp") ? "adaptive" : "uniform",
+                            kAntialias);
+    rs.aa_threshold = r.number("aa_threshold", rs.aa_threshold, 0, kInf);
+    rs.aa_depth = int(r.integer("aa_depth", rs.aa_depth, 0, 6));
+    rs.aa_distortion = r.boolean("aa_distortion", rs.aa_distortion);
+    rs.min_spp = int(r.integer("min_spp", rs.min_spp, 1, 1 << 20));
+    rs.max_spp = int(r.integer("max_spp", r.has("spp") ? rs.spp : rs.max_spp, rs.min_spp, 1 << 20));
+    rs.noise_threshold = r.number("noise_threshold", rs.noise_threshold, 0, kInf);
+    rs.time_limit = r.number("time_limit", rs.time_limit, 0, kInf);
     r.finish();
   }
 

@@ -1,0 +1,73 @@
+// Adaptive antialiasing.
+//
+// Whitted (the paper's method, POV-Ray's method 2 in spirit): samples sit on a lattice that
+// refines each pixel down to 2^aa_depth steps. Pixel corners are sampled first and shared with
+// neighbouring pixels (and, since every lattice point's random numbers depend only on its
+// position, with neighbouring tiles: no seams). A square whose four corners differ by more than
+// aa_threshold is split in four, recursively. Distortion-driven: before rendering, the camera's
+// ray differentials give each pixel's footprint; pixels larger than the image's median footprint
+// (and pixels where the ray field jumps) start split, so stretched regions get more samples
+// before any contrast is seen.
+//
+// Path (noise-driven): after each pass, a pixel stops once the standard error of its mean, over
+// its 3x3 neighbourhood, is below noise_threshold * sqrt(mean luminance + 1e-4).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "camera/camera.h"
+#include "render/film.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+// One sample's outcome (also used by the uniform path).
+struct SampleResult {
+  Color L;
+  double alpha = 0;  // 0: no ray
+  AovSample aov;
+};
+
+struct PixelResult {
+  Color L;
+  double alpha = 0;
+  uint32_t samples = 0;
+  uint32_t nans = 0;
+};
+
+// Per-thread scratch space, reused across tiles.
+struct AdaptiveWorkspace {
+  struct Point {
+    Color L;
+    float alpha = 0;
+    uint32_t stamp = 0;  // pixel that last counted this point
+    bool done = false;
+    bool nan = false;
+  };
+  std::vector<Point> points;
+};
+
+class AdaptiveGrid {
+ public:
+  AdaptiveGrid(const Camera& cam, int width, int height, const RenderSettings& rs, const Bounds3& scene_bounds);
+
+  // Levels every pixel is split to before contrast is looked at (the distortion map).
+  int forced_depth(int x, int y) const { return forced_[size_t(y) * w_ + x]; }
+
+  using Eval = std::function<SampleResult(Vec2 uv, uint64_t key, uint64_t& rays)>;
+  using Emit = std::function<void(int x, int y, const PixelResult&)>;
+  void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval, const Emit& emit,
+                   uint64_t& rays) const;
+
+ private:
+  int w_, h_, depth_, steps_;  // steps_ = 2^depth_ lattice steps per pixel
+  double threshold_;
+  std::vector<uint8_t> forced_;
+};
+
+// Noise-driven sampling: recomputes which pixels still need samples; returns how many do.
+size_t update_active(const Film& film, double noise_threshold, std::vector<uint8_t>* active);
+
+}  // namespace anamorph

@@ -1,0 +1,83 @@
+// Adaptive antialiasing: where samples go, and that adaptivity keeps images deterministic.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "render_util.h"
+
+namespace anamorph {
+
+namespace {
+
+// Whitted, adaptive: a white sphere in front of a black sky.
+const std::string kEdge =
+    "[image]\nwidth = 40\nheight = 30\n[render]\nintegrator = \"whitted\"\nantialias = \"adaptive\"\n"
+    "aa_depth = 3\ntile_size = 8\n"
+    "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 40\n"
+    "[[material]]\nname = \"e\"\ncolor = 0\nemission = 1\n"
+    "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"e\"\n";
+
+uint32_t spp(const test::Rendered& r, int x, int y) { return r.film->samples(x, y); }
+
+}  // namespace
+
+TEST(Adaptive, FlatRegionGetsOnlyItsCornersAndEdgesGetMore) {
+  const auto r = test::render_text(kEdge);
+  EXPECT_EQ(spp(r, 0, 0), 4u) << "flat black corner of the image";
+  EXPECT_EQ(spp(r, 20, 15), 4u) << "flat white middle of the sphere";
+  // Along the middle row, some pixel crosses the silhouette and is refined.
+  uint32_t most = 0;
+  for (int x = 0; x < 40; ++x) most = std::max(most, spp(r, x, 15));
+  EXPECT_GT(most, 4u);
+  // The silhouette pixel's value lies strictly between black and white: antialiased.
+  int partial = 0;
+  for (int x = 0; x < 40; ++x) {
+    const double v = r.film->pixel(x, 15).x;
+    partial += v > 0.02 && v < 0.98;
+  }
+  EXPECT_GE(partial, 2);
+}
+
+TEST(Adaptive, NoSeamsAtTileBordersAndThreadIndependent) {
+  const auto small = test::render_text(kEdge, {"render.tile_size=4"}, 1);
+  const auto whole = test::render_text(kEdge, {"render.tile_size=64"}, 2);
+  const auto a = small.film->output().layers[0].data, b = whole.film->output().layers[0].data;
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(float)))
+      << "one tile vs many tiles (and 1 vs 2 threads) must give identical bits";
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) ASSERT_EQ(small.film->samples(x, y), whole.film->samples(x, y)) << x << "," << y;
+}
+
+TEST(Adaptive, StretchedPixelsStartSubdivided) {
+  // A very wide perspective camera spreads its pixels unevenly: a center pixel covers about
+  // 1/cos^3 more solid angle than an edge pixel, so the distortion map splits it from the start.
+  const std::string scene =
+      "[image]\nwidth = 64\nheight = 64\n[render]\nantialias = \"adaptive\"\naa_depth = 3\n"
+      "[camera]\nlook_from = [0, 0, 0]\nlook_at = [0, 0, -1]\nfov = 170\n"
+      "[environment]\ncolor = 0.5\n";
+  const auto r = test::render_text(scene);
+  // Equal image content (a constant sky) everywhere: only the camera's stretch can add samples.
+  EXPECT_GT(spp(r, 32, 32), spp(r, 0, 32)) << "the center of a 170 degree perspective covers more solid angle";
+  EXPECT_EQ(spp(r, 0, 32), 4u);
+}
+
+TEST(Adaptive, NoiseDrivenPathStopsFlatPixelsEarly) {
+  const std::string scene =
+      "[image]\nwidth = 32\nheight = 16\n[render]\nintegrator = \"path\"\nantialias = \"adaptive\"\n"
+      "min_spp = 8\nmax_spp = 256\nnoise_threshold = 0.002\n"
+      "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 50\n"
+      "[[object]]\ntype = \"box\"\ncenter = [1.5, 0, 0]\nsize = [2, 2, 2]\n"
+      "[[light]]\ntype = \"quad\"\ncorner = [0.5, 3, -1]\nedge_u = [0, 0, 2]\nedge_v = [2, 0, 0]\nradiance = 5\n"
+      "[environment]\ncolor = 0.2\n";
+  const auto r = test::render_text(scene, {}, 0, {Aov::Spp});
+  // Left: only the constant sky (no variance) -> min_spp. Right: a box lit by an area light.
+  EXPECT_EQ(spp(r, 1, 8), 8u);
+  EXPECT_GT(spp(r, 24, 8), 8u);
+  EXPECT_LE(spp(r, 24, 8), 256u);
+  const auto again = test::render_text(scene, {}, 1, {Aov::Spp});
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) ASSERT_EQ(r.film->samples(x, y), again.film->samples(x, y));
+}
+
+}  // namespace anamorph
