@@ -81,3 +81,22 @@ TEST(Adaptive, NoiseDrivenPathStopsFlatPixelsEarly) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Adaptive, FisheyeRimGetsMoreSamplesThanItsCenter) {
+  // An orthographic-mapping fisheye squeezes the horizon into the rim of its image circle: rim
+  // pixels cover far more of the scene. Equal content (a constant sky) everywhere.
+  const std::string scene =
+      "[image]\nwidth = 64\nheight = 64\n[render]\nantialias = \"adaptive\"\naa_depth = 3\n"
+      "[camera]\npreset = \"fisheye\"\nmapping = \"orthographic\"\nfov = 180\n"
+      "[environment]\ncolor = 0.5\n";
+  const auto r = test::render_text(scene);
+  const uint32_t center = r.film->samples(32, 32);
+  uint32_t rim = 0;
+  for (int x = 0; x < 4; ++x) rim = std::max(rim, r.film->samples(x, 32));
+  EXPECT_EQ(center, 4u);
+  EXPECT_GT(rim, center) << "rim pixels of an orthographic fisheye are stretched";
+}
+
+}  // namespace anamorph
