@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   add_rays(app, run);
   add_project(app, run);
   add_bench(app, run);
+  add_compare(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

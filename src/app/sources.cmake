@@ -5,4 +5,5 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_info.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_bench.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cmd_compare.cpp
 )
