@@ -26,7 +26,7 @@ int find_span(int n, int p, double t, std::span<const double> knots) {
 }
 
 void basis_funs(int span, double t, int p, std::span<const double> knots, double* out) {
-  double left[kMaxDegree + 1], right[kMaxDegree + 1];
+  double left[kMaxBezierDegree + 1], right[kMaxBezierDegree + 1];
   out[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[j] = t - knots[size_t(span + 1 - j)];
@@ -41,20 +41,28 @@ void basis_funs(int span, double t, int p, std::span<const double> knots, double
   }
 }
 
-void ders_basis_funs(int span, double t, int p, int nd, std::span<const double> knots,
-                     BasisDers& ders) {
-  // ndu holds the basis functions (upper triangle with the diagonal) and the knot differences
-  // (lower triangle), as in A2.3.
-  double ndu[kMaxDegree + 1][kMaxDegree + 1];
-  double left[kMaxDegree + 1], right[kMaxDegree + 1];
+namespace {
+
+// A2.3; PC > 0 fixes the degree at compile time (loops unroll for the common low degrees),
+// PC = 0 takes it from p.
+template <int PC>
+void ders_impl(int span, double t, int p_runtime, int nd, std::span<const double> knots,
+               BasisDers& ders) {
+  const int p = PC > 0 ? PC : p_runtime;
+  constexpr int kN = (PC > 0 ? PC : kMaxBezierDegree) + 1;
+  // ndu holds the basis functions (upper triangle with the diagonal) and, unlike the book, the
+  // *reciprocals* of the knot differences (lower triangle): each difference is divided by once
+  // here instead of in every use below, which makes this several times faster.
+  double ndu[kN][kN];
+  double left[kN], right[kN];
   ndu[0][0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[j] = t - knots[size_t(span + 1 - j)];
     right[j] = knots[size_t(span + j)] - t;
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
-      ndu[j][r] = right[r + 1] + left[j - r];
-      const double temp = ndu[r][j - 1] / ndu[j][r];
+      ndu[j][r] = 1.0 / (right[r + 1] + left[j - r]);
+      const double temp = ndu[r][j - 1] * ndu[j][r];
       ndu[r][j] = saved + right[r + 1] * temp;
       saved = left[j - r] * temp;
     }
@@ -65,7 +73,7 @@ void ders_basis_funs(int span, double t, int p, int nd, std::span<const double> 
     for (int j = 0; j <= p; ++j) ders[k][j] = 0.0;
   if (nd == 0) return;
 
-  double a[2][kMaxDegree + 1];
+  double a[2][kN];
   for (int r = 0; r <= p; ++r) {
     int s1 = 0, s2 = 1;
     a[0][0] = 1.0;
@@ -73,17 +81,17 @@ void ders_basis_funs(int span, double t, int p, int nd, std::span<const double> 
       double d = 0.0;
       const int rk = r - k, pk = p - k;
       if (r >= k) {
-        a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+        a[s2][0] = a[s1][0] * ndu[pk + 1][rk];
         d = a[s2][0] * ndu[rk][pk];
       }
       const int j1 = rk >= -1 ? 1 : -rk;
       const int j2 = (r - 1 <= pk) ? k - 1 : p - r;
       for (int j = j1; j <= j2; ++j) {
-        a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
+        a[s2][j] = (a[s1][j] - a[s1][j - 1]) * ndu[pk + 1][rk + j];
         d += a[s2][j] * ndu[rk + j][pk];
       }
       if (r <= pk) {
-        a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+        a[s2][k] = -a[s1][k - 1] * ndu[pk + 1][r];
         d += a[s2][k] * ndu[r][pk];
       }
       ders[k][r] = d;
@@ -95,6 +103,20 @@ void ders_basis_funs(int span, double t, int p, int nd, std::span<const double> 
   for (int k = 1; k <= nd; ++k) {
     for (int j = 0; j <= p; ++j) ders[k][j] *= f;
     f *= (p - k);
+  }
+}
+
+}  // namespace
+
+void ders_basis_funs(int span, double t, int p, int nd, std::span<const double> knots,
+                     BasisDers& ders) {
+  switch (p) {
+    case 1: return ders_impl<1>(span, t, p, nd, knots, ders);
+    case 2: return ders_impl<2>(span, t, p, nd, knots, ders);
+    case 3: return ders_impl<3>(span, t, p, nd, knots, ders);
+    case 4: return ders_impl<4>(span, t, p, nd, knots, ders);
+    case 5: return ders_impl<5>(span, t, p, nd, knots, ders);
+    default: return ders_impl<0>(span, t, p, nd, knots, ders);
   }
 }
 

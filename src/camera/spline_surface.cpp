@@ -14,11 +14,12 @@ SplineSurface::SplineSurface(SplineNet net, int p, int q, Basis basis,
       rational_(!net.weights.empty()),
       ku_(std::move(knots_u)),
       kv_(std::move(knots_v)) {
-  ctrl_.resize(net.points.size());
+  ctrl_.resize(4 * net.points.size());
   Bounds3 box;
   for (size_t k = 0; k < net.points.size(); ++k) {
     const double w = rational_ ? net.weights[k] : 1.0;
-    ctrl_[k] = {net.points[k] * w, w};
+    const Vec3 hp = net.points[k] * w;
+    ctrl_[4 * k] = hp.x, ctrl_[4 * k + 1] = hp.y, ctrl_[4 * k + 2] = hp.z, ctrl_[4 * k + 3] = w;
     box.extend(net.points[k]);
   }
   size_ = std::max(length(box.diagonal()), 1e-300);
@@ -50,59 +51,67 @@ void SplineSurface::basis_v(double t, Basis1* b) const {
   }
 }
 
-void SplineSurface::columns(const Basis1& bv, int first_col, H (*q)[3]) const {
+template <bool Rational>
+void SplineSurface::columns_impl(const Basis1& bv, int first_col, Columns& q) const {
   const int first_row = bv.span - q_;
+  const size_t stride = 4 * size_t(nu_);
   for (int l = 0; l <= p_; ++l) {
-    H h0, h1, h2;
-    const H* c = &ctrl_[size_t(first_row) * size_t(nu_) + size_t(first_col + l)];
-    for (int k = 0; k <= q_; ++k, c += nu_) {
-      const double b0 = bv.d[0][k], b1 = bv.d[1][k], b2 = bv.d[2][k];
-      h0.a += c->a * b0;
-      h1.a += c->a * b1;
-      h2.a += c->a * b2;
-      if (rational_) {
-        h0.w += c->w * b0;
-        h1.w += c->w * b1;
-        h2.w += c->w * b2;
+    double acc[3][4] = {};
+    const double* c = &ctrl_[4 * (size_t(first_row) * size_t(nu_) + size_t(first_col + l))];
+    for (int k = 0; k <= q_; ++k, c += stride)
+      for (int o = 0; o < 3; ++o) {
+        const double b = bv.d[o][k];
+        acc[o][0] += c[0] * b;
+        acc[o][1] += c[1] * b;
+        acc[o][2] += c[2] * b;
+        if constexpr (Rational) acc[o][3] += c[3] * b;
       }
-    }
-    q[l][0] = h0;
-    q[l][1] = h1;
-    q[l][2] = h2;
+    for (int o = 0; o < 3; ++o)
+      for (int x = 0; x < 4; ++x) q.c[l][o][x] = acc[o][x];
   }
 }
 
-LocalGeom SplineSurface::combine(const Basis1& bu, const H (*q)[3]) const {
-  // A_ab = sum_l N^(a)(s) Q^(b)(t): a-th s-derivative, b-th t-derivative.
-  H a00, a10, a01, a20, a11, a02;
+void SplineSurface::columns(const Basis1& bv, int first_col, Columns& q) const {
+  if (rational_) columns_impl<true>(bv, first_col, q);
+  else columns_impl<false>(bv, first_col, q);
+}
+
+template <bool Rational>
+LocalGeom SplineSurface::combine_impl(const Basis1& bu, const Columns& q) const {
+  // a[d][x]: derivative d in {00, 10, 01, 20, 11, 02} (s-order, t-order) of A = sum (w P, w).
+  double a[6][4] = {};
   for (int l = 0; l <= p_; ++l) {
     const double n0 = bu.d[0][l], n1 = bu.d[1][l], n2 = bu.d[2][l];
-    a00.a += q[l][0].a * n0;
-    a10.a += q[l][0].a * n1;
-    a20.a += q[l][0].a * n2;
-    a01.a += q[l][1].a * n0;
-    a11.a += q[l][1].a * n1;
-    a02.a += q[l][2].a * n0;
-    if (rational_) {
-      a00.w += q[l][0].w * n0;
-      a10.w += q[l][0].w * n1;
-      a20.w += q[l][0].w * n2;
-      a01.w += q[l][1].w * n0;
-      a11.w += q[l][1].w * n1;
-      a02.w += q[l][2].w * n0;
+    const auto& c = q.c[l];
+    for (int x = 0; x < (Rational ? 4 : 3); ++x) {
+      a[0][x] += c[0][x] * n0;
+      a[1][x] += c[0][x] * n1;
+      a[2][x] += c[1][x] * n0;
+      a[3][x] += c[0][x] * n2;
+      a[4][x] += c[1][x] * n1;
+      a[5][x] += c[2][x] * n0;
     }
   }
-  if (!rational_) return {a00.a, a10.a, a01.a, a20.a, a11.a, a02.a};
-  // Quotient rule for S = A / W up to second order.
-  const double iw = 1.0 / a00.w;
-  LocalGeom g;
-  g.p = a00.a * iw;
-  g.ps = (a10.a - g.p * a10.w) * iw;
-  g.pt = (a01.a - g.p * a01.w) * iw;
-  g.pss = (a20.a - g.ps * (2 * a10.w) - g.p * a20.w) * iw;
-  g.pst = (a11.a - g.ps * a01.w - g.pt * a10.w - g.p * a11.w) * iw;
-  g.ptt = (a02.a - g.pt * (2 * a01.w) - g.p * a02.w) * iw;
-  return g;
+  const auto v = [&](int d) { return Vec3{a[d][0], a[d][1], a[d][2]}; };
+  if constexpr (!Rational) {
+    return {v(0), v(1), v(2), v(3), v(4), v(5)};
+  } else {
+    // Quotient rule for S = A / W up to second order.
+    const double iw = 1.0 / a[0][3];
+    const double ws = a[1][3], wt = a[2][3], wss = a[3][3], wst = a[4][3], wtt = a[5][3];
+    LocalGeom g;
+    g.p = v(0) * iw;
+    g.ps = (v(1) - g.p * ws) * iw;
+    g.pt = (v(2) - g.p * wt) * iw;
+    g.pss = (v(3) - g.ps * (2 * ws) - g.p * wss) * iw;
+    g.pst = (v(4) - g.ps * wt - g.pt * ws - g.p * wst) * iw;
+    g.ptt = (v(5) - g.pt * (2 * wt) - g.p * wtt) * iw;
+    return g;
+  }
+}
+
+LocalGeom SplineSurface::combine(const Basis1& bu, const Columns& q) const {
+  return rational_ ? combine_impl<true>(bu, q) : combine_impl<false>(bu, q);
 }
 
 }  // namespace anamorph

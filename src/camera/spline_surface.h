@@ -41,7 +41,7 @@ class SplineSurface {
     Basis1 bu, bv;
     basis_u(s, &bu);
     basis_v(t, &bv);
-    H q[spline::kMaxBezierDegree + 1][3];
+    Columns q;
     columns(bv, bu.span - p_, q);
     return combine(bu, q);
   }
@@ -52,7 +52,7 @@ class SplineSurface {
   void for_grid(std::span<const double> ss, std::span<const double> ts, Emit&& emit) const {
     constexpr size_t kChunk = 16;
     Basis1 bu[kChunk], bv;
-    H q[spline::kMaxBezierDegree + 1][3];
+    Columns q;
     for (size_t i0 = 0; i0 < ss.size(); i0 += kChunk) {
       const size_t i1 = std::min(ss.size(), i0 + kChunk);
       for (size_t i = i0; i < i1; ++i) basis_u(ss[i], &bu[i - i0]);
@@ -73,26 +73,29 @@ class SplineSurface {
 
  private:
   // Non-zero basis functions at one parameter: derivatives 0..2 of N[span - degree .. span].
+  // Plain arrays without initializers: nothing is zeroed per evaluation.
   struct Basis1 {
-    int span = 0;
+    int span;
     spline::BasisDers d;
   };
-  // Homogeneous point (w * P, w).
-  struct H {
-    Vec3 a;
-    double w = 0;
+  // Column sums: c[l][k] is the k-th t-derivative of sum_j M_j(t) (w P, w)_{first_col + l, j}.
+  struct Columns {
+    double c[spline::kMaxBezierDegree + 1][3][4];
   };
 
   void basis_u(double s, Basis1* b) const;
   void basis_v(double t, Basis1* b) const;
-  // q[l][k]: the k-th t-derivative of the column sum for control column first_col + l.
-  void columns(const Basis1& bv, int first_col, H (*q)[3]) const;
-  LocalGeom combine(const Basis1& bu, const H (*q)[3]) const;
+  void columns(const Basis1& bv, int first_col, Columns& q) const;
+  LocalGeom combine(const Basis1& bu, const Columns& q) const;
+  template <bool Rational>
+  void columns_impl(const Basis1& bv, int first_col, Columns& q) const;
+  template <bool Rational>
+  LocalGeom combine_impl(const Basis1& bu, const Columns& q) const;
 
   int nu_, nv_, p_, q_;
   Basis basis_;
   bool rational_;
-  std::vector<H> ctrl_;
+  std::vector<double> ctrl_;  // homogeneous (w x, w y, w z, w) per control point, row-major
   std::vector<double> ku_, kv_;
   double s_lo_ = 0, s_hi_ = 1, t_lo_ = 0, t_hi_ = 1, size_ = 1;
 };
