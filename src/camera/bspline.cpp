@@ -18,8 +18,10 @@ int find_span(int n, int p, double t, std::span<const double> knots) {
   int low = p, high = n + 1;
   int mid = (low + high) / 2;
   while (t < knots[size_t(mid)] || t >= knots[size_t(mid + 1)]) {
-    if (t < knots[size_t(mid)]) high = mid;
-    else low = mid;
+    if (t < knots[size_t(mid)])
+      high = mid;
+    else
+      low = mid;
     mid = (low + high) / 2;
   }
   return mid;
@@ -111,12 +113,18 @@ void ders_impl(int span, double t, int p_runtime, int nd, std::span<const double
 void ders_basis_funs(int span, double t, int p, int nd, std::span<const double> knots,
                      BasisDers& ders) {
   switch (p) {
-    case 1: return ders_impl<1>(span, t, p, nd, knots, ders);
-    case 2: return ders_impl<2>(span, t, p, nd, knots, ders);
-    case 3: return ders_impl<3>(span, t, p, nd, knots, ders);
-    case 4: return ders_impl<4>(span, t, p, nd, knots, ders);
-    case 5: return ders_impl<5>(span, t, p, nd, knots, ders);
-    default: return ders_impl<0>(span, t, p, nd, knots, ders);
+    case 1:
+      return ders_impl<1>(span, t, p, nd, knots, ders);
+    case 2:
+      return ders_impl<2>(span, t, p, nd, knots, ders);
+    case 3:
+      return ders_impl<3>(span, t, p, nd, knots, ders);
+    case 4:
+      return ders_impl<4>(span, t, p, nd, knots, ders);
+    case 5:
+      return ders_impl<5>(span, t, p, nd, knots, ders);
+    default:
+      return ders_impl<0>(span, t, p, nd, knots, ders);
   }
 }
 
@@ -154,9 +162,12 @@ std::vector<double> clamped_knots(int num_ctrl, int p) {
   std::vector<double> k(size_t(m + 1));
   const int interior = n - p;  // number of interior knots
   for (int i = 0; i <= m; ++i) {
-    if (i <= p) k[size_t(i)] = 0;
-    else if (i >= m - p) k[size_t(i)] = 1;
-    else k[size_t(i)] = double(i - p) / double(interior + 1);
+    if (i <= p)
+      k[size_t(i)] = 0;
+    else if (i >= m - p)
+      k[size_t(i)] = 1;
+    else
+      k[size_t(i)] = double(i - p) / double(interior + 1);
   }
   return k;
 }
@@ -171,9 +182,9 @@ std::vector<double> uniform_knots(int num_ctrl, int p) {
 std::string knot_vector_problem(std::span<const double> knots, int num_ctrl, int p) {
   const size_t need = size_t(num_ctrl + p + 1);
   if (knots.size() != need)
-    return "needs " + std::to_string(need) + " knots (control points + degree + 1 = " +
-           std::to_string(num_ctrl) + " + " + std::to_string(p) + " + 1), got " +
-           std::to_string(knots.size());
+    return "needs " + std::to_string(need) +
+           " knots (control points + degree + 1 = " + std::to_string(num_ctrl) + " + " +
+           std::to_string(p) + " + 1), got " + std::to_string(knots.size());
   for (size_t i = 1; i < knots.size(); ++i)
     if (knots[i] < knots[i - 1])
       return "knots must be non-decreasing (knot " + std::to_string(i) + " is smaller than knot " +
@@ -186,10 +197,9 @@ std::string knot_vector_problem(std::span<const double> knots, int num_ctrl, int
   for (size_t i = 0; i < knots.size();) {
     size_t j = i;
     while (j < knots.size() && knots[j] == knots[i]) ++j;
-    if (knots[i] > lo && knots[i] < hi && int(j - i) > p)
-      return "interior knot " + std::to_string(knots[i]) + " is repeated " +
-             std::to_string(j - i) + " times; at most the degree (" + std::to_string(p) +
-             ") is allowed";
+    if (knots[i] > lo && knots[i]<hi&& int(j - i)> p)
+      return "interior knot " + std::to_string(knots[i]) + " is repeated " + std::to_string(j - i) +
+             " times; at most the degree (" + std::to_string(p) + ") is allowed";
     i = j;
   }
   return {};

@@ -9,7 +9,7 @@
 
 namespace anamorph::spline {
 
-inline constexpr int kMaxDegree = 15;   // B-spline / NURBS degree cap (stack array size)
+inline constexpr int kMaxDegree = 15;  // B-spline / NURBS degree cap (stack array size)
 inline constexpr int kMaxBezierDegree = 31;
 inline constexpr int kMaxDerivative = 2;
 

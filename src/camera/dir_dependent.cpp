@@ -26,8 +26,10 @@ class TangentDir final : public DirFunction {
  public:
   TangentDir(bool along_v, bool flip) : v_(along_v), s_(flip ? -1.0 : 1.0) {}
   bool eval(Vec2, const SurfaceSample& o, DirSample* out) const override {
-    if (v_) *out = DirSample{o.dpdv * s_, o.dpduv * s_, o.dpdvv * s_};
-    else *out = DirSample{o.dpdu * s_, o.dpduu * s_, o.dpduv * s_};
+    if (v_)
+      *out = DirSample{o.dpdv * s_, o.dpduv * s_, o.dpdvv * s_};
+    else
+      *out = DirSample{o.dpdu * s_, o.dpduu * s_, o.dpduv * s_};
     return true;
   }
 
@@ -98,7 +100,12 @@ const ParamSpec kTangentVParams[] = {
     {"flip", ParamType::Bool, "false", "Use -dp/dv (toward the image's top) instead."},
 };
 const ParamSpec kDeviatedParams[] = {
-    {"angle", ParamType::Number, "0", "Angle between the ray and the normal, degrees.", 0, 180},
+    {.name = "angle",
+     .type = ParamType::Number,
+     .default_value = "0",
+     .doc = "Angle between the ray and the normal, degrees.",
+     .min = 0,
+     .max = 180},
     {"azimuth", ParamType::Number, "0",
      "Direction of the tilt around the normal, degrees: 0 toward increasing u (image right), 90 "
      "toward decreasing v (image up), counterclockwise as seen in the image."},

@@ -24,10 +24,10 @@ namespace anamorph {
 // pixel's footprint is the derivative times 1/width (1/height). Every origin function fills every
 // field (zero where it does not exist).
 struct SurfaceSample {
-  Vec3 p;            // the point
-  Vec3 dpdu, dpdv;   // first derivatives
-  Vec3 n;            // unit normal (zero where the surface has none, e.g. a single point)
-  Vec3 dndu, dndv;   // derivatives of the unit normal n (ray differentials of dir = normal)
+  Vec3 p;                    // the point
+  Vec3 dpdu, dpdv;           // first derivatives
+  Vec3 n;                    // unit normal (zero where the surface has none, e.g. a single point)
+  Vec3 dndu, dndv;           // derivatives of the unit normal n (ray differentials of dir = normal)
   Vec3 dpduu, dpduv, dpdvv;  // second derivatives (ray differentials of tangent directions)
 };
 

@@ -52,18 +52,23 @@ const ParamSpec kPointParams[] = {
 };
 
 const ParamSpec kPlaneParams[] = {
-    {"center", ParamType::Vec3, "[0, 0, 0]", "Center of the rectangle (image position (0.5, 0.5))."},
+    {"center", ParamType::Vec3, "[0, 0, 0]",
+     "Center of the rectangle (image position (0.5, 0.5))."},
     {"edge_u", ParamType::Vec3, "[1, 0, 0]",
      "Full edge vector along u (left to right). Ignored when `size` is given."},
     {"edge_v", ParamType::Vec3, "[0, -1, 0]",
      "Full edge vector along v (top to bottom). Ignored when `size` is given."},
-    {"size", ParamType::Vec2, "none",
-     "Width and height; with `normal` and `up` an alternative to edge_u/edge_v.", 0, kInf, {},
-     true},
+    {.name = "size",
+     .type = ParamType::Vec2,
+     .default_value = "none",
+     .doc = "Width and height; with `normal` and `up` an alternative to edge_u/edge_v.",
+     .min = 0,
+     .min_exclusive = true},
     {"normal", ParamType::Vec3, "[0, 0, -1]",
      "Plane normal (with `size`): the side the image faces; u runs right and v down as seen "
      "looking along it."},
-    {"up", ParamType::Vec3, "[0, 1, 0]", "Up vector in the plane (with `size`); need not be "
+    {"up", ParamType::Vec3, "[0, 1, 0]",
+     "Up vector in the plane (with `size`); need not be "
      "perpendicular to `normal`."},
     {"u_range", ParamType::Vec2, "[0, 1]",
      "Part of the rectangle along u (0 = left edge, 1 = right edge) mapped to the image; "
@@ -71,7 +76,7 @@ const ParamSpec kPlaneParams[] = {
     {"v_range", ParamType::Vec2, "[0, 1]",
      "Part of the rectangle along v (0 = top edge, 1 = bottom edge) mapped to the image; "
      "reversed if decreasing."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 std::unique_ptr<OrgFunction> create_point(const ParamValues& v) {

@@ -18,9 +18,9 @@ AxisFrame read_axis_frame(const ParamValues& v, std::string_view axis_key,
     const Vec3 given = v.vec3(front_key);
     front = project(given);
     if (!(length(front) > 1e-9 * length(given)))
-      throw ParamError(std::string(front_key),
-                       std::string(front_key) + " must not be zero or parallel to " +
-                           std::string(axis_key));
+      throw ParamError(
+          std::string(front_key),
+          std::string(front_key) + " must not be zero or parallel to " + std::string(axis_key));
   } else {
     front = project({0, 0, -1});
     // Along z there is no projection of -z: take the direction a rotation of +y onto the axis

@@ -2,6 +2,7 @@
 // derivatives in a surface's own parameters into a SurfaceSample.
 #pragma once
 
+#include <array>
 #include <string_view>
 
 #include "camera/functions.h"
@@ -56,10 +57,19 @@ bool set_cross_normal(const LocalGeom& g, double su, double sv, bool flip, Surfa
 LocalGeom transform_geom(const LocalGeom& g, const Mat3& m, Vec3 origin);
 
 // The flip_normal parameter spec shared by every surface.
-#define ANAMORPH_FLIP_NORMAL_PARAM                                                           \
-  {                                                                                          \
-    "flip_normal", ParamType::Bool, "false",                                                 \
-        "Reverse the normal (and its derivatives), e.g. so that dir = normal looks inward." \
-  }
+inline constexpr ParamSpec kFlipNormalParam{
+    "flip_normal", ParamType::Bool, "false",
+    "Reverse the normal (and its derivatives), e.g. so that dir = normal looks inward."};
+
+// A parameter table made of a shared part and extra entries (tables are spans of ParamSpec).
+template <size_t N, class... Extra>
+constexpr std::array<ParamSpec, N + sizeof...(Extra)> join_params(const ParamSpec (&base)[N],
+                                                                  const Extra&... extra) {
+  std::array<ParamSpec, N + sizeof...(Extra)> out{};
+  for (size_t i = 0; i < N; ++i) out[i] = base[i];
+  size_t i = N;
+  ((out[i++] = extra), ...);
+  return out;
+}
 
 }  // namespace anamorph

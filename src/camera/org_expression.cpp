@@ -83,7 +83,8 @@ ExpressionSet::ExpressionSet(std::vector<std::string> variables,
       p.SetExpr(formulas[size_t(k)]);
       int n = 0;
       p.Eval(n);
-      if (n != 1) throw ParamError(key, key + ": expected one expression, got " + std::to_string(n));
+      if (n != 1)
+        throw ParamError(key, key + ": expected one expression, got " + std::to_string(n));
     } catch (const mu::Parser::exception_type& e) {
       std::string allowed;
       for (const auto& v : vars_) allowed += (allowed.empty() ? "" : ", ") + v;
@@ -163,8 +164,9 @@ class ExpressionOrg final : public OrgFunction {
 };
 
 const ParamSpec kParams[] = {
-    {"x", ParamType::String, "", "Formula for x(u, v) (muParser syntax: + - * / ^, sin, cos, "
-                                  "tan, exp, log, sqrt, abs, min, max, ...; `pi` is defined)."},
+    {"x", ParamType::String, "",
+     "Formula for x(u, v) (muParser syntax: + - * / ^, sin, cos, "
+     "tan, exp, log, sqrt, abs, min, max, ...; `pi` is defined)."},
     {"y", ParamType::String, "", "Formula for y(u, v)."},
     {"z", ParamType::String, "", "Formula for z(u, v)."},
     {"constants", ParamType::StringMap, "{}",
@@ -173,7 +175,7 @@ const ParamSpec kParams[] = {
      "Values of the variable u across the image, left to right (reversed if decreasing)."},
     {"v_range", ParamType::Vec2, "[0, 1]",
      "Values of the variable v across the image, top to bottom (reversed if decreasing)."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 std::unique_ptr<OrgFunction> create(const ParamValues& v) {

@@ -121,7 +121,7 @@ const ParamSpec kParams[] = {
     {"v_range", ParamType::Vec2, "[0, 1]",
      "Texture coordinate v across the image, top to bottom (texture space has v = 0 at the "
      "top, as for images)."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 std::unique_ptr<OrgFunction> create(const ParamValues& v) {

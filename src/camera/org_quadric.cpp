@@ -99,7 +99,12 @@ constexpr std::string_view kLongitudeDoc =
 
 const ParamSpec kSphereParams[] = {
     {"center", ParamType::Vec3, "[0, 0, 0]", "Center of the sphere."},
-    {"radius", ParamType::Number, "1", "Radius.", 0, kInf, {}, true},
+    {.name = "radius",
+     .type = ParamType::Number,
+     .default_value = "1",
+     .doc = "Radius.",
+     .min = 0,
+     .min_exclusive = true},
     {"axis", ParamType::Vec3, "[0, 1, 0]", "Pole direction (latitude +90)."},
     {"front", ParamType::Vec3, "none",
      "Direction of longitude 0 (projected perpendicular to `axis`); default -z, or +-y when the "
@@ -108,32 +113,38 @@ const ParamSpec kSphereParams[] = {
     {"v_range", ParamType::Vec2, "[90, -90]",
      "Latitude range in degrees mapped onto image v (top to bottom): north pole at the top by "
      "default."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 const ParamSpec kEllipsoidParams[] = {
     {"center", ParamType::Vec3, "[0, 0, 0]", "Center of the ellipsoid."},
-    {"radii", ParamType::Vec3, "[1, 1, 1]",
-     "Semi-axes along the local right, axis (up) and back directions (x, y, z for the default "
-     "frame).",
-     0, kInf, {}, true},
+    {.name = "radii",
+     .type = ParamType::Vec3,
+     .default_value = "[1, 1, 1]",
+     .doc =
+         "Semi-axes along the local right, axis (up) and back directions (x, y, z for the default "
+         "frame).",
+     .min = 0,
+     .min_exclusive = true},
     {"axis", ParamType::Vec3, "[0, 1, 0]", "Pole direction (latitude +90)."},
     {"front", ParamType::Vec3, "none",
      "Direction of longitude 0 (projected perpendicular to `axis`); default -z."},
     {"u_range", ParamType::Vec2, "[-180, 180]", kLongitudeDoc},
     {"v_range", ParamType::Vec2, "[90, -90]",
      "Latitude range in degrees (of the underlying sphere) mapped onto image v."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 const std::string_view kKinds[] = {"sphere", "hyperboloid_one_sheet", "hyperboloid_two_sheets",
                                    "paraboloid"};
 
 const ParamSpec kQuadricParams[] = {
-    {"kind", ParamType::String, "\"sphere\"",
-     "The canonical quadric: sphere x^2+y^2+z^2 = 1; hyperboloid_one_sheet x^2+z^2-y^2 = 1; "
-     "hyperboloid_two_sheets y^2-x^2-z^2 = 1 (upper sheet); paraboloid y = x^2+z^2.",
-     -kInf, kInf, kKinds},
+    {.name = "kind",
+     .type = ParamType::String,
+     .default_value = "\"sphere\"",
+     .doc = "The canonical quadric: sphere x^2+y^2+z^2 = 1; hyperboloid_one_sheet x^2+z^2-y^2 = 1; "
+            "hyperboloid_two_sheets y^2-x^2-z^2 = 1 (upper sheet); paraboloid y = x^2+z^2.",
+     .choices = kKinds},
     {"matrix", ParamType::Vec3List, "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
      "Linear part of the affine map, 3 rows: p = matrix * X + translation for canonical X. Any "
      "non-singular matrix (scales, rotations, shears, mirrors)."},
@@ -145,7 +156,7 @@ const ParamSpec kQuadricParams[] = {
      "y = sinh t for hyperboloid_one_sheet (default [1, -1]); t with y = cosh t for "
      "hyperboloid_two_sheets (default [1, 0]); the distance from the axis for paraboloid "
      "(default [1, 0])."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 std::unique_ptr<OrgFunction> create_sphere(const ParamValues& v) {
@@ -153,9 +164,8 @@ std::unique_ptr<OrgFunction> create_sphere(const ParamValues& v) {
   const AxisFrame f = read_axis_frame(v);
   const double r = v.number("radius");
   const Mat3 m{f.right * r, f.up * r, f.back * r};
-  return make_quadric_org(QuadricKind::Sphere, m, v.vec3("center"),
-                          read_angle_range(v, "u_range"), read_angle_range(v, "v_range"),
-                          v.boolean("flip_normal"));
+  return make_quadric_org(QuadricKind::Sphere, m, v.vec3("center"), read_angle_range(v, "u_range"),
+                          read_angle_range(v, "v_range"), v.boolean("flip_normal"));
 }
 
 std::unique_ptr<OrgFunction> create_ellipsoid(const ParamValues& v) {
@@ -163,19 +173,17 @@ std::unique_ptr<OrgFunction> create_ellipsoid(const ParamValues& v) {
   const AxisFrame f = read_axis_frame(v);
   const Vec3 r = v.vec3("radii");
   const Mat3 m{f.right * r.x, f.up * r.y, f.back * r.z};
-  return make_quadric_org(QuadricKind::Sphere, m, v.vec3("center"),
-                          read_angle_range(v, "u_range"), read_angle_range(v, "v_range"),
-                          v.boolean("flip_normal"));
+  return make_quadric_org(QuadricKind::Sphere, m, v.vec3("center"), read_angle_range(v, "u_range"),
+                          read_angle_range(v, "v_range"), v.boolean("flip_normal"));
 }
 
 std::unique_ptr<OrgFunction> create_quadric(const ParamValues& v) {
   check_params(kQuadricParams, v);
   const std::string& k = v.string("kind");
-  const QuadricKind kind = k == "sphere"                  ? QuadricKind::Sphere
-                           : k == "hyperboloid_one_sheet" ? QuadricKind::HyperboloidOneSheet
-                           : k == "hyperboloid_two_sheets"
-                               ? QuadricKind::HyperboloidTwoSheets
-                               : QuadricKind::Paraboloid;
+  const QuadricKind kind = k == "sphere"                   ? QuadricKind::Sphere
+                           : k == "hyperboloid_one_sheet"  ? QuadricKind::HyperboloidOneSheet
+                           : k == "hyperboloid_two_sheets" ? QuadricKind::HyperboloidTwoSheets
+                                                           : QuadricKind::Paraboloid;
   const std::vector<Vec3>& rows = v.vec3s("matrix");
   if (rows.size() != 3)
     throw ParamError("matrix", "matrix needs exactly 3 rows of 3 numbers (got " +
@@ -189,7 +197,7 @@ std::unique_ptr<OrgFunction> create_quadric(const ParamValues& v) {
   if (v.has("v_range")) {
     tr = read_range(v, "v_range");
   } else {
-    tr = kind == QuadricKind::Sphere                 ? ParamRange{90, -90}
+    tr = kind == QuadricKind::Sphere                ? ParamRange{90, -90}
          : kind == QuadricKind::HyperboloidOneSheet ? ParamRange{1, -1}
                                                     : ParamRange{1, 0};
   }

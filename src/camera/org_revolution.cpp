@@ -33,8 +33,8 @@ class RevolutionOrg final : public OrgFunction {
         Ns = radial_s;
         break;
       case Kind::Cone: {  // X = t (tan(alpha) radial(s) + y), t >= 0 from the apex
-        g = {(radial * a_ + y) * t, radial_s * (a_ * t), radial * a_ + y, -radial * (a_ * t),
-             radial_s * a_, {}};
+        g = {(radial * a_ + y) * t, radial_s * (a_ * t), radial * a_ + y,
+             -radial * (a_ * t),    radial_s * a_,       {}};
         // Perpendicular to the generator tan(alpha) radial + y, pointing away from the axis.
         const double inv = 1 / std::sqrt(1 + a_ * a_);
         N = (radial - y * a_) * inv;
@@ -84,65 +84,85 @@ const ParamSpec kCylinderParams[] = {
      "Axis direction (any non-zero vector, e.g. [1, -1, -1] for the line through (-1, 1, 1) "
      "and (1, -1, -1) with center [0, 0, 0])."},
     {"front", ParamType::Vec3, "none", kFrontDoc},
-    {"radius", ParamType::Number, "1", "Radius.", 0, kInf, {}, true},
+    {.name = "radius",
+     .type = ParamType::Number,
+     .default_value = "1",
+     .doc = "Radius.",
+     .min = 0,
+     .min_exclusive = true},
     {"u_range", ParamType::Vec2, "[-180, 180]", kAngleDoc},
     {"v_range", ParamType::Vec2, "[1, -1]",
      "Height range along the normalized axis, measured from `center`, mapped onto image v (top "
      "to bottom)."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 const ParamSpec kConeParams[] = {
     {"apex", ParamType::Vec3, "[0, 0, 0]", "The tip of the cone."},
     {"axis", ParamType::Vec3, "[0, 1, 0]", "Axis direction from the apex into the cone."},
     {"front", ParamType::Vec3, "none", kFrontDoc},
-    {"half_angle", ParamType::Number, "45", "Angle between the axis and the surface, degrees.", 0,
-     90, {}, true, true},
+    {.name = "half_angle",
+     .type = ParamType::Number,
+     .default_value = "45",
+     .doc = "Angle between the axis and the surface, degrees.",
+     .min = 0,
+     .max = 90,
+     .min_exclusive = true,
+     .max_exclusive = true},
     {"u_range", ParamType::Vec2, "[-180, 180]", kAngleDoc},
-    {"v_range", ParamType::Vec2, "[1, 0]",
-     "Distance from the apex along the normalized axis mapped onto image v (top to bottom); "
-     "[h0, h1] with h0 > 0 gives a frustum.",
-     0, kInf},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    {.name = "v_range",
+     .type = ParamType::Vec2,
+     .default_value = "[1, 0]",
+     .doc = "Distance from the apex along the normalized axis mapped onto image v (top to bottom); "
+            "[h0, h1] with h0 > 0 gives a frustum.",
+     .min = 0},
+    kFlipNormalParam,
 };
 
 const ParamSpec kTorusParams[] = {
     {"center", ParamType::Vec3, "[0, 0, 0]", "Center of the torus."},
     {"axis", ParamType::Vec3, "[0, 1, 0]", "Axis of revolution."},
     {"front", ParamType::Vec3, "none", kFrontDoc},
-    {"major_radius", ParamType::Number, "1", "Distance from the axis to the tube's core.", 0, kInf,
-     {}, true},
-    {"minor_radius", ParamType::Number, "0.25", "Radius of the tube.", 0, kInf, {}, true},
+    {.name = "major_radius",
+     .type = ParamType::Number,
+     .default_value = "1",
+     .doc = "Distance from the axis to the tube's core.",
+     .min = 0,
+     .min_exclusive = true},
+    {.name = "minor_radius",
+     .type = ParamType::Number,
+     .default_value = "0.25",
+     .doc = "Radius of the tube.",
+     .min = 0,
+     .min_exclusive = true},
     {"u_range", ParamType::Vec2, "[-180, 180]", kAngleDoc},
     {"v_range", ParamType::Vec2, "[180, -180]",
      "Angle around the tube in degrees mapped onto image v: 0 on the outer equator, 90 on top, "
      "180 on the inner equator. The default puts the outer equator in the middle row with the "
      "top above it."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 std::unique_ptr<OrgFunction> create_cylinder(const ParamValues& v) {
   check_params(kCylinderParams, v);
-  return std::make_unique<RevolutionOrg>(Kind::Cylinder, v.number("radius"), 0,
-                                         read_axis_frame(v), v.vec3("center"),
-                                         read_angle_range(v, "u_range"), read_range(v, "v_range"),
-                                         v.boolean("flip_normal"));
+  return std::make_unique<RevolutionOrg>(Kind::Cylinder, v.number("radius"), 0, read_axis_frame(v),
+                                         v.vec3("center"), read_angle_range(v, "u_range"),
+                                         read_range(v, "v_range"), v.boolean("flip_normal"));
 }
 
 std::unique_ptr<OrgFunction> create_cone(const ParamValues& v) {
   check_params(kConeParams, v);
-  return std::make_unique<RevolutionOrg>(Kind::Cone, std::tan(radians(v.number("half_angle"))), 0,
-                                         read_axis_frame(v), v.vec3("apex"),
-                                         read_angle_range(v, "u_range"), read_range(v, "v_range"),
-                                         v.boolean("flip_normal"));
+  return std::make_unique<RevolutionOrg>(
+      Kind::Cone, std::tan(radians(v.number("half_angle"))), 0, read_axis_frame(v), v.vec3("apex"),
+      read_angle_range(v, "u_range"), read_range(v, "v_range"), v.boolean("flip_normal"));
 }
 
 std::unique_ptr<OrgFunction> create_torus(const ParamValues& v) {
   check_params(kTorusParams, v);
-  return std::make_unique<RevolutionOrg>(
-      Kind::Torus, v.number("major_radius"), v.number("minor_radius"), read_axis_frame(v),
-      v.vec3("center"), read_angle_range(v, "u_range"), read_angle_range(v, "v_range"),
-      v.boolean("flip_normal"));
+  return std::make_unique<RevolutionOrg>(Kind::Torus, v.number("major_radius"),
+                                         v.number("minor_radius"), read_axis_frame(v),
+                                         v.vec3("center"), read_angle_range(v, "u_range"),
+                                         read_angle_range(v, "v_range"), v.boolean("flip_normal"));
 }
 
 }  // namespace

@@ -62,8 +62,7 @@ class SplineOrg final : public OrgFunction {
     const auto inward = [](double x, double lo, double hi) {
       return x + (0.5 * (lo + hi) >= x ? 1e-6 : -1e-6) * (hi - lo);
     };
-    const LocalGeom h =
-        s_.eval(inward(s, s_.s_lo(), s_.s_hi()), inward(t, s_.t_lo(), s_.t_hi()));
+    const LocalGeom h = s_.eval(inward(s, s_.s_lo(), s_.s_hi()), inward(t, s_.t_lo(), s_.t_hi()));
     set_normal(cross(h.ps, h.pt), {}, {}, su, sv, flip_, out);
   }
 
@@ -74,7 +73,7 @@ class SplineOrg final : public OrgFunction {
 
 // --- parameters ---
 
-const std::string_view kKnotTypes[] = {"clamped", "uniform"};
+constexpr std::string_view kKnotTypes[] = {"clamped", "uniform"};
 
 constexpr std::string_view kPointsDoc =
     "Control net: rows of [x, y, z] points. The first row is the image's top edge, each row runs "
@@ -86,49 +85,85 @@ constexpr std::string_view kVRangeDoc =
     "Part of the valid parameter domain along v mapped to the image, as fractions (0 = first row, "
     "1 = last); reversed if decreasing.";
 
-#define ANAMORPH_BSPLINE_PARAMS                                                                  \
-  {"points", ParamType::Vec3Grid, "", kPointsDoc},                                              \
-      {"degree_u", ParamType::Integer, "3",                                                      \
-       "Degree along u (across a row); below the number of points per row.", 1,                \
-       spline::kMaxDegree},                                                                      \
-      {"degree_v", ParamType::Integer, "3",                                                      \
-       "Degree along v (down the rows); below the number of rows.", 1, spline::kMaxDegree},      \
-      {"knot_type_u", ParamType::String, "\"clamped\"",                                          \
-       "Knot vector along u when `knots_u` is not given: clamped (open uniform: the surface "    \
-       "reaches the first and last control columns) or uniform (unclamped, evenly spaced).",     \
-       -kInf, kInf, kKnotTypes},                                                                 \
-      {"knot_type_v", ParamType::String, "\"clamped\"", "Knot vector along v, as knot_type_u.", \
-       -kInf, kInf, kKnotTypes},                                                                 \
-      {"knots_u", ParamType::NumberList, "none",                                                 \
-       "Explicit knot vector along u: non-decreasing, (points per row + degree_u + 1) values "   \
-       "(overrides knot_type_u)."},                                                              \
-      {"knots_v", ParamType::NumberList, "none",                                                 \
-       "Explicit knot vector along v: non-decreasing, (rows + degree_v + 1) values."},           \
-      {"u_range", ParamType::Vec2, "[0, 1]", kURangeDoc, 0, 1},                                  \
-      {"v_range", ParamType::Vec2, "[0, 1]", kVRangeDoc, 0, 1}
+constexpr ParamSpec kBSplineCore[] = {
+    {"points", ParamType::Vec3Grid, "", kPointsDoc},
+    {.name = "degree_u",
+     .type = ParamType::Integer,
+     .default_value = "3",
+     .doc = "Degree along u (across a row); below the number of points per row.",
+     .min = 1,
+     .max = spline::kMaxDegree},
+    {.name = "degree_v",
+     .type = ParamType::Integer,
+     .default_value = "3",
+     .doc = "Degree along v (down the rows); below the number of rows.",
+     .min = 1,
+     .max = spline::kMaxDegree},
+    {.name = "knot_type_u",
+     .type = ParamType::String,
+     .default_value = "\"clamped\"",
+     .doc = "Knot vector along u when `knots_u` is not given: clamped (open uniform: the surface "
+            "reaches the first and last control columns) or uniform (unclamped, evenly spaced).",
+     .choices = kKnotTypes},
+    {.name = "knot_type_v",
+     .type = ParamType::String,
+     .default_value = "\"clamped\"",
+     .doc = "Knot vector along v, as knot_type_u.",
+     .choices = kKnotTypes},
+    {"knots_u", ParamType::NumberList, "none",
+     "Explicit knot vector along u: non-decreasing, (points per row + degree_u + 1) values "
+     "(overrides knot_type_u)."},
+    {"knots_v", ParamType::NumberList, "none",
+     "Explicit knot vector along v: non-decreasing, (rows + degree_v + 1) values."},
+    {.name = "u_range",
+     .type = ParamType::Vec2,
+     .default_value = "[0, 1]",
+     .doc = kURangeDoc,
+     .min = 0,
+     .max = 1},
+    {.name = "v_range",
+     .type = ParamType::Vec2,
+     .default_value = "[0, 1]",
+     .doc = kVRangeDoc,
+     .min = 0,
+     .max = 1},
+};
 
 const ParamSpec kBezierParams[] = {
     {"points", ParamType::Vec3Grid, "", kPointsDoc},
-    {"weights", ParamType::NumberGrid, "none",
-     "Optional weights, one per control point in the same rows (rational Bezier).", 0, kInf, {},
-     true},
-    {"u_range", ParamType::Vec2, "[0, 1]", kURangeDoc, 0, 1},
-    {"v_range", ParamType::Vec2, "[0, 1]", kVRangeDoc, 0, 1},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    {.name = "weights",
+     .type = ParamType::NumberGrid,
+     .default_value = "none",
+     .doc = "Optional weights, one per control point in the same rows (rational Bezier).",
+     .min = 0,
+     .min_exclusive = true},
+    {.name = "u_range",
+     .type = ParamType::Vec2,
+     .default_value = "[0, 1]",
+     .doc = kURangeDoc,
+     .min = 0,
+     .max = 1},
+    {.name = "v_range",
+     .type = ParamType::Vec2,
+     .default_value = "[0, 1]",
+     .doc = kVRangeDoc,
+     .min = 0,
+     .max = 1},
+    kFlipNormalParam,
 };
 
-const ParamSpec kBSplineParams[] = {
-    ANAMORPH_BSPLINE_PARAMS,
-    ANAMORPH_FLIP_NORMAL_PARAM,
-};
+constexpr auto kBSplineParams = join_params(kBSplineCore, kFlipNormalParam);
 
-const ParamSpec kNurbsParams[] = {
-    ANAMORPH_BSPLINE_PARAMS,
-    {"weights", ParamType::NumberGrid, "",
-     "Weights, one per control point in the same rows as `points` (all 1 = the B-spline).", 0,
-     kInf, {}, true},
-    ANAMORPH_FLIP_NORMAL_PARAM,
-};
+constexpr auto kNurbsParams = join_params(
+    kBSplineCore,
+    ParamSpec{.name = "weights",
+              .type = ParamType::NumberGrid,
+              .default_value = "",
+              .doc = "Weights, one per control point in the same rows as `points` (all 1 = the "
+                     "B-spline).",
+              .min = 0,
+              .min_exclusive = true},
+    kFlipNormalParam);
 
 SplineNet read_net(const ParamValues& v, bool need_weights) {
   const auto& rows = v.vec3_grid("points");
@@ -153,10 +188,9 @@ SplineNet read_net(const ParamValues& v, bool need_weights) {
                                       " rows but points has " + std::to_string(net.nv));
     for (size_t j = 0; j < w.size(); ++j) {
       if (int(w[j].size()) != net.nu)
-        throw ParamError("weights", "weights: row " + std::to_string(j) + " has " +
-                                        std::to_string(w[j].size()) +
-                                        " values but the rows of points have " +
-                                        std::to_string(net.nu));
+        throw ParamError(
+            "weights", "weights: row " + std::to_string(j) + " has " + std::to_string(w[j].size()) +
+                           " values but the rows of points have " + std::to_string(net.nu));
       for (double x : w[j])
         if (!(x > 0)) throw ParamError("weights", "weights must be > 0");
       net.weights.insert(net.weights.end(), w[j].begin(), w[j].end());

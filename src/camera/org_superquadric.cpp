@@ -30,7 +30,13 @@ class SuperquadricOrg final : public OrgFunction {
  public:
   SuperquadricOrg(Vec3 radii, double e_ns, double e_ew, const AxisFrame& f, Vec3 center,
                   ParamRange sr, ParamRange tr, bool flip)
-      : r_(radii), e_ns_(e_ns), e_ew_(e_ew), m_(f.matrix()), o_(center), sr_(sr), tr_(tr),
+      : r_(radii),
+        e_ns_(e_ns),
+        e_ew_(e_ew),
+        m_(f.matrix()),
+        o_(center),
+        sr_(sr),
+        tr_(tr),
         flip_(flip) {}
 
   bool eval(Vec2 uv, SurfaceSample* out) const override {
@@ -69,22 +75,35 @@ class SuperquadricOrg final : public OrgFunction {
 
 const ParamSpec kParams[] = {
     {"center", ParamType::Vec3, "[0, 0, 0]", "Center."},
-    {"radii", ParamType::Vec3, "[1, 1, 1]",
-     "Semi-axes along the local right, axis (up) and back directions.", 0, kInf, {}, true},
+    {.name = "radii",
+     .type = ParamType::Vec3,
+     .default_value = "[1, 1, 1]",
+     .doc = "Semi-axes along the local right, axis (up) and back directions.",
+     .min = 0,
+     .min_exclusive = true},
     {"axis", ParamType::Vec3, "[0, 1, 0]", "Pole direction (latitude +90)."},
     {"front", ParamType::Vec3, "none",
      "Direction of longitude 0 (projected perpendicular to `axis`); default -z."},
-    {"exponent_ns", ParamType::Number, "1",
-     "North-south exponent (profile along the axis): 1 round, toward 0 square, 2 pointed.", 0, 2,
-     {}, true},
-    {"exponent_ew", ParamType::Number, "1",
-     "East-west exponent (cross-section around the axis): 1 round, toward 0 square, 2 diamond.",
-     0, 2, {}, true},
+    {.name = "exponent_ns",
+     .type = ParamType::Number,
+     .default_value = "1",
+     .doc = "North-south exponent (profile along the axis): 1 round, toward 0 square, 2 pointed.",
+     .min = 0,
+     .max = 2,
+     .min_exclusive = true},
+    {.name = "exponent_ew",
+     .type = ParamType::Number,
+     .default_value = "1",
+     .doc =
+         "East-west exponent (cross-section around the axis): 1 round, toward 0 square, 2 diamond.",
+     .min = 0,
+     .max = 2,
+     .min_exclusive = true},
     {"u_range", ParamType::Vec2, "[-180, 180]",
      "Longitude range in degrees mapped onto image u, as for sphere (0 at `front`, growing toward "
      "the right seen from inside)."},
     {"v_range", ParamType::Vec2, "[90, -90]", "Latitude range in degrees mapped onto image v."},
-    ANAMORPH_FLIP_NORMAL_PARAM,
+    kFlipNormalParam,
 };
 
 std::unique_ptr<OrgFunction> create(const ParamValues& v) {

@@ -16,22 +16,21 @@
 #include "camera/org_expression.h"
 #include "camera/org_mesh.h"
 #include "camera/org_quadric.h"
-#include "camera/org_spline.h"
 #include "camera/org_revolution.h"
+#include "camera/org_spline.h"
 #include "camera/org_superquadric.h"
 
 namespace anamorph {
 
 namespace {
 const OrgFunctionInfo* const kOrg[] = {
-    &kPointOrgInfo,    &kPlaneOrgInfo,  &kSphereOrgInfo, &kCylinderOrgInfo,     &kConeOrgInfo,
-    &kTorusOrgInfo,    &kEllipsoidOrgInfo, &kQuadricOrgInfo, &kSuperquadricOrgInfo,
-    &kBezierOrgInfo, &kBSplineOrgInfo, &kNurbsOrgInfo, &kMeshOrgInfo,
-    &kExpressionOrgInfo};
-const DirFunctionInfo* const kDir[] = {&kConstantDirInfo, &kFromSurfaceDirInfo, &kTowardDirInfo,
-                                       &kAwayFromDirInfo, &kNormalDirInfo,  &kTangentUDirInfo,
-                                       &kTangentVDirInfo, &kDeviatedNormalDirInfo,
-                                       &kExpressionDirInfo};
+    &kPointOrgInfo,   &kPlaneOrgInfo,     &kSphereOrgInfo,  &kCylinderOrgInfo,     &kConeOrgInfo,
+    &kTorusOrgInfo,   &kEllipsoidOrgInfo, &kQuadricOrgInfo, &kSuperquadricOrgInfo, &kBezierOrgInfo,
+    &kBSplineOrgInfo, &kNurbsOrgInfo,     &kMeshOrgInfo,    &kExpressionOrgInfo};
+const DirFunctionInfo* const kDir[] = {
+    &kConstantDirInfo, &kFromSurfaceDirInfo,    &kTowardDirInfo,
+    &kAwayFromDirInfo, &kNormalDirInfo,         &kTangentUDirInfo,
+    &kTangentVDirInfo, &kDeviatedNormalDirInfo, &kExpressionDirInfo};
 
 template <class Info, size_t N>
 std::vector<Info> to_list(const Info* const (&infos)[N]) {
@@ -65,18 +64,30 @@ std::string range_text(const ParamSpec& s) {
 // Variant alternative index of each ParamType (the order of ParamValue).
 size_t variant_index(ParamType t) {
   switch (t) {
-    case ParamType::Number: return 0;
-    case ParamType::Integer: return 1;
-    case ParamType::Bool: return 2;
-    case ParamType::String: return 3;
-    case ParamType::Vec2: return 4;
-    case ParamType::Vec3: return 5;
-    case ParamType::NumberList: return 6;
-    case ParamType::Vec3List: return 7;
-    case ParamType::Vec3Grid: return 8;
-    case ParamType::NumberGrid: return 9;
-    case ParamType::StringMap: return 10;
-    case ParamType::Function: return 11;
+    case ParamType::Number:
+      return 0;
+    case ParamType::Integer:
+      return 1;
+    case ParamType::Bool:
+      return 2;
+    case ParamType::String:
+      return 3;
+    case ParamType::Vec2:
+      return 4;
+    case ParamType::Vec3:
+      return 5;
+    case ParamType::NumberList:
+      return 6;
+    case ParamType::Vec3List:
+      return 7;
+    case ParamType::Vec3Grid:
+      return 8;
+    case ParamType::NumberGrid:
+      return 9;
+    case ParamType::StringMap:
+      return 10;
+    case ParamType::Function:
+      return 11;
   }
   return size_t(-1);
 }
@@ -130,7 +141,8 @@ Vec3 toml_vec(const ParamSpec& s, const toml::node& n, size_t dim) {
 ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
   const std::string key(s.name);
   switch (s.type) {
-    case ParamType::Number: return toml_number(s, n);
+    case ParamType::Number:
+      return toml_number(s, n);
     case ParamType::Integer:
       if (auto i = n.value_exact<int64_t>()) return *i;
       throw ParamError(key, key + ": expected an integer");
@@ -144,7 +156,8 @@ ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
       const Vec3 v = toml_vec(s, n, 2);
       return Vec2{v.x, v.y};
     }
-    case ParamType::Vec3: return toml_vec(s, n, 3);
+    case ParamType::Vec3:
+      return toml_vec(s, n, 3);
     case ParamType::NumberList: {
       std::vector<double> out;
       for (const auto& e : toml_array(s, n)) out.push_back(toml_number(s, e));
@@ -185,8 +198,8 @@ ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
       if (!type) throw ParamError(key, key + ": the table needs type = \"...\"");
       const OrgFunctionInfo* info = find_org_function(*type);
       if (!info)
-        throw ParamError(key, key + ": unknown type '" + *type + "' (valid: " +
-                                  names_of(org_functions()) + ")");
+        throw ParamError(
+            key, key + ": unknown type '" + *type + "' (valid: " + names_of(org_functions()) + ")");
       toml::table rest = *t;
       rest.erase("type");
       auto nf = std::make_shared<NestedFunction>();
@@ -222,9 +235,12 @@ void markdown_section(std::ostringstream& os, std::string_view kind, std::string
   const auto cell = [](std::string_view text) {
     std::string r;
     for (char c : text) {
-      if (c == '|') r += "\\|";
-      else if (c == '\n') r += ' ';
-      else r += c;
+      if (c == '|')
+        r += "\\|";
+      else if (c == '\n')
+        r += ' ';
+      else
+        r += c;
     }
     return r;
   };
@@ -236,9 +252,12 @@ void markdown_section(std::ostringstream& os, std::string_view kind, std::string
   os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
   for (const auto& p : params) {
     std::string def;
-    if (p.default_value.empty()) def = "*required*";
-    else if (p.default_value == "none") def = "*optional*";
-    else def.append("`").append(cell(p.default_value)).append("`");
+    if (p.default_value.empty())
+      def = "*required*";
+    else if (p.default_value == "none")
+      def = "*optional*";
+    else
+      def.append("`").append(cell(p.default_value)).append("`");
     std::string range = range_text(p);
     if (!p.choices.empty()) {
       range.clear();
@@ -259,18 +278,30 @@ void markdown_section(std::ostringstream& os, std::string_view kind, std::string
 
 std::string_view to_string(ParamType t) {
   switch (t) {
-    case ParamType::Number: return "number";
-    case ParamType::Integer: return "integer";
-    case ParamType::Bool: return "bool";
-    case ParamType::String: return "string";
-    case ParamType::Vec2: return "[a, b]";
-    case ParamType::Vec3: return "[x, y, z]";
-    case ParamType::NumberList: return "number list";
-    case ParamType::Vec3List: return "list of [x, y, z]";
-    case ParamType::Vec3Grid: return "grid of [x, y, z]";
-    case ParamType::NumberGrid: return "grid of numbers";
-    case ParamType::StringMap: return "table name = number";
-    case ParamType::Function: return "origin function";
+    case ParamType::Number:
+      return "number";
+    case ParamType::Integer:
+      return "integer";
+    case ParamType::Bool:
+      return "bool";
+    case ParamType::String:
+      return "string";
+    case ParamType::Vec2:
+      return "[a, b]";
+    case ParamType::Vec3:
+      return "[x, y, z]";
+    case ParamType::NumberList:
+      return "number list";
+    case ParamType::Vec3List:
+      return "list of [x, y, z]";
+    case ParamType::Vec3Grid:
+      return "grid of [x, y, z]";
+    case ParamType::NumberGrid:
+      return "grid of numbers";
+    case ParamType::StringMap:
+      return "table name = number";
+    case ParamType::Function:
+      return "origin function";
   }
   return "?";
 }
@@ -301,16 +332,19 @@ void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
   for (const auto& s : specs) {
     const std::string key(s.name);
     if (!values.has(s.name)) {
-      if (s.default_value.empty())
-        throw ParamError(key, "missing required key '" + key + "'");
+      if (s.default_value.empty()) throw ParamError(key, "missing required key '" + key + "'");
       continue;
     }
     const ParamValue& v = values.all().find(s.name)->second;
     if (v.index() != variant_index(s.type))
       throw ParamError(key, key + " must be of type " + std::string(to_string(s.type)));
     switch (s.type) {
-      case ParamType::Number: check_number(s, std::get<double>(v)); break;
-      case ParamType::Integer: check_number(s, double(std::get<int64_t>(v))); break;
+      case ParamType::Number:
+        check_number(s, std::get<double>(v));
+        break;
+      case ParamType::Integer:
+        check_number(s, double(std::get<int64_t>(v)));
+        break;
       case ParamType::Vec2:
         check_number(s, std::get<Vec2>(v).x);
         check_number(s, std::get<Vec2>(v).y);
@@ -351,7 +385,8 @@ void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
         if (!std::get<std::shared_ptr<const NestedFunction>>(v))
           throw ParamError(key, key + " must not be empty");
         break;
-      case ParamType::Bool: break;
+      case ParamType::Bool:
+        break;
     }
   }
 }

@@ -4,8 +4,8 @@
 
 namespace anamorph {
 
-SplineSurface::SplineSurface(SplineNet net, int p, int q, Basis basis,
-                             std::vector<double> knots_u, std::vector<double> knots_v)
+SplineSurface::SplineSurface(SplineNet net, int p, int q, Basis basis, std::vector<double> knots_u,
+                             std::vector<double> knots_v)
     : nu_(net.nu),
       nv_(net.nv),
       p_(p),
@@ -72,8 +72,10 @@ void SplineSurface::columns_impl(const Basis1& bv, int first_col, Columns& q) co
 }
 
 void SplineSurface::columns(const Basis1& bv, int first_col, Columns& q) const {
-  if (rational_) columns_impl<true>(bv, first_col, q);
-  else columns_impl<false>(bv, first_col, q);
+  if (rational_)
+    columns_impl<true>(bv, first_col, q);
+  else
+    columns_impl<false>(bv, first_col, q);
 }
 
 template <bool Rational>

@@ -40,8 +40,9 @@ struct Pair {
 void PrintTo(const Pair& p, std::ostream* os) { *os << p.name; }
 
 std::vector<Pair> pairs() {
-  const std::string sphere = "center = [0, 0, -4]\nradius = 1.5\nu_range = [-150, 120]\n"
-                             "v_range = [75, -80]";
+  const std::string sphere =
+      "center = [0, 0, -4]\nradius = 1.5\nu_range = [-150, 120]\n"
+      "v_range = [75, -80]";
   const std::string bspline =
       "points = [[[0, 0, 0], [1, 0.2, 0.1], [2, 0, 0.5], [3, 0.1, 0]], "
       "[[0, -1, 0.3], [1, -1, 1], [2, -1.2, 0.2], [3, -1, 0.4]], "
@@ -82,10 +83,10 @@ TEST_P(DirFunctionTest, DerivativesMatchFiniteDifferences) {
   const double h = 1e-5;
   for (const Vec2 uv : {Vec2{0.3, 0.35}, Vec2{0.62, 0.7}, Vec2{0.83, 0.22}, Vec2{0.47, 0.56}}) {
     const DirSample d = dir_at(*org, *dir, uv);
-    const Vec3 fu = (dir_at(*org, *dir, {uv.x + h, uv.y}).d - dir_at(*org, *dir, {uv.x - h, uv.y}).d) /
-                    (2 * h);
-    const Vec3 fv = (dir_at(*org, *dir, {uv.x, uv.y + h}).d - dir_at(*org, *dir, {uv.x, uv.y - h}).d) /
-                    (2 * h);
+    const Vec3 fu =
+        (dir_at(*org, *dir, {uv.x + h, uv.y}).d - dir_at(*org, *dir, {uv.x - h, uv.y}).d) / (2 * h);
+    const Vec3 fv =
+        (dir_at(*org, *dir, {uv.x, uv.y + h}).d - dir_at(*org, *dir, {uv.x, uv.y - h}).d) / (2 * h);
     expect_close(d.dd_du, fu, c.tol, cat("dd_du at (", uv.x, ", ", uv.y, ")"));
     expect_close(d.dd_dv, fv, c.tol, cat("dd_dv at (", uv.x, ", ", uv.y, ")"));
   }
@@ -120,7 +121,8 @@ TEST(DirFunctionTest, EveryRegisteredFunctionIsCovered) {
 }
 
 TEST(NormalDir, OnAPlaneIsConstant) {
-  const auto org = make_org("plane", "center = [1, 2, 3]\nedge_u = [2, 0, 1]\nedge_v = [0, -1, 0.5]");
+  const auto org =
+      make_org("plane", "center = [1, 2, 3]\nedge_u = [2, 0, 1]\nedge_v = [0, -1, 0.5]");
   const auto dir = make_dir("normal");
   const Vec3 expected = normalize(cross(Vec3{2, 0, 1}, Vec3{0, -1, 0.5}));
   for (int j = 0; j <= 8; ++j)
@@ -161,7 +163,8 @@ TEST(DeviatedNormalDir, AzimuthTurnsCounterclockwiseInTheImage) {
   // A plane facing -z seen by the default camera: u right = +x, v down = -y.
   const auto org = make_org("plane");
   const auto at = [&](double az) {
-    return dir_at(*org, *make_dir("deviated_normal", cat("angle = 30\nazimuth = ", az)), {0.5, 0.5}).d;
+    return dir_at(*org, *make_dir("deviated_normal", cat("angle = 30\nazimuth = ", az)), {0.5, 0.5})
+        .d;
   };
   const double s = std::sin(radians(30)), c = std::cos(radians(30));
   expect_close(at(0), {s, 0, -c}, 1e-15, "azimuth 0 tilts toward image right");
@@ -180,8 +183,8 @@ TEST(TowardDir, RaysPassThroughThePoint) {
       const auto r = cam.generate_pinhole({i / 10.0, j / 10.0});
       ASSERT_TRUE(r);
       const Vec3 to = target - r->org;
-      EXPECT_NEAR(length(cross(to, r->dir)), 0, 1e-12) << "ray " << str(r->org) << " + t "
-                                                       << str(r->dir) << " misses the point";
+      EXPECT_NEAR(length(cross(to, r->dir)), 0, 1e-12)
+          << "ray " << str(r->org) << " + t " << str(r->dir) << " misses the point";
       EXPECT_GT(dot(to, r->dir), 0) << "the point lies ahead";
     }
 }
@@ -203,9 +206,9 @@ TEST(FromSurfaceDir, PointWithPlaneIsTheTextbookPinhole) {
   const double tx = std::tan(radians(fov) / 2), ty = tx / aspect;
   VirtualCameraParts parts;
   parts.org = make_org("point", "position = [0, 0, 0]");
-  parts.dir = make_dir("from_surface",
-                       cat("surface = { type = \"plane\", center = [0, 0, -1], edge_u = [", 2 * tx,
-                           ", 0, 0], edge_v = [0, ", -2 * ty, ", 0] }"));
+  parts.dir =
+      make_dir("from_surface", cat("surface = { type = \"plane\", center = [0, 0, -1], edge_u = [",
+                                   2 * tx, ", 0, 0], edge_v = [0, ", -2 * ty, ", 0] }"));
   const VirtualCamera cam(std::move(parts));
   double worst = 0;
   for (int j = 0; j < 90; ++j)
@@ -258,7 +261,8 @@ TEST(FromSurfaceDir, SphereNotEnclosingTheCenterMirrorsAndZooms) {
         << "uv " << uv1.x << "," << uv1.y << " and " << uv2.x << "," << uv2.y
         << " should see the same direction: " << str(d1) << " vs " << str(e2.d);
     // The two copies are mirror images: the direction map's orientation differs in sign.
-    const double o1 = dot(cross(e1.dd_du, e1.dd_dv), e1.d), o2 = dot(cross(e2.dd_du, e2.dd_dv), e2.d);
+    const double o1 = dot(cross(e1.dd_du, e1.dd_dv), e1.d),
+                 o2 = dot(cross(e2.dd_du, e2.dd_dv), e2.d);
     EXPECT_LT(o1 * o2, 0) << "orientations " << o1 << " and " << o2;
   }
 }

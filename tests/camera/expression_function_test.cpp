@@ -18,8 +18,9 @@ using test::sample;
 using test::str;
 
 TEST(ExpressionOrg, PlaneHasAnalyticValues) {
-  const auto f = make_org("expression", "x = \"u\"\ny = \"v\"\nz = \"0\"\nu_range = [-1, 3]\n"
-                                        "v_range = [2, 0]");
+  const auto f = make_org("expression",
+                          "x = \"u\"\ny = \"v\"\nz = \"0\"\nu_range = [-1, 3]\n"
+                          "v_range = [2, 0]");
   for (int j = 0; j <= 10; ++j)
     for (int i = 0; i <= 10; ++i) {
       const Vec2 uv{i / 10.0, j / 10.0};
@@ -36,9 +37,10 @@ TEST(ExpressionOrg, PlaneHasAnalyticValues) {
 }
 
 TEST(ExpressionOrg, SphereFormulaEqualsSphereFunction) {
-  const auto e = make_org("expression",
-                          "x = \"r * sin(u) * cos(v)\"\ny = \"r * sin(v)\"\nz = \"-r * cos(u) * cos(v)\"\n"
-                          "constants = { r = 2 }\nu_range = [-3, 2.5]\nv_range = [1.4, -1.2]");
+  const auto e =
+      make_org("expression",
+               "x = \"r * sin(u) * cos(v)\"\ny = \"r * sin(v)\"\nz = \"-r * cos(u) * cos(v)\"\n"
+               "constants = { r = 2 }\nu_range = [-3, 2.5]\nv_range = [1.4, -1.2]");
   const auto s = make_org("sphere", cat("radius = 2\nu_range = [", degrees(-3), ", ", degrees(2.5),
                                         "]\nv_range = [", degrees(1.4), ", ", degrees(-1.2), "]"));
   for (const Vec2 uv : {Vec2{0.2, 0.3}, Vec2{0.5, 0.5}, Vec2{0.9, 0.8}}) {
@@ -77,8 +79,9 @@ TEST(ExpressionDir, NormalFormulaEqualsNormalDir) {
 
 TEST(ExpressionDir, SeesOriginAndImagePosition) {
   const auto org = make_org("plane", "center = [1, 2, 3]");
-  const auto e = make_dir("expression", "x = \"ox + u\"\ny = \"oy * v\"\nz = \"oz - k\"\n"
-                                        "constants = { k = 10 }\nv_range = [0, 2]");
+  const auto e = make_dir("expression",
+                          "x = \"ox + u\"\ny = \"oy * v\"\nz = \"oz - k\"\n"
+                          "constants = { k = 10 }\nv_range = [0, 2]");
   const Vec2 uv{0.25, 0.75};
   const SurfaceSample s = sample(*org, uv);
   DirSample d;
@@ -119,8 +122,9 @@ TEST(Expression, ConcurrentEvaluationGivesTheSameResults) {
   // Two origin functions and a direction function evaluated from several threads at once, each
   // thread interleaving them (the per-thread parser cache is keyed by instance), plus more
   // instances than the cache holds so that eviction happens.
-  const auto a = make_org("expression", "x = \"sin(u * k)\"\ny = \"v^2\"\nz = \"u * v\"\n"
-                                        "constants = { k = 3 }");
+  const auto a = make_org("expression",
+                          "x = \"sin(u * k)\"\ny = \"v^2\"\nz = \"u * v\"\n"
+                          "constants = { k = 3 }");
   const auto b = make_org("expression", "x = \"v\"\ny = \"cos(u)\"\nz = \"u - v\"");
   const auto d = make_dir("expression", "x = \"nx + ox\"\ny = \"ny * u\"\nz = \"nz - v\"");
   std::vector<std::unique_ptr<OrgFunction>> extra;

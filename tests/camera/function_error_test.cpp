@@ -19,9 +19,10 @@ struct Bad {
 
 void PrintTo(const Bad& b, std::ostream* os) { *os << b.what; }
 
-#define NET3x3 "points = [[[0,0,0],[1,0,0],[2,0,0]],[[0,1,0],[1,1,1],[2,1,0]],[[0,2,0],[1,2,0],[2,2,0]]]\n"
-#define NET4x4                                                                              \
-  "points = [[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],[[0,1,0],[1,1,1],[2,1,0],[3,1,0]],"         \
+#define NET3x3 \
+  "points = [[[0,0,0],[1,0,0],[2,0,0]],[[0,1,0],[1,1,1],[2,1,0]],[[0,2,0],[1,2,0],[2,2,0]]]\n"
+#define NET4x4                                                                     \
+  "points = [[[0,0,0],[1,0,0],[2,0,0],[3,0,0]],[[0,1,0],[1,1,1],[2,1,0],[3,1,0]]," \
   "[[0,2,0],[1,2,0],[2,2,1],[3,2,0]],[[0,3,0],[1,3,0],[2,3,0],[3,3,0]]]\n"
 
 const Bad kBad[] = {
@@ -72,7 +73,8 @@ const Bad kBad[] = {
     {"org", "superquadric", "exponent_ew = 2.5", "exponent_ew", "exponent above 2"},
     {"org", "plane", "edge_u = [1, 0, 0]\nedge_v = [2, 0, 0]", "edge_u", "parallel edges"},
     {"org", "plane", "size = [1, -1]", "size", "negative size"},
-    {"org", "plane", "size = [1, 1]\nnormal = [0, 1, 0]\nup = [0, 2, 0]", "up", "up along the normal"},
+    {"org", "plane", "size = [1, 1]\nnormal = [0, 1, 0]\nup = [0, 2, 0]", "up",
+     "up along the normal"},
     {"org", "plane", "size = [1, 1]\nnormal = [0, 0, 0]", "normal", "zero normal"},
     {"org", "point", "position = [0, nan, 0]", "position", "not a number"},
     {"org", "mesh", "file = \"/nonexistent/anamorph/missing.obj\"", "file", "missing mesh file"},
@@ -94,8 +96,10 @@ class FunctionErrorTest : public ::testing::TestWithParam<Bad> {};
 TEST_P(FunctionErrorTest, ThrowsParamErrorNamingTheKey) {
   const Bad& b = GetParam();
   try {
-    if (std::string(b.kind) == "org") make_org(b.type, b.toml);
-    else make_dir(b.type, b.toml);
+    if (std::string(b.kind) == "org")
+      make_org(b.type, b.toml);
+    else
+      make_dir(b.type, b.toml);
     FAIL() << b.what << ": accepted " << b.type << " { " << b.toml << " }";
   } catch (const ParamError& e) {
     EXPECT_EQ(e.key, b.key) << b.what << ": " << e.what();
@@ -103,13 +107,12 @@ TEST_P(FunctionErrorTest, ThrowsParamErrorNamingTheKey) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(All, FunctionErrorTest, ::testing::ValuesIn(kBad),
-                         [](const auto& p) {
-                           std::string n = p.param.what;
-                           for (char& c : n)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(All, FunctionErrorTest, ::testing::ValuesIn(kBad), [](const auto& p) {
+  std::string n = p.param.what;
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return n;
+});
 
 TEST(FunctionErrors, UnknownTypesListTheValidNames) {
   try {

@@ -36,8 +36,8 @@ inline SurfaceSample sample(const OrgFunction& f, Vec2 uv) {
 // |a - b| <= tol * max(1, |b|), printing both on failure.
 inline void expect_close(const Vec3& a, const Vec3& b, double tol, const std::string& what) {
   const double err = length(a - b), scale = std::max(1.0, length(b));
-  EXPECT_LE(err, tol * scale) << what << ": got " << str(a) << ", expected " << str(b)
-                              << " (error " << err << ")";
+  EXPECT_LE(err, tol * scale) << what << ": got " << str(a) << ", expected " << str(b) << " (error "
+                              << err << ")";
 }
 
 // Every analytic derivative of an origin sample against central differences of the function:

@@ -33,7 +33,8 @@ LoadedModel curved_grid(int n, bool normals, Transform world_from_object = {}) {
   const auto id = [&](int i, int j) { return uint32_t(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i)
-      for (uint32_t k : {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)})
+      for (uint32_t k :
+           {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)})
         m.indices.push_back(k);
   LoadedModel model;
   model.prototypes.push_back({"proto", {m}});
@@ -46,7 +47,8 @@ bool brute_force(const LoadedModel& model, Vec2 st, Vec3* p) {
   const TriangleMesh& m = model.prototypes[0].meshes[0];
   for (size_t k = 0; k < m.indices.size(); k += 3) {
     const uint32_t i0 = m.indices[k], i1 = m.indices[k + 1], i2 = m.indices[k + 2];
-    const Vec2 a{m.uvs[i0].x, m.uvs[i0].y}, b{m.uvs[i1].x, m.uvs[i1].y}, c{m.uvs[i2].x, m.uvs[i2].y};
+    const Vec2 a{m.uvs[i0].x, m.uvs[i0].y}, b{m.uvs[i1].x, m.uvs[i1].y},
+        c{m.uvs[i2].x, m.uvs[i2].y};
     const double det = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     const double b1 = ((st.x - a.x) * (c.y - a.y) - (st.y - a.y) * (c.x - a.x)) / det;
     const double b2 = ((b.x - a.x) * (st.y - a.y) - (b.y - a.y) * (st.x - a.x)) / det;

@@ -22,9 +22,9 @@ using test::sample;
 using test::str;
 
 struct Case {
-  const char* name;   // test label
-  const char* type;   // registry name
-  std::string toml;   // keys other than the ranges
+  const char* name;              // test label
+  const char* type;              // registry name
+  std::string toml;              // keys other than the ranges
   std::string u_range, v_range;  // "[a, b]" (empty: the function has no ranges)
   double tol = 1e-6;             // derivative tolerance
   bool has_normal = true;
@@ -47,7 +47,8 @@ std::string weights(int nu, int nv) {
   std::string rows = "[";
   for (int j = 0; j < nv; ++j) {
     rows += j ? ", [" : "[";
-    for (int i = 0; i < nu; ++i) rows += test::cat(i ? ", " : "", 0.5 + 0.3 * ((i * 7 + j * 3) % 5));
+    for (int i = 0; i < nu; ++i)
+      rows += test::cat(i ? ", " : "", 0.5 + 0.3 * ((i * 7 + j * 3) % 5));
     rows += "]";
   }
   return rows + "]";
@@ -74,39 +75,39 @@ std::vector<Case> cases() {
       {"point", "point", "position = [1, 2, 3]", "", "", 1e-6, false},
       {"plane", "plane", "center = [1, 2, 3]\nedge_u = [2, 0, 1]\nedge_v = [0, -1, 0.5]",
        "[0.1, 0.9]", "[-0.2, 1.3]"},
-      {"plane_size", "plane", "size = [3, 2]\nnormal = [1, 0, -1]\nup = [0, 1, 0.2]",
-       "[0, 1]", "[0, 1]"},
+      {"plane_size", "plane", "size = [3, 2]\nnormal = [1, 0, -1]\nup = [0, 1, 0.2]", "[0, 1]",
+       "[0, 1]"},
       {"sphere", "sphere",
-       "center = [1, -2, 0.5]\nradius = 2\naxis = [0.3, 1, 0.2]\nfront = [1, 0, -1]",
-       "[-150, 120]", "[80, -70]"},
+       "center = [1, -2, 0.5]\nradius = 2\naxis = [0.3, 1, 0.2]\nfront = [1, 0, -1]", "[-150, 120]",
+       "[80, -70]"},
       {"cylinder", "cylinder", "center = [0, 0, 0]\naxis = [1, -1, -1]\nradius = 1.5",
        "[-170, 160]", "[2, -1]"},
       {"cone", "cone", "apex = [1, 1, 1]\naxis = [0, 0, 1]\nhalf_angle = 30", "[-180, 170]",
        "[2, 0.2]"},
-      {"torus", "torus", "center = [0, 1, 0]\naxis = [1, 1, 0]\nmajor_radius = 2\nminor_radius = 0.5",
-       "[-160, 180]", "[170, -170]"},
+      {"torus", "torus",
+       "center = [0, 1, 0]\naxis = [1, 1, 0]\nmajor_radius = 2\nminor_radius = 0.5", "[-160, 180]",
+       "[170, -170]"},
       {"ellipsoid", "ellipsoid", "center = [0, 0, -3]\nradii = [1, 2, 3]\naxis = [0, 1, 1]",
        "[-150, 120]", "[80, -85]"},
       {"quadric_sphere", "quadric",
        "matrix = [[1, 0.5, 0], [0.2, 2, 0.3], [0, -0.4, 1.5]]\ntranslation = [1, 2, 3]",
        "[-150, 120]", "[80, -85]"},
-      {"quadric_mirror", "quadric",
-       "matrix = [[-1, 0.5, 0], [0.2, 2, 0.3], [0, -0.4, 1.5]]", "[-150, 120]", "[80, -85]"},
+      {"quadric_mirror", "quadric", "matrix = [[-1, 0.5, 0], [0.2, 2, 0.3], [0, -0.4, 1.5]]",
+       "[-150, 120]", "[80, -85]"},
       {"hyperboloid1", "quadric",
        "kind = \"hyperboloid_one_sheet\"\nmatrix = [[1, 0, 0.3], [0, 2, 0], [0, 0, 1]]",
        "[-150, 120]", "[1.2, -0.8]"},
-      {"hyperboloid2", "quadric", "kind = \"hyperboloid_two_sheets\"", "[-150, 120]",
-       "[1.2, 0.1]"},
+      {"hyperboloid2", "quadric", "kind = \"hyperboloid_two_sheets\"", "[-150, 120]", "[1.2, 0.1]"},
       {"paraboloid", "quadric", "kind = \"paraboloid\"\ntranslation = [0, -1, 0]", "[-150, 120]",
        "[1.5, 0.1]"},
       {"superquadric", "superquadric",
-       "radii = [1, 2, 0.5]\nexponent_ns = 1.5\nexponent_ew = 0.7\naxis = [0, 1, 1]",
-       "[-150, 120]", "[75, -80]"},
-      {"superquadric_round", "superquadric", "exponent_ns = 0.3\nexponent_ew = 1.8",
-       "[-150, 120]", "[75, -80]"},
+       "radii = [1, 2, 0.5]\nexponent_ns = 1.5\nexponent_ew = 0.7\naxis = [0, 1, 1]", "[-150, 120]",
+       "[75, -80]"},
+      {"superquadric_round", "superquadric", "exponent_ns = 0.3\nexponent_ew = 1.8", "[-150, 120]",
+       "[75, -80]"},
       {"bezier", "bezier", test::cat("points = ", net(4, 3)), "[0.1, 0.95]", "[0, 1]"},
-      {"bezier_rational", "bezier", test::cat("points = ", net(3, 5), "\nweights = ", weights(3, 5)),
-       "[0, 1]", "[0.2, 0.9]"},
+      {"bezier_rational", "bezier",
+       test::cat("points = ", net(3, 5), "\nweights = ", weights(3, 5)), "[0, 1]", "[0.2, 0.9]"},
       {"bspline", "bspline", test::cat("points = ", net(6, 5), "\ndegree_u = 3\ndegree_v = 2"),
        "[0.05, 0.9]", "[0, 1]"},
       {"bspline_uniform", "bspline",

@@ -33,10 +33,11 @@ using test::cat;
 
 // The smallest valid definition of each function: its required keys only.
 std::string required_keys(std::string_view kind, std::string_view type) {
-  const std::string net = "points = [[[0, 0, 0], [1, 0, 0], [2, 0, 1], [3, 0, 0]], "
-                          "[[0, -1, 0], [1, -1, 1], [2, -1, 0], [3, -1, 0]], "
-                          "[[0, -2, 0], [1, -2, 0], [2, -2, 0], [3, -2, 1]], "
-                          "[[0, -3, 1], [1, -3, 0], [2, -3, 0], [3, -3, 0]]]";
+  const std::string net =
+      "points = [[[0, 0, 0], [1, 0, 0], [2, 0, 1], [3, 0, 0]], "
+      "[[0, -1, 0], [1, -1, 1], [2, -1, 0], [3, -1, 0]], "
+      "[[0, -2, 0], [1, -2, 0], [2, -2, 0], [3, -2, 1]], "
+      "[[0, -3, 1], [1, -3, 0], [2, -3, 0], [3, -3, 0]]]";
   if (type == "bezier" || type == "bspline") return net;
   if (type == "nurbs")
     return net + "\nweights = [[1, 2, 1, 1], [1, 1, 1, 1], [1, 1, 0.5, 1], [1, 1, 1, 1]]";
@@ -74,9 +75,9 @@ TEST(FunctionRegistry, TablesAreWellFormed) {
   }
   EXPECT_EQ(find_org_function("nonexistent"), nullptr);
   // The list.
-  for (const char* n : {"point", "plane", "sphere", "cylinder", "cone", "torus", "ellipsoid",
-                        "quadric", "superquadric", "bezier", "bspline", "nurbs", "mesh",
-                        "expression"})
+  for (const char* n :
+       {"point", "plane", "sphere", "cylinder", "cone", "torus", "ellipsoid", "quadric",
+        "superquadric", "bezier", "bspline", "nurbs", "mesh", "expression"})
     EXPECT_TRUE(org_names.count(n)) << "missing org " << n;
   for (const char* n : {"constant", "from_surface", "toward", "away_from", "normal", "tangent_u",
                         "tangent_v", "deviated_normal", "expression"})
@@ -102,7 +103,8 @@ TEST(FunctionRegistry, MarkdownListsEveryParameter) {
     const size_t at = md.find(header);
     ASSERT_NE(at, std::string::npos) << "no section " << header;
     const size_t end = md.find("### ", at + header.size());
-    const std::string section = md.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    const std::string section =
+        md.substr(at, end == std::string::npos ? std::string::npos : end - at);
     size_t rows = 0;
     std::istringstream lines(section);
     for (std::string line; std::getline(lines, line);) rows += line.rfind("| `", 0) == 0;

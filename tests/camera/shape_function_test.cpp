@@ -77,8 +77,9 @@ TEST(CylinderOrg, ArbitraryAxisThroughTwoPoints) {
   // The axis is the line through (-1, 1, 1) and (1, -1, -1).
   const Vec3 a{-1, 1, 1}, b{1, -1, -1}, d = normalize(b - a);
   for (const char* center : {"[0, 0, 0]", "[-1, 1, 1]"}) {
-    const auto f = make_org("cylinder", cat("center = ", center, "\naxis = [1, -1, -1]\nradius = 0.75",
-                                            "\nv_range = [-2, 3]"));
+    const auto f = make_org(
+        "cylinder",
+        cat("center = ", center, "\naxis = [1, -1, -1]\nradius = 0.75", "\nv_range = [-2, 3]"));
     for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
       const double dist = length(cross(s.p - a, d));
       EXPECT_NEAR(dist, 0.75, 1e-12) << "at " << uv.x << ", " << uv.y << " p = " << str(s.p);
@@ -95,8 +96,9 @@ TEST(ConeOrg, ImplicitEquationAndApexNormal) {
   const Vec3 apex{1, 1, 1};
   const Vec3 axis = normalize(Vec3{0.3, -1, 0.2});
   const double ta = std::tan(radians(25));
-  const auto f = make_org("cone", "apex = [1, 1, 1]\naxis = [0.3, -1, 0.2]\nhalf_angle = 25\n"
-                                  "v_range = [3, 0]");
+  const auto f = make_org("cone",
+                          "apex = [1, 1, 1]\naxis = [0.3, -1, 0.2]\nhalf_angle = 25\n"
+                          "v_range = [3, 0]");
   for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
     const Vec3 d = s.p - apex;
     const double h = dot(d, axis), radial = length(d - axis * h);
@@ -119,8 +121,9 @@ TEST(ConeOrg, ImplicitEquationAndApexNormal) {
 TEST(TorusOrg, ImplicitEquation) {
   const Vec3 c{0, 1, -2};
   const Frame3 fr = frame({1, 1, 0}, {0, 0, -1});
-  const auto f = make_org("torus", "center = [0, 1, -2]\naxis = [1, 1, 0]\nmajor_radius = 2\n"
-                                   "minor_radius = 0.5");
+  const auto f = make_org("torus",
+                          "center = [0, 1, -2]\naxis = [1, 1, 0]\nmajor_radius = 2\n"
+                          "minor_radius = 0.5");
   for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
     const Vec3 q = fr.local(s.p - c);
     const double ring = std::hypot(q.x, q.z) - 2;
@@ -137,15 +140,16 @@ TEST(TorusOrg, ImplicitEquation) {
 
 TEST(SuperquadricOrg, ImplicitEquation) {
   const Vec3 c{0.5, 0, 1}, r{1, 2, 0.5};
-  for (const auto& [ens, eew] : {std::pair{1.0, 1.0}, std::pair{0.3, 1.7}, std::pair{2.0, 0.5},
-                                 std::pair{0.8, 2.0}}) {
+  for (const auto& [ens, eew] :
+       {std::pair{1.0, 1.0}, std::pair{0.3, 1.7}, std::pair{2.0, 0.5}, std::pair{0.8, 2.0}}) {
     const auto f = make_org("superquadric",
                             cat("center = [0.5, 0, 1]\nradii = [1, 2, 0.5]\naxis = [0, 0, 1]\n",
                                 "exponent_ns = ", ens, "\nexponent_ew = ", eew));
     const Frame3 fr = frame({0, 0, 1}, {0, 1, 0});  // the documented default front for axis z
     for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
       const Vec3 q = fr.local(s.p - c);
-      const double xz = std::pow(std::abs(q.x / r.x), 2 / eew) + std::pow(std::abs(q.z / r.z), 2 / eew);
+      const double xz =
+          std::pow(std::abs(q.x / r.x), 2 / eew) + std::pow(std::abs(q.z / r.z), 2 / eew);
       const double F = std::pow(xz, eew / ens) + std::pow(std::abs(q.y / r.y), 2 / ens);
       EXPECT_NEAR(F, 1, 1e-10) << "exponents " << ens << ", " << eew << " at " << uv.x << ", "
                                << uv.y;
@@ -166,8 +170,9 @@ Vec3 solve(const Vec3 rows[3], const Vec3& b) {
 TEST(QuadricOrg, AffineUnitSphereIsTheEllipsoid) {
   const Vec3 rows[3] = {{1, 0.5, -0.3}, {0.2, 2, 0.3}, {0, -0.4, 1.5}};
   const Vec3 t{1, 2, 3};
-  const auto f = make_org("quadric", "matrix = [[1, 0.5, -0.3], [0.2, 2, 0.3], [0, -0.4, 1.5]]\n"
-                                     "translation = [1, 2, 3]");
+  const auto f = make_org("quadric",
+                          "matrix = [[1, 0.5, -0.3], [0.2, 2, 0.3], [0, -0.4, 1.5]]\n"
+                          "translation = [1, 2, 3]");
   for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
     // (p - t)^T (M M^T)^-1 (p - t) = |M^-1 (p - t)|^2 = 1
     const Vec3 x = solve(rows, s.p - t);
@@ -176,7 +181,7 @@ TEST(QuadricOrg, AffineUnitSphereIsTheEllipsoid) {
     const Vec3 cols_t[3] = {{rows[0].x, rows[1].x, rows[2].x},
                             {rows[0].y, rows[1].y, rows[2].y},
                             {rows[0].z, rows[1].z, rows[2].z}};  // rows of M^T
-    const Vec3 g = solve(cols_t, x);                               // M^-T x
+    const Vec3 g = solve(cols_t, x);                             // M^-T x
     expect_close(s.n, normalize(g), 1e-12, "normal = normalized gradient");
   });
 }
@@ -203,8 +208,9 @@ TEST(QuadricOrg, OtherKindsSatisfyTheirEquations) {
 
 TEST(EllipsoidOrg, EqualsQuadricWithDiagonalMatrix) {
   const auto e = make_org("ellipsoid", "center = [1, 2, 3]\nradii = [1, 2, 3]");
-  const auto q = make_org("quadric", "matrix = [[1, 0, 0], [0, 2, 0], [0, 0, 3]]\n"
-                                     "translation = [1, 2, 3]");
+  const auto q = make_org("quadric",
+                          "matrix = [[1, 0, 0], [0, 2, 0], [0, 0, 3]]\n"
+                          "translation = [1, 2, 3]");
   for_grid(*e, [&](Vec2 uv, const SurfaceSample& s) {
     const SurfaceSample o = sample(*q, uv);
     expect_close(s.p, o.p, 1e-12, "p");

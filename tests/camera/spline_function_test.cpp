@@ -28,8 +28,8 @@ std::vector<KnotCase> knot_cases() {
   for (int p = 1; p <= 5; ++p) k.push_back({spline::clamped_knots(p + 4, p), p});
   k.push_back({spline::clamped_knots(16, 15), 15});
   k.push_back({spline::uniform_knots(7, 3), 3});
-  k.push_back({{0, 0, 0, 0, 0.1, 0.1, 0.5, 2, 2, 2, 2}, 3});         // interior double knot
-  k.push_back({{-1, -0.5, 0, 0.2, 0.2, 0.2, 1.7, 3, 4, 4.5}, 3});   // unclamped, non-uniform
+  k.push_back({{0, 0, 0, 0, 0.1, 0.1, 0.5, 2, 2, 2, 2}, 3});       // interior double knot
+  k.push_back({{-1, -0.5, 0, 0.2, 0.2, 0.2, 1.7, 3, 4, 4.5}, 3});  // unclamped, non-uniform
   k.push_back({{0, 0, 0, 0.25, 0.5, 0.5, 0.75, 1, 1, 1}, 2});
   return k;
 }
@@ -204,7 +204,8 @@ TEST(SplineOrg, PlanarNetGivesPlanarSurface) {
   for (int j = 0; j < 5; ++j)
     for (int i = 0; i < 6; ++i)
       rows[size_t(j)].push_back(o + a * (i + 0.3 * std::sin(i * j)) + b * (j + 0.2 * std::cos(i)));
-  const auto f = make_org("bspline", cat("points = ", grid_text(rows), "\nknot_type_u = \"uniform\""));
+  const auto f =
+      make_org("bspline", cat("points = ", grid_text(rows), "\nknot_type_u = \"uniform\""));
   for (int j = 0; j <= 20; ++j)
     for (int i = 0; i <= 20; ++i) {
       const SurfaceSample s = sample(*f, {i / 20.0, j / 20.0});
@@ -221,11 +222,13 @@ TEST(SplineOrg, NurbsWithUnitWeightsEqualsBSpline) {
                                  "1, 1, 1, 1]");
   const auto b = make_org("bspline", common);
   const auto n = make_org(
-      "nurbs", cat(common, "\nweights = ", grid_text(std::vector<std::vector<double>>(6, std::vector<double>(5, 1.0)))));
+      "nurbs", cat(common, "\nweights = ",
+                   grid_text(std::vector<std::vector<double>>(6, std::vector<double>(5, 1.0)))));
   expect_same_surface(*n, *b, 1e-12, "unit-weight NURBS vs B-spline");
   // A common factor on all weights changes nothing either.
   const auto n3 = make_org(
-      "nurbs", cat(common, "\nweights = ", grid_text(std::vector<std::vector<double>>(6, std::vector<double>(5, 3.0)))));
+      "nurbs", cat(common, "\nweights = ",
+                   grid_text(std::vector<std::vector<double>>(6, std::vector<double>(5, 3.0)))));
   expect_close(sample(*n3, {0.3, 0.6}).p, sample(*b, {0.3, 0.6}).p, 1e-12, "scaled weights");
 }
 
@@ -285,7 +288,8 @@ TEST(SplineOrg, BezierEqualsClampedBSplineOfSameDegree) {
                                             "\ndegree_v = ", nv - 1));
     expect_same_surface(*bz, *bs, 1e-12, cat("bezier ", nu, "x", nv));
     const auto w = some_weights(nu, nv);
-    const auto rbz = make_org("bezier", cat("points = ", grid_text(net), "\nweights = ", grid_text(w)));
+    const auto rbz =
+        make_org("bezier", cat("points = ", grid_text(net), "\nweights = ", grid_text(w)));
     const auto nb = make_org("nurbs", cat("points = ", grid_text(net), "\nweights = ", grid_text(w),
                                           "\ndegree_u = ", nu - 1, "\ndegree_v = ", nv - 1));
     expect_same_surface(*rbz, *nb, 1e-12, cat("rational bezier ", nu, "x", nv));
@@ -293,8 +297,9 @@ TEST(SplineOrg, BezierEqualsClampedBSplineOfSameDegree) {
 }
 
 TEST(SplineOrg, LargeUnsortedGridMatchesEval) {
-  const auto f = make_org("nurbs", cat("points = ", grid_text(wavy_net(9, 8)), "\nweights = ",
-                                       grid_text(some_weights(9, 8)), "\ndegree_u = 3\ndegree_v = 3"));
+  const auto f = make_org(
+      "nurbs", cat("points = ", grid_text(wavy_net(9, 8)),
+                   "\nweights = ", grid_text(some_weights(9, 8)), "\ndegree_u = 3\ndegree_v = 3"));
   // More columns and rows than one chunk, partly unsorted, with repeats and the domain ends.
   std::vector<double> us, vs;
   for (int i = 0; i < 150; ++i) us.push_back(std::fmod(i * 0.618034, 1.0));
@@ -305,7 +310,8 @@ TEST(SplineOrg, LargeUnsortedGridMatchesEval) {
   for (size_t j = 0; j < vs.size(); ++j)
     for (size_t i = 0; i < us.size(); ++i) {
       const SurfaceSample s = sample(*f, {us[i], vs[j]}), &g = grid[j * us.size() + i];
-      ASSERT_LE(length(g.p - s.p), 1e-13) << i << ", " << j << ": " << str(g.p) << " vs " << str(s.p);
+      ASSERT_LE(length(g.p - s.p), 1e-13)
+          << i << ", " << j << ": " << str(g.p) << " vs " << str(s.p);
       ASSERT_LE(length(g.dndv - s.dndv), 1e-10 * (1 + length(s.dndv))) << i << ", " << j;
     }
 }
