@@ -1,17 +1,23 @@
-// `anamorph render`: render a scene to PNG or EXR.
+// `anamorph render`: render a scene (or a frame range of an animated scene) to PNG or EXR.
 #include <fmt/format.h>
+#include <fmt/printf.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
+#include <regex>
 
 #include "app/common.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
 
 namespace anamorph::app {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -22,44 +28,47 @@ struct RenderArgs {
   std::optional<int64_t> seed;
   std::optional<std::string> integrator, sampler;
   std::string aovs;
+  std::string frames;  // "A:B" or "N"
+  std::string video;
+  int fps = 30;
   bool quiet = false;
 };
 
 std::atomic<bool> g_cancel{false};
 void on_sigint(int) { g_cancel = true; }
 
-void print_progress(const Progress& p) {
+void print_progress(const Progress& p, const std::string& prefix) {
   const int width = 30;
   const int filled = int(p.fraction * width);
   const double mrays = p.seconds > 0 ? p.rays / p.seconds * 1e-6 : 0;
   const double eta = p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : 0;
-  fmt::print(stderr, "\r[{}{}] {:5.1f}%  {:7.2f} Mrays/s  ETA {:.0f}s   ", std::string(size_t(filled), '#'),
+  fmt::print(stderr, "\r{}[{}{}] {:5.1f}%  {:7.2f} Mrays/s  ETA {:.0f}s   ", prefix, std::string(size_t(filled), '#'),
              std::string(size_t(width - filled), ' '), 100 * p.fraction, mrays, eta);
 }
 
-int run(const RenderArgs& a) {
-  std::vector<std::string> extra;
-  if (a.spp) extra.push_back(fmt::format("render.spp={}", *a.spp));
-  if (a.seed) extra.push_back(fmt::format("render.seed={}", *a.seed));
-  if (a.integrator) extra.push_back(fmt::format("render.integrator=\"{}\"", *a.integrator));
-  if (a.sampler) extra.push_back(fmt::format("render.sampler=\"{}\"", *a.sampler));
-  std::vector<Aov> aovs;
-  try {
-    aovs = parse_aovs(a.aovs);
-  } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "error: --aov: {}\n", e.what());
-    return kBadInput;
-  }
-  namespace fs = std::filesystem;
-  const fs::path out = a.output.empty() ? fs::path(fs::path(a.scene.scene).stem().string() + ".png") : fs::path(a.output);
-  std::string ext = out.extension().string();
+std::string lower_extension(const fs::path& p) {
+  std::string ext = p.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".png" && ext != ".exr") {
-    fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out.string());
-    return kBadInput;
-  }
+  return ext;
+}
 
-  const Scene scene = load(a.scene, extra);
+bool on_path(const std::string& exe) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::string p = path;
+  for (size_t s = 0, e; s <= p.size(); s = e + 1) {
+    e = p.find(':', s);
+    if (e == std::string::npos) e = p.size();
+    const fs::path cand = fs::path(p.substr(s, e - s)) / exe;
+    if (!p.substr(s, e - s).empty() && access(cand.c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+// Renders one frame to `out`; returns an exit code.
+int render_frame(const RenderArgs& a, const std::vector<std::string>& extra, const std::vector<Aov>& aovs,
+                 double frame, const fs::path& out, const std::string& prefix) {
+  const Scene scene = load(a.scene, extra, frame);
   const Renderer renderer(scene);
   Film film(scene.render.width, scene.render.height, aovs);
   RenderOptions opt;
@@ -73,12 +82,10 @@ int run(const RenderArgs& a) {
       const auto now = std::chrono::steady_clock::now();
       if (now - last < std::chrono::milliseconds(100) && p.fraction < 1) return;
       last = now;
-      print_progress(p);
+      print_progress(p, prefix);
     };
-  std::signal(SIGINT, on_sigint);
-  std::signal(SIGTERM, on_sigint);
   const RenderStats st = renderer.render(film, opt);
-  if (bar) fmt::print(stderr, "\r{}\r", std::string(80, ' '));
+  if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
   if (st.cancelled) {
     fmt::print(stderr, "interrupted: nothing written\n");
     return kFailure;
@@ -89,7 +96,8 @@ int run(const RenderArgs& a) {
   img.metadata["anamorph.command"] = command_line();
   img.metadata["anamorph.scene"] = scene.path;
   img.metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
-  if (ext == ".png") {
+  if (!scene.animated.empty()) img.metadata["anamorph.frame"] = fmt::format("{}", frame);
+  if (lower_extension(out) == ".png") {
     write_png(out, img);
     if (!aovs.empty()) {
       fs::path exr = out;
@@ -115,14 +123,95 @@ int run(const RenderArgs& a) {
   return kOk;
 }
 
+int run(const RenderArgs& a) {
+  std::vector<std::string> extra;
+  if (a.spp) extra.push_back(fmt::format("render.spp={}", *a.spp));
+  if (a.seed) extra.push_back(fmt::format("render.seed={}", *a.seed));
+  if (a.integrator) extra.push_back(fmt::format("render.integrator=\"{}\"", *a.integrator));
+  if (a.sampler) extra.push_back(fmt::format("render.sampler=\"{}\"", *a.sampler));
+  std::vector<Aov> aovs;
+  try {
+    aovs = parse_aovs(a.aovs);
+  } catch (const std::invalid_argument& e) {
+    fmt::print(stderr, "error: --aov: {}\n", e.what());
+    return kBadInput;
+  }
+  const std::string out = a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
+  if (lower_extension(out) != ".png" && lower_extension(out) != ".exr") {
+    fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
+    return kBadInput;
+  }
+  std::signal(SIGINT, on_sigint);
+  std::signal(SIGTERM, on_sigint);
+  if (a.frames.empty()) {
+    if (!a.video.empty()) {
+      fmt::print(stderr, "error: --video needs --frames A:B\n");
+      return kBadInput;
+    }
+    return render_frame(a, extra, aovs, 0, out, "");
+  }
+
+  // A sequence: frames A..B inclusive, written through a printf pattern.
+  const std::regex range(R"(^(-?\d+)(?::(-?\d+))?$)");
+  std::smatch m;
+  if (!std::regex_match(a.frames, m, range)) {
+    fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n", a.frames);
+    return kBadInput;
+  }
+  const int first = std::stoi(m[1]), last = m[2].matched ? std::stoi(m[2]) : first;
+  if (last < first) {
+    fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
+    return kBadInput;
+  }
+  const std::regex pattern(R"(%0?\d*d)");
+  if (!std::regex_search(out, pattern)) {
+    fmt::print(stderr, "error: -o {}: with --frames the output needs a frame-number pattern, e.g. out/frame_%04d.png\n",
+               out);
+    return kBadInput;
+  }
+  if (!a.video.empty() && !on_path("ffmpeg")) {
+    fmt::print(stderr,
+               "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get install ffmpeg`, "
+               "or drop --video; the frames alone need nothing else)\n");
+    return kBadInput;
+  }
+  for (int f = first; f <= last; ++f) {
+    const std::string file = fmt::sprintf(out, f);
+    const int rc = render_frame(a, extra, aovs, f, file, fmt::format("frame {} ", f));
+    if (rc != kOk) return rc;
+  }
+  if (!a.video.empty()) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const std::string fps = std::to_string(a.fps), start = std::to_string(first);
+      execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps.c_str(), "-start_number",
+             start.c_str(), "-i", out.c_str(), "-c:v", "libx264", "-pix_fmt", "yuv420p", a.video.c_str(),
+             static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      fmt::print(stderr, "error: ffmpeg failed to assemble {} (exit status {})\n", a.video,
+                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+      return kFailure;
+    }
+    if (!a.quiet) fmt::print("video: {} ({} frames at {} fps)\n", a.video, last - first + 1, a.fps);
+  }
+  return kOk;
+}
+
 }  // namespace
 
 void add_render(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image (PNG or EXR)");
   a->scene.add_to(*cmd);
-  cmd->add_option("-o,--output", a->output, "Output image (.png or .exr); default <scene>.png");
-  cmd->add_option("--spp", a->spp, "Samples per pixel (overrides render.spp)")->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("-o,--output", a->output,
+                  "Output image (.png or .exr); default <scene>.png. With --frames, a pattern such as "
+                  "out/frame_%04d.png");
+  cmd->add_option("--spp", a->spp, "Samples per pixel (overrides render.spp; implies uniform sampling)")
+      ->check(CLI::Range(1, 1 << 20));
   cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--seed", a->seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--integrator", a->integrator,
@@ -130,6 +219,9 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
                   "Extra layers written to EXR (beside a PNG: <output>.exr): albedo,normal,depth,position,id,uv,spp");
+  cmd->add_option("--frames", a->frames, "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");
+  cmd->add_option("--video", a->video, "After --frames, assemble the frames into this video with ffmpeg");
+  cmd->add_option("--fps", a->fps, "Frames per second of --video (default 30)")->check(CLI::Range(1, 1000));
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar or summary");
   cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
 }

@@ -41,10 +41,10 @@ std::vector<std::string> SceneOptions::overrides() const {
   return o;
 }
 
-Scene load(const SceneOptions& o, const std::vector<std::string>& extra) {
+Scene load(const SceneOptions& o, const std::vector<std::string>& extra, double frame) {
   std::vector<std::string> ov = o.overrides();
   ov.insert(ov.end(), extra.begin(), extra.end());
-  Scene s = load_scene(o.scene, ov);
+  Scene s = load_scene(o.scene, ov, frame);
   for (const auto& w : s.warnings) fmt::print(stderr, "warning: {}\n", w);
   return s;
 }

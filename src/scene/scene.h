@@ -49,6 +49,9 @@ struct Scene {
   std::vector<Light> lights;
   Environment environment;
   std::vector<std::string> warnings;
+  double frame = 0;                      // the animation frame this scene was built for
+  std::vector<std::string> animated;     // keys with [[animate]] entries
+  double first_key = 0, last_key = 0;    // frame range covered by the keys
 
   size_t triangle_count() const;  // unique (prototype) triangles
   size_t instanced_triangle_count() const;

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "io/image_io.h"
+#include "scene/animation.h"
 #include "math/frame.h"
 #include "scene/camera_reader.h"
 #include "scene/loaders.h"
@@ -95,37 +96,50 @@ toml::table parse_value_text(const std::string& text) {
   }
 }
 
-void apply_override(toml::table& root, const std::string& kv) {
-  const size_t eq = kv.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw SceneError({}, kv, "expected --set KEY=VALUE (e.g. --set camera.fov=90)");
-  const std::string key = kv.substr(0, eq);
-  toml::table value = parse_value_text(kv.substr(eq + 1));
+// Sets the value at a dotted path; numeric parts index arrays (arrays of tables and plain
+// arrays alike, e.g. camera.coin.0.strength or camera.org.points.1.2).
+void set_path(toml::table& root, const std::string& key, const toml::node& value, const SourceLoc& where) {
   std::vector<std::string> parts;
   for (size_t s = 0, e; s <= key.size(); s = e + 1) {
     e = key.find('.', s);
     if (e == std::string::npos) e = key.size();
     parts.push_back(key.substr(s, e - s));
   }
+  auto index = [&](const toml::array& a, const std::string& p) {
+    char* end = nullptr;
+    const long idx = std::strtol(p.c_str(), &end, 10);
+    if (p.empty() || *end || idx < 0 || size_t(idx) >= a.size())
+      throw SceneError(where, key, fmt::format("'{}' is not a valid index (the array has {} entries)", p, a.size()));
+    return size_t(idx);
+  };
   toml::node* cur = &root;
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
     const std::string& p = parts[i];
     if (toml::array* a = cur->as_array()) {
-      char* end = nullptr;
-      const long idx = std::strtol(p.c_str(), &end, 10);
-      if (*end || idx < 0 || size_t(idx) >= a->size())
-        throw SceneError({}, key, fmt::format("'{}' is not a valid index (the array has {} entries)", p, a->size()));
-      cur = a->get(size_t(idx));
+      cur = a->get(index(*a, p));
     } else if (toml::table* t = cur->as_table()) {
       if (!t->contains(p)) t->insert(p, toml::table{});
       cur = t->get(p);
     } else {
-      throw SceneError({}, key, fmt::format("'{}' is not a table", p));
+      throw SceneError(where, key, fmt::format("'{}' is not a table or an array", p));
     }
   }
-  toml::table* t = cur->as_table();
-  if (!t) throw SceneError({}, key, "can only set keys of tables");
-  t->insert_or_assign(parts.back(), *value.get("v"));
+  if (toml::array* a = cur->as_array()) {
+    const size_t i = index(*a, parts.back());
+    a->replace(a->cbegin() + long(i), value);
+  } else if (toml::table* t = cur->as_table()) {
+    t->insert_or_assign(parts.back(), value);
+  } else {
+    throw SceneError(where, key, "can only set keys of tables or entries of arrays");
+  }
+}
+
+void apply_override(toml::table& root, const std::string& kv) {
+  const size_t eq = kv.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError({}, kv, "expected --set KEY=VALUE (e.g. --set camera.fov=90)");
+  const toml::table value = parse_value_text(kv.substr(eq + 1));
+  set_path(root, kv.substr(0, eq), *value.get("v"), {});
 }
 
 // ---- materials and textures -------------------------------------------------------------------
@@ -432,9 +446,18 @@ void for_each_table(TableReader& root, std::string_view key, F&& f) {
   }
 }
 
-Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides) {
+Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides,
+                  double frame) {
+  const std::vector<AnimatedKey> animation = take_animation(root);
+  for (const AnimatedKey& a : animation) set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
   Scene s;
+  s.frame = frame;
+  for (const AnimatedKey& a : animation) {
+    s.first_key = s.animated.empty() ? a.frames.front() : std::min(s.first_key, a.frames.front());
+    s.last_key = s.animated.empty() ? a.frames.back() : std::max(s.last_key, a.frames.back());
+    s.animated.push_back(a.key);
+  }
   s.path = file.string();
   Context c;
   c.dir = file.parent_path();
@@ -509,13 +532,13 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
 
 }  // namespace
 
-Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides) {
+Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides, double frame) {
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return build_scene(load_with_includes(file, 0), file, overrides);
+  return build_scene(load_with_includes(file, 0), file, overrides, frame);
 }
 
 Scene load_scene_from_string(const std::string& text, const fs::path& name,
-                             const std::vector<std::string>& overrides) {
+                             const std::vector<std::string>& overrides, double frame) {
   toml::table t;
   try {
     t = toml::parse(text, name.string());
@@ -523,7 +546,7 @@ Scene load_scene_from_string(const std::string& text, const fs::path& name,
     SourceLoc l{name.string(), int(e.source().begin.line), int(e.source().begin.column)};
     throw SceneError(l, "", fmt::format("TOML syntax error: {}", e.description()));
   }
-  return build_scene(std::move(t), name, overrides);
+  return build_scene(std::move(t), name, overrides, frame);
 }
 
 }  // namespace anamorph

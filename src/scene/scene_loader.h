@@ -12,10 +12,12 @@ namespace anamorph {
 
 // `overrides` are "dotted.key=value" strings; the value is TOML (a bare word is taken as a
 // string), e.g. "camera.fov=90", "camera.preset=fisheye", "image.width=320".
-Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+// `frame` evaluates the scene's [[animate]] keys (before the overrides, which win).
+Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
+                 double frame = 0);
 
 // Same, from TOML text (`name` is used in messages and to resolve relative paths).
 Scene load_scene_from_string(const std::string& text, const std::filesystem::path& name,
-                             const std::vector<std::string>& overrides = {});
+                             const std::vector<std::string>& overrides = {}, double frame = 0);
 
 }  // namespace anamorph

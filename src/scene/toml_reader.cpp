@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -128,11 +129,19 @@ double TableReader::required_number(std::string_view key, double lo, double hi) 
   return number(key, 0, lo, hi);
 }
 
+// Integers, and floats with an integral value (animated keys interpolate as floats).
+static std::optional<int64_t> as_integer(const toml::node& n) {
+  if (n.is_integer()) return n.value<int64_t>();
+  if (auto d = n.value<double>(); d && std::isfinite(*d) && *d == std::round(*d) && std::abs(*d) < 9e15)
+    return int64_t(*d);
+  return std::nullopt;
+}
+
 int64_t TableReader::integer(std::string_view key, int64_t def, int64_t lo, int64_t hi) {
   const toml::node* n = node(key);
   if (!n) return def;
-  auto v = n->value<int64_t>();
-  if (!n->is_integer() || !v) fail(key, "expected an integer, got " + type_name(*n));
+  auto v = as_integer(*n);
+  if (!v) fail(key, "expected an integer, got " + type_name(*n));
   check_range(*this, *n, key, double(*v), double(lo), double(hi));
   return *v;
 }
@@ -293,8 +302,9 @@ ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::n
   switch (spec.type) {
     case ParamType::Number: return num(n);
     case ParamType::Integer: {
-      if (!n.is_integer()) r.fail_at(n, key, "expected an integer, got " + type_name(n));
-      const auto v = *n.value<int64_t>();
+      const auto iv = as_integer(n);
+      if (!iv) r.fail_at(n, key, "expected an integer, got " + type_name(n));
+      const auto v = *iv;
       check_range(r, n, key, double(v), spec.min, spec.max, spec.min_exclusive, spec.max_exclusive);
       return v;
     }
@@ -311,6 +321,14 @@ ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::n
         r.fail_at(n, key, fmt::format("unknown value \"{}\"{} (valid: {})", v,
                                       s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
                                       join_choices(spec.choices)));
+      }
+      if (key == "file") {
+        // File parameters are relative to the file that names them, like every path in a scene.
+        std::filesystem::path p = v;
+        const SourceLoc l = loc_of(n);
+        if (p.is_relative() && !l.file.empty()) p = std::filesystem::path(l.file).parent_path() / p;
+        if (!std::filesystem::exists(p)) r.fail_at(n, key, fmt::format("file not found: {}", p.string()));
+        return p.string();
       }
       return v;
     }

@@ -210,3 +210,28 @@ TEST(Cli, RobustnessModels) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Cli, FramesRenderASequenceAndVideoNeedsFfmpeg) {
+  const fs::path d = temp_dir("frames");
+  const std::string scene = write(d / "s.toml", std::string(kSmall) +
+                                                    "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 40], [2, 70]]\n");
+  const Result r = run("render " + scene + " -q --frames 0:2 -o " + (d / "f_%03d.png").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* f : {"f_000.png", "f_001.png", "f_002.png"}) EXPECT_TRUE(fs::exists(d / f)) << f;
+  EXPECT_NE(slurp(d / "f_000.png"), slurp(d / "f_002.png")) << "the animation changes the image";
+  EXPECT_EQ(read_metadata(d / "f_001.png").at("anamorph.frame"), "1");
+  EXPECT_EQ(run("render " + scene + " --frames 0:2 -o " + (d / "nopattern.png").string()).code, 2);
+  EXPECT_EQ(run("render " + scene + " --frames 5:2 -o " + (d / "f_%03d.png").string()).code, 2);
+  // Without ffmpeg on the PATH, --video says so before rendering anything.
+  const Result v = run("render " + scene + " --frames 0:1 -o " + (d / "v_%03d.png").string() + " --video " +
+                       (d / "v.mp4").string() + " 2>&1; true");
+  if (v.out.find("ffmpeg") != std::string::npos && !fs::exists(d / "v.mp4")) {
+    EXPECT_CONTAINS(v.out, "not on the PATH");
+    EXPECT_FALSE(fs::exists(d / "v_000.png"));
+  }
+  fs::remove_all(d);
+}
+
+}  // namespace anamorph

@@ -1,3 +1,4 @@
 anamorph_add_test(test_scene_parser
   ${CMAKE_CURRENT_LIST_DIR}/scene_parser_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/animation_test.cpp
 )
