@@ -3,3 +3,4 @@ list(APPEND ANAMORPH_SOURCES
 )
 include(${CMAKE_CURRENT_LIST_DIR}/functions.cmake)  # origin and direction functions
 include(${CMAKE_CURRENT_LIST_DIR}/presets.cmake)    # presets
+include(${CMAKE_CURRENT_LIST_DIR}/coins.cmake)      # centers of interest

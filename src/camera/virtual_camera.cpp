@@ -17,6 +17,15 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       dof_(dof),
       description_(std::move(parts.description)) {
   detect_linear_field();
+  if (!parts.coins.empty()) {
+    // (uc, vc) come from the undistorted camera: coins_ is still empty while projecting.
+    coins_ = CoinField(
+        parts.coins, world_from_camera_.inverse(), [this](const Vec3& p) { return project(p); },
+        *org_, &coin_warnings_);
+    if (!coins_.empty())
+      description_ += " + " + std::to_string(parts.coins.size()) +
+                      (parts.coins.size() == 1 ? " coin" : " coins");
+  }
 }
 
 void VirtualCamera::detect_linear_field() {
@@ -78,11 +87,13 @@ std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
   r.dorg_dv = s.dpdv;
   r.ddir_du = normalized_derivative(r.dir, len, d.dd_du);
   r.ddir_dv = normalized_derivative(r.dir, len, d.dd_dv);
+  // Coins deform the ray field org/dir define (the paper: independent of the functions).
+  if (!coins_.apply(uv, &r)) return std::nullopt;
   return r;
 }
 
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
-  if (linear_ && dof_.aperture_radius == 0) {
+  if (linear_ && dof_.aperture_radius == 0 && !coins_.reaches(cs.uv)) {
     const double u = cs.uv.x, v = cs.uv.y;
     const Vec3 d = d0_ + d_u_ * u + d_v_ * v;
     const double len = length(d);
@@ -126,7 +137,8 @@ std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs)
 }
 
 std::vector<Vec2> VirtualCamera::project(const Vec3& p) const {
-  if (!inverse_) return project_numeric(*this, p);
+  // The closed form knows only the undistorted functions.
+  if (!inverse_ || !coins_.empty()) return project_numeric(*this, p);
   return inverse_->project(rig_identity_ ? p : world_from_camera_.inverse().point(p));
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "camera/camera.h"
+#include "camera/coins.h"
 #include "camera/functions.h"
 #include "math/transform.h"
 
@@ -27,6 +28,7 @@ struct VirtualCameraParts {
   Transform world_from_camera;  // the rig; identity when functions are given in world space
   std::string description;
   std::unique_ptr<InverseMap> inverse;  // optional closed-form inverse (see InverseMap)
+  std::vector<Coin> coins;  // centers of interest (world space), applied between org/dir and rig
 };
 
 struct DepthOfField {
@@ -46,7 +48,13 @@ class VirtualCamera final : public Camera {
   std::optional<CameraRay> generate_pinhole(Vec2 uv) const;
   // True when org and dir are affine in (u, v) (perspective, orthographic, off-axis views): rays
   // then come from a closed form precomputed in world space instead of the function calls.
+  // With coins, only samples that no coin reaches take it.
   bool has_linear_fast_path() const { return linear_; }
+
+  // The coins with their image positions (for `info`, `--aov coins`), and what building them
+  // found worth telling the user (coins not seen, overlapping strong coins).
+  const CoinField& coins() const { return coins_; }
+  const std::vector<std::string>& coin_warnings() const { return coin_warnings_; }
 
  private:
   void detect_linear_field();
@@ -62,6 +70,8 @@ class VirtualCamera final : public Camera {
   // Affine ray field in world space: org = o0 + u o_u + v o_v, raw dir = d0 + u d_u + v d_v.
   bool linear_ = false;
   Vec3 o0_, o_u_, o_v_, d0_, d_u_, d_v_;
+  CoinField coins_;
+  std::vector<std::string> coin_warnings_;
 };
 
 // Numeric inverse map for any camera: a coarse grid over [0,1]^2, then Gauss-Newton on the

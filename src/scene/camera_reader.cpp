@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "camera/coins.h"
 #include "camera/dir_basic.h"
 #include "camera/org_basic.h"
 #include "camera/virtual_camera.h"
@@ -13,7 +14,7 @@ namespace anamorph {
 namespace {
 
 // Keys every camera form accepts.
-const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance"};
+const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance", "coin"};
 
 template <class Info>
 auto create_checked(TableReader& r, const Info& info, const ParamValues& v) {
@@ -50,6 +51,27 @@ std::unique_ptr<DirFunction> read_dir(TableReader& cam) {
   const ParamValues v = r.params(info.params);
   r.finish();
   return create_checked(r, info, v);
+}
+
+// [[camera.coin]] entries (centers of interest, docs/coins.md); errors name camera.coin[i].key.
+std::vector<Coin> read_coins(TableReader& cam) {
+  std::vector<Coin> coins;
+  const toml::node* n = cam.node("coin");
+  if (!n) return coins;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    cam.fail("coin", "expected an array of tables ([[camera.coin]] entries)");
+  for (size_t i = 0; i < a->size(); ++i) {
+    TableReader r(*a->get(i)->as_table(), cam.full_key(fmt::format("coin[{}]", i)));
+    const ParamValues v = r.params(coin_params());
+    r.finish();
+    try {
+      coins.push_back(coin_from_params(v));
+    } catch (const ParamError& e) {
+      r.fail(e.key, e.what());
+    }
+  }
+  return coins;
 }
 
 VirtualCameraParts from_model_camera(const ModelCamera& m, ImageInfo img) {
@@ -129,8 +151,12 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
   if (dof.aperture_radius > 0 && !(dof.focus_distance > 0))
     r.fail("focus_distance", "must be > 0 when aperture_radius > 0");
   parts.world_from_camera = r.transform("transform") * parts.world_from_camera;
+  parts.coins = read_coins(r);
   r.finish();
-  return std::make_unique<VirtualCamera>(std::move(parts), dof);
+  auto cam = std::make_unique<VirtualCamera>(std::move(parts), dof);
+  if (warnings)
+    for (const std::string& w : cam->coin_warnings()) warnings->push_back("camera." + w);
+  return cam;
 }
 
 }  // namespace anamorph

@@ -1,0 +1,3 @@
+list(APPEND ANAMORPH_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/coins.cpp
+)
