@@ -59,6 +59,23 @@ void merge_into(toml::table& base, const toml::table& over) {
   }
 }
 
+// Makes every relative `file = "..."` in an included tree absolute, against the included file's
+// directory: merging copies nodes, and copies do not keep their source file.
+void anchor_paths(toml::node& n, const fs::path& dir) {
+  if (toml::table* t = n.as_table()) {
+    for (auto&& [k, v] : *t) {
+      if (k.str() == "file" && v.is_string()) {
+        const fs::path p = *v.value<std::string>();
+        if (p.is_relative()) v.as_string()->get() = (dir / p).lexically_normal().string();
+      } else {
+        anchor_paths(v, dir);
+      }
+    }
+  } else if (toml::array* a = n.as_array()) {
+    for (auto& e : *a) anchor_paths(e, dir);
+  }
+}
+
 toml::table load_with_includes(const fs::path& file, int depth) {
   if (depth > 16) throw SceneError({file.string()}, "include", "includes nested too deeply (a cycle?)");
   toml::table t = parse_toml_file(file);
@@ -79,7 +96,9 @@ toml::table load_with_includes(const fs::path& file, int depth) {
   for (const auto& f : files) {
     const fs::path p = file.parent_path() / f;
     if (!fs::exists(p)) r.fail("include", fmt::format("included file not found: {}", p.string()));
-    merge_into(merged, load_with_includes(p, depth + 1));
+    toml::table inc_table = load_with_includes(p, depth + 1);
+    anchor_paths(inc_table, p.parent_path());
+    merge_into(merged, inc_table);
   }
   t.erase("include");
   merge_into(merged, t);
