@@ -141,6 +141,12 @@ TEST(SceneParser, IncludesMergeTablesAndConcatenateArrays) {
   } catch (const SceneError& e) {
     expect_contains(e.what(), "bad.toml:2:1");  // errors point into the included file
   }
+  // Paths in an included file are relative to that file, wherever the including file is.
+  fs::create_directories(dir / "sub" / "models");
+  fs::copy_file(test::data_dir() / "models" / "shared_mesh.gltf", dir / "sub" / "models" / "m.gltf");
+  std::ofstream(dir / "sub" / "world.toml") << "[[object]]\ntype = \"mesh\"\nfile = \"models/m.gltf\"\n";
+  std::ofstream(dir / "main3.toml") << "include = \"sub/world.toml\"\n";
+  EXPECT_EQ(load_scene(dir / "main3.toml").instances.size(), 2u);
   fs::remove_all(dir);
 }
 
