@@ -66,7 +66,7 @@ void anchor_paths(toml::node& n, const fs::path& dir) {
     for (auto&& [k, v] : *t) {
       if (k.str() == "file" && v.is_string()) {
         const fs::path p = *v.value<std::string>();
-        if (p.is_relative()) v.as_string()->get() = (dir / p).lexically_normal().string();
+        if (p.is_relative()) v.as_string()->get() = fs::absolute(dir / p).lexically_normal().string();
       } else {
         anchor_paths(v, dir);
       }
