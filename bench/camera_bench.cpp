@@ -1,30 +1,102 @@
-// Ray generation cost per camera, for a 1920x1080 image (one ray per pixel center).
+// Ray generation cost per camera for a 1920x1080 image (one ray per pixel center, one thread),
+// against the cost of tracing the same number of primary rays through the Stanford bunny
+// (when ../shared is present). docs/performance.md quotes the ratio.
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
+
+#include "accel/accel.h"
 #include "camera/presets.h"
+#include "scene/scene_loader.h"
 
 namespace anamorph {
 
-static void BM_Perspective1080p(benchmark::State& state) {
-  ParamValues v;
-  v.set("look_from", Vec3{0, 0, 0});
-  v.set("look_at", Vec3{0, 0, -1});
-  v.set("up", Vec3{0, 1, 0});
-  v.set("fov", 60.0);
-  v.set("fov_axis", std::string("horizontal"));
-  v.set("lens_shift", Vec2{0, 0});
-  const VirtualCamera cam(find_preset("perspective")->create(v, {1920, 1080}));
+namespace {
+
+constexpr int kW = 1920, kH = 1080;
+
+void generate_all(benchmark::State& state, const Camera& cam) {
   for (auto _ : state) {
     double acc = 0;
-    for (int y = 0; y < 1080; ++y)
-      for (int x = 0; x < 1920; ++x) {
-        const auto r = cam.generate({{(x + 0.5) / 1920, (y + 0.5) / 1080}});
-        acc += r->dir.x;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const auto r = cam.generate({{(x + 0.5) / kW, (y + 0.5) / kH}});
+        if (r) acc += r->dir.x;
       }
     benchmark::DoNotOptimize(acc);
   }
-  state.SetItemsProcessed(state.iterations() * 1920 * 1080);
+  state.SetItemsProcessed(state.iterations() * kW * kH);
 }
-BENCHMARK(BM_Perspective1080p)->Unit(benchmark::kMillisecond);
+
+void BM_Preset(benchmark::State& state, const char* name, const char* toml) {
+  const VirtualCamera cam(make_preset(name, toml, {kW, kH}));
+  generate_all(state, cam);
+}
+
+// A bicubic B-spline image surface (5x5 control points, gently curved) with normal directions.
+const char* kSplineCamera =
+    "[camera]\n"
+    "org = { type = \"bspline\", points = ["
+    "[[-2, 1.2, 0.3], [-1, 1.2, 0.1], [0, 1.2, 0], [1, 1.2, 0.1], [2, 1.2, 0.3]],"
+    "[[-2, 0.6, 0.1], [-1, 0.6, 0], [0, 0.6, -0.1], [1, 0.6, 0], [2, 0.6, 0.1]],"
+    "[[-2, 0, 0], [-1, 0, -0.1], [0, 0, -0.2], [1, 0, -0.1], [2, 0, 0]],"
+    "[[-2, -0.6, 0.1], [-1, -0.6, 0], [0, -0.6, -0.1], [1, -0.6, 0], [2, -0.6, 0.1]],"
+    "[[-2, -1.2, 0.3], [-1, -1.2, 0.1], [0, -1.2, 0], [1, -1.2, 0.1], [2, -1.2, 0.3]]] }\n"
+    "dir = { type = \"normal\" }\n";
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Preset, perspective, "perspective", "fov = 60")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, orthographic, "orthographic", "")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, fisheye, "fisheye", "fov = 180")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, equirectangular, "equirectangular", "")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, dome, "dome", "tilt = 30")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, ods, "ods", "")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, opencv_fisheye, "opencv_fisheye",
+                  "fx = 600\ncy = 540\nfy = 600\ncx = 960\nk1 = 0.05\nk2 = -0.01")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, cubemap, "cubemap", "")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Preset, light_field, "light_field", "")->Unit(benchmark::kMillisecond);
+
+static void BM_BSplineNormal(benchmark::State& state) {
+  const Scene s = load_scene_from_string(kSplineCamera, "bench.toml");
+  generate_all(state, *s.camera);
+}
+BENCHMARK(BM_BSplineNormal)->Unit(benchmark::kMillisecond);
+
+// The denominator: tracing 1920x1080 primary rays through the bunny, 4x4 packets, one thread.
+static void BM_TraceBunny1080p(benchmark::State& state) {
+  const std::filesystem::path bunny =
+      std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "shared" / "scenes" / "ply" / "stanford_bunny" /
+      "bun_zipper.ply";
+  if (!std::filesystem::exists(bunny)) {
+    state.SkipWithError("../shared/scenes not found: no bunny to trace");
+    return;
+  }
+  const Scene s = load_scene_from_string(
+      "[camera]\nlook_from = [-0.02, 0.11, 0.35]\nlook_at = [-0.02, 0.11, 0.0]\nfov = 40\nfov_axis = \"vertical\"\n"
+      "[[object]]\ntype = \"mesh\"\nfile = \"" + bunny.string() + "\"\n",
+      "bench.toml", {"image.width=1920", "image.height=1080"});
+  const Accel accel(s);
+  std::vector<Ray> rays;
+  for (int by = 0; by < kH; by += 4)
+    for (int bx = 0; bx < kW; bx += 4)
+      for (int k = 0; k < 16; ++k) {
+        const auto r = s.camera->generate({{(bx + (k & 3) + 0.5) / kW, (by + (k >> 2) + 0.5) / kH}});
+        rays.push_back(Ray{r->org, r->dir, 0, kInf});
+      }
+  bool valid[16], found[16];
+  std::fill(valid, valid + 16, true);
+  Hit hits[16];
+  for (auto _ : state) {
+    int n = 0;
+    for (size_t i = 0; i < rays.size(); i += 16) {
+      accel.intersect16(&rays[i], valid, hits, found);
+      n += found[0];
+    }
+    benchmark::DoNotOptimize(n);
+  }
+  state.SetItemsProcessed(state.iterations() * int64_t(rays.size()));
+}
+BENCHMARK(BM_TraceBunny1080p)->Unit(benchmark::kMillisecond);
 
 }  // namespace anamorph
