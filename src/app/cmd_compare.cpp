@@ -21,8 +21,8 @@ int run(const CompareArgs& args) {
     return kBadInput;
   }
   const ImageMetrics m = compare_images(a.pixels, b.pixels, a.width, a.height);
-  fmt::print("rmse {:.6g}\nmean_abs {:.6g}\nmean_relative {:.6g}\nssim {:.6f}\n", m.rmse, m.mean_abs,
-             m.mean_relative, m.ssim);
+  fmt::print("rmse {:.6g}\nrmse_display {:.6g}\nmean_abs {:.6g}\nmean_relative {:.6g}\nssim {:.6f}\n", m.rmse,
+             m.rmse_display, m.mean_abs, m.mean_relative, m.ssim);
   return kOk;
 }
 

@@ -1,5 +1,7 @@
 #include "render/image_metrics.h"
 
+#include "io/image_io.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,12 +10,14 @@ namespace anamorph {
 ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float>& b, int w, int h) {
   ImageMetrics m;
   const size_t n = size_t(w) * h;
-  double se = 0, ae = 0, re = 0;
+  double se = 0, ae = 0, re = 0, sd = 0;
   std::vector<double> la(n), lb(n);
   for (size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c) {
       const double x = a[i * 4 + c], y = b[i * 4 + c];
       se += (x - y) * (x - y);
+      const double dx = linear_to_srgb(float(std::clamp(x, 0.0, 1.0))), dy = linear_to_srgb(float(std::clamp(y, 0.0, 1.0)));
+      sd += (dx - dy) * (dx - dy);
       ae += std::abs(x - y);
       re += std::abs(x - y) / (std::abs(y) + 0.01);
     }
@@ -25,6 +29,7 @@ ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float
     lb[i] = lum(&b[i * 4]);
   }
   m.rmse = std::sqrt(se / (3.0 * n));
+  m.rmse_display = std::sqrt(sd / (3.0 * n));
   m.mean_abs = ae / (3.0 * n);
   m.mean_relative = re / (3.0 * n);
   const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;

@@ -8,6 +8,7 @@ namespace anamorph {
 
 struct ImageMetrics {
   double rmse = 0;           // over RGB, linear values
+  double rmse_display = 0;   // over RGB as displayed: clamped to [0,1], sRGB-encoded
   double mean_abs = 0;       // over RGB
   double mean_relative = 0;  // |a - b| / (|b| + 0.01), over RGB
   double ssim = 1;           // on display-clamped luminance
