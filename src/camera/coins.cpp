@@ -21,10 +21,11 @@ namespace {
 // C1 correction below change little (exp(-1 / (2 sigma^2)) = 1.7%).
 constexpr double kGaussSigma = 0.35;
 constexpr double kGaussA = 1 / (2 * kGaussSigma * kGaussSigma);
+const double kGaussG1 = std::exp(-kGaussA);
+const double kGaussInvNorm = 1 / (1 - kGaussG1 * (1 + kGaussA));
 
-}  // namespace
-
-KernelValue coin_kernel(CoinFalloff f, double x) {
+// The three factors, inline for the per-sample loop.
+inline KernelValue kernel(CoinFalloff f, double x) {
   if (!(x < 1)) return {};
   const double r = 1 - x;
   switch (f) {
@@ -36,26 +37,30 @@ KernelValue coin_kernel(CoinFalloff f, double x) {
       // exp(-a x) minus its first-order Taylor polynomial at x = 1, renormalized: value and
       // slope vanish at the radius (C1), and it still declines monotonically because the
       // exponential's slope only grows toward x = 1.
-      static const double g1 = std::exp(-kGaussA);
-      static const double inv_norm = 1 / (1 - g1 * (1 + kGaussA));
       const double g = std::exp(-kGaussA * x);
-      return {(g - g1 - kGaussA * g1 * r) * inv_norm, kGaussA * (g1 - g) * inv_norm,
-              kGaussA * kGaussA * g * inv_norm};
+      return {(g - kGaussG1 - kGaussA * kGaussG1 * r) * kGaussInvNorm,
+              kGaussA * (kGaussG1 - g) * kGaussInvNorm, kGaussA * kGaussA * g * kGaussInvNorm};
     }
   }
   return {};
 }
 
-KernelValue coin_stiffness(double s, double y) {
-  // Schlick's bias function: B(0) = 0, B(1) = 1, increasing, smooth; B = y for s = 1.
+// Schlick's bias function: B(0) = 0, B(1) = 1, increasing, smooth; B = y for s = 1.
+inline KernelValue stiffness(double s, double y) {
   const double q = 1 / (1 + (s - 1) * y);
   return {s * y * q, s * q * q, -2 * s * (s - 1) * q * q * q};
 }
 
-KernelValue coin_distance(double z) {
+inline KernelValue distance(double z) {
   const double q = 1 / (1 + z * z);
   return {2 * z * q, 2 * (1 - z * z) * q * q, 4 * z * (z * z - 3) * q * q * q};
 }
+
+}  // namespace
+
+KernelValue coin_kernel(CoinFalloff f, double x) { return kernel(f, x); }
+KernelValue coin_stiffness(double s, double y) { return stiffness(s, y); }
+KernelValue coin_distance(double z) { return distance(z); }
 
 double coin_weight(double m, double l, double d, double s, double radius, double lc,
                    CoinFalloff f) {
@@ -275,10 +280,14 @@ bool CoinField::apply(Vec2 uv, CameraRay* r) const {
   if (sites_.empty()) return true;
   const Vec3 p = r->org, pu = r->dorg_du, pv = r->dorg_dv;
   bool moved = false, bent = false;
-  // Origin: D = sum w_i (p_c,i - p) with derivatives. Direction: sum w_i (c_i - d) = C - W d
-  // with c_i = normalize(p_c,i - p), W = sum w_i, C = sum w_i c_i, with derivatives.
+  // Origin: D = sum w_i e_i with e_i = p_c,i - p (de_i/du = -p_u), so
+  //   dD/du = sum w_u,i e_i - p_u sum w_i.
+  // Direction: sum w_i (c_i - d) = C - W d with c_i = e_i / l_i, W = sum w_i, C = sum w_i c_i;
+  //   d(w c)/du = (w_u + a (c . p_u)) c - a p_u with a = w / l, so
+  //   dC/du = sum (w_u,i + a_i (c_i . p_u)) c_i - p_u sum a_i.
+  // Sums that multiply p_u or p_v are applied once at the end.
   Vec3 D, Du, Dv, C, Cu, Cv;
-  double W = 0, Wu = 0, Wv = 0;
+  double Wo = 0, W = 0, Wu = 0, Wv = 0, Sa = 0;
   for_cell(uv, [&](uint32_t i) {
     const Disk& k = disks_[i];
     const double qu = uv.x - k.u, qv = uv.y - k.v;
@@ -286,53 +295,53 @@ bool CoinField::apply(Vec2 uv, CameraRay* r) const {
     if (!(x < 1)) return;
     const CoinSite& c = sites_[i];
     // w = m F(x) A(z): F = B_s(K(x)) with x = d^2 / R^2, A with z = l^2 / l_c^2.
-    const KernelValue K = coin_kernel(c.falloff, x);
-    const KernelValue B = coin_stiffness(c.stiffness, K.k);
-    const double F = B.k, Fx = B.dk * K.dk;
-    const double xu = 2 * qu * k.inv_r2, xv = 2 * qv * k.inv_r2;
-    const Vec3 e = c.p_camera - p;  // de/du = -p_u
-    const double il = inv_lc2_[i];
-    const KernelValue A = coin_distance(dot(e, e) * il);
-    const double zu = -2 * dot(e, pu) * il, zv = -2 * dot(e, pv) * il;
-    const double m = c.strength;
-    const double w = m * F * A.k;
-    const double w_u = m * (Fx * xu * A.k + F * A.dk * zu);
-    const double w_v = m * (Fx * xv * A.k + F * A.dk * zv);
+    const KernelValue K = kernel(c.falloff, x);
+    const KernelValue B = stiffness(c.stiffness, K.k);
+    const Vec3 e = c.p_camera - p;
+    const double ee = dot(e, e), epu = dot(e, pu), epv = dot(e, pv), il = inv_lc2_[i];
+    const KernelValue A = distance(ee * il);
+    // dx/du = 2 qu / R^2, dz/du = -2 (e . p_u) / l_c^2.
+    const double mF = c.strength * B.k, mFx = c.strength * B.dk * K.dk * 2 * k.inv_r2;
+    const double mFAz = mF * A.dk * -2 * il;
+    const double w = mF * A.k;
+    const double w_u = mFx * qu * A.k + mFAz * epu;
+    const double w_v = mFx * qv * A.k + mFAz * epv;
     if (affects_org(c.affects)) {
       D += e * w;
-      Du += e * w_u - pu * w;
-      Dv += e * w_v - pv * w;
+      Du += e * w_u;
+      Dv += e * w_v;
+      Wo += w;
       moved = true;
     }
     if (affects_dir(c.affects)) {
-      const double l = length(e);
-      if (!(l > 0)) return;  // A = 0 there: the coin lets go of a point at the coin
-      const Vec3 ch = e / l;
-      const Vec3 ch_u = (ch * dot(ch, pu) - pu) / l, ch_v = (ch * dot(ch, pv) - pv) / l;
+      if (!(ee > 0)) return;  // A = 0 there: the coin lets go of a point at the coin
+      const double il1 = 1 / std::sqrt(ee), a = w * il1;
       W += w;
       Wu += w_u;
       Wv += w_v;
-      C += ch * w;
-      Cu += ch * w_u + ch_u * w;
-      Cv += ch * w_v + ch_v * w;
+      Sa += a;
+      C += e * a;
+      Cu += e * ((w_u + a * epu * il1) * il1);
+      Cv += e * ((w_v + a * epv * il1) * il1);
       bent = true;
     }
   });
   if (moved) {
     r->org = p + D;
-    r->dorg_du = pu + Du;
-    r->dorg_dv = pv + Dv;
+    r->dorg_du = pu + (Du - pu * Wo);
+    r->dorg_dv = pv + (Dv - pv * Wo);
   }
   if (bent) {
     const Vec3 d0 = r->dir;
     const Vec3 d = d0 * (1 - W) + C;
-    const Vec3 du = r->ddir_du * (1 - W) - d0 * Wu + Cu;
-    const Vec3 dv = r->ddir_dv * (1 - W) - d0 * Wv + Cv;
+    const Vec3 du = r->ddir_du * (1 - W) - d0 * Wu + (Cu - pu * Sa);
+    const Vec3 dv = r->ddir_dv * (1 - W) - d0 * Wv + (Cv - pv * Sa);
     const double len = length(d);
     if (!(len > 0) || !std::isfinite(len)) return false;  // bent exactly backwards: no ray
-    r->dir = d / len;
-    r->ddir_du = (du - r->dir * dot(r->dir, du)) / len;
-    r->ddir_dv = (dv - r->dir * dot(r->dir, dv)) / len;
+    const double inv = 1 / len;
+    r->dir = d * inv;
+    r->ddir_du = (du - r->dir * dot(r->dir, du)) * inv;
+    r->ddir_dv = (dv - r->dir * dot(r->dir, dv)) * inv;
   }
   return true;
 }

@@ -57,6 +57,12 @@ void VirtualCamera::detect_linear_field() {
         length(d.dd_dv - d0.dd_dv) > 1e-12 * scale_d || !(length(d.d) > 0))
       return;
   }
+  co0_ = s0.p;
+  co_u_ = s0.dpdu;
+  co_v_ = s0.dpdv;
+  cd0_ = d0.d;
+  cd_u_ = d0.dd_du;
+  cd_v_ = d0.dd_dv;
   const Transform& t = world_from_camera_;
   o0_ = t.point(s0.p);
   o_u_ = t.vector(s0.dpdu);
@@ -72,7 +78,26 @@ static Vec3 normalized_derivative(const Vec3& n, double len, const Vec3& dd) {
   return (dd - n * dot(n, dd)) / len;
 }
 
+// An affine field's ray in camera space from its closed form, deformed by the coins.
+std::optional<CameraRay> VirtualCamera::linear_coin_ray(Vec2 uv) const {
+  const Vec3 d = cd0_ + cd_u_ * uv.x + cd_v_ * uv.y;
+  const double len = length(d);
+  if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
+  CameraRay r;
+  r.org = co0_ + co_u_ * uv.x + co_v_ * uv.y;
+  r.dir = d / len;
+  r.dorg_du = co_u_;
+  r.dorg_dv = co_v_;
+  r.ddir_du = normalized_derivative(r.dir, len, cd_u_);
+  r.ddir_dv = normalized_derivative(r.dir, len, cd_v_);
+  if (!coins_.apply(uv, &r)) return std::nullopt;
+  return r;
+}
+
 std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
+  // An affine field under a coin: its closed form instead of the function calls (samples no coin
+  // reaches keep the exact path they have without coins).
+  if (linear_ && coins_.reaches(uv)) return linear_coin_ray(uv);
   SurfaceSample s;
   if (!org_->eval(uv, &s)) return std::nullopt;
   DirSample d;
@@ -93,7 +118,12 @@ std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
 }
 
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
-  if (linear_ && dof_.aperture_radius == 0 && !coins_.reaches(cs.uv)) {
+  if (linear_ && dof_.aperture_radius == 0) {
+    if (coins_.reaches(cs.uv)) {
+      auto r = linear_coin_ray(cs.uv);
+      if (r) to_world(&*r);
+      return r;
+    }
     const double u = cs.uv.x, v = cs.uv.y;
     const Vec3 d = d0_ + d_u_ * u + d_v_ * v;
     const double len = length(d);
@@ -122,6 +152,11 @@ std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs)
     r->org = r->org + f.s * l.x + f.t * l.y;
     r->dir = normalize(focus - r->org);
   }
+  to_world(&*r);
+  return r;
+}
+
+void VirtualCamera::to_world(CameraRay* r) const {
   if (!rig_identity_) {
     const auto& t = world_from_camera_;
     r->org = t.point(r->org);
@@ -133,7 +168,6 @@ std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs)
     r->ddir_du = normalized_derivative(r->dir, len, t.vector(r->ddir_du));
     r->ddir_dv = normalized_derivative(r->dir, len, t.vector(r->ddir_dv));
   }
-  return r;
 }
 
 std::vector<Vec2> VirtualCamera::project(const Vec3& p) const {

@@ -59,6 +59,8 @@ class VirtualCamera final : public Camera {
  private:
   void detect_linear_field();
   std::optional<CameraRay> generate_general(const CameraSample& s) const;
+  std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
+  void to_world(CameraRay* r) const;  // the rig
 
   std::unique_ptr<OrgFunction> org_;
   std::unique_ptr<DirFunction> dir_;
@@ -70,6 +72,7 @@ class VirtualCamera final : public Camera {
   // Affine ray field in world space: org = o0 + u o_u + v o_v, raw dir = d0 + u d_u + v d_v.
   bool linear_ = false;
   Vec3 o0_, o_u_, o_v_, d0_, d_u_, d_v_;
+  Vec3 co0_, co_u_, co_v_, cd0_, cd_u_, cd_v_;  // the same in camera space (rays under coins)
   CoinField coins_;
   std::vector<std::string> coin_warnings_;
 };
