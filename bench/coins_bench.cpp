@@ -1,10 +1,11 @@
 // Ray generation with centers of interest: 1920x1080 rays (one per pixel center) without coins,
-// with 1000 small coins spread over the image (a jittered 40 x 25 grid of image positions), and
-// with one large coin. The per-sample cost depends only on the coins that reach the sample (a
+// with 1000 small coins spread over the image (a jittered grid of image positions), and
+// with one large coin (radius 0.3 around the first grid position). The per-sample cost depends only on the coins that reach the sample (a
 // uniform grid over (u, v)), so 1000 small coins must cost less than 2x no coin.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "camera/presets.h"
 #include "math/rng.h"
@@ -21,21 +22,23 @@ VirtualCameraParts parts(const std::string& preset) {
   return make_preset("perspective", rig + "fov = 60", {kW, kH});
 }
 
-// Coins at distance 5 along the undistorted rays of a jittered grid of image positions.
-std::vector<Coin> spread_coins(const VirtualCamera& plain, int nu, int nv, double radius) {
+// n coins at distance 5 along the undistorted rays of a jittered grid of image positions (cells
+// with no ray, e.g. outside a fisheye's circle, draw again until n coins are placed).
+std::vector<Coin> spread_coins(const VirtualCamera& plain, int n, double radius) {
   Rng rng(1, 2);
   std::vector<Coin> coins;
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const Vec2 uv{(i + 0.2 + 0.6 * rng.uniform()) / nu, (j + 0.2 + 0.6 * rng.uniform()) / nv};
-      const auto r = plain.generate({uv});
-      if (!r) continue;
-      Coin c;
-      c.position = r->org + r->dir * 5.0;
-      c.strength = 0.4;
-      c.radius = radius;
-      coins.push_back(c);
-    }
+  const int nu = int(std::ceil(std::sqrt(n * 16.0 / 9))), nv = (n + nu - 1) / nu;
+  for (int k = 0; int(coins.size()) < n && k < 100 * n; ++k) {
+    const int i = k % nu, j = (k / nu) % nv;
+    const Vec2 uv{(i + 0.2 + 0.6 * rng.uniform()) / nu, (j + 0.2 + 0.6 * rng.uniform()) / nv};
+    const auto r = plain.generate({uv});
+    if (!r) continue;
+    Coin c;
+    c.position = r->org + r->dir * 5.0;
+    c.strength = 0.4;
+    c.radius = radius;
+    coins.push_back(c);
+  }
   return coins;
 }
 
@@ -58,9 +61,9 @@ void BM_CoinRays(benchmark::State& state, const std::string& preset) {
   const VirtualCamera plain(parts(preset));
   VirtualCameraParts p = parts(preset);
   switch (state.range(0)) {
-    case 1: p.coins = spread_coins(plain, 40, 25, 0.01); break;
-    case 2: p.coins = spread_coins(plain, 40, 25, 0.005); break;
-    case 3: p.coins = spread_coins(plain, 1, 1, 0.3); break;
+    case 1: p.coins = spread_coins(plain, 1000, 0.01); break;
+    case 2: p.coins = spread_coins(plain, 1000, 0.005); break;
+    case 3: p.coins = spread_coins(plain, 1, 0.3); break;
     default: break;
   }
   const VirtualCamera cam(std::move(p));
