@@ -189,7 +189,7 @@ void plot_weights(const fs::path& dir) {
     Plot p(640, 400, 0, 4, 0, 1.05);
     p.grid({0, 0.5, 1, 2, 3, 4}, yt, {"0", ".5", "1", "2", "3", "4"}, yl);
     p.curve([](double l) { return coin_weight(1, l, 0, 1, 1, 1); }, kBlue);
-    p.curve([](double l) { return 2 / (l * l * l * l); }, kGrey, 1.5, true);
+    p.curve([](double l) { return 2 / (l * l); }, kGrey, 1.5, true);
     p.curve([](double l) { return 2 * l * l; }, kGrey, 1.5, true);
     p.write(dir / "coin_distance.png");
   }

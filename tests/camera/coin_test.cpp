@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "math/rng.h"
 #include "preset_test_util.h"
 #include "render/render_util.h"
+#include "test_util.h"
 #include "scene/toml_reader.h"
 
 namespace anamorph {
@@ -684,6 +686,28 @@ TEST(CoinScene, RenderedObjectAtTheCoinGrowsWithStrength) {
       for (int x = 0; x < r.film->width(); ++x) count += max_component(r.film->pixel(x, y)) > 0;
     EXPECT_GT(count, prev) << "strength " << m;
     prev = count;
+  }
+}
+
+TEST(CoinDocs, ParameterTableMatchesTheSpecs) {
+  // docs/coins.md lists every key of [[camera.coin]] with its default, as the parser knows them.
+  std::ifstream in(test::source_dir() / "docs" / "coins.md");
+  ASSERT_TRUE(in) << "docs/coins.md not found";
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("| `", 0) == 0) rows.push_back(line);
+  for (const ParamSpec& spec : coin_params()) {
+    const std::string head = "| `" + std::string(spec.name) + "` |";
+    const std::string def =
+        spec.default_value.empty() ? "required" : "`" + std::string(spec.default_value) + "`";
+    bool found = false;
+    for (const std::string& row : rows)
+      if (row.rfind(head, 0) == 0) {
+        found = true;
+        EXPECT_NE(row.find(def), std::string::npos) << spec.name << ": expected default " << def
+                                                    << " in\n" << row;
+      }
+    EXPECT_TRUE(found) << spec.name << " is missing from the table in docs/coins.md";
   }
 }
 
