@@ -379,6 +379,50 @@ TEST(CoinCamera, StrongerCoinsMagnifyTheObjectAtTheCoin) {
     }
 }
 
+TEST(CoinCamera, RepellingCoinsShrinkTheObjectAtTheCoin) {
+  for (const CamCase& s : setups())
+    for (CoinAffects a : kAffects) {
+      int prev = 1 << 30;
+      for (double m : {0.0, -0.3, -0.6}) {
+        const VirtualCamera cam = with_coins(s, {coin_at(s.coin, m, a, 0.25)});
+        const int count = pixels_seeing(cam, s.coin, 0.1, 200);
+        EXPECT_LT(count, prev) << s.label << " " << name(a) << " m=" << m;
+        prev = count;
+      }
+    }
+}
+
+TEST(CoinCamera, ProjectFindsPointsUnderSmallStrongCoins) {
+  // Coins smaller than the numeric inverse's seed grid (1/48), zooming up to 20x.
+  const CamCase s = setups()[0];
+  for (double m : {0.5, 0.95}) {
+    const VirtualCamera cam = with_coins(s, {coin_at(s.coin, m, CoinAffects::Org, 0.015)});
+    const Vec2 c = cam.coins().sites()[0].uv;
+    for (Vec2 off : {Vec2{0.002, 0.001}, Vec2{-0.006, 0.004}, Vec2{0.01, -0.008}}) {
+      const auto r = test::ray(cam, c + off);
+      ASSERT_TRUE(r);
+      const auto back = cam.project(r->org + r->dir * 4.0);
+      bool found = false;
+      for (const Vec2& q : back) found |= length(q - (c + off)) < 1e-6;
+      EXPECT_TRUE(found) << "m=" << m << " uv " << str(c + off) << " projects to " << test::str(back);
+    }
+  }
+}
+
+TEST(CoinCamera, WarnsWhenOverlappingCoinsCanPullPastThem) {
+  const CamCase s = setups()[0];
+  const Vec3 near = s.coin + Vec3{0.15, 0, 0};
+  const VirtualCamera strong = with_coins(s, {coin_at(s.coin, 0.6), coin_at(near, 0.6)});
+  ASSERT_EQ(strong.coin_warnings().size(), 1u);
+  EXPECT_NE(strong.coin_warnings()[0].find("coin[0] and coin[1]"), std::string::npos)
+      << strong.coin_warnings()[0];
+  EXPECT_TRUE(with_coins(s, {coin_at(s.coin, 0.4), coin_at(near, 0.4)}).coin_warnings().empty());
+  EXPECT_TRUE(with_coins(s, {coin_at(s.coin, 0.6, CoinAffects::Both, 0.05),
+                             coin_at(s.coin + Vec3{2, 0, 0}, 0.6, CoinAffects::Both, 0.05)})
+                  .coin_warnings()
+                  .empty());
+}
+
 TEST(CoinCamera, ZoomAtTheCenterIsOneOverOneMinusStrength) {
   // A pinhole: attracting the origins or bending the directions by w scales angles at (uc, vc)
   // by (1 - w); both together by (1 - w)^2. Areas scale by the square.
