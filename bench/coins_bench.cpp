@@ -1,7 +1,8 @@
 // Ray generation with centers of interest: 1920x1080 rays (one per pixel center) without coins,
 // with 1000 small coins spread over the image (a jittered grid of image positions), and
-// with one large coin (radius 0.3 around the first grid position). The per-sample cost depends only on the coins that reach the sample (a
-// uniform grid over (u, v)), so 1000 small coins must cost less than 2x no coin.
+// with one large coin (radius 0.3 around the first grid position). The per-sample cost depends only
+// on the coins that reach the sample (a uniform grid over (u, v)), so 1000 small coins must cost
+// less than 2x no coin.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -61,16 +62,24 @@ void BM_CoinRays(benchmark::State& state, const std::string& preset) {
   const VirtualCamera plain(parts(preset));
   VirtualCameraParts p = parts(preset);
   switch (state.range(0)) {
-    case 1: p.coins = spread_coins(plain, 1000, 0.01); break;
-    case 2: p.coins = spread_coins(plain, 1000, 0.005); break;
-    case 3: p.coins = spread_coins(plain, 1, 0.3); break;
-    default: break;
+    case 1:
+      p.coins = spread_coins(plain, 1000, 0.01);
+      break;
+    case 2:
+      p.coins = spread_coins(plain, 1000, 0.005);
+      break;
+    case 3:
+      p.coins = spread_coins(plain, 1, 0.3);
+      break;
+    default:
+      break;
   }
   const VirtualCamera cam(std::move(p));
   // Share of the image that some coin reaches.
   int reached = 0;
   for (int y = 0; y < kH; y += 4)
-    for (int x = 0; x < kW; x += 4) reached += cam.coins().reaches({(x + 0.5) / kW, (y + 0.5) / kH});
+    for (int x = 0; x < kW; x += 4)
+      reached += cam.coins().reaches({(x + 0.5) / kW, (y + 0.5) / kH});
   state.counters["coins"] = double(cam.coins().sites().size());
   state.counters["reached"] = reached / double((kW / 4) * (kH / 4));
   generate_all(state, cam);

@@ -91,6 +91,7 @@ namespace {
 constexpr std::string_view kAffects[] = {"org", "dir", "both"};
 constexpr std::string_view kFalloffs[] = {"smooth", "quadratic", "gaussian"};
 
+// clang-format off
 const ParamSpec kCoinParams[] = {
     {"position", ParamType::Vec3, "", "The center of interest, a point in world space."},
     {"strength", ParamType::Number, "0.5",
@@ -108,13 +109,14 @@ const ParamSpec kCoinParams[] = {
      "exactly no effect.",
      0, 2, {}, true},
     {"affects", ParamType::String, "\"both\"",
-     "What the coin deforms: the ray origins (org), the ray directions (dir) or both.", -kInf,
-     kInf, kAffects},
+     "What the coin deforms: the ray origins (org), the ray directions (dir) or both.",
+     -kInf, kInf, kAffects},
     {"falloff", ParamType::String, "\"smooth\"",
      "Kernel K over t = d / R: smooth = (1 - t^2)^3 (C2), quadratic = (1 - t^2)^2 (C1, "
      "broadest), gaussian = exp(-t^2 / (2 * 0.35^2)) made C1 at the radius.",
      -kInf, kInf, kFalloffs},
 };
+// clang-format on
 
 }  // namespace
 
@@ -184,9 +186,10 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
       if (!org.eval(uv, &s) || !is_finite(s.p)) continue;
       const double lc = length(pc - s.p);
       if (!(lc > 0)) {
-        warn(fmt::format("coin[{}]: lies on the image surface at (u, v) = ({:.4f}, {:.4f}), so "
-                         "there is nothing to attract there; that appearance has no effect",
-                         i, uv.x, uv.y));
+        warn(
+            fmt::format("coin[{}]: lies on the image surface at (u, v) = ({:.4f}, {:.4f}), so "
+                        "there is nothing to attract there; that appearance has no effect",
+                        i, uv.x, uv.y));
         continue;
       }
       CoinSite site;
@@ -203,9 +206,10 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
       ++seen;
     }
     if (seen == 0)
-      warn(fmt::format("coin[{}]: the camera does not see position [{}, {}, {}], so the coin has "
-                       "no effect",
-                       i, c.position.x, c.position.y, c.position.z));
+      warn(
+          fmt::format("coin[{}]: the camera does not see position [{}, {}, {}], so the coin has "
+                      "no effect",
+                      i, c.position.x, c.position.y, c.position.z));
   }
   if (sites_.empty()) return;
 
@@ -250,9 +254,10 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
         if (length(s.uv - t.uv) < s.radius + t.radius &&
             std::abs(s.strength) + std::abs(t.strength) > 1 &&
             (s.strength > 0) == (t.strength > 0)) {
-          warn(fmt::format("coin[{}] and coin[{}] overlap in the image and their strengths sum "
-                           "above 1: where both act fully, points are pulled past the coins",
-                           s.coin, t.coin));
+          warn(
+              fmt::format("coin[{}] and coin[{}] overlap in the image and their strengths sum "
+                          "above 1: where both act fully, points are pulled past the coins",
+                          s.coin, t.coin));
           return;
         }
       }
@@ -364,7 +369,8 @@ double CoinField::overlay(Vec2 uv, Vec2 pixel) const {
         const double r = length(q);
         if (r > 0) {
           // Distance to the circle |q| = R in pixels, to first order.
-          const double dist = std::abs(r - s.radius) * r / length(Vec2{q.x * pixel.x, q.y * pixel.y});
+          const double dist =
+              std::abs(r - s.radius) * r / length(Vec2{q.x * pixel.x, q.y * pixel.y});
           cov = std::max(cov, std::clamp(1.25 - dist, 0.0, 1.0));
         }
       }
@@ -378,7 +384,8 @@ std::span<const CoinSite> coin_sites(const Camera& cam) {
 }
 
 double coin_overlay(const Camera& cam, Vec2 uv, Vec2 pixel) {
-  if (const auto* v = dynamic_cast<const VirtualCamera*>(&cam)) return v->coins().overlay(uv, pixel);
+  if (const auto* v = dynamic_cast<const VirtualCamera*>(&cam))
+    return v->coins().overlay(uv, pixel);
   return 0;
 }
 

@@ -43,10 +43,11 @@ enum class CoinFalloff : uint8_t { Smooth, Quadratic, Gaussian };
 
 // One [[camera.coin]] entry, as the user gives it.
 struct Coin {
-  Vec3 position;          // world space
-  double strength = 0.5;  // m: fraction of the way to the coin at (uc, vc); 0 = no effect, < 0 repels
-  double stiffness = 1;   // s > 0: low = only close to (uc, vc), high = broad
-  double radius = 0.25;   // R: radius of influence in (u, v); exactly no effect beyond it
+  Vec3 position;  // world space
+  double strength =
+      0.5;  // m: fraction of the way to the coin at (uc, vc); 0 = no effect, < 0 repels
+  double stiffness = 1;  // s > 0: low = only close to (uc, vc), high = broad
+  double radius = 0.25;  // R: radius of influence in (u, v); exactly no effect beyond it
   CoinAffects affects = CoinAffects::Both;
   CoinFalloff falloff = CoinFalloff::Smooth;
 };

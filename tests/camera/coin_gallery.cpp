@@ -27,20 +27,34 @@ namespace fs = std::filesystem;
 // 3x5 glyphs for tick labels.
 const char* glyph(char c) {
   switch (c) {
-    case '0': return "111101101101111";
-    case '1': return "010110010010111";
-    case '2': return "111001111100111";
-    case '3': return "111001111001111";
-    case '4': return "101101111001001";
-    case '5': return "111100111001111";
-    case '6': return "111100111101111";
-    case '7': return "111001001001001";
-    case '8': return "111101111101111";
-    case '9': return "111101111001111";
-    case '.': return "000000000000010";
-    case '-': return "000000111000000";
-    case '/': return "001001010100100";
-    default: return "000000000000000";
+    case '0':
+      return "111101101101111";
+    case '1':
+      return "010110010010111";
+    case '2':
+      return "111001111100111";
+    case '3':
+      return "111001111001111";
+    case '4':
+      return "101101111001001";
+    case '5':
+      return "111100111001111";
+    case '6':
+      return "111100111101111";
+    case '7':
+      return "111001001001001";
+    case '8':
+      return "111101111101111";
+    case '9':
+      return "111101111001111";
+    case '.':
+      return "000000000000010";
+    case '-':
+      return "000000111000000";
+    case '/':
+      return "001001010100100";
+    default:
+      return "000000000000000";
   }
 }
 
@@ -51,7 +65,14 @@ struct Rgb {
 class Plot {
  public:
   Plot(int w, int h, double x0, double x1, double y0, double y1, bool log2_y = false)
-      : w_(w), h_(h), x0_(x0), x1_(x1), y0_(y0), y1_(y1), log_(log2_y), px_(size_t(w) * h * 3, 1.0) {}
+      : w_(w),
+        h_(h),
+        x0_(x0),
+        x1_(x1),
+        y0_(y0),
+        y1_(y1),
+        log_(log2_y),
+        px_(size_t(w) * h * 3, 1.0) {}
 
   // Grid lines at the given values, labelled along the axes.
   void grid(const std::vector<double>& xs, const std::vector<double>& ys,
@@ -163,11 +184,14 @@ const Rgb kBlue{0.12, 0.32, 0.7}, kOrange{0.93, 0.5, 0.1}, kGreen{0.15, 0.6, 0.2
     kGrey{0.5, 0.5, 0.5}, kRed{0.8, 0.12, 0.1};
 
 // Shades from dark to light of one hue.
-Rgb shade(Rgb c, double t) { return {c.r + (1 - c.r) * t, c.g + (1 - c.g) * t, c.b + (1 - c.b) * t}; }
+Rgb shade(Rgb c, double t) {
+  return {c.r + (1 - c.r) * t, c.g + (1 - c.g) * t, c.b + (1 - c.b) * t};
+}
 
 void plot_weights(const fs::path& dir) {
   const std::vector<double> xt{0, 0.25, 0.5, 0.75, 1, 1.2}, yt{0, 0.25, 0.5, 0.75, 1};
-  const std::vector<std::string> xl{"0", ".25", ".5", ".75", "1", "1.2"}, yl{"0", ".25", ".5", ".75", "1"};
+  const std::vector<std::string> xl{"0", ".25", ".5", ".75", "1", "1.2"},
+      yl{"0", ".25", ".5", ".75", "1"};
   {
     Plot p(640, 400, 0, 1.2, 0, 1.05);
     p.grid(xt, yt, xl, yl);
@@ -326,9 +350,9 @@ void render_panels(const fs::path& dir) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const Color c = film.pixel(x, y);
-        double cov = pn.overlay ? coin_overlay(*s.camera, {(x + 0.5) / w, (y + 0.5) / h},
-                                               {1.0 / w, 1.0 / h})
-                                : 0;
+        double cov =
+            pn.overlay ? coin_overlay(*s.camera, {(x + 0.5) / w, (y + 0.5) / h}, {1.0 / w, 1.0 / h})
+                       : 0;
         for (int k = 0; k < 3; ++k) {
           const double v = linear_to_srgb(float(std::clamp(c[k], 0.0, 1.0)));
           const double mark = k == 0 ? 1.0 : 0.1;

@@ -16,8 +16,8 @@
 #include "math/rng.h"
 #include "preset_test_util.h"
 #include "render/render_util.h"
-#include "test_util.h"
 #include "scene/toml_reader.h"
+#include "test_util.h"
 
 namespace anamorph {
 namespace {
@@ -27,7 +27,9 @@ using test::str;
 constexpr CoinFalloff kFalloffs[] = {CoinFalloff::Smooth, CoinFalloff::Quadratic,
                                      CoinFalloff::Gaussian};
 const char* name(CoinFalloff f) {
-  return f == CoinFalloff::Smooth ? "smooth" : f == CoinFalloff::Quadratic ? "quadratic" : "gaussian";
+  return f == CoinFalloff::Smooth      ? "smooth"
+         : f == CoinFalloff::Quadratic ? "quadratic"
+                                       : "gaussian";
 }
 
 // ---- the weight ---------------------------------------------------------------------------------
@@ -97,12 +99,12 @@ TEST(CoinWeight, IsC1AcrossTheCenterAndTheRadius) {
       EXPECT_LT(j3, 0.6 * j2) << name(f) << " s=" << s << ": jumps " << j2 << " " << j3;
       // One-sided slopes at the radius: the inside one tends to the outside one, 0.
       const double R = 0.4, h = 1e-7;
-      const double inside = (coin_weight(0.9, 1.3, R, s, R, 1.0, f) -
-                             coin_weight(0.9, 1.3, R - h, s, R, 1.0, f)) / h;
+      const double inside =
+          (coin_weight(0.9, 1.3, R, s, R, 1.0, f) - coin_weight(0.9, 1.3, R - h, s, R, 1.0, f)) / h;
       EXPECT_NEAR(inside, 0.0, 1e-4) << name(f) << " s=" << s;
       // At the center w is flat in every direction (a radial function is C1 there only then).
-      const double center = (coin_weight(0.9, 1.3, h, s, R, 1.0, f) -
-                             coin_weight(0.9, 1.3, 0, s, R, 1.0, f)) / h;
+      const double center =
+          (coin_weight(0.9, 1.3, h, s, R, 1.0, f) - coin_weight(0.9, 1.3, 0, s, R, 1.0, f)) / h;
       EXPECT_NEAR(center, 0.0, 1e-4) << name(f) << " s=" << s;
     }
   // The kernels' analytic derivatives agree with their values.
@@ -126,12 +128,15 @@ TEST(CoinWeight, LowStiffnessConcentratesTheDeformationNearTheCenter) {
       EXPECT_GT(half, prev) << name(f) << " s=" << s;
       prev = half;
     }
-    EXPECT_LT([&] {
-      double h = 0;
-      for (int i = 0; i <= 1000; ++i)
-        if (coin_weight(1, 1, i / 1000.0, 0.02, 1, 1, f) > 0.5) h = i / 1000.0;
-      return h;
-    }(), 0.2) << name(f) << ": a flexible surface deforms significantly only near (uc, vc)";
+    EXPECT_LT(
+        [&] {
+          double h = 0;
+          for (int i = 0; i <= 1000; ++i)
+            if (coin_weight(1, 1, i / 1000.0, 0.02, 1, 1, f) > 0.5) h = i / 1000.0;
+          return h;
+        }(),
+        0.2)
+        << name(f) << ": a flexible surface deforms significantly only near (uc, vc)";
   }
 }
 
@@ -185,7 +190,8 @@ TEST(CoinWeight, NoFoldOverForAttractionAndWithinTheRepulsionLimit) {
   EXPECT_NO_THROW(make_coin("position = [0, 0, -1]\nstrength = -0.1"));
 }
 
-// ---- cameras with coins --------------------------------------------------------------------------
+// ---- cameras with coins
+// --------------------------------------------------------------------------
 
 using Rays = std::vector<std::optional<CameraRay>>;
 
@@ -212,13 +218,25 @@ std::vector<CamCase> setups() {
   const std::string rig = "look_from = [1, 2, 3]\nlook_at = [1, 2, -7]\nup = [0, 1, 0]\n";
   const Transform look = Transform::look_at({1, 2, 3}, {1, 2, -7}, {0, 1, 0});
   return {
-      {"perspective", [=] { return make_preset("perspective", rig + "fov = 60", {400, 300}); },
+      {"perspective",
+       [=] {
+         return make_preset("perspective", rig + "fov = 60", {400, 300});
+       },
        {1.4, 2.3, -2}},
-      {"fisheye", [=] { return make_preset("fisheye", rig + "fov = 180", {300, 300}); },
+      {"fisheye",
+       [=] {
+         return make_preset("fisheye", rig + "fov = 180", {300, 300});
+       },
        {2.5, 1.5, 0}},
-      {"orthographic", [=] { return make_preset("orthographic", rig + "view_width = 4", {400, 300}); },
+      {"orthographic",
+       [=] {
+         return make_preset("orthographic", rig + "view_width = 4", {400, 300});
+       },
        {1.5, 2.4, -1}},
-      {"equirectangular", [=] { return make_preset("equirectangular", rig, {400, 200}); },
+      {"equirectangular",
+       [=] {
+         return make_preset("equirectangular", rig, {400, 200});
+       },
        {-1, 2.5, 1}},
       {"plane + normal",
        [=] {
@@ -269,7 +287,8 @@ const char* name(CoinAffects a) {
 TEST(CoinCamera, StrengthZeroIsBitIdenticalToNoCoin) {
   for (const CamCase& s : setups()) {
     const VirtualCamera plain(s.parts());
-    const VirtualCamera coined = with_coins(s, {coin_at(s.coin, 0.0), coin_at(s.coin, 0.0, CoinAffects::Org)});
+    const VirtualCamera coined =
+        with_coins(s, {coin_at(s.coin, 0.0), coin_at(s.coin, 0.0, CoinAffects::Org)});
     EXPECT_TRUE(coined.coins().empty()) << s.label;
     EXPECT_EQ(plain.has_linear_fast_path(), coined.has_linear_fast_path()) << s.label;
     const Rays a = ray_grid(plain, 64, 48), b = ray_grid(coined, 64, 48);
@@ -298,8 +317,8 @@ TEST(CoinCamera, BeyondTheRadiusRaysAreBitIdenticalAndInsideTheyChange) {
                 << s.label << " " << name(a) << " uv " << str(uv) << " d " << d;
           } else if (d > 0.02 && d < 0.5 * site.radius && r0 && r1) {
             ++inside;
-            inside_changed += !bit_identical(r0, r1) &&
-                              (length(r0->dir - r1->dir) > 1e-6 || length(r0->org - r1->org) > 1e-6);
+            inside_changed += !bit_identical(r0, r1) && (length(r0->dir - r1->dir) > 1e-6 ||
+                                                         length(r0->org - r1->org) > 1e-6);
           }
         }
       EXPECT_GT(outside, 0) << s.label;
@@ -332,7 +351,8 @@ double largest_neighbour_step(const Camera& cam, int n) {
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       const auto& a = r[size_t(y) * n + x];
-      for (const auto& b : {x + 1 < n ? r[size_t(y) * n + x + 1] : a, y + 1 < n ? r[size_t(y + 1) * n + x] : a})
+      for (const auto& b :
+           {x + 1 < n ? r[size_t(y) * n + x + 1] : a, y + 1 < n ? r[size_t(y + 1) * n + x] : a})
         if (a && b) worst = std::max(worst, length(a->dir - b->dir) + length(a->org - b->org));
     }
   return worst;
@@ -404,7 +424,8 @@ TEST(CoinCamera, ProjectFindsPointsUnderSmallStrongCoins) {
       const auto back = cam.project(r->org + r->dir * 4.0);
       bool found = false;
       for (const Vec2& q : back) found |= length(q - (c + off)) < 1e-6;
-      EXPECT_TRUE(found) << "m=" << m << " uv " << str(c + off) << " projects to " << test::str(back);
+      EXPECT_TRUE(found) << "m=" << m << " uv " << str(c + off) << " projects to "
+                         << test::str(back);
     }
   }
 }
@@ -447,7 +468,8 @@ TEST(CoinCamera, TwoCoinsSuperposeAsThePapersSum) {
   for (CoinAffects a : {CoinAffects::Org, CoinAffects::Dir}) {
     const Vec3 c1 = t.coin, c2 = t.coin + Vec3{0.5, -0.3, 0.4};
     const VirtualCamera plain(t.parts());
-    const VirtualCamera two = with_coins(t, {coin_at(c1, 0.4, a, 0.3, 0.7), coin_at(c2, 0.35, a, 0.25, 2.0)});
+    const VirtualCamera two =
+        with_coins(t, {coin_at(c1, 0.4, a, 0.3, 0.7), coin_at(c2, 0.35, a, 0.25, 2.0)});
     ASSERT_EQ(two.coins().sites().size(), 2u);
     int both = 0;
     for (int y = 0; y < 40; ++y)
@@ -461,8 +483,10 @@ TEST(CoinCamera, TwoCoinsSuperposeAsThePapersSum) {
           const double w = coin_weight(c.strength, length(c.p_camera - r0->org), length(uv - c.uv),
                                        c.stiffness, c.radius, c.lc, c.falloff);
           n += w != 0;
-          if (a == CoinAffects::Org) p = p + (c.p_camera - r0->org) * w;
-          else d = d + (normalize(c.p_camera - r0->org) - r0->dir) * w;
+          if (a == CoinAffects::Org)
+            p = p + (c.p_camera - r0->org) * w;
+          else
+            d = d + (normalize(c.p_camera - r0->org) - r0->dir) * w;
         }
         both += n == 2;
         d = normalize(d);
@@ -482,8 +506,10 @@ TEST(CoinCamera, DifferentialsMatchFiniteDifferences) {
         const Vec2 uv = c + off;
         const double h = 1e-6;
         const auto r = cam.generate_pinhole(uv);
-        const auto ru0 = cam.generate_pinhole({uv.x - h, uv.y}), ru1 = cam.generate_pinhole({uv.x + h, uv.y});
-        const auto rv0 = cam.generate_pinhole({uv.x, uv.y - h}), rv1 = cam.generate_pinhole({uv.x, uv.y + h});
+        const auto ru0 = cam.generate_pinhole({uv.x - h, uv.y}),
+                   ru1 = cam.generate_pinhole({uv.x + h, uv.y});
+        const auto rv0 = cam.generate_pinhole({uv.x, uv.y - h}),
+                   rv1 = cam.generate_pinhole({uv.x, uv.y + h});
         ASSERT_TRUE(r && ru0 && ru1 && rv0 && rv1) << s.label << " " << str(uv);
         const auto check = [&](const Vec3& analytic, const Vec3& fd, const char* what) {
           EXPECT_LT(length(analytic - fd), 2e-5 * (1 + length(fd)))
@@ -518,7 +544,8 @@ TEST(CoinCamera, OrgAndDirAreDeformedIndependently) {
       const auto r0 = plain.generate_pinhole(c + off);
       // Affine fields under a coin come from their closed form: equal up to rounding.
       EXPECT_LT(length(r0->dir - ro->dir), 1e-14) << s.label << str(c + off);
-      EXPECT_LT(length(r0->org - rd->org), 1e-14 * (1 + length(r0->org))) << s.label << str(c + off);
+      EXPECT_LT(length(r0->org - rd->org), 1e-14 * (1 + length(r0->org)))
+          << s.label << str(c + off);
     }
   }
 }
@@ -538,7 +565,8 @@ TEST(CoinCamera, CoinSitsWhereTheUndistortedCameraSeesIt) {
       const auto r = test::ray(cam, site.uv);
       ASSERT_TRUE(r);
       const Vec3 op = s.coin - r->org;
-      EXPECT_LT(length(op - r->dir * dot(op, r->dir)), 1e-9 * length(op)) << s.label << " " << name(a);
+      EXPECT_LT(length(op - r->dir * dot(op, r->dir)), 1e-9 * length(op))
+          << s.label << " " << name(a);
     }
   }
 }
@@ -607,8 +635,9 @@ TEST(CoinCamera, GridFindsExactlyTheCoinsThatReachASample) {
   std::vector<Coin> coins;
   for (int i = 0; i < 300; ++i) {
     const Vec3 dir = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
-    coins.push_back(coin_at(Vec3{1, 2, 3} + dir * (2 + 3 * rng.uniform()), 0.01 + 0.02 * rng.uniform(),
-                            CoinAffects::Dir, 0.002 + 0.05 * rng.uniform() * rng.uniform()));
+    coins.push_back(coin_at(Vec3{1, 2, 3} + dir * (2 + 3 * rng.uniform()),
+                            0.01 + 0.02 * rng.uniform(), CoinAffects::Dir,
+                            0.002 + 0.05 * rng.uniform() * rng.uniform()));
   }
   const VirtualCamera cam = with_coins(s, coins);
   ASSERT_EQ(cam.coins().sites().size(), 300u);
@@ -631,7 +660,7 @@ TEST(CoinOverlay, MarksCentersAndRadii) {
   EXPECT_EQ(coin_overlay(cam, c.uv + Vec2{2 * px.x, 0}, px), 1.0);
   EXPECT_EQ(coin_overlay(cam, c.uv + Vec2{0.2, 0}, px), 1.0);  // on the circle
   EXPECT_EQ(coin_overlay(cam, c.uv + Vec2{0, -0.2}, px), 1.0);
-  EXPECT_EQ(coin_overlay(cam, c.uv + Vec2{0.1, 0}, px), 0.0);   // between
+  EXPECT_EQ(coin_overlay(cam, c.uv + Vec2{0.1, 0}, px), 0.0);  // between
   EXPECT_EQ(coin_overlay(cam, c.uv + Vec2{0.2 + 3 * px.x, 0}, px), 0.0);
   const double edge = coin_overlay(cam, c.uv + Vec2{0.2 + 0.75 * px.x, 0}, px);
   EXPECT_GT(edge, 0.0);
@@ -640,10 +669,12 @@ TEST(CoinOverlay, MarksCentersAndRadii) {
   EXPECT_EQ(coin_sites(cam)[0].uv, c.uv);
 }
 
-// ---- the scene reader ------------------------------------------------------------------------------
+// ---- the scene reader
+// ------------------------------------------------------------------------------
 
 const std::string kScene =
-    "[image]\nwidth = 120\nheight = 90\n[render]\nintegrator = \"id\"\nsampler = \"center\"\nspp = 1\n"
+    "[image]\nwidth = 120\nheight = 90\n[render]\nintegrator = \"id\"\nsampler = \"center\"\nspp = "
+    "1\n"
     "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 60\n"
     "[[camera.coin]]\nposition = [0.8, 0.4, 0]\nstrength = 0.5\nstiffness = 1.5\nradius = 0.3\n"
     "affects = \"org\"\nfalloff = \"gaussian\"\n"
@@ -673,23 +704,26 @@ TEST(CoinScene, ReadsCoinsWithEveryKey) {
 }
 
 TEST(CoinScene, ErrorsNameTheKey) {
-  const std::string base = "[camera]\n[[camera.coin]]\nposition = [0, 0, -5]\n[[camera.coin]]\nposition = [0, 0, -4]\n";
+  const std::string base =
+      "[camera]\n[[camera.coin]]\nposition = [0, 0, -5]\n[[camera.coin]]\nposition = [0, 0, -4]\n";
   struct Case {
     std::string extra, key;
   };
-  for (const Case& c : std::vector<Case>{{"radius = 0", "camera.coin[1].radius"},
-                                         {"radius = 2.5", "camera.coin[1].radius"},
-                                         {"stiffness = 0", "camera.coin[1].stiffness"},
-                                         {"strength = 1.5", "camera.coin[1].strength"},
-                                         {"strength = -0.95\nstiffness = 10", "camera.coin[1].strength"},
-                                         {"affects = \"origin\"", "camera.coin[1].affects"},
-                                         {"falloff = \"box\"", "camera.coin[1].falloff"},
-                                         {"strenght = 0.2", "camera.coin[1].strenght"}}) {
+  for (const Case& c :
+       std::vector<Case>{{"radius = 0", "camera.coin[1].radius"},
+                         {"radius = 2.5", "camera.coin[1].radius"},
+                         {"stiffness = 0", "camera.coin[1].stiffness"},
+                         {"strength = 1.5", "camera.coin[1].strength"},
+                         {"strength = -0.95\nstiffness = 10", "camera.coin[1].strength"},
+                         {"affects = \"origin\"", "camera.coin[1].affects"},
+                         {"falloff = \"box\"", "camera.coin[1].falloff"},
+                         {"strenght = 0.2", "camera.coin[1].strenght"}}) {
     const std::string err = scene_error(base + c.extra + "\n");
     EXPECT_EQ(err.rfind(c.key + ":", 0), 0u) << c.extra << " -> " << err;
   }
-  EXPECT_NE(scene_error("[camera]\n[[camera.coin]]\nstrength = 0.5\n").find("camera.coin[0].position"),
-            std::string::npos);
+  EXPECT_NE(
+      scene_error("[camera]\n[[camera.coin]]\nstrength = 0.5\n").find("camera.coin[0].position"),
+      std::string::npos);
   EXPECT_NE(scene_error("[camera]\ncoin = 3\n").find("camera.coin"), std::string::npos);
   const std::string choices = scene_error(base + "affects = \"origin\"\n");
   EXPECT_NE(choices.find("org"), std::string::npos) << choices;
@@ -697,8 +731,8 @@ TEST(CoinScene, ErrorsNameTheKey) {
 }
 
 TEST(CoinScene, SetReachesCoinsAndStrengthZeroRestoresTheCamera) {
-  const std::string plain_scene = kScene.substr(0, kScene.find("[[camera.coin]]")) +
-                                  kScene.substr(kScene.find("[[object]]"));
+  const std::string plain_scene =
+      kScene.substr(0, kScene.find("[[camera.coin]]")) + kScene.substr(kScene.find("[[object]]"));
   const Scene plain = load_scene_from_string(plain_scene, "plain.toml");
   const Scene zero = load_scene_from_string(kScene, "coins.toml", {"camera.coin.0.strength=0"});
   EXPECT_TRUE(coin_sites(*zero.camera).empty());
@@ -710,7 +744,8 @@ TEST(CoinScene, SetReachesCoinsAndStrengthZeroRestoresTheCamera) {
   const Scene radius = load_scene_from_string(kScene, "coins.toml", {"camera.coin.0.radius=0.1"});
   EXPECT_EQ(coin_sites(*radius.camera)[0].radius, 0.1);
   // A coin the camera does not see is reported with its key.
-  const Scene behind = load_scene_from_string(kScene, "coins.toml", {"camera.coin.0.position=[0, 0, 9]"});
+  const Scene behind =
+      load_scene_from_string(kScene, "coins.toml", {"camera.coin.0.position=[0, 0, 9]"});
   bool warned = false;
   for (const auto& w : behind.warnings) warned |= w.rfind("camera.coin[0]", 0) == 0;
   EXPECT_TRUE(warned);
@@ -748,8 +783,9 @@ TEST(CoinDocs, ParameterTableMatchesTheSpecs) {
     for (const std::string& row : rows)
       if (row.rfind(head, 0) == 0) {
         found = true;
-        EXPECT_NE(row.find(def), std::string::npos) << spec.name << ": expected default " << def
-                                                    << " in\n" << row;
+        EXPECT_NE(row.find(def), std::string::npos)
+            << spec.name << ": expected default " << def << " in\n"
+            << row;
       }
     EXPECT_TRUE(found) << spec.name << " is missing from the table in docs/coins.md";
   }
