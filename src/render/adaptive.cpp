@@ -79,7 +79,14 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
     AdaptiveWorkspace::Point& p = ws.points[size_t(ly) * nx + lx];
     if (!p.done) {
       const uint64_t gx = uint64_t(x0) * L + lx, gy = uint64_t(y0) * L + ly;
-      const SampleResult r = eval({gx * su, gy * sv}, mix64(gy * row + gx), rays);
+      // The coarsest level whose lattice holds this point (0 = pixel corners).
+      auto level = [&](uint64_t g) {
+        int k = depth_;
+        while (k > 0 && g % 2 == 0) g /= 2, --k;
+        return k;
+      };
+      const double footprint = 1.0 / double(1 << std::max(level(gx), level(gy)));
+      const SampleResult r = eval({gx * su, gy * sv}, mix64(gy * row + gx), footprint, rays);
       p.nan = !is_finite(r.L);
       p.L = p.nan ? Color{} : r.L;
       p.alpha = float(r.alpha);

@@ -4,7 +4,9 @@
 // refines each pixel down to 2^aa_depth steps. Pixel corners are sampled first and shared with
 // neighbouring pixels (and, since every lattice point's random numbers depend only on its
 // position, with neighbouring tiles: no seams). A square whose four corners differ by more than
-// aa_threshold is split in four, recursively. Distortion-driven: before rendering, the camera's
+// aa_threshold is split in four, recursively. A lattice point filters textures over the spacing of
+// the coarsest level it belongs to (pixel corners over a pixel, midpoints over half a pixel...),
+// a function of its position alone, so shared points agree. Distortion-driven: before rendering, the camera's
 // ray differentials give each pixel's footprint; pixels larger than the image's median footprint
 // (and pixels where the ray field jumps) start split, so stretched regions get more samples
 // before any contrast is seen.
@@ -56,7 +58,8 @@ class AdaptiveGrid {
   // Levels every pixel is split to before contrast is looked at (the distortion map).
   int forced_depth(int x, int y) const { return forced_[size_t(y) * w_ + x]; }
 
-  using Eval = std::function<SampleResult(Vec2 uv, uint64_t key, uint64_t& rays)>;
+  // `footprint`: the lattice spacing the sample stands for, in pixels (textures filter over it).
+  using Eval = std::function<SampleResult(Vec2 uv, uint64_t key, double footprint, uint64_t& rays)>;
   using Emit = std::function<void(int x, int y, const PixelResult&)>;
   void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval, const Emit& emit,
                    uint64_t& rays) const;

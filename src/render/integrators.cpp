@@ -66,29 +66,29 @@ class Whitted final : public Integrator {
     if (depth >= ctx_.max_depth) return L;
 
     const Vec3 wr = b.frame.to_world(reflect(b.frame.to_local(wo), {0, 0, 1}));
-    if (max_component(b.mirror) > 0) L += b.mirror * follow(*h, wr, rng, depth, rays);
+    if (max_component(b.mirror) > 0) L += b.mirror * follow(*h, wr, fp, rng, depth, rays);
     if (b.transmission > 0) {
       const double e = b.entering ? b.eta : 1 / b.eta;
       const double cos_i = dot(wo, b.frame.n);
       const double F = fresnel_dielectric(cos_i, e);
-      Color t = follow(*h, wr, rng, depth, rays) * F;
+      Color t = follow(*h, wr, fp, rng, depth, rays) * F;
       if (F < 1) {
         const double sin2_t = (1 - cos_i * cos_i) / (e * e);
         const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
         const Vec3 wt = normalize(-wo / e + b.frame.n * (cos_i / e - cos_t));
-        t += follow(*h, wt, rng, depth, rays) * ((1 - F) / (e * e));
+        t += follow(*h, wt, fp, rng, depth, rays) * ((1 - F) / (e * e));
       }
       L += t * b.transmission;
     }
     return L;
   }
 
-  Color follow(const Hit& h, const Vec3& d, Rng& rng, int depth, uint64_t& rays) const {
+  Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth, uint64_t& rays) const {
     const Ray r = spawn(h, d);
     Hit next;
     ++rays;
     const bool found = ctx_.accel.intersect(r, &next);
-    return trace(r, found ? &next : nullptr, Footprint{}, rng, depth + 1, rays);
+    return trace(r, found ? &next : nullptr, found ? propagate(fp, next) : Footprint{}, rng, depth + 1, rays);
   }
 };
 
@@ -161,9 +161,11 @@ class PathTracer final : public Integrator {
       }
       if (max_component(beta) <= 0) break;
       ray = spawn(hit, s.wi);
-      fp = Footprint{};
       ++rays;
       found = ctx_.accel.intersect(ray, &hit);
+      // Specular bounces keep the ray cone (sharp reflections of textures stay filtered); after a
+      // rough bounce the path's own sampling does the filtering.
+      fp = found && s.delta ? propagate(fp, hit) : Footprint{};
     }
     return L;
   }

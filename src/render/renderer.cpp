@@ -79,18 +79,22 @@ struct Renderer::Job {
         integrator(mode == Mode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
         sampler(sampler_kind(rs.sampler)), gaussian(rs.filter == "gaussian"),
         want_aovs(aovs || mode != Mode::Radiance), W(film.width()), H(film.height()) {
-    const double spp = rs.antialias == "adaptive" && rs.integrator == "whitted" ? 4.0 : double(rs.spp);
-    const double s = std::max(0.125, 1.0 / std::sqrt(spp));
+    // A sample filters textures over its share of the pixel (adaptive subdivision passes the
+    // lattice spacing each sample stands for).
+    const bool corners = rs.antialias == "adaptive" && rs.integrator == "whitted";
+    const double s = corners ? 1.0 : std::max(0.125, 1.0 / std::sqrt(double(rs.spp)));
     du = s / W;
     dv = s / H;
   }
 
-  // Completes a camera sample whose first hit is known.
-  SampleResult finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays) const {
+  // Completes a camera sample whose first hit is known. `footprint` scales the sample's share of
+  // a pixel (adaptive subdivision: the lattice spacing the sample stands for).
+  SampleResult finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays,
+                      double footprint = 1) const {
     SampleResult out;
     out.alpha = 1;
     Footprint fp;
-    if (hit) fp = footprint_at(cam, du, dv, *hit);
+    if (hit) fp = footprint_at(cam, du * footprint, dv * footprint, *hit);
     if (want_aovs && hit) {
       const Material& m = r.scene_.materials[hit->material];
       out.aov.hit = true;
@@ -106,7 +110,7 @@ struct Renderer::Job {
   }
 
   // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
-  SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays) const {
+  SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint = 1) const {
     CameraSample cs;
     cs.uv = uv;
     cs.lens = {rng.uniform(), rng.uniform()};
@@ -116,7 +120,7 @@ struct Renderer::Job {
     Hit h;
     ++rays;
     const bool found = r.accel_->intersect(ray, &h);
-    return finish(ray, *cam, found ? &h : nullptr, rng, rays);
+    return finish(ray, *cam, found ? &h : nullptr, rng, rays, footprint);
   }
 };
 
@@ -207,9 +211,9 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
           const Tile& t = tiles[ti];
           TileStats& st = tile_stats[ti];
           AdaptiveWorkspace& ws = spaces.local();
-          auto eval = [&](Vec2 uv, uint64_t key, uint64_t& rays) {
+          auto eval = [&](Vec2 uv, uint64_t key, double footprint, uint64_t& rays) {
             Rng rng(key, rs.seed);
-            return job.sample_at(uv, rng, rays);
+            return job.sample_at(uv, rng, rays, footprint);
           };
           grid.render_tile(t.x0, t.y0, t.x1, t.y1, ws, eval, [&](int x, int y, const PixelResult& p) {
             AovSample a;

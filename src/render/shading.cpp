@@ -1,5 +1,7 @@
 #include "render/shading.h"
 
+#include "math/frame.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,7 +21,21 @@ Footprint footprint_at(const CameraRay& r, double du, double dv, const Hit& h) {
   fp.dpdx = offset_hit(r.org + r.dorg_du * du, normalize(r.dir + r.ddir_du * du)) - h.p;
   fp.dpdy = offset_hit(r.org + r.dorg_dv * dv, normalize(r.dir + r.ddir_dv * dv)) - h.p;
   if (!is_finite(fp.dpdx) || !is_finite(fp.dpdy)) fp = {};
+  // The angular spread of the pixel's rays, and how their origins fan out, both per unit of
+  // distance at the hit, continue the footprint along secondary rays.
+  fp.spread = std::max(length(r.ddir_du) * du, length(r.ddir_dv) * dv);
   return fp;
+}
+
+Footprint propagate(const Footprint& fp, const Hit& next) {
+  Footprint out;
+  out.spread = fp.spread;
+  const double width = 0.5 * (length(fp.dpdx) + length(fp.dpdy)) + next.t * fp.spread;
+  if (!(width > 0) || !std::isfinite(width)) return out;
+  const Frame f = Frame::from_normal(next.ng);
+  out.dpdx = f.s * width;
+  out.dpdy = f.t * width;
+  return out;
 }
 
 TexCoord texcoord_at(const Hit& h, const Footprint& fp) {

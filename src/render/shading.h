@@ -13,8 +13,12 @@ namespace anamorph {
 // pixel (du = 1/width, dv = 1/height, shrunk for several samples per pixel).
 struct Footprint {
   Vec3 dpdx, dpdy;
+  double spread = 0;  // growth of the footprint's width per unit distance (a ray cone)
 };
 Footprint footprint_at(const CameraRay& r, double du, double dv, const Hit& h);
+// The footprint carried along a mirror or refracted ray to its next hit, as a ray cone: the
+// width at the last hit plus distance times spread, isotropic in the new tangent plane.
+Footprint propagate(const Footprint& fp, const Hit& next);
 
 TexCoord texcoord_at(const Hit& h, const Footprint& fp);
 
