@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "accel/accel.h"
+#include "camera/coins.h"
 #include "app/common.h"
 
 namespace anamorph::app {
@@ -32,9 +33,18 @@ int run(const SceneOptions& o) {
   const Scene s = load(o);
   const Accel accel(s);
   fmt::print("scene       {}\n", s.path);
-  fmt::print("image       {}x{}, {} spp, integrator {}, sampler {}, max_depth {}\n", s.render.width,
-             s.render.height, s.render.spp, s.render.integrator, s.render.sampler, s.render.max_depth);
+  const std::string sampling = s.render.antialias == "adaptive" ? std::string("adaptive antialiasing")
+                                                                 : fmt::format("{} spp ({})", s.render.spp, s.render.sampler);
+  fmt::print("image       {}x{}, {}, integrator {}, max_depth {}\n", s.render.width, s.render.height, sampling,
+             s.render.integrator, s.render.max_depth);
   fmt::print("camera      {}\n", s.camera->describe());
+  const auto sites = coin_sites(*s.camera);
+  if (!sites.empty()) {
+    fmt::print("coins       {} image position(s)\n", sites.size());
+    for (const CoinSite& c : sites)
+      fmt::print("  coin[{}]   (uc, vc) = ({:.4f}, {:.4f}) = pixel ({:.1f}, {:.1f}), radius {:.3g}, strength {:.3g}\n",
+                 c.coin, c.uv.x, c.uv.y, c.uv.x * s.render.width, c.uv.y * s.render.height, c.radius, c.strength);
+  }
   fmt::print("triangles   {} unique, {} after instancing\n", accel.stats().unique_triangles,
              accel.stats().instanced_triangles);
   fmt::print("meshes      {} prototypes, {} placements ({} as Embree instances)\n", s.prototypes.size(),

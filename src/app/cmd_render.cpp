@@ -13,6 +13,7 @@
 
 #include "app/common.h"
 #include "io/image_io.h"
+#include "camera/coins.h"
 #include "render/renderer.h"
 
 namespace anamorph::app {
@@ -31,6 +32,7 @@ struct RenderArgs {
   std::string frames;  // "A:B" or "N"
   std::string video;
   int fps = 30;
+  bool coins_overlay = false;  // --aov coins
   bool quiet = false;
 };
 
@@ -66,6 +68,34 @@ bool on_path(const std::string& exe) {
 }
 
 // Renders one frame to `out`; returns an exit code.
+// The --aov coins layer: coverage of each coin's (uc, vc) marker and radius outline.
+ImageLayer coins_layer(const Scene& scene) {
+  const int W = scene.render.width, H = scene.render.height;
+  ImageLayer l{"coins", {"A"}, std::vector<float>(size_t(W) * H)};
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      l.data[size_t(y) * W + x] =
+          float(coin_overlay(*scene.camera, {(x + 0.5) / W, (y + 0.5) / H}, {1.0 / W, 1.0 / H}));
+  return l;
+}
+
+// The beauty image with the coin markers drawn over it in red, for looking at.
+OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
+  OutputImage o;
+  o.width = img.width;
+  o.height = img.height;
+  o.metadata = img.metadata;
+  ImageLayer b = img.layers[0];
+  for (size_t i = 0; i < coins.data.size(); ++i) {
+    const float c = coins.data[i];
+    const float rgb[3] = {1.0f, 0.1f, 0.05f};
+    for (int k = 0; k < 3; ++k) b.data[i * 4 + size_t(k)] = b.data[i * 4 + size_t(k)] * (1 - c) + rgb[k] * c;
+    b.data[i * 4 + 3] = std::max(b.data[i * 4 + 3], c);
+  }
+  o.layers.push_back(std::move(b));
+  return o;
+}
+
 int render_frame(const RenderArgs& a, const std::vector<std::string>& extra, const std::vector<Aov>& aovs,
                  double frame, const fs::path& out, const std::string& prefix) {
   const Scene scene = load(a.scene, extra, frame);
@@ -97,9 +127,16 @@ int render_frame(const RenderArgs& a, const std::vector<std::string>& extra, con
   img.metadata["anamorph.scene"] = scene.path;
   img.metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
   if (!scene.animated.empty()) img.metadata["anamorph.frame"] = fmt::format("{}", frame);
+  if (a.coins_overlay) {
+    img.layers.push_back(coins_layer(scene));
+    fs::path marked = out;
+    marked.replace_extension(".coins.png");
+    write_png(marked, with_overlay(img, img.layers.back()));
+    if (!a.quiet) fmt::print("coin overlay written to {}\n", marked.string());
+  }
   if (lower_extension(out) == ".png") {
     write_png(out, img);
-    if (!aovs.empty()) {
+    if (img.layers.size() > 1) {
       fs::path exr = out;
       exr.replace_extension(".exr");
       write_exr(exr, img);
@@ -130,8 +167,19 @@ int run(const RenderArgs& a) {
   if (a.integrator) extra.push_back(fmt::format("render.integrator=\"{}\"", *a.integrator));
   if (a.sampler) extra.push_back(fmt::format("render.sampler=\"{}\"", *a.sampler));
   std::vector<Aov> aovs;
+  RenderArgs args = a;
   try {
-    aovs = parse_aovs(a.aovs);
+    // "coins" is drawn from the camera after rendering, not sampled: take it out of the list.
+    std::string list;
+    for (size_t s = 0; s <= a.aovs.size() && !a.aovs.empty();) {
+      size_t e = a.aovs.find(',', s);
+      if (e == std::string::npos) e = a.aovs.size();
+      const std::string name = a.aovs.substr(s, e - s);
+      if (name == "coins") args.coins_overlay = true;
+      else list += (list.empty() ? "" : ",") + name;
+      s = e + 1;
+    }
+    aovs = parse_aovs(list);
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "error: --aov: {}\n", e.what());
     return kBadInput;
@@ -148,7 +196,7 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --video needs --frames A:B\n");
       return kBadInput;
     }
-    return render_frame(a, extra, aovs, 0, out, "");
+    return render_frame(args, extra, aovs, 0, out, "");
   }
 
   // A sequence: frames A..B inclusive, written through a printf pattern.
@@ -177,7 +225,7 @@ int run(const RenderArgs& a) {
   }
   for (int f = first; f <= last; ++f) {
     const std::string file = fmt::sprintf(out, f);
-    const int rc = render_frame(a, extra, aovs, f, file, fmt::format("frame {} ", f));
+    const int rc = render_frame(args, extra, aovs, f, file, fmt::format("frame {} ", f));
     if (rc != kOk) return rc;
   }
   if (!a.video.empty()) {
@@ -218,7 +266,8 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
                   "whitted | path | albedo | normal | depth | position | id | uv");
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
-                  "Extra layers written to EXR (beside a PNG: <output>.exr): albedo,normal,depth,position,id,uv,spp");
+                  "Extra layers written to EXR (beside a PNG: <output>.exr): albedo,normal,depth,position,id,uv,spp,coins "
+                  "(coins also writes <output>.coins.png with the markers drawn in)");
   cmd->add_option("--frames", a->frames, "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");
   cmd->add_option("--video", a->video, "After --frames, assemble the frames into this video with ffmpeg");
   cmd->add_option("--fps", a->fps, "Frames per second of --video (default 30)")->check(CLI::Range(1, 1000));

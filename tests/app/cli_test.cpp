@@ -235,3 +235,27 @@ TEST(Cli, FramesRenderASequenceAndVideoNeedsFfmpeg) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Cli, CoinsInInfoAndOverlay) {
+  const fs::path d = temp_dir("coins");
+  const std::string scene = write(d / "s.toml", std::string(kSmall) +
+                                                    "[[camera.coin]]\nposition = [0, 0, 0]\nstrength = 0.5\nradius = 0.3\n");
+  const Result info = run("info " + scene);
+  ASSERT_EQ(info.code, 0) << info.out;
+  // The coin sits where the camera looks: the image center.
+  EXPECT_CONTAINS(info.out, "(uc, vc) = (0.5000, 0.5000)");
+  const Result r = run("render " + scene + " -q -o " + (d / "o.png").string() + " --aov coins");
+  ASSERT_EQ(r.code, 0) << r.out;
+  ASSERT_TRUE(fs::exists(d / "o.coins.png"));
+  int w, h;
+  const auto ch = read_exr_channels(d / "o.exr", &w, &h);
+  ASSERT_TRUE(ch.count("coins.A"));
+  const auto& a = ch.at("coins.A");
+  EXPECT_GT(a[size_t(h / 2) * w + w / 2], 0.5f) << "marker at the coin's image position";
+  EXPECT_EQ(a[0], 0.0f) << "nothing in the corner";
+  fs::remove_all(d);
+}
+
+}  // namespace anamorph
