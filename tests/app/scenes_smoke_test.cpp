@@ -11,10 +11,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "camera/presets.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "test_util.h"
@@ -131,10 +134,48 @@ TEST(SceneFiles, PaperHasTheFourteenRowsOfTableOne) {
   }
 }
 
+// The application scenes the docs point to (docs/gallery.md, docs/cameras.md) are all there and
+// are picked up by the smoke test above.
 TEST(SceneFiles, ApplicationsAreFound) {
-  size_t apps = 0;
-  for (const SceneFile& f : scene_files()) apps += f.group == "apps";
-  EXPECT_GE(apps, 11u) << "expected the application scenes in examples/apps";
+  const char* const expected[] = {
+      "domemaster", "omnimax", "vr_ods", "light_field_quilt", "integral_image", "mercator",
+      "lambert", "focus_context", "coin_animation", "bspline_animation", "matched_lens",
+      "isometric", "fisheye_180", "light_probe", "matched_pinhole", "panorama_360",
+      "cylindrical_panorama", "little_planet", "panini_wide", "cubemap", "pushbroom",
+      "crossed_slits"};
+  const std::vector<SceneFile> files = scene_files();
+  for (const char* name : expected) {
+    const bool found = std::any_of(files.begin(), files.end(), [&](const SceneFile& f) {
+      return f.group == "apps" && f.path.stem() == name;
+    });
+    EXPECT_TRUE(found) << "examples/apps/" << name << ".toml is missing from the smoke test";
+  }
+}
+
+// Every preset has a bundled scene that uses it, listed in the "Example scenes" table of
+// docs/cameras.md.
+TEST(SceneFiles, EveryPresetHasAnExampleScene) {
+  const auto read = [](const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  std::vector<std::pair<fs::path, std::string>> texts;
+  for (const SceneFile& f : scene_files()) texts.emplace_back(f.path, read(f.path));
+  const std::string docs = read(test::source_dir() / "docs" / "cameras.md");
+  const size_t section = docs.find("## Example scenes");
+  ASSERT_NE(section, std::string::npos) << "docs/cameras.md has no \"Example scenes\" section";
+  for (const PresetInfo& p : camera_presets()) {
+    const std::string use = "preset = \"" + std::string(p.name) + "\"";
+    const auto it = std::find_if(texts.begin(), texts.end(), [&](const auto& t) {
+      return t.second.find(use) != std::string::npos;
+    });
+    EXPECT_NE(it, texts.end()) << "no scene in examples/ uses " << use;
+    const std::string row = "| " + std::string(p.name) + " | [examples/";
+    EXPECT_NE(docs.find(row, section), std::string::npos)
+        << "docs/cameras.md, Example scenes: no row for " << p.name;
+  }
 }
 
 }  // namespace
