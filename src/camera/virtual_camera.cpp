@@ -117,7 +117,25 @@ std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
   return r;
 }
 
+void VirtualCamera::set_motion(const Transform& close, Shutter shutter) {
+  shutter_ = shutter;
+  moving_ = !(close.matrix() == world_from_camera_.matrix());
+  if (moving_) motion_ = RigidMotion(world_from_camera_, close);
+}
+
+double VirtualCamera::shutter_time(const CameraSample& cs) const {
+  if (!shutter_.rolling) return cs.time;
+  const double a = radians(shutter_.rolling_angle), c = std::cos(a), s = std::sin(a);
+  return std::clamp(0.5 + ((cs.uv.x - 0.5) * c + (cs.uv.y - 0.5) * s) / (std::abs(c) + std::abs(s)), 0.0, 1.0);
+}
+
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
+  if (moving_) {
+    // Motion blur: the ray in camera space, then the rig where it is at this sample's time.
+    auto r = generate_general(cs, /*camera_space=*/true);
+    if (r) to_world(&*r, motion_.at(shutter_time(cs)));
+    return r;
+  }
   if (linear_ && dof_.aperture_radius == 0) {
     if (coins_.reaches(cs.uv)) {
       auto r = linear_coin_ray(cs.uv);
@@ -140,7 +158,7 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
   return generate_general(cs);
 }
 
-std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs) const {
+std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs, bool camera_space) const {
   auto r = generate_pinhole(cs.uv);
   if (!r) return r;
   if (dof_.aperture_radius > 0) {
@@ -152,13 +170,16 @@ std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs)
     r->org = r->org + f.s * l.x + f.t * l.y;
     r->dir = normalize(focus - r->org);
   }
-  to_world(&*r);
+  if (!camera_space) to_world(&*r);
   return r;
 }
 
 void VirtualCamera::to_world(CameraRay* r) const {
-  if (!rig_identity_) {
-    const auto& t = world_from_camera_;
+  if (!rig_identity_) to_world(r, world_from_camera_);
+}
+
+void VirtualCamera::to_world(CameraRay* r, const Transform& t) const {
+  {
     r->org = t.point(r->org);
     const Vec3 d = t.vector(r->dir);
     const double len = length(d);

@@ -9,6 +9,7 @@
 #include "camera/camera.h"
 #include "camera/coins.h"
 #include "camera/functions.h"
+#include "math/rigid_motion.h"
 #include "math/transform.h"
 
 namespace anamorph {
@@ -29,6 +30,15 @@ struct VirtualCameraParts {
   std::string description;
   std::unique_ptr<InverseMap> inverse;  // optional closed-form inverse (see InverseMap)
   std::vector<Coin> coins;  // centers of interest (world space), applied between org/dir and rig
+};
+
+// Camera motion over the shutter: the rig moves from `open` to `close` (times in [0,1] of the
+// shutter interval, sampled per ray by CameraSample::time). A rolling shutter makes a ray's time
+// a function of its image position instead: 0 where the readout starts, 1 where it ends, along
+// `rolling_angle` (degrees from +u toward +v; 90 = top to bottom).
+struct Shutter {
+  bool rolling = false;
+  double rolling_angle = 90;
 };
 
 struct DepthOfField {
@@ -56,11 +66,19 @@ class VirtualCamera final : public Camera {
   const CoinField& coins() const { return coins_; }
   const std::vector<std::string>& coin_warnings() const { return coin_warnings_; }
 
+  // The rig (world_from_camera) and, for motion blur, its position at shutter close.
+  const Transform& rig() const { return world_from_camera_; }
+  void set_motion(const Transform& world_from_camera_close, Shutter shutter);
+  bool moving() const { return moving_; }
+  // The time in [0,1] of the shutter at which a sample's ray is taken.
+  double shutter_time(const CameraSample& s) const;
+
  private:
   void detect_linear_field();
-  std::optional<CameraRay> generate_general(const CameraSample& s) const;
+  std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
   std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
   void to_world(CameraRay* r) const;  // the rig
+  void to_world(CameraRay* r, const Transform& rig) const;
 
   std::unique_ptr<OrgFunction> org_;
   std::unique_ptr<DirFunction> dir_;
@@ -75,6 +93,9 @@ class VirtualCamera final : public Camera {
   Vec3 co0_, co_u_, co_v_, cd0_, cd_u_, cd_v_;  // the same in camera space (rays under coins)
   CoinField coins_;
   std::vector<std::string> coin_warnings_;
+  bool moving_ = false;
+  RigidMotion motion_;
+  Shutter shutter_;
 };
 
 // Numeric inverse map for any camera: a coarse grid over [0,1]^2, then Gauss-Newton on the

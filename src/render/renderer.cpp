@@ -114,6 +114,7 @@ struct Renderer::Job {
     CameraSample cs;
     cs.uv = uv;
     cs.lens = {rng.uniform(), rng.uniform()};
+    cs.time = rng.uniform();
     const auto cam = r.scene_.camera->generate(cs);
     if (!cam) return SampleResult{};  // no ray: transparent
     const Ray ray{cam->org, cam->dir, 0, kInf};
@@ -287,6 +288,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                   CameraSample cs;
                   cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0), std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
                   cs.lens = {rng[k].uniform(), rng[k].uniform()};
+                  cs.time = rng[k].uniform();
                   auto r = scene_.camera->generate(cs);
                   if (!r) continue;
                   cam[k] = *r;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "camera/coins.h"
@@ -14,7 +15,10 @@ namespace anamorph {
 namespace {
 
 // Keys every camera form accepts.
-const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance", "coin"};
+const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance", "coin",
+                                   "shutter", "rolling_shutter", "rolling_shutter_angle"};
+const std::string_view kRolling[] = {"none", "top_to_bottom", "bottom_to_top", "left_to_right", "right_to_left",
+                                     "angle"};
 
 template <class Info>
 auto create_checked(TableReader& r, const Info& info, const ParamValues& v) {
@@ -95,7 +99,8 @@ VirtualCameraParts from_model_camera(const ModelCamera& m, ImageInfo img) {
 
 std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
                                     const std::vector<ModelCamera>& model_cameras,
-                                    bool preset_overridden, std::vector<std::string>* warnings) {
+                                    bool preset_overridden, std::vector<std::string>* warnings,
+                                    ShutterSpec* shutter) {
   VirtualCameraParts parts;
   const bool composed = r.has("org") || r.has("dir");
   if (r.has("gltf_camera")) {
@@ -152,6 +157,28 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
     r.fail("focus_distance", "must be > 0 when aperture_radius > 0");
   parts.world_from_camera = r.transform("transform") * parts.world_from_camera;
   parts.coins = read_coins(r);
+  ShutterSpec local;
+  if (!shutter) shutter = &local;
+  {
+    // shutter = [open, close] in frames relative to the frame rendered (default: instantaneous).
+    shutter->open = shutter->close = 0;
+    if (const toml::node* n = r.node("shutter")) {
+      const toml::array* a = n->as_array();
+      if (!a || a->size() != 2 || !a->get(0)->value<double>() || !a->get(1)->value<double>())
+        r.fail("shutter", "expected [open, close] in frames, e.g. [0, 0.5]");
+      shutter->open = *a->get(0)->value<double>();
+      shutter->close = *a->get(1)->value<double>();
+      if (!std::isfinite(shutter->open) || !std::isfinite(shutter->close) || shutter->close < shutter->open)
+        r.fail("shutter", "expected finite [open, close] with close >= open");
+    }
+    const std::string rolling = r.string("rolling_shutter", "none", kRolling);
+    shutter->shutter.rolling = rolling != "none";
+    const double angles[] = {0, 90, 270, 0, 180};
+    const size_t i = size_t(std::find(std::begin(kRolling), std::end(kRolling), rolling) - std::begin(kRolling));
+    shutter->shutter.rolling_angle = rolling == "angle" ? r.number("rolling_shutter_angle", 90) : (i < 5 ? angles[i] : 90);
+    if (rolling != "angle" && r.has("rolling_shutter_angle"))
+      r.fail("rolling_shutter_angle", "only used with rolling_shutter = \"angle\"");
+  }
   r.finish();
   auto cam = std::make_unique<VirtualCamera>(std::move(parts), dof);
   if (warnings)

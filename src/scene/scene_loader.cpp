@@ -465,8 +465,20 @@ void for_each_table(TableReader& root, std::string_view key, F&& f) {
   }
 }
 
+// The scene text at a (fractional) frame: animation evaluated, then the overrides.
+toml::table at_frame(const toml::table& original, const std::vector<std::string>& overrides, double frame) {
+  toml::table root = original;
+  const std::vector<AnimatedKey> animation = take_animation(root);
+  for (const AnimatedKey& a : animation) set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
+  for (const auto& o : overrides) apply_override(root, o);
+  return root;
+}
+
 Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides,
                   double frame) {
+  // Kept for the shutter's extra camera builds. Copies lose their source positions, so the main
+  // build works on `root` itself, whose errors point into the files.
+  const toml::table original = root;
   const std::vector<AnimatedKey> animation = take_animation(root);
   for (const AnimatedKey& a : animation) set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
@@ -542,9 +554,25 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   const bool preset_overridden = std::any_of(overrides.begin(), overrides.end(), [](const std::string& o) {
     return o.rfind("camera.preset=", 0) == 0;
   });
+  ShutterSpec shutter;
   s.camera = read_camera(cr, {s.render.width, s.render.height}, c.model_cameras, preset_overridden,
-                         &s.warnings);
+                         &s.warnings, &shutter);
   s.camera_toml = to_toml_text(ct);
+  if (shutter.close > shutter.open || shutter.open != 0) {
+    // Camera motion blur: the rig at shutter open and close, from the animation.
+    auto camera_at = [&](double t) {
+      const toml::table r2 = at_frame(original, overrides, frame + t);
+      const toml::node* n2 = r2.get("camera");
+      TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
+      ShutterSpec unused;
+      return read_camera(cr2, {s.render.width, s.render.height}, c.model_cameras, preset_overridden, nullptr, &unused);
+    };
+    if (shutter.open != 0) s.camera = camera_at(shutter.open);
+    const auto close = camera_at(shutter.close);
+    static_cast<VirtualCamera&>(*s.camera).set_motion(static_cast<const VirtualCamera&>(*close).rig(), shutter.shutter);
+  } else if (shutter.shutter.rolling) {
+    static_cast<VirtualCamera&>(*s.camera).set_motion(static_cast<const VirtualCamera&>(*s.camera).rig(), shutter.shutter);
+  }
   top.finish();
   return s;
 }
