@@ -7,9 +7,9 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
-#include <regex>
 
 #include "app/common.h"
 #include "io/image_io.h"
@@ -63,6 +63,31 @@ bool on_path(const std::string& exe) {
     if (e == std::string::npos) e = p.size();
     const fs::path cand = fs::path(p.substr(s, e - s)) / exe;
     if (!p.substr(s, e - s).empty() && access(cand.c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+// "A:B" or "A" (integers, possibly negative).
+bool parse_frames(const std::string& text, int* first, int* last) {
+  auto number = [](const std::string& t, int* v) {
+    if (t.empty()) return false;
+    char* end = nullptr;
+    const long x = std::strtol(t.c_str(), &end, 10);
+    if (*end || x < -1000000000 || x > 1000000000) return false;
+    *v = int(x);
+    return true;
+  };
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) return number(text, first) && number(text, last);
+  return number(text.substr(0, colon), first) && number(text.substr(colon + 1), last);
+}
+
+// A printf conversion for the frame number: %d, %4d, %04d, ...
+bool has_frame_pattern(const std::string& s) {
+  for (size_t i = s.find('%'); i != std::string::npos; i = s.find('%', i + 1)) {
+    size_t j = i + 1;
+    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+    if (j < s.size() && s[j] == 'd') return true;
   }
   return false;
 }
@@ -200,19 +225,16 @@ int run(const RenderArgs& a) {
   }
 
   // A sequence: frames A..B inclusive, written through a printf pattern.
-  const std::regex range(R"(^(-?\d+)(?::(-?\d+))?$)");
-  std::smatch m;
-  if (!std::regex_match(a.frames, m, range)) {
+  int first = 0, last = 0;
+  if (!parse_frames(a.frames, &first, &last)) {
     fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n", a.frames);
     return kBadInput;
   }
-  const int first = std::stoi(m[1]), last = m[2].matched ? std::stoi(m[2]) : first;
   if (last < first) {
     fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
     return kBadInput;
   }
-  const std::regex pattern(R"(%0?\d*d)");
-  if (!std::regex_search(out, pattern)) {
+  if (!has_frame_pattern(out)) {
     fmt::print(stderr, "error: -o {}: with --frames the output needs a frame-number pattern, e.g. out/frame_%04d.png\n",
                out);
     return kBadInput;

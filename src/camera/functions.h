@@ -54,8 +54,9 @@ class OrgFunction {
 class DirFunction {
  public:
   virtual ~DirFunction() = default;
-  // `org` is the (possibly coin-deformed) origin sample: dependent directions (normal, tangent)
-  // read it. Returns false for *no ray*. Const, thread-safe, allocates nothing.
+  // `org` is the origin sample at the same (u, v), before coins (they deform the finished ray
+  // field): dependent directions (normal, tangent) read it. Returns false for *no ray*. Const,
+  // thread-safe, allocates nothing.
   virtual bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const = 0;
 };
 
