@@ -146,13 +146,14 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
     const Vec3 d = d0_ + d_u_ * u + d_v_ * v;
     const double len = length(d);
     if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
+    const double inv = 1 / len;  // one division for the direction and both derivatives
     CameraRay r;
     r.org = o0_ + o_u_ * u + o_v_ * v;
-    r.dir = d / len;
+    r.dir = d * inv;
     r.dorg_du = o_u_;
     r.dorg_dv = o_v_;
-    r.ddir_du = normalized_derivative(r.dir, len, d_u_);
-    r.ddir_dv = normalized_derivative(r.dir, len, d_v_);
+    r.ddir_du = (d_u_ - r.dir * dot(r.dir, d_u_)) * inv;
+    r.ddir_dv = (d_v_ - r.dir * dot(r.dir, d_v_)) * inv;
     return r;
   }
   return generate_general(cs);
