@@ -74,7 +74,7 @@ void Film::set(int x, int y, const Color& L, double alpha, uint32_t spp, const A
   p.alpha = alpha;
   p.n = 1;
   p.spp = spp;
-  std::fill_n(&aov_[(size_t(y) * w_ + x) * aov_floats_], aov_floats_, 0.0);
+  if (aov_floats_ > 0) std::fill_n(aov_.begin() + long((size_t(y) * w_ + x) * aov_floats_), aov_floats_, 0.0);
   add_aovs(x, y, a, true);
 }
 
