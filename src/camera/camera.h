@@ -33,6 +33,15 @@ class Camera {
   virtual ~Camera() = default;
   // Must be const, thread-safe and allocation-free.
   virtual std::optional<CameraRay> generate(const CameraSample& s) const = 0;
+  // Many samples at once (the renderer's primary-ray packets); `valid[i]` false means no ray.
+  // The same rays as generate(), which cameras may compute faster together.
+  virtual void generate_batch(const CameraSample* s, int n, CameraRay* out, bool* valid) const {
+    for (int i = 0; i < n; ++i) {
+      const auto r = generate(s[i]);
+      valid[i] = bool(r);
+      if (r) out[i] = *r;
+    }
+  }
   // The inverse map: every (u, v) whose ray passes through `p` (may be empty or several).
   virtual std::vector<Vec2> project(const Vec3& p) const = 0;
   // Human-readable one-line description for `anamorph info` and file metadata.

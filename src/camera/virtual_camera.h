@@ -51,6 +51,7 @@ class VirtualCamera final : public Camera {
   VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
 
   std::optional<CameraRay> generate(const CameraSample& s) const override;
+  void generate_batch(const CameraSample* s, int n, CameraRay* out, bool* valid) const override;
   std::vector<Vec2> project(const Vec3& p) const override;
   std::string describe() const override { return description_; }
 

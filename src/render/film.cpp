@@ -65,6 +65,11 @@ void Film::add(int x, int y, const Color& L, double alpha, const AovSample& a, b
   add_aovs(x, y, a, first_sample);
 }
 
+void Film::clear() {
+  std::fill(pixels_.begin(), pixels_.end(), Pixel{});
+  std::fill(aov_.begin(), aov_.end(), 0.0);
+}
+
 void Film::set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a) {
   Pixel& p = px(x, y);
   p = Pixel{};

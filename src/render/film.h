@@ -41,6 +41,8 @@ class Film {
 
   // One camera sample: radiance, coverage (0 for "no ray") and AOV values.
   void add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample);
+  // Back to no samples (keeps the memory).
+  void clear();
   // A pixel finished elsewhere (adaptive subdivision): its value and how many samples it took.
   void set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a);
   // Camera samples that went into a pixel (the `spp` AOV).

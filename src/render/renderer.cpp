@@ -73,6 +73,7 @@ struct Renderer::Job {
   bool want_aovs;
   int W, H;
   double du, dv;  // one sample's share of a pixel, in image units (ray differentials)
+  std::vector<uint8_t> textured;  // per material: some texture is not a constant
 
   Job(const Renderer& rr, const RenderContext& ctx, const Film& film, bool aovs)
       : r(rr), rs(rr.scene_.render), mode(mode_of(rs.integrator)),
@@ -85,20 +86,29 @@ struct Renderer::Job {
     const double s = corners ? 1.0 : std::max(0.125, 1.0 / std::sqrt(double(rs.spp)));
     du = s / W;
     dv = s / H;
+    for (const Material& m : rr.scene_.materials)
+      textured.push_back(m.base_color.kind != Texture::Kind::Constant || m.has_normal_map ||
+                         m.metallic_roughness.kind != Texture::Kind::Constant ||
+                         m.emission.kind != Texture::Kind::Constant);
   }
 
   // Completes a camera sample whose first hit is known. `footprint` scales the sample's share of
   // a pixel (adaptive subdivision: the lattice spacing the sample stands for).
-  SampleResult finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays,
-                      double footprint = 1) const {
-    SampleResult out;
+  // Writes into `out` (reused by the caller: building a fresh result per sample meant zeroing
+  // ~150 bytes per ray, a visible cost for primary-ray renders).
+  void finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays, SampleResult& out,
+              double footprint = 1) const {
     out.alpha = 1;
+    out.aov.hit = false;
     Footprint fp;
-    if (hit) fp = footprint_at(cam, du * footprint, dv * footprint, *hit);
+    // Footprints only matter where something is filtered: textures, or rays that go on (their
+    // ray cones carry it to textures further along).
+    if (hit && (mode == Mode::Radiance || textured[hit->material]))
+      fp = footprint_at(cam, du * footprint, dv * footprint, *hit);
     if (want_aovs && hit) {
       const Material& m = r.scene_.materials[hit->material];
       out.aov.hit = true;
-      out.aov.albedo = m.base_color.eval(texcoord_at(*hit, fp));
+      out.aov.albedo = textured[hit->material] ? m.base_color.eval(texcoord_at(*hit, fp)) : m.base_color.value;
       out.aov.normal = dot(hit->ns, cam.dir) > 0 ? -hit->ns : hit->ns;
       out.aov.position = hit->p;
       out.aov.depth = hit->t;  // distance along the camera ray from its origin (dir is unit)
@@ -106,7 +116,6 @@ struct Renderer::Job {
       out.aov.uv = hit->uv;
     }
     out.L = mode == Mode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays) : aov_beauty(mode, out.aov);
-    return out;
   }
 
   // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
@@ -121,7 +130,9 @@ struct Renderer::Job {
     Hit h;
     ++rays;
     const bool found = r.accel_->intersect(ray, &h);
-    return finish(ray, *cam, found ? &h : nullptr, rng, rays, footprint);
+    SampleResult out;
+    finish(ray, *cam, found ? &h : nullptr, rng, rays, out, footprint);
+    return out;
   }
 };
 
@@ -264,17 +275,21 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
           if (cancelled()) return;
           const Tile& t = tiles[ti];
           TileStats& st = tile_stats[ti];
+          // Coherent packets of 4x4 pixels for the primary rays. The packet's arrays live for the
+          // whole tile: constructing them per packet (zeroing about 6 KB) cost a third of the
+          // time of primary-ray renders.
+          constexpr int kPacket = 16;
+          Ray rays[kPacket];
+          CameraRay cam[kPacket];
+          bool valid[kPacket], found[kPacket], use[kPacket];
+          Hit hits[kPacket];
+          Rng rng[kPacket];
+          CameraSample samples[kPacket];
+          int lx[kPacket], ly[kPacket];
+          SampleResult res;
           for (uint32_t s = s_begin; s < s_end; ++s) {
-            // Coherent packets of 4x4 pixels for the primary rays.
-            constexpr int kPacket = 16;
             for (int y = t.y0; y < t.y1; y += 4)
               for (int x = t.x0; x < t.x1; x += 4) {
-                Ray rays[kPacket];
-                CameraRay cam[kPacket];
-                bool valid[kPacket], found[kPacket], use[kPacket];
-                Hit hits[kPacket];
-                Rng rng[kPacket];
-                int lx[kPacket], ly[kPacket];
                 for (int k = 0; k < kPacket; ++k) {
                   lx[k] = x + (k & 3);
                   ly[k] = y + (k >> 2);
@@ -285,15 +300,18 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                   const uint32_t key = uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
                   Vec2 off = pixel_offset(job.sampler, s, spp, key, rng[k]);
                   if (job.gaussian) off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
-                  CameraSample cs;
+                  CameraSample& cs = samples[k];
                   cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0), std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
                   cs.lens = {rng[k].uniform(), rng[k].uniform()};
                   cs.time = rng[k].uniform();
-                  auto r = scene_.camera->generate(cs);
-                  if (!r) continue;
-                  cam[k] = *r;
-                  rays[k] = Ray{r->org, r->dir, 0, kInf};
-                  valid[k] = true;
+                }
+                // Unused lanes get a harmless sample; their rays are masked out below.
+                for (int k = 0; k < kPacket; ++k)
+                  if (!use[k]) samples[k] = CameraSample{};
+                scene_.camera->generate_batch(samples, kPacket, cam, valid);
+                for (int k = 0; k < kPacket; ++k) {
+                  valid[k] = valid[k] && use[k];
+                  if (valid[k]) rays[k] = Ray{cam[k].org, cam[k].dir, 0, kInf};
                 }
                 accel_->intersect16(rays, valid, hits, found);
                 for (int k = 0; k < kPacket; ++k) {
@@ -304,7 +322,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                     continue;
                   }
                   st.rays++;
-                  const SampleResult res = job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays);
+                  job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays, res);
                   if (!is_finite(res.L)) {
                     st.nan(lx[k], ly[k], int(s));
                     continue;  // dropped

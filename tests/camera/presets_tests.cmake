@@ -10,6 +10,7 @@ anamorph_add_test(test_camera_presets
   ${CMAKE_CURRENT_LIST_DIR}/preset_multiperspective_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/preset_docs_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dof_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/batch_test.cpp
 )
 
 # Makes the pictures and parameter tables of docs/cameras.md (not a test; run by hand):
