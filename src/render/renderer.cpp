@@ -262,7 +262,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   } else {
     pass_end.push_back(spp);
   }
-  std::vector<uint8_t> active(size_t(W) * H, 1);
+  // Which pixels still take samples (noise-driven sampling only; empty means all of them).
+  std::vector<uint8_t> active(noise_driven ? size_t(W) * H : 0, 1);
   const uint64_t work_total = uint64_t(W) * H * spp;
 
   uint32_t s_begin = 0;
@@ -294,7 +295,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                   lx[k] = x + (k & 3);
                   ly[k] = y + (k >> 2);
                   valid[k] = false;
-                  use[k] = lx[k] < t.x1 && ly[k] < t.y1 && active[size_t(ly[k]) * W + lx[k]];
+                  use[k] = lx[k] < t.x1 && ly[k] < t.y1 && (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
                   if (!use[k]) continue;
                   rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
                   const uint32_t key = uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
