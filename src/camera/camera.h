@@ -42,6 +42,9 @@ class Camera {
       if (r) out[i] = *r;
     }
   }
+  // Whether rays depend on CameraSample::lens or ::time (depth of field, motion); the renderer
+  // draws those random numbers only when they matter.
+  virtual bool uses_lens_or_time() const { return true; }
   // The inverse map: every (u, v) whose ray passes through `p` (may be empty or several).
   virtual std::vector<Vec2> project(const Vec3& p) const = 0;
   // Human-readable one-line description for `anamorph info` and file metadata.

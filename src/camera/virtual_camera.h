@@ -52,6 +52,7 @@ class VirtualCamera final : public Camera {
 
   std::optional<CameraRay> generate(const CameraSample& s) const override;
   void generate_batch(const CameraSample* s, int n, CameraRay* out, bool* valid) const override;
+  bool uses_lens_or_time() const override { return dof_.aperture_radius > 0 || moving_; }
   std::vector<Vec2> project(const Vec3& p) const override;
   std::string describe() const override { return description_; }
 

@@ -122,8 +122,10 @@ struct Renderer::Job {
   SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint = 1) const {
     CameraSample cs;
     cs.uv = uv;
-    cs.lens = {rng.uniform(), rng.uniform()};
-    cs.time = rng.uniform();
+    if (r.scene_.camera->uses_lens_or_time()) {
+      cs.lens = {rng.uniform(), rng.uniform()};
+      cs.time = rng.uniform();
+    }
     const auto cam = r.scene_.camera->generate(cs);
     if (!cam) return SampleResult{};  // no ray: transparent
     const Ray ray{cam->org, cam->dir, 0, kInf};
@@ -264,6 +266,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   }
   // Which pixels still take samples (noise-driven sampling only; empty means all of them).
   std::vector<uint8_t> active(noise_driven ? size_t(W) * H : 0, 1);
+  const bool lens_time = scene_.camera->uses_lens_or_time();
+  const bool needs_rng = lens_time || job.mode == Mode::Radiance || job.sampler != SamplerKind::Center;
   const uint64_t work_total = uint64_t(W) * H * spp;
 
   uint32_t s_begin = 0;
@@ -297,14 +301,17 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                   valid[k] = false;
                   use[k] = lx[k] < t.x1 && ly[k] < t.y1 && (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
                   if (!use[k]) continue;
-                  rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
+                  // AOV images of pinhole cameras at pixel centers use no random numbers at all.
+                  if (needs_rng) rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
                   const uint32_t key = uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
                   Vec2 off = pixel_offset(job.sampler, s, spp, key, rng[k]);
                   if (job.gaussian) off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
                   CameraSample& cs = samples[k];
                   cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0), std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
-                  cs.lens = {rng[k].uniform(), rng[k].uniform()};
-                  cs.time = rng[k].uniform();
+                  if (lens_time) {
+                    cs.lens = {rng[k].uniform(), rng[k].uniform()};
+                    cs.time = rng[k].uniform();
+                  }
                 }
                 // Unused lanes get a harmless sample; their rays are masked out below.
                 for (int k = 0; k < kPacket; ++k)
