@@ -53,7 +53,8 @@ BENCHMARK_CAPTURE(BM_Preset, equirectangular, "equirectangular", "")->Unit(bench
 BENCHMARK_CAPTURE(BM_Preset, dome, "dome", "tilt = 30")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Preset, ods, "ods", "")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Preset, opencv_fisheye, "opencv_fisheye",
-                  "fx = 600\ncy = 540\nfy = 600\ncx = 960\nk1 = 0.05\nk2 = -0.01")->Unit(benchmark::kMillisecond);
+                  "fx = 600\ncy = 540\nfy = 600\ncx = 960\nk1 = 0.05\nk2 = -0.01")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Preset, cubemap, "cubemap", "")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Preset, light_field, "light_field", "")->Unit(benchmark::kMillisecond);
 
@@ -65,23 +66,26 @@ BENCHMARK(BM_BSplineNormal)->Unit(benchmark::kMillisecond);
 
 // The denominator: tracing 1920x1080 primary rays through the bunny, 4x4 packets, one thread.
 static void BM_TraceBunny1080p(benchmark::State& state) {
-  const std::filesystem::path bunny =
-      std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "shared" / "scenes" / "ply" / "stanford_bunny" /
-      "bun_zipper.ply";
+  const std::filesystem::path bunny = std::filesystem::path(__FILE__).parent_path() / ".." / ".." /
+                                      "shared" / "scenes" / "ply" / "stanford_bunny" /
+                                      "bun_zipper.ply";
   if (!std::filesystem::exists(bunny)) {
     state.SkipWithError("../shared/scenes not found: no bunny to trace");
     return;
   }
   const Scene s = load_scene_from_string(
-      "[camera]\nlook_from = [-0.02, 0.11, 0.35]\nlook_at = [-0.02, 0.11, 0.0]\nfov = 40\nfov_axis = \"vertical\"\n"
-      "[[object]]\ntype = \"mesh\"\nfile = \"" + bunny.string() + "\"\n",
+      "[camera]\nlook_from = [-0.02, 0.11, 0.35]\nlook_at = [-0.02, 0.11, 0.0]\nfov = 40\nfov_axis "
+      "= \"vertical\"\n"
+      "[[object]]\ntype = \"mesh\"\nfile = \"" +
+          bunny.string() + "\"\n",
       "bench.toml", {"image.width=1920", "image.height=1080"});
   const Accel accel(s);
   std::vector<Ray> rays;
   for (int by = 0; by < kH; by += 4)
     for (int bx = 0; bx < kW; bx += 4)
       for (int k = 0; k < 16; ++k) {
-        const auto r = s.camera->generate({{(bx + (k & 3) + 0.5) / kW, (by + (k >> 2) + 0.5) / kH}});
+        const auto r =
+            s.camera->generate({{(bx + (k & 3) + 0.5) / kW, (by + (k >> 2) + 0.5) / kH}});
         rays.push_back(Ray{r->org, r->dir, 0, kInf});
       }
   bool valid[16], found[16];

@@ -21,7 +21,8 @@ Scene tessellated_sphere_scene(int n) {
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= 2 * n; ++i) {
       const double th = kPi * j / n, ph = kPi * i / n;
-      m.positions.push_back(Vec3f(Vec3{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)}));
+      m.positions.push_back(
+          Vec3f(Vec3{std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)}));
     }
   const int row = 2 * n + 1;
   for (int j = 0; j < n; ++j)

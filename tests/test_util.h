@@ -17,9 +17,9 @@ inline bool have_shared() { return std::filesystem::exists(shared_scenes() / "MA
 }  // namespace anamorph::test
 
 // Skips the current test with a clear message when ../shared/scenes is not beside the repo.
-#define ANAMORPH_REQUIRE_SHARED()                                                          \
-  do {                                                                                     \
-    if (!::anamorph::test::have_shared())                                                  \
+#define ANAMORPH_REQUIRE_SHARED()                                                           \
+  do {                                                                                      \
+    if (!::anamorph::test::have_shared())                                                   \
       GTEST_SKIP() << "../shared/scenes not found at " << ::anamorph::test::shared_scenes() \
                    << ": skipping test that needs third-party models";                      \
   } while (0)

@@ -11,7 +11,6 @@
 
 namespace anamorph {
 
-
 namespace {
 
 void embree_error(void*, RTCError code, const char* msg) {
@@ -102,8 +101,8 @@ void shape_occluded(const RTCOccludedFunctionNArguments* args) { shape_query<tru
 RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform* xf,
                            const Material& mat, std::vector<std::unique_ptr<MaskData>>& masks) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                         3 * sizeof(float), m.positions.size()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
   for (size_t i = 0; i < m.positions.size(); ++i) {
     Vec3 p(m.positions[i]);
     if (xf) p = xf->point(p);
@@ -111,10 +110,11 @@ RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform
     v[3 * i + 1] = float(p.y);
     v[3 * i + 2] = float(p.z);
   }
-  auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                            3 * sizeof(uint32_t), m.triangle_count()));
+  auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), m.triangle_count()));
   std::copy(m.indices.begin(), m.indices.end(), ix);
-  if (mat.alpha_mode != Material::AlphaMode::Opaque && mat.base_color.kind == Texture::Kind::Image) {
+  if (mat.alpha_mode != Material::AlphaMode::Opaque &&
+      mat.base_color.kind == Texture::Kind::Image) {
     masks.push_back(std::make_unique<MaskData>(MaskData{&m, &mat}));
     rtcSetGeometryUserData(g, masks.back().get());
     rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
@@ -132,7 +132,9 @@ struct Accel::MaskStore {
 
 Accel::Accel(const Scene& scene) : scene_(&scene) {
   device_ = rtcNewDevice(nullptr);
-  if (!device_) throw std::runtime_error(fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
+  if (!device_)
+    throw std::runtime_error(
+        fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
   rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
   top_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
@@ -167,7 +169,8 @@ Accel::Accel(const Scene& scene) : scene_(&scene) {
         for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
         for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
         if (inst.world_from_object.swaps_handedness())
-          for (size_t t = 0; t < w.indices.size(); t += 3) std::swap(w.indices[t + 1], w.indices[t + 2]);
+          for (size_t t = 0; t < w.indices.size(); t += 3)
+            std::swap(w.indices[t + 1], w.indices[t + 2]);
         flat_meshes_.push_back(std::move(w));
         const TriangleMesh& fm = flat_meshes_.back();
         RTCGeometry g = make_triangles(device_, fm, nullptr, scene.materials[fm.material], masks);
@@ -305,7 +308,8 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   }
   Vec3 ns = ngo;
   if (!m->normals.empty())
-    ns = Vec3(m->normals[idx[0]]) * w + Vec3(m->normals[idx[1]]) * double(bu) + Vec3(m->normals[idx[2]]) * double(bv);
+    ns = Vec3(m->normals[idx[0]]) * w + Vec3(m->normals[idx[1]]) * double(bu) +
+         Vec3(m->normals[idx[2]]) * double(bv);
   h->p_object = po;
   h->n_object = normalize(ngo);
   if (xf) {
@@ -335,8 +339,9 @@ static void set_ray(RTCRay& ray, const Ray& r) {
   ray.dir_y = float(r.d.y);
   ray.dir_z = float(r.d.z);
   ray.tnear = float(r.tmin);
-  ray.tfar = r.tmax >= double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity()
-                                                                  : float(r.tmax);
+  ray.tfar = r.tmax >= double(std::numeric_limits<float>::max())
+                 ? std::numeric_limits<float>::infinity()
+                 : float(r.tmax);
   ray.time = 0;
   ray.mask = 0xFFFFFFFF;
   ray.id = 0;
@@ -366,7 +371,8 @@ bool Accel::occluded(const Ray& r) const {
 }
 
 template <int N, class RayHitN, class F>
-static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RTCScene scene, F&& fill,
+static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RTCScene scene,
+                             F&& fill,
                              void (*trace)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -397,7 +403,8 @@ static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RT
   for (int i = 0; i < N; ++i) {
     found[i] = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
     if (found[i])
-      fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i], rh.hit.v[i]);
+      fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i],
+           rh.hit.v[i]);
   }
 }
 

@@ -23,10 +23,10 @@ struct Ray {
 // Everything shading needs about a hit, in world space (double precision).
 struct Hit {
   double t = kInf;
-  Vec3 p;         // position
-  Vec3 ng;        // geometric normal (unit, not flipped toward the ray)
-  Vec3 ns;        // interpolated shading normal (unit, same hemisphere as ng)
-  Vec2 uv;        // surface parameterization (mesh texture coordinates or shape parameters)
+  Vec3 p;           // position
+  Vec3 ng;          // geometric normal (unit, not flipped toward the ray)
+  Vec3 ns;          // interpolated shading normal (unit, same hemisphere as ng)
+  Vec2 uv;          // surface parameterization (mesh texture coordinates or shape parameters)
   Vec3 dpdu, dpdv;  // position derivatives w.r.t. uv (for texture footprints, normal maps)
   uint32_t material = 0;
   uint32_t object_id = 0;  // one id per scene object instance / shape (top-level geometry)
@@ -78,7 +78,7 @@ class Accel {
   std::vector<RTCScene> prototype_scenes_;
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
   std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space
-  std::unique_ptr<MaskStore> masks_;  // alpha-mask filter data, referenced by Embree
+  std::unique_ptr<MaskStore> masks_;              // alpha-mask filter data, referenced by Embree
   const Scene* scene_;
   Bounds3 bounds_;
   AccelStats stats_;

@@ -50,8 +50,10 @@ bool intersect_shape(const AnalyticShape& s, const Vec3& o, const Vec3& d, doubl
       const double th = -o.y / d.y;
       if (!(th > tmin && th < tmax)) return false;
       const Vec3 p = o + d * th;
-      if (s.kind == AnalyticShape::Kind::Disk && p.x * p.x + p.z * p.z > s.radius * s.radius) return false;
-      if (s.kind == AnalyticShape::Kind::Plane && (std::abs(p.x) > kPlaneExtent || std::abs(p.z) > kPlaneExtent))
+      if (s.kind == AnalyticShape::Kind::Disk && p.x * p.x + p.z * p.z > s.radius * s.radius)
+        return false;
+      if (s.kind == AnalyticShape::Kind::Plane &&
+          (std::abs(p.x) > kPlaneExtent || std::abs(p.z) > kPlaneExtent))
         return false;
       *t = th;
       return true;
@@ -115,8 +117,8 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p) {
       r.uv = {phi / (2 * kPi) + 0.5, theta / kPi};
       const double rs = std::sqrt(p.x * p.x + p.z * p.z);
       r.dpdu = Vec3{p.z, 0, -p.x} * (2 * kPi);
-      r.dpdv = rs > 0 ? Vec3{p.x * p.y / rs, -rs, p.z * p.y / rs} * kPi
-                      : Vec3{0, 0, s.radius * kPi};
+      r.dpdv =
+          rs > 0 ? Vec3{p.x * p.y / rs, -rs, p.z * p.y / rs} * kPi : Vec3{0, 0, s.radius * kPi};
       break;
     }
     case AnalyticShape::Kind::Plane:
@@ -153,7 +155,8 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p) {
     case AnalyticShape::Kind::Cylinder: {
       const double rr = std::sqrt(p.x * p.x + p.z * p.z);
       const double eps = 1e-9 * std::max(1.0, s.height);
-      const bool cap = s.capped && (p.y <= eps || p.y >= s.height - eps) && rr < s.radius * (1 - 1e-9);
+      const bool cap =
+          s.capped && (p.y <= eps || p.y >= s.height - eps) && rr < s.radius * (1 - 1e-9);
       if (cap) {
         r.n = {0, p.y <= eps ? -1.0 : 1.0, 0};
         r.uv = {p.x / (2 * s.radius) + 0.5, p.z / (2 * s.radius) + 0.5};

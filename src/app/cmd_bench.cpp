@@ -33,13 +33,15 @@ int run(const BenchArgs& a) {
     film.clear();
     const RenderStats st = renderer.render(film, opt);
     if (f >= warm) mrays.push_back(st.mrays_per_second());
-    fmt::print("frame {:3}: {:8.3f} Mrays/s{}\n", f, st.mrays_per_second(), f < warm ? " (warm-up)" : "");
+    fmt::print("frame {:3}: {:8.3f} Mrays/s{}\n", f, st.mrays_per_second(),
+               f < warm ? " (warm-up)" : "");
   }
   std::sort(mrays.begin(), mrays.end());
   const double avg = std::accumulate(mrays.begin(), mrays.end(), 0.0) / double(mrays.size());
-  fmt::print("BENCHMARK_MRAYPS_MIN {:.4f}\nBENCHMARK_MRAYPS_MEDIAN {:.4f}\nBENCHMARK_MRAYPS_AVG {:.4f}\n"
-             "BENCHMARK_MRAYPS_MAX {:.4f}\n",
-             mrays.front(), mrays[mrays.size() / 2], avg, mrays.back());
+  fmt::print(
+      "BENCHMARK_MRAYPS_MIN {:.4f}\nBENCHMARK_MRAYPS_MEDIAN {:.4f}\nBENCHMARK_MRAYPS_AVG {:.4f}\n"
+      "BENCHMARK_MRAYPS_MAX {:.4f}\n",
+      mrays.front(), mrays[mrays.size() / 2], avg, mrays.back());
   return kOk;
 }
 
@@ -47,14 +49,17 @@ int run(const BenchArgs& a) {
 
 void add_bench(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<BenchArgs>();
-  CLI::App* cmd = app.add_subcommand("bench", "Render a scene repeatedly and report render-only Mrays/s");
+  CLI::App* cmd =
+      app.add_subcommand("bench", "Render a scene repeatedly and report render-only Mrays/s");
   a->scene.add_to(*cmd);
   cmd->add_option("--frames", a->frames, "Warm-up and measured frames (default 3 10)")
       ->expected(2)
       ->check(CLI::Range(0, 100000));
-  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
   cmd->callback([a, &runner] {
-    if (a->frames[1] < 1) throw CLI::ValidationError("--frames", "need at least one measured frame");
+    if (a->frames[1] < 1)
+      throw CLI::ValidationError("--frames", "need at least one measured frame");
     runner = [a] { return run(*a); };
   });
 }

@@ -35,8 +35,9 @@ int run_rays(const RaysArgs& a) {
         const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
         const auto r = s.camera->generate({uv});
         if (r)
-          os << fmt::format("{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n", x, y, uv.x,
-                            uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z);
+          os << fmt::format(
+              "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n", x, y,
+              uv.x, uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z);
         else
           os << fmt::format("{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y, uv.x, uv.y);
       }
@@ -47,7 +48,8 @@ int run_rays(const RaysArgs& a) {
   OutputImage img;
   img.width = W;
   img.height = H;
-  ImageLayer org{"org", {"X", "Y", "Z"}, {}}, dir{"dir", {"X", "Y", "Z"}, {}}, valid{"valid", {"V"}, {}};
+  ImageLayer org{"org", {"X", "Y", "Z"}, {}}, dir{"dir", {"X", "Y", "Z"}, {}},
+      valid{"valid", {"V"}, {}};
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const auto r = s.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
@@ -92,17 +94,20 @@ int run_project(const ProjectArgs& a) {
 
 void add_rays(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<RaysArgs>();
-  CLI::App* cmd = app.add_subcommand("rays", "Write the camera's rays at pixel centers (.csv or .exr)");
+  CLI::App* cmd =
+      app.add_subcommand("rays", "Write the camera's rays at pixel centers (.csv or .exr)");
   a->scene.add_to(*cmd);
-  cmd->add_option("-o,--output", a->output, "Output file: .csv (header px,py,u,v,ox,oy,oz,dx,dy,dz,valid) or .exr")
+  cmd->add_option("-o,--output", a->output,
+                  "Output file: .csv (header px,py,u,v,ox,oy,oz,dx,dy,dz,valid) or .exr")
       ->required();
   cmd->callback([a, &runner] { runner = [a] { return run_rays(*a); }; });
 }
 
 void add_project(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<ProjectArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "project", "Print every image position (px py, floating-point pixels from the top-left) where a point appears");
+  CLI::App* cmd = app.add_subcommand("project",
+                                     "Print every image position (px py, floating-point pixels "
+                                     "from the top-left) where a point appears");
   a->scene.add_to(*cmd);
   cmd->add_option("--point", a->point, "World point X,Y,Z")->required();
   cmd->callback([a, &runner] { runner = [a] { return run_project(*a); }; });

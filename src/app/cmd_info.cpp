@@ -2,8 +2,8 @@
 #include <fmt/format.h>
 
 #include "accel/accel.h"
-#include "camera/coins.h"
 #include "app/common.h"
+#include "camera/coins.h"
 
 namespace anamorph::app {
 
@@ -11,20 +11,28 @@ namespace {
 
 const char* shape_name(AnalyticShape::Kind k) {
   switch (k) {
-    case AnalyticShape::Kind::Sphere: return "sphere";
-    case AnalyticShape::Kind::Plane: return "plane";
-    case AnalyticShape::Kind::Box: return "box";
-    case AnalyticShape::Kind::Cylinder: return "cylinder";
-    case AnalyticShape::Kind::Disk: return "disk";
+    case AnalyticShape::Kind::Sphere:
+      return "sphere";
+    case AnalyticShape::Kind::Plane:
+      return "plane";
+    case AnalyticShape::Kind::Box:
+      return "box";
+    case AnalyticShape::Kind::Cylinder:
+      return "cylinder";
+    case AnalyticShape::Kind::Disk:
+      return "disk";
   }
   return "?";
 }
 
 const char* light_name(Light::Kind k) {
   switch (k) {
-    case Light::Kind::Point: return "point";
-    case Light::Kind::Spot: return "spot";
-    case Light::Kind::Directional: return "directional";
+    case Light::Kind::Point:
+      return "point";
+    case Light::Kind::Spot:
+      return "spot";
+    case Light::Kind::Directional:
+      return "directional";
   }
   return "?";
 }
@@ -33,36 +41,44 @@ int run(const SceneOptions& o) {
   const Scene s = load(o);
   const Accel accel(s);
   fmt::print("scene       {}\n", s.path);
-  const std::string sampling = s.render.antialias == "adaptive" ? std::string("adaptive antialiasing")
-                                                                 : fmt::format("{} spp ({})", s.render.spp, s.render.sampler);
-  fmt::print("image       {}x{}, {}, integrator {}, max_depth {}\n", s.render.width, s.render.height, sampling,
-             s.render.integrator, s.render.max_depth);
+  const std::string sampling = s.render.antialias == "adaptive"
+                                   ? std::string("adaptive antialiasing")
+                                   : fmt::format("{} spp ({})", s.render.spp, s.render.sampler);
+  fmt::print("image       {}x{}, {}, integrator {}, max_depth {}\n", s.render.width,
+             s.render.height, sampling, s.render.integrator, s.render.max_depth);
   fmt::print("camera      {}\n", s.camera->describe());
   const auto sites = coin_sites(*s.camera);
   if (!sites.empty()) {
     fmt::print("coins       {} image position(s)\n", sites.size());
     for (const CoinSite& c : sites)
-      fmt::print("  coin[{}]   (uc, vc) = ({:.4f}, {:.4f}) = pixel ({:.1f}, {:.1f}), radius {:.3g}, strength {:.3g}\n",
-                 c.coin, c.uv.x, c.uv.y, c.uv.x * s.render.width, c.uv.y * s.render.height, c.radius, c.strength);
+      fmt::print(
+          "  coin[{}]   (uc, vc) = ({:.4f}, {:.4f}) = pixel ({:.1f}, {:.1f}), radius {:.3g}, "
+          "strength {:.3g}\n",
+          c.coin, c.uv.x, c.uv.y, c.uv.x * s.render.width, c.uv.y * s.render.height, c.radius,
+          c.strength);
   }
   fmt::print("triangles   {} unique, {} after instancing\n", accel.stats().unique_triangles,
              accel.stats().instanced_triangles);
-  fmt::print("meshes      {} prototypes, {} placements ({} as Embree instances)\n", s.prototypes.size(),
-             s.instances.size(), accel.stats().instances);
+  fmt::print("meshes      {} prototypes, {} placements ({} as Embree instances)\n",
+             s.prototypes.size(), s.instances.size(), accel.stats().instances);
   fmt::print("shapes      {}\n", s.shapes.size());
   for (const auto& sh : s.shapes) fmt::print("  {:<12} {}\n", shape_name(sh.kind), sh.name);
   fmt::print("materials   {}\n", s.materials.size());
   for (const auto& m : s.materials)
-    fmt::print("  {:<24} {}{}\n", m.name, m.model == Material::Model::Whitted ? "whitted" : "metallic_roughness",
+    fmt::print("  {:<24} {}{}\n", m.name,
+               m.model == Material::Model::Whitted ? "whitted" : "metallic_roughness",
                m.is_emissive() ? ", emissive" : "");
   fmt::print("lights      {}\n", s.lights.size());
   for (const auto& l : s.lights) fmt::print("  {:<12} {}\n", light_name(l.kind), l.name);
-  fmt::print("environment {}\n", s.environment.image ? "image" : (s.environment.present() ? "constant colour" : "none"));
+  fmt::print("environment {}\n", s.environment.image
+                                     ? "image"
+                                     : (s.environment.present() ? "constant colour" : "none"));
   const Bounds3 b = accel.bounds();
-  if (b.empty()) fmt::print("bounds      empty\n");
+  if (b.empty())
+    fmt::print("bounds      empty\n");
   else
-    fmt::print("bounds      [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
-               b.hi.y, b.hi.z);
+    fmt::print("bounds      [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n", b.lo.x, b.lo.y,
+               b.lo.z, b.hi.x, b.hi.y, b.hi.z);
   return kOk;
 }
 
@@ -70,7 +86,8 @@ int run(const SceneOptions& o) {
 
 void add_info(CLI::App& app, std::function<int()>& runner) {
   auto o = std::make_shared<SceneOptions>();
-  CLI::App* cmd = app.add_subcommand("info", "Print what a scene loads: objects, triangles, materials, lights, camera");
+  CLI::App* cmd = app.add_subcommand(
+      "info", "Print what a scene loads: objects, triangles, materials, lights, camera");
   o->add_to(*cmd);
   cmd->callback([o, &runner] { runner = [o] { return run(*o); }; });
 }

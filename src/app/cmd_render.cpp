@@ -5,15 +5,15 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <csignal>
-#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 
 #include "app/common.h"
-#include "io/image_io.h"
 #include "camera/coins.h"
+#include "io/image_io.h"
 #include "render/renderer.h"
 
 namespace anamorph::app {
@@ -44,8 +44,9 @@ void print_progress(const Progress& p, const std::string& prefix) {
   const int filled = int(p.fraction * width);
   const double mrays = p.seconds > 0 ? p.rays / p.seconds * 1e-6 : 0;
   const double eta = p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : 0;
-  fmt::print(stderr, "\r{}[{}{}] {:5.1f}%  {:7.2f} Mrays/s  ETA {:.0f}s   ", prefix, std::string(size_t(filled), '#'),
-             std::string(size_t(width - filled), ' '), 100 * p.fraction, mrays, eta);
+  fmt::print(stderr, "\r{}[{}{}] {:5.1f}%  {:7.2f} Mrays/s  ETA {:.0f}s   ", prefix,
+             std::string(size_t(filled), '#'), std::string(size_t(width - filled), ' '),
+             100 * p.fraction, mrays, eta);
 }
 
 std::string lower_extension(const fs::path& p) {
@@ -114,15 +115,17 @@ OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
   for (size_t i = 0; i < coins.data.size(); ++i) {
     const float c = coins.data[i];
     const float rgb[3] = {1.0f, 0.1f, 0.05f};
-    for (int k = 0; k < 3; ++k) b.data[i * 4 + size_t(k)] = b.data[i * 4 + size_t(k)] * (1 - c) + rgb[k] * c;
+    for (int k = 0; k < 3; ++k)
+      b.data[i * 4 + size_t(k)] = b.data[i * 4 + size_t(k)] * (1 - c) + rgb[k] * c;
     b.data[i * 4 + 3] = std::max(b.data[i * 4 + 3], c);
   }
   o.layers.push_back(std::move(b));
   return o;
 }
 
-int render_frame(const RenderArgs& a, const std::vector<std::string>& extra, const std::vector<Aov>& aovs,
-                 double frame, const fs::path& out, const std::string& prefix) {
+int render_frame(const RenderArgs& a, const std::vector<std::string>& extra,
+                 const std::vector<Aov>& aovs, double frame, const fs::path& out,
+                 const std::string& prefix) {
   const Scene scene = load(a.scene, extra, frame);
   const Renderer renderer(scene);
   Film film(scene.render.width, scene.render.height, aovs);
@@ -171,16 +174,21 @@ int render_frame(const RenderArgs& a, const std::vector<std::string>& extra, con
     write_exr(out, img);
   }
   if (!a.quiet) {
-    const double per_pixel = double(st.samples) / (double(scene.render.width) * scene.render.height);
+    const double per_pixel =
+        double(st.samples) / (double(scene.render.width) * scene.render.height);
     const std::string sampling = scene.render.antialias == "adaptive"
                                      ? fmt::format("adaptive, {:.2f} samples/pixel", per_pixel)
                                      : fmt::format("{} spp", scene.render.spp);
-    fmt::print("{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples dropped\n",
-               out.string(), scene.render.width, scene.render.height, sampling, scene.render.integrator,
-               st.seconds, st.mrays_per_second(), st.rays * 1e-6, st.nan_samples);
+    fmt::print(
+        "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
+        "dropped\n",
+        out.string(), scene.render.width, scene.render.height, sampling, scene.render.integrator,
+        st.seconds, st.mrays_per_second(), st.rays * 1e-6, st.nan_samples);
   }
   if (st.nan_samples > 0)
-    fmt::print(stderr, "warning: {} samples had NaN or Inf radiance and were dropped (first at pixel {},{} sample {})\n",
+    fmt::print(stderr,
+               "warning: {} samples had NaN or Inf radiance and were dropped (first at pixel {},{} "
+               "sample {})\n",
                st.nan_samples, st.nan_x, st.nan_y, st.nan_sample);
   return kOk;
 }
@@ -200,8 +208,10 @@ int run(const RenderArgs& a) {
       size_t e = a.aovs.find(',', s);
       if (e == std::string::npos) e = a.aovs.size();
       const std::string name = a.aovs.substr(s, e - s);
-      if (name == "coins") args.coins_overlay = true;
-      else list += (list.empty() ? "" : ",") + name;
+      if (name == "coins")
+        args.coins_overlay = true;
+      else
+        list += (list.empty() ? "" : ",") + name;
       s = e + 1;
     }
     aovs = parse_aovs(list);
@@ -209,7 +219,8 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: --aov: {}\n", e.what());
     return kBadInput;
   }
-  const std::string out = a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
+  const std::string out =
+      a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
   if (lower_extension(out) != ".png" && lower_extension(out) != ".exr") {
     fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
     return kBadInput;
@@ -227,7 +238,8 @@ int run(const RenderArgs& a) {
   // A sequence: frames A..B inclusive, written through a printf pattern.
   int first = 0, last = 0;
   if (!parse_frames(a.frames, &first, &last)) {
-    fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n", a.frames);
+    fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n",
+               a.frames);
     return kBadInput;
   }
   if (last < first) {
@@ -235,13 +247,16 @@ int run(const RenderArgs& a) {
     return kBadInput;
   }
   if (!has_frame_pattern(out)) {
-    fmt::print(stderr, "error: -o {}: with --frames the output needs a frame-number pattern, e.g. out/frame_%04d.png\n",
+    fmt::print(stderr,
+               "error: -o {}: with --frames the output needs a frame-number pattern, e.g. "
+               "out/frame_%04d.png\n",
                out);
     return kBadInput;
   }
   if (!a.video.empty() && !on_path("ffmpeg")) {
     fmt::print(stderr,
-               "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get install ffmpeg`, "
+               "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get "
+               "install ffmpeg`, "
                "or drop --video; the frames alone need nothing else)\n");
     return kBadInput;
   }
@@ -254,9 +269,9 @@ int run(const RenderArgs& a) {
     const pid_t pid = fork();
     if (pid == 0) {
       const std::string fps = std::to_string(a.fps), start = std::to_string(first);
-      execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps.c_str(), "-start_number",
-             start.c_str(), "-i", out.c_str(), "-c:v", "libx264", "-pix_fmt", "yuv420p", a.video.c_str(),
-             static_cast<char*>(nullptr));
+      execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps.c_str(),
+             "-start_number", start.c_str(), "-i", out.c_str(), "-c:v", "libx264", "-pix_fmt",
+             "yuv420p", a.video.c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
     int status = 0;
@@ -277,22 +292,30 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image (PNG or EXR)");
   a->scene.add_to(*cmd);
-  cmd->add_option("-o,--output", a->output,
-                  "Output image (.png or .exr); default <scene>.png. With --frames, a pattern such as "
-                  "out/frame_%04d.png");
-  cmd->add_option("--spp", a->spp, "Samples per pixel (overrides render.spp; implies uniform sampling)")
+  cmd->add_option(
+      "-o,--output", a->output,
+      "Output image (.png or .exr); default <scene>.png. With --frames, a pattern such as "
+      "out/frame_%04d.png");
+  cmd->add_option("--spp", a->spp,
+                  "Samples per pixel (overrides render.spp; implies uniform sampling)")
       ->check(CLI::Range(1, 1 << 20));
-  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  cmd->add_option("--seed", a->seed, "Random seed (overrides render.seed)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_option("--seed", a->seed, "Random seed (overrides render.seed)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--integrator", a->integrator,
                   "whitted | path | albedo | normal | depth | position | id | uv");
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
-                  "Extra layers written to EXR (beside a PNG: <output>.exr): albedo,normal,depth,position,id,uv,spp,coins "
+                  "Extra layers written to EXR (beside a PNG: <output>.exr): "
+                  "albedo,normal,depth,position,id,uv,spp,coins "
                   "(coins also writes <output>.coins.png with the markers drawn in)");
-  cmd->add_option("--frames", a->frames, "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");
-  cmd->add_option("--video", a->video, "After --frames, assemble the frames into this video with ffmpeg");
-  cmd->add_option("--fps", a->fps, "Frames per second of --video (default 30)")->check(CLI::Range(1, 1000));
+  cmd->add_option("--frames", a->frames,
+                  "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");
+  cmd->add_option("--video", a->video,
+                  "After --frames, assemble the frames into this video with ffmpeg");
+  cmd->add_option("--fps", a->fps, "Frames per second of --video (default 30)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar or summary");
   cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
 }

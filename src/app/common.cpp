@@ -27,9 +27,12 @@ std::string command_line() { return g_command_line; }
 
 void SceneOptions::add_to(CLI::App& cmd) {
   cmd.add_option("scene", scene, "Scene file (TOML)")->required();
-  cmd.add_option("--width", width, "Image width in pixels (overrides image.width)")->check(CLI::Range(1, 65536));
-  cmd.add_option("--height", height, "Image height in pixels (overrides image.height)")->check(CLI::Range(1, 65536));
-  cmd.add_option("--set", set, "Override any scene key by its dotted path, e.g. --set camera.fov=90 (repeatable)")
+  cmd.add_option("--width", width, "Image width in pixels (overrides image.width)")
+      ->check(CLI::Range(1, 65536));
+  cmd.add_option("--height", height, "Image height in pixels (overrides image.height)")
+      ->check(CLI::Range(1, 65536));
+  cmd.add_option("--set", set,
+                 "Override any scene key by its dotted path, e.g. --set camera.fov=90 (repeatable)")
       ->take_all();
 }
 

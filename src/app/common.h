@@ -24,7 +24,8 @@ struct SceneOptions {
 };
 
 // Loads the scene, printing warnings to stderr. Throws on errors (see run_guarded).
-Scene load(const SceneOptions& o, const std::vector<std::string>& extra_overrides = {}, double frame = 0);
+Scene load(const SceneOptions& o, const std::vector<std::string>& extra_overrides = {},
+           double frame = 0);
 
 // Runs a command body and turns exceptions into messages and exit codes.
 int run_guarded(const std::function<int()>& body);

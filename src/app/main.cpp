@@ -8,7 +8,8 @@
 int main(int argc, char** argv) {
   using namespace anamorph::app;
   set_command_line(argc, argv);
-  CLI::App app{"anamorph " ANAMORPH_VERSION " - a ray tracer built around a programmable distortion camera"};
+  CLI::App app{"anamorph " ANAMORPH_VERSION
+               " - a ray tracer built around a programmable distortion camera"};
   app.set_version_flag("--version", "anamorph " ANAMORPH_VERSION);
   app.require_subcommand(1);
   std::function<int()> run;

@@ -14,9 +14,9 @@
 namespace anamorph {
 
 struct CameraSample {
-  Vec2 uv;                 // image position in [0,1]^2
-  Vec2 lens{0.5, 0.5};     // lens sample in [0,1)^2 for depth of field
-  double time = 0;         // shutter time in [0,1]
+  Vec2 uv;              // image position in [0,1]^2
+  Vec2 lens{0.5, 0.5};  // lens sample in [0,1)^2 for depth of field
+  double time = 0;      // shutter time in [0,1]
 };
 
 struct CameraRay {

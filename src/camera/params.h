@@ -18,18 +18,18 @@
 namespace anamorph {
 
 enum class ParamType {
-  Number,     // double
-  Integer,    // int64
-  Bool,       // bool
-  String,     // string, optionally restricted to `choices`
-  Vec2,       // [a, b]
-  Vec3,       // [x, y, z]
-  NumberList, // [a, b, c, ...]
-  Vec3List,   // [[x,y,z], ...]
-  Vec3Grid,   // [[[x,y,z], ...], ...] rows of points (control nets)
-  NumberGrid, // [[a, b, ...], ...] (weights)
-  StringMap,  // { name = number, ... } (named constants)
-  Function,   // { type = "...", ... } a nested origin function (e.g. dir from_surface)
+  Number,      // double
+  Integer,     // int64
+  Bool,        // bool
+  String,      // string, optionally restricted to `choices`
+  Vec2,        // [a, b]
+  Vec3,        // [x, y, z]
+  NumberList,  // [a, b, c, ...]
+  Vec3List,    // [[x,y,z], ...]
+  Vec3Grid,    // [[[x,y,z], ...], ...] rows of points (control nets)
+  NumberGrid,  // [[a, b, ...], ...] (weights)
+  StringMap,   // { name = number, ... } (named constants)
+  Function,    // { type = "...", ... } a nested origin function (e.g. dir from_surface)
 };
 
 std::string_view to_string(ParamType t);
@@ -55,7 +55,8 @@ using ParamValue = std::variant<double, int64_t, bool, std::string, Vec2, Vec3, 
 // Thrown by a factory when values are individually valid but inconsistent (e.g. a knot vector
 // that is too short); the scene parser adds file, line and column of `key`.
 struct ParamError : std::runtime_error {
-  ParamError(std::string key_, const std::string& msg) : std::runtime_error(msg), key(std::move(key_)) {}
+  ParamError(std::string key_, const std::string& msg)
+      : std::runtime_error(msg), key(std::move(key_)) {}
   std::string key;
 };
 
@@ -71,8 +72,12 @@ class ParamValues {
   const std::string& string(std::string_view name) const { return get<std::string>(name); }
   Vec2 vec2(std::string_view name) const { return get<Vec2>(name); }
   Vec3 vec3(std::string_view name) const { return get<Vec3>(name); }
-  const std::vector<double>& numbers(std::string_view name) const { return get<std::vector<double>>(name); }
-  const std::vector<Vec3>& vec3s(std::string_view name) const { return get<std::vector<Vec3>>(name); }
+  const std::vector<double>& numbers(std::string_view name) const {
+    return get<std::vector<double>>(name);
+  }
+  const std::vector<Vec3>& vec3s(std::string_view name) const {
+    return get<std::vector<Vec3>>(name);
+  }
   const std::vector<std::vector<Vec3>>& vec3_grid(std::string_view name) const {
     return get<std::vector<std::vector<Vec3>>>(name);
   }
@@ -91,9 +96,11 @@ class ParamValues {
   template <class T>
   const T& get(std::string_view name) const {
     auto it = values_.find(name);
-    if (it == values_.end()) throw ParamError(std::string(name), "missing required key '" + std::string(name) + "'");
+    if (it == values_.end())
+      throw ParamError(std::string(name), "missing required key '" + std::string(name) + "'");
     if (auto* p = std::get_if<T>(&it->second)) return *p;
-    throw ParamError(std::string(name), "internal: key '" + std::string(name) + "' has another type");
+    throw ParamError(std::string(name),
+                     "internal: key '" + std::string(name) + "' has another type");
   }
   std::map<std::string, ParamValue, std::less<>> values_;
 };

@@ -29,12 +29,12 @@ constexpr Vec3 X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
 
 // right = axis x up, down = -up.
 const FaceTable kInside = {{
-    {X, Z, -Y},     // +X: up +y
-    {-X, -Z, -Y},   // -X: up +y
-    {Y, X, -Z},     // +Y: up +z (back), so -Z (front) is at the bottom edge
-    {-Y, X, Z},     // -Y: up -z (front), at the top edge
-    {Z, -X, -Y},    // +Z: up +y
-    {-Z, X, -Y},    // -Z: up +y
+    {X, Z, -Y},    // +X: up +y
+    {-X, -Z, -Y},  // -X: up +y
+    {Y, X, -Z},    // +Y: up +z (back), so -Z (front) is at the bottom edge
+    {-Y, X, Z},    // -Y: up -z (front), at the top edge
+    {Z, -X, -Y},   // +Z: up +y
+    {-Z, X, -Y},   // -Z: up +y
 }};
 
 // OpenGL 4.6 table 8.19: s = (sc / |ma| + 1) / 2, t = (tc / |ma| + 1) / 2.
@@ -78,7 +78,8 @@ std::vector<Vec2> cubemap_project(const CubeGeometry& g, const Vec3& q) {
   }
   if (best < 0) return {};
   const Face& f = (*g.faces)[size_t(best)];
-  const double s = 0.5 * (dot(q, f.right) / best_dot + 1), t = 0.5 * (dot(q, f.down) / best_dot + 1);
+  const double s = 0.5 * (dot(q, f.right) / best_dot + 1),
+               t = 0.5 * (dot(q, f.down) / best_dot + 1);
   Vec2 uv{((best % g.cols) + s) / g.cols, ((best / g.cols) + t) / g.rows};
   if (!clamp_to_image(&uv)) return {};
   return {uv};

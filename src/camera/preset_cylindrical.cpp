@@ -26,26 +26,39 @@ enum class LatMap { kLatitude, kTangent, kMercator, kSine, kHorizontal };
 // (c, s) and their derivatives with respect to the map coordinate y.
 void lat_terms(LatMap m, double y, double* c, double* s, double* dc, double* ds) {
   switch (m) {
-    case LatMap::kLatitude: *c = std::cos(y), *s = std::sin(y), *dc = -*s, *ds = *c; return;
-    case LatMap::kTangent: *c = 1, *s = y, *dc = 0, *ds = 1; return;
-    case LatMap::kMercator: *c = 1, *s = std::sinh(y), *dc = 0, *ds = std::cosh(y); return;
+    case LatMap::kLatitude:
+      *c = std::cos(y), *s = std::sin(y), *dc = -*s, *ds = *c;
+      return;
+    case LatMap::kTangent:
+      *c = 1, *s = y, *dc = 0, *ds = 1;
+      return;
+    case LatMap::kMercator:
+      *c = 1, *s = std::sinh(y), *dc = 0, *ds = std::cosh(y);
+      return;
     case LatMap::kSine: {
       const double yy = std::clamp(y, -1.0, 1.0);
       *c = std::sqrt(1 - yy * yy), *s = yy, *dc = -yy / std::max(*c, 1e-12), *ds = 1;
       return;
     }
-    case LatMap::kHorizontal: *c = 1, *s = 0, *dc = 0, *ds = 0; return;
+    case LatMap::kHorizontal:
+      *c = 1, *s = 0, *dc = 0, *ds = 0;
+      return;
   }
 }
 
 // Latitude (radians) to the map coordinate y, and back.
 double lat_to_y(LatMap m, double lat) {
   switch (m) {
-    case LatMap::kLatitude: return lat;
-    case LatMap::kTangent: return std::tan(lat);
-    case LatMap::kMercator: return std::asinh(std::tan(lat));
-    case LatMap::kSine: return std::sin(lat);
-    case LatMap::kHorizontal: return 0;
+    case LatMap::kLatitude:
+      return lat;
+    case LatMap::kTangent:
+      return std::tan(lat);
+    case LatMap::kMercator:
+      return std::asinh(std::tan(lat));
+    case LatMap::kSine:
+      return std::sin(lat);
+    case LatMap::kHorizontal:
+      return 0;
   }
   return 0;
 }
@@ -81,7 +94,9 @@ std::vector<Vec2> latlong_project(const LatLongGeometry& g, const Vec3& q) {
   const double rho = std::sqrt(q.x * q.x + q.z * q.z);
   double y = 0;
   switch (g.map) {
-    case LatMap::kLatitude: y = std::atan2(q.y, rho); break;
+    case LatMap::kLatitude:
+      y = std::atan2(q.y, rho);
+      break;
     case LatMap::kTangent:
       if (!(rho > 0)) return {};
       y = q.y / rho;
@@ -127,7 +142,8 @@ VirtualCameraParts latlong_parts(const LatLongGeometry& g, std::unique_ptr<OrgFu
 
 // Map-coordinate extent: from latitude_range when given, else square pixels on the equator
 // (y spans lon_span * height / width, centered).
-void set_vertical(LatLongGeometry* g, const ParamValues& v, const ImageInfo& img, double limit_deg) {
+void set_vertical(LatLongGeometry* g, const ParamValues& v, const ImageInfo& img,
+                  double limit_deg) {
   if (v.has("latitude_range")) {
     const AngleRange lat = read_angle_range(v, "latitude_range", 90);
     if (limit_deg < 90 && (lat.lo <= -radians(limit_deg) || lat.hi >= radians(limit_deg)))
@@ -141,12 +157,12 @@ void set_vertical(LatLongGeometry* g, const ParamValues& v, const ImageInfo& img
   }
 }
 
-#define ANAMORPH_LONGITUDE_PARAM                                                              \
-  {                                                                                           \
-    "longitude_range", ParamType::Vec2, "[-180, 180]",                                        \
-        "Longitudes in degrees at the left and right image edges (0 = look_at, positive to "  \
-        "the right); at most 360 apart.",                                                     \
-        -720, 720                                                                             \
+#define ANAMORPH_LONGITUDE_PARAM                                                             \
+  {                                                                                          \
+    "longitude_range", ParamType::Vec2, "[-180, 180]",                                       \
+        "Longitudes in degrees at the left and right image edges (0 = look_at, positive to " \
+        "the right); at most 360 apart.",                                                    \
+        -720, 720                                                                            \
   }
 
 // --- equirectangular -------------------------------------------------------------------------
@@ -165,8 +181,9 @@ VirtualCameraParts create_equirect(const ParamValues& v, const ImageInfo& img) {
   g.lon = read_angle_range(v, "longitude_range", 180);
   set_vertical(&g, v, img, 90);
   const Vec2 lon = v.vec2("longitude_range"), lat = v.vec2("latitude_range");
-  return latlong_parts(g, make_point_org({}), v, "equirectangular (org point + dir sphere)",
-                       make_surface_dir(make_sphere_org({}, 1, {lon.x, lon.y}, {lat.y, lat.x}), {}));
+  return latlong_parts(
+      g, make_point_org({}), v, "equirectangular (org point + dir sphere)",
+      make_surface_dir(make_sphere_org({}, 1, {lon.x, lon.y}, {lat.y, lat.x}), {}));
 }
 
 // --- cylindrical -----------------------------------------------------------------------------
@@ -184,10 +201,15 @@ const ParamSpec kCylParams[] = {
      "central: latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: "
      "square pixels on the horizon.",
      -90, 90},
-    {"height", ParamType::Number, "none",
+    {"height",
+     ParamType::Number,
+     "none",
      "orthographic: height of the axis segment in world units, centered on look_from. Default: "
      "square pixels at distance 1.",
-     0, kInf, {}, true},
+     0,
+     kInf,
+     {},
+     true},
 };
 
 VirtualCameraParts create_cylindrical(const ParamValues& v, const ImageInfo& img) {
@@ -198,7 +220,8 @@ VirtualCameraParts create_cylindrical(const ParamValues& v, const ImageInfo& img
     if (v.has("height")) throw ParamError("height", "height is for projection = \"orthographic\"");
     g.map = LatMap::kTangent;
     set_vertical(&g, v, img, 89.999999);
-    return latlong_parts(g, make_point_org({}), v, "cylindrical central (org point + dir cylinder)");
+    return latlong_parts(g, make_point_org({}), v,
+                         "cylindrical central (org point + dir cylinder)");
   }
   if (v.has("latitude_range"))
     throw ParamError("latitude_range", "latitude_range is for projection = \"central\"");

@@ -37,7 +37,9 @@ struct FisheyeMapping {
   double theta(double r, double* dtheta) const {
     *dtheta = 0;
     switch (kind) {
-      case kEquidistant: *dtheta = theta_max; return r * theta_max;
+      case kEquidistant:
+        *dtheta = theta_max;
+        return r * theta_max;
       case kEquisolid: {  // r = sin(theta/2) / sin(theta_max/2)
         const double s = std::sin(theta_max / 2);
         *dtheta = 2 * s / std::sqrt(std::max(1 - r * r * s * s, 1e-24));
@@ -53,7 +55,8 @@ struct FisheyeMapping {
         *dtheta = s / std::sqrt(std::max(1 - r * r * s * s, 1e-24));
         return std::asin(std::min(r * s, 1.0));
       }
-      case kPolynomial: return poly(r, dtheta);
+      case kPolynomial:
+        return poly(r, dtheta);
     }
     return 0;
   }
@@ -63,8 +66,12 @@ struct FisheyeMapping {
     constexpr double tol = 1e-12;
     *r = 0;
     switch (kind) {
-      case kEquidistant: *r = theta / theta_max; break;
-      case kEquisolid: *r = std::sin(theta / 2) / std::sin(theta_max / 2); break;
+      case kEquidistant:
+        *r = theta / theta_max;
+        break;
+      case kEquisolid:
+        *r = std::sin(theta / 2) / std::sin(theta_max / 2);
+        break;
       case kStereographic:
         if (theta >= kPi) return false;
         *r = std::tan(theta / 2) / std::tan(theta_max / 2);
@@ -81,8 +88,10 @@ struct FisheyeMapping {
         double lo = 0, hi = 1, x = (t1 > t0) ? (theta - t0) / (t1 - t0) : 0;
         for (int i = 0; i < 100; ++i) {
           const double f = poly(x, &d) - theta;
-          if (f > 0) hi = x;
-          else lo = x;
+          if (f > 0)
+            hi = x;
+          else
+            lo = x;
           if (std::abs(f) < 1e-15) break;
           double nx = x - f / d;
           if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
@@ -187,10 +196,15 @@ const std::string_view kFits[] = {"circle", "full_frame", "pixels"};
 
 const ParamSpec kFisheyeParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov", ParamType::Number, "180",
+    {"fov",
+     ParamType::Number,
+     "180",
      "Field of view in degrees across the image circle (the edge of the circle is fov/2 from the "
      "axis). Up to 360; stereographic < 360, orthographic <= 180.",
-     0, 360, {}, true},
+     0,
+     360,
+     {},
+     true},
     {"mapping", ParamType::String, "\"equidistant\"",
      "theta(r) for r in [0, 1]: equidistant theta = r fov/2; equisolid r = sin(theta/2) / "
      "sin(fov/4); stereographic r = tan(theta/2) / tan(fov/4); orthographic r = sin(theta) / "
@@ -203,8 +217,14 @@ const ParamSpec kFisheyeParams[] = {
      "Image circle diameter: \"circle\" = the shorter image side (the whole circle visible), "
      "\"full_frame\" = the image diagonal (the frame filled), \"pixels\" = circle_diameter.",
      -kInf, kInf, kFits},
-    {"circle_diameter", ParamType::Number, "none",
-     "Diameter of the image circle in pixels, with fit = \"pixels\".", 0, kInf, {}, true},
+    {"circle_diameter",
+     ParamType::Number,
+     "none",
+     "Diameter of the image circle in pixels, with fit = \"pixels\".",
+     0,
+     kInf,
+     {},
+     true},
 };
 
 FisheyeMapping read_mapping(const ParamValues& v) {
@@ -212,11 +232,16 @@ FisheyeMapping read_mapping(const ParamValues& v) {
   const double fov = v.number("fov");
   m.theta_max = radians(fov) / 2;
   const std::string& name = v.string("mapping");
-  if (name == "equidistant") m.kind = FisheyeMapping::kEquidistant;
-  else if (name == "equisolid") m.kind = FisheyeMapping::kEquisolid;
-  else if (name == "stereographic") m.kind = FisheyeMapping::kStereographic;
-  else if (name == "orthographic") m.kind = FisheyeMapping::kOrthographic;
-  else m.kind = FisheyeMapping::kPolynomial;
+  if (name == "equidistant")
+    m.kind = FisheyeMapping::kEquidistant;
+  else if (name == "equisolid")
+    m.kind = FisheyeMapping::kEquisolid;
+  else if (name == "stereographic")
+    m.kind = FisheyeMapping::kStereographic;
+  else if (name == "orthographic")
+    m.kind = FisheyeMapping::kOrthographic;
+  else
+    m.kind = FisheyeMapping::kPolynomial;
   if (m.kind == FisheyeMapping::kStereographic && !(fov < 360))
     throw ParamError("fov", "fov must be < 360 with mapping = \"stereographic\"");
   if (m.kind == FisheyeMapping::kOrthographic && !(fov <= 180))
@@ -228,7 +253,8 @@ FisheyeMapping read_mapping(const ParamValues& v) {
   if (!v.has("poly"))
     throw ParamError("mapping", "mapping = \"polynomial\" needs poly = [k0, k1, k2, k3, k4]");
   const auto& k = v.numbers("poly");
-  if (k.empty() || k.size() > 5) throw ParamError("poly", "poly needs 1 to 5 coefficients (k0..k4)");
+  if (k.empty() || k.size() > 5)
+    throw ParamError("poly", "poly needs 1 to 5 coefficients (k0..k4)");
   for (size_t i = 0; i < k.size(); ++i) m.k[i] = k[i];
   double d;
   if (m.k[0] < 0) throw ParamError("poly", "theta(0) = k0 must be >= 0");
@@ -256,10 +282,14 @@ VirtualCameraParts create_fisheye(const ParamValues& v, const ImageInfo& img) {
   if (fit != "pixels" && v.has("circle_diameter"))
     throw ParamError("circle_diameter", "circle_diameter is only used with fit = \"pixels\"");
   double diameter;
-  if (fit == "circle") diameter = std::min(img.width, img.height);
-  else if (fit == "full_frame") diameter = std::hypot(double(img.width), double(img.height));
-  else if (v.has("circle_diameter")) diameter = v.number("circle_diameter");
-  else throw ParamError("fit", "fit = \"pixels\" needs circle_diameter");
+  if (fit == "circle")
+    diameter = std::min(img.width, img.height);
+  else if (fit == "full_frame")
+    diameter = std::hypot(double(img.width), double(img.height));
+  else if (v.has("circle_diameter"))
+    diameter = v.number("circle_diameter");
+  else
+    throw ParamError("fit", "fit = \"pixels\" needs circle_diameter");
   set_circle(&g, img, diameter);
   return fisheye_parts(g, v,
                        fmt::format("fisheye {} {:g} deg (org point + dir fisheye sphere)",
@@ -290,8 +320,14 @@ const ParamSpec kDomeParams[] = {
     {"look_at", ParamType::Vec3, "[0, 0, -1]",
      "A point in the direction the audience faces (the front of the dome, world)."},
     {"up", ParamType::Vec3, "[0, 1, 0]", "The theatre's up (the zenith of an untilted dome)."},
-    {"fov", ParamType::Number, "180", "Angular diameter of the dome in degrees (180 = hemisphere).",
-     0, 360, {}, true},
+    {"fov",
+     ParamType::Number,
+     "180",
+     "Angular diameter of the dome in degrees (180 = hemisphere).",
+     0,
+     360,
+     {},
+     true},
     {"tilt", ParamType::Number, "0",
      "Dome tilt in degrees: the zenith leans towards the front (OMNIMAX and tilted planetaria "
      "use 10 to 30).",

@@ -21,12 +21,24 @@ namespace {
 
 const ParamSpec kPushbroomParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov", ParamType::Number, "60", "Vertical field of view of the line sensor in degrees.", 0,
-     180, {}, true, true},
-    {"length", ParamType::Number, "none",
+    {"fov",
+     ParamType::Number,
+     "60",
+     "Vertical field of view of the line sensor in degrees.",
+     0,
+     180,
+     {},
+     true,
+     true},
+    {"length",
+     ParamType::Number,
+     "none",
      "Length of the sensor's path along the right vector, in world units, centered on "
      "look_from. Default: square pixels at distance 1 (2 tan(fov/2) * aspect).",
-     0, kInf, {}, true},
+     0,
+     kInf,
+     {},
+     true},
 };
 
 VirtualCameraParts create_pushbroom(const ParamValues& v, const ImageInfo& img) {
@@ -51,10 +63,16 @@ VirtualCameraParts create_pushbroom(const ParamValues& v, const ImageInfo& img) 
 
 const ParamSpec kCrossedSlitsParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov", ParamType::Number, "60",
+    {"fov",
+     ParamType::Number,
+     "60",
      "Horizontal field of view in degrees, seen from the vertical slit; the vertical extent "
      "follows from the aspect (seen from the horizontal slit).",
-     0, 180, {}, true, true},
+     0,
+     180,
+     {},
+     true,
+     true},
     {"slit_distance", ParamType::Number, "1",
      "Distance of the horizontal slit ahead of the vertical slit through look_from, in world "
      "units (negative: behind it; 0: a pinhole)."},

@@ -40,17 +40,22 @@ struct Intrinsics {
   Vec2 image(Vec2 xd) const { return {(fx * xd.x + cx + 0.5) / w, (fy * xd.y + cy + 0.5) / h}; }
 };
 
-#define ANAMORPH_INTRINSICS_PARAMS                                                              \
-  {"fx", ParamType::Number, "", "Focal length in pixels along x (OpenCV camera matrix).", 0,   \
-   kInf, {}, true},                                                                             \
-      {"fy", ParamType::Number, "", "Focal length in pixels along y.", 0, kInf, {}, true},      \
-      {"cx", ParamType::Number, "none",                                                         \
-       "Principal point x in pixels (pixel centers at integers). Default: (width - 1) / 2."},   \
-      {"cy", ParamType::Number, "none", "Principal point y in pixels. Default: (height - 1) / 2."}, \
-      {"calibration_size", ParamType::Vec2, "none",                                             \
-       "[width, height] of the calibration images, when rendering at another resolution of "    \
-       "the same aspect. Default: the rendered size.",                                          \
-       1, kInf}
+#define ANAMORPH_INTRINSICS_PARAMS                                                            \
+  {"fx", ParamType::Number,                                                                   \
+   "",   "Focal length in pixels along x (OpenCV camera matrix).",                            \
+   0,    kInf,                                                                                \
+   {},   true},                                                                               \
+      {"fy", ParamType::Number, "", "Focal length in pixels along y.", 0, kInf, {}, true},    \
+      {"cx", ParamType::Number, "none",                                                       \
+       "Principal point x in pixels (pixel centers at integers). Default: (width - 1) / 2."}, \
+      {"cy", ParamType::Number, "none",                                                       \
+       "Principal point y in pixels. Default: (height - 1) / 2."},                            \
+  {                                                                                           \
+    "calibration_size", ParamType::Vec2, "none",                                              \
+        "[width, height] of the calibration images, when rendering at another resolution of " \
+        "the same aspect. Default: the rendered size.",                                       \
+        1, kInf                                                                               \
+  }
 
 Intrinsics read_intrinsics(const ParamValues& v, const ImageInfo& img) {
   Intrinsics k;
@@ -93,8 +98,8 @@ double monotone_limit(Slope slope, double limit) {
 
 struct BrownConrady {
   double k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0;
-  double r_max = kInf;      // undistorted radius where r L(r) stops increasing
-  double reach = kInf;      // bound on |distorted| for undistorted radius <= r_max
+  double r_max = kInf;  // undistorted radius where r L(r) stops increasing
+  double reach = kInf;  // bound on |distorted| for undistorted radius <= r_max
 
   void set_limits(double r) {
     r_max = r;
@@ -234,8 +239,10 @@ struct KannalaBrandt {
     double lo = 0, hi = theta_max, x = std::min(td, theta_max);
     for (int i = 0; i < 200; ++i) {
       const double f = theta_d(x, slope) - td;
-      if (f > 0) hi = x;
-      else lo = x;
+      if (f > 0)
+        hi = x;
+      else
+        lo = x;
       if (std::abs(f) < 1e-15 * (1 + td)) break;
       double nx = x - f / *slope;
       if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);

@@ -20,12 +20,17 @@ const std::string_view kFovAxes[] = {"horizontal", "vertical"};
 
 const ParamSpec kParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov", ParamType::Number, "120",
-     "Field of view in degrees along fov_axis. Horizontal: below 2 acos(-min(d, 1/d)).", 0, 360,
-     {}, true, true},
+    {"fov",
+     ParamType::Number,
+     "120",
+     "Field of view in degrees along fov_axis. Horizontal: below 2 acos(-min(d, 1/d)).",
+     0,
+     360,
+     {},
+     true,
+     true},
     {"fov_axis", ParamType::String, "\"horizontal\"",
-     "Which image extent `fov` spans (vertical: through the image center).", -kInf, kInf,
-     kFovAxes},
+     "Which image extent `fov` spans (vertical: through the image center).", -kInf, kInf, kFovAxes},
     {"compression", ParamType::Number, "1",
      "Panini's d: 0 = perspective, 1 = the standard Panini, larger = more compression.", 0, kInf},
 };
@@ -72,15 +77,15 @@ VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
     half.x = (d + 1) * std::sin(half_fov) / (d + std::cos(half_fov));
     half.y = half.x / img.aspect();
   } else {
-    if (!(half_fov < kPi / 2))
-      throw ParamError("fov", "a vertical fov must be below 180 degrees");
+    if (!(half_fov < kPi / 2)) throw ParamError("fov", "a vertical fov must be below 180 degrees");
     half.y = std::tan(half_fov);
     half.x = half.y * img.aspect();
     // The widest abscissa the projection reaches (infinite when d <= 1).
     const double x_max = d > 1 ? (d + 1) * std::sin(lon_max) / (d + std::cos(lon_max)) : kInf;
     if (!(half.x < x_max))
-      throw ParamError("fov", "this vertical fov makes the image wider than the Panini "
-                              "projection with this compression reaches");
+      throw ParamError("fov",
+                       "this vertical fov makes the image wider than the Panini "
+                       "projection with this compression reaches");
   }
   VirtualCameraParts p;
   p.org = make_point_org({});

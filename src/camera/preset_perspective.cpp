@@ -14,10 +14,17 @@ const std::string_view kFovAxes[] = {"horizontal", "vertical", "diagonal"};
 
 const ParamSpec kParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov", ParamType::Number, "60", "Field of view in degrees, measured along fov_axis.", 0, 180,
-     {}, true, true},
-    {"fov_axis", ParamType::String, "\"horizontal\"", "Which image extent `fov` spans.", -kInf, kInf,
-     kFovAxes},
+    {"fov",
+     ParamType::Number,
+     "60",
+     "Field of view in degrees, measured along fov_axis.",
+     0,
+     180,
+     {},
+     true,
+     true},
+    {"fov_axis", ParamType::String, "\"horizontal\"", "Which image extent `fov` spans.", -kInf,
+     kInf, kFovAxes},
     {"lens_shift", ParamType::Vec2, "[0, 0]",
      "Off-axis shift of the image window, in units of the image width and height (as a view "
      "camera's rise and shift; +x right, +y up)."},

@@ -17,10 +17,17 @@ const std::string_view kFovAxes[] = {"horizontal", "vertical", "diagonal"};
 
 const ParamSpec kParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov", ParamType::Number, "180", "Field of view in degrees along fov_axis (below 360).", 0, 360,
-     {}, true, true},
-    {"fov_axis", ParamType::String, "\"horizontal\"", "Which image extent `fov` spans.", -kInf, kInf,
-     kFovAxes},
+    {"fov",
+     ParamType::Number,
+     "180",
+     "Field of view in degrees along fov_axis (below 360).",
+     0,
+     360,
+     {},
+     true,
+     true},
+    {"fov_axis", ParamType::String, "\"horizontal\"", "Which image extent `fov` spans.", -kInf,
+     kInf, kFovAxes},
 };
 
 class StereographicDir final : public DirFunction {
@@ -40,8 +47,8 @@ class StereographicDir final : public DirFunction {
 
 VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
   check_params(kParams, v);
-  const Vec2 half = window_half_extent(std::tan(radians(v.number("fov")) / 4),
-                                       v.string("fov_axis"), img.aspect());
+  const Vec2 half = window_half_extent(std::tan(radians(v.number("fov")) / 4), v.string("fov_axis"),
+                                       img.aspect());
   VirtualCameraParts p;
   p.org = make_point_org({});
   p.dir = std::make_unique<StereographicDir>(half);
@@ -65,7 +72,8 @@ VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
 
 const PresetInfo kStereographicPreset{
     "stereographic",
-    "Stereographic (conformal azimuthal) projection filling the frame: image radius 2 tan(theta/2). "
+    "Stereographic (conformal azimuthal) projection filling the frame: image radius 2 "
+    "tan(theta/2). "
     "org = point, dir = the sphere mapped from the tangent plane.",
     kParams, create};
 

@@ -27,9 +27,9 @@ bool radial_direction(double a, double b, double theta, double dtheta, RadialDir
     out->dd_db = {0, dtheta, 0};
     return true;
   }
-  const double s = st / rho;                              // sin(theta) / rho
+  const double s = st / rho;                                 // sin(theta) / rho
   const double ds = (ct * dtheta * rho - st) / (rho * rho);  // d s / d rho
-  const double ca = a / rho, cb = b / rho;               // d rho / da, d rho / db
+  const double ca = a / rho, cb = b / rho;                   // d rho / da, d rho / db
   out->d = {s * a, s * b, -ct};
   out->dd_da = {s + a * ds * ca, b * ds * ca, st * dtheta * ca};
   out->dd_db = {a * ds * cb, s + b * ds * cb, st * dtheta * cb};
@@ -70,8 +70,8 @@ AngleRange read_angle_range(const ParamValues& v, std::string_view key, double l
   const Vec2 r = v.vec2(key);
   const std::string k(key);
   if (!(r.x < r.y))
-    throw ParamError(k, fmt::format("{} must be [low, high] with low < high (got [{:g}, {:g}])", k,
-                                    r.x, r.y));
+    throw ParamError(
+        k, fmt::format("{} must be [low, high] with low < high (got [{:g}, {:g}])", k, r.x, r.y));
   if (r.y - r.x > 2 * limit_deg + 1e-9)
     throw ParamError(k, fmt::format("{} may span at most {:g} degrees", k, 2 * limit_deg));
   return {radians(r.x), radians(r.y)};

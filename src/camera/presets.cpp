@@ -15,17 +15,31 @@ Transform rig_from_look_at(const ParamValues& v) {
   const Vec3 from = v.vec3("look_from"), at = v.vec3("look_at"), up = v.vec3("up");
   if (!(length(at - from) > 0)) throw ParamError("look_at", "look_at must differ from look_from");
   if (!(length(cross(at - from, up)) > 1e-12 * length(at - from) * length(up)))
-    throw ParamError("up", "up must not be parallel to the viewing direction (look_at - look_from)");
+    throw ParamError("up",
+                     "up must not be parallel to the viewing direction (look_at - look_from)");
   return Transform::look_at(from, at, up);
 }
 
 std::span<const PresetInfo> camera_presets() {
-  static const std::vector<PresetInfo> list = {
-      kPerspectivePreset,     kOrthographicPreset,   kFisheyePreset,        kMirrorBallPreset,
-      kDomePreset,            kOpenCvPinholePreset,  kOpenCvFisheyePreset,  kEquirectangularPreset,
-      kCylindricalPreset,     kMercatorPreset,       kLambertEqualAreaPreset, kStereographicPreset,
-      kPaniniPreset,          kCubemapPreset,        kOdsPreset,            kLightFieldPreset,
-      kIntegralPreset,        kPushbroomPreset,      kCrossedSlitsPreset};
+  static const std::vector<PresetInfo> list = {kPerspectivePreset,
+                                               kOrthographicPreset,
+                                               kFisheyePreset,
+                                               kMirrorBallPreset,
+                                               kDomePreset,
+                                               kOpenCvPinholePreset,
+                                               kOpenCvFisheyePreset,
+                                               kEquirectangularPreset,
+                                               kCylindricalPreset,
+                                               kMercatorPreset,
+                                               kLambertEqualAreaPreset,
+                                               kStereographicPreset,
+                                               kPaniniPreset,
+                                               kCubemapPreset,
+                                               kOdsPreset,
+                                               kLightFieldPreset,
+                                               kIntegralPreset,
+                                               kPushbroomPreset,
+                                               kCrossedSlitsPreset};
   return list;
 }
 
@@ -60,9 +74,12 @@ std::string fmt_number(double x) {
 std::string cell(std::string_view text) {
   std::string r;
   for (char c : text) {
-    if (c == '|') r += "\\|";
-    else if (c == '\n') r += ' ';
-    else r += c;
+    if (c == '|')
+      r += "\\|";
+    else if (c == '\n')
+      r += ' ';
+    else
+      r += c;
   }
   return r;
 }
@@ -74,9 +91,12 @@ std::string preset_params_markdown(const PresetInfo& p) {
   os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
   for (const ParamSpec& s : p.params) {
     os << "| `" << s.name << "` | " << to_string(s.type) << " | ";
-    if (s.default_value.empty()) os << "*required*";
-    else if (s.default_value == "none") os << "*optional*";
-    else os << '`' << cell(s.default_value) << '`';
+    if (s.default_value.empty())
+      os << "*required*";
+    else if (s.default_value == "none")
+      os << "*optional*";
+    else
+      os << '`' << cell(s.default_value) << '`';
     os << " | ";
     if (!s.choices.empty()) {
       for (size_t i = 0; i < s.choices.size(); ++i)

@@ -43,7 +43,8 @@ Transform rig_from_look_at(const ParamValues& v);
 // The common keys of look-at presets, to splice into their tables.
 #define ANAMORPH_LOOK_AT_PARAMS                                                           \
   {"look_from", ParamType::Vec3, "[0, 0, 0]", "Eye position (world)."},                   \
-      {"look_at", ParamType::Vec3, "[0, 0, -1]", "Point the camera looks at (world)."},   \
-      {"up", ParamType::Vec3, "[0, 1, 0]", "Approximate up vector; need not be orthogonal."}
+      {"look_at", ParamType::Vec3, "[0, 0, -1]", "Point the camera looks at (world)."}, { \
+    "up", ParamType::Vec3, "[0, 1, 0]", "Approximate up vector; need not be orthogonal."  \
+  }
 
 }  // namespace anamorph

@@ -126,7 +126,8 @@ void VirtualCamera::set_motion(const Transform& close, Shutter shutter) {
 double VirtualCamera::shutter_time(const CameraSample& cs) const {
   if (!shutter_.rolling) return cs.time;
   const double a = radians(shutter_.rolling_angle), c = std::cos(a), s = std::sin(a);
-  return std::clamp(0.5 + ((cs.uv.x - 0.5) * c + (cs.uv.y - 0.5) * s) / (std::abs(c) + std::abs(s)), 0.0, 1.0);
+  return std::clamp(0.5 + ((cs.uv.x - 0.5) * c + (cs.uv.y - 0.5) * s) / (std::abs(c) + std::abs(s)),
+                    0.0, 1.0);
 }
 
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
@@ -167,8 +168,10 @@ struct LinearField {
   Vec3 o0, o_u, o_v, d0, d_u, d_v;
 };
 
-__attribute__((target_clones("avx512f", "avx2", "default")))
-void linear_rays(const LinearField& f, const CameraSample* s, int n, CameraRay* out, bool* valid) {
+__attribute__((target_clones("avx512f", "avx2", "default"))) void linear_rays(const LinearField& f,
+                                                                              const CameraSample* s,
+                                                                              int n, CameraRay* out,
+                                                                              bool* valid) {
   constexpr int kMax = 64;
   for (int base = 0; base < n; base += kMax) {
     const int m = std::min(kMax, n - base);
@@ -196,7 +199,8 @@ void linear_rays(const LinearField& f, const CameraSample* s, int n, CameraRay* 
 
 }  // namespace
 
-void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRay* out, bool* valid) const {
+void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRay* out,
+                                   bool* valid) const {
   if (linear_ && !moving_ && dof_.aperture_radius == 0 && coins_.empty()) {
     linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, s, n, out, valid);
     return;
@@ -204,7 +208,8 @@ void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRay* out,
   Camera::generate_batch(s, n, out, valid);
 }
 
-std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs, bool camera_space) const {
+std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs,
+                                                         bool camera_space) const {
   auto r = generate_pinhole(cs.uv);
   if (!r) return r;
   if (dof_.aperture_radius > 0) {
@@ -349,8 +354,8 @@ std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid) {
         converged = m.ok && m.along > 0 && length(m.e) / std::max(m.along, 1e-12) < 1e-9;
       }
       if (!converged) continue;
-      const bool dup = std::any_of(out.begin(), out.end(),
-                                   [&](const Vec2& q) { return length(q - uv) < 1e-6; });
+      const bool dup =
+          std::any_of(out.begin(), out.end(), [&](const Vec2& q) { return length(q - uv) < 1e-6; });
       if (!dup) out.push_back(uv);
     }
   return out;

@@ -58,7 +58,8 @@ class Distribution2D {
   Distribution2D(const std::vector<double>& f, size_t nu, size_t nv) {
     std::vector<double> marginal(nv);
     for (size_t v = 0; v < nv; ++v) {
-      rows_.emplace_back(std::vector<double>(f.begin() + long(v * nu), f.begin() + long((v + 1) * nu)));
+      rows_.emplace_back(
+          std::vector<double>(f.begin() + long(v * nu), f.begin() + long((v + 1) * nu)));
       marginal[v] = rows_.back().total();
     }
     marginal_ = Distribution1D(std::move(marginal));
@@ -72,7 +73,8 @@ class Distribution2D {
     return {x, v};
   }
   double pdf(Vec2 p) const {
-    const size_t row = std::min(size_t(std::max(0.0, p.y) * double(rows_.size())), rows_.size() - 1);
+    const size_t row =
+        std::min(size_t(std::max(0.0, p.y) * double(rows_.size())), rows_.size() - 1);
     return marginal_.pdf_continuous(p.y) * rows_[row].pdf_continuous(p.x);
   }
 

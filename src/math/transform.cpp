@@ -99,8 +99,8 @@ Bounds3 Transform::bounds(const Bounds3& b) const {
   Bounds3 r;
   if (b.empty()) return r;
   for (int i = 0; i < 8; ++i)
-    r.extend(point({(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y,
-                    (i & 4) ? b.hi.z : b.lo.z}));
+    r.extend(
+        point({(i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z}));
   return r;
 }
 

@@ -20,7 +20,11 @@ double footprint(const Vec3& a, const Vec3& b) {
 
 AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const RenderSettings& rs,
                            const Bounds3& bounds)
-    : w_(width), h_(height), depth_(rs.aa_depth), steps_(1 << rs.aa_depth), threshold_(rs.aa_threshold),
+    : w_(width),
+      h_(height),
+      depth_(rs.aa_depth),
+      steps_(1 << rs.aa_depth),
+      threshold_(rs.aa_threshold),
       forced_(size_t(width) * height, 0) {
   if (!rs.aa_distortion || depth_ == 0) return;
   // Footprints at a characteristic distance: the scene's size (origins and directions both count).
@@ -64,8 +68,8 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
     }
 }
 
-void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval,
-                               const Emit& emit, uint64_t& rays) const {
+void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
+                               const Eval& eval, const Emit& emit, uint64_t& rays) const {
   const int L = steps_;
   const int nx = (x1 - x0) * L + 1, ny = (y1 - y0) * L + 1;
   ws.points.assign(size_t(nx) * ny, AdaptiveWorkspace::Point{});
@@ -110,14 +114,16 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       worst = std::max(worst, hi - lo);
     }
     double alo = 1, ahi = 0;
-    for (int i = 0; i < 4; ++i) alo = std::min(alo, double(c[i]->alpha)), ahi = std::max(ahi, double(c[i]->alpha));
+    for (int i = 0; i < 4; ++i)
+      alo = std::min(alo, double(c[i]->alpha)), ahi = std::max(ahi, double(c[i]->alpha));
     return std::max(worst, ahi - alo);
   };
   // Mean of a square of side `size` lattice steps; returns colour and alpha.
-  std::function<void(int, int, int, int, Color&, double&)> square = [&](int lx, int ly, int size, int forced,
-                                                                        Color& col, double& alpha) {
-    const AdaptiveWorkspace::Point* c[4] = {&point(lx, ly), &point(lx + size, ly), &point(lx, ly + size),
-                                            &point(lx + size, ly + size)};
+  std::function<void(int, int, int, int, Color&, double&)> square = [&](int lx, int ly, int size,
+                                                                        int forced, Color& col,
+                                                                        double& alpha) {
+    const AdaptiveWorkspace::Point* c[4] = {&point(lx, ly), &point(lx + size, ly),
+                                            &point(lx, ly + size), &point(lx + size, ly + size)};
     if (size > 1 && (forced > 0 || contrast(c) > threshold_)) {
       const int h = size / 2;
       Color sum;
@@ -160,7 +166,8 @@ size_t update_active(const Film& film, double threshold, std::vector<uint8_t>* a
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const double mean = luminance(film.pixel(x, y));
-      noisy[size_t(y) * W + x] = film.standard_error(x, y) > threshold * std::sqrt(std::max(0.0, mean) + 1e-4);
+      noisy[size_t(y) * W + x] =
+          film.standard_error(x, y) > threshold * std::sqrt(std::max(0.0, mean) + 1e-4);
     }
   size_t n = 0;
   for (int y = 0; y < H; ++y)

@@ -6,10 +6,10 @@
 // position, with neighbouring tiles: no seams). A square whose four corners differ by more than
 // aa_threshold is split in four, recursively. A lattice point filters textures over the spacing of
 // the coarsest level it belongs to (pixel corners over a pixel, midpoints over half a pixel...),
-// a function of its position alone, so shared points agree. Distortion-driven: before rendering, the camera's
-// ray differentials give each pixel's footprint; pixels larger than the image's median footprint
-// (and pixels where the ray field jumps) start split, so stretched regions get more samples
-// before any contrast is seen.
+// a function of its position alone, so shared points agree. Distortion-driven: before rendering,
+// the camera's ray differentials give each pixel's footprint; pixels larger than the image's median
+// footprint (and pixels where the ray field jumps) start split, so stretched regions get more
+// samples before any contrast is seen.
 //
 // Path (noise-driven): after each pass, a pixel stops once the standard error of its mean, over
 // its 3x3 neighbourhood, is below noise_threshold * sqrt(mean luminance + 1e-4).
@@ -53,7 +53,8 @@ struct AdaptiveWorkspace {
 
 class AdaptiveGrid {
  public:
-  AdaptiveGrid(const Camera& cam, int width, int height, const RenderSettings& rs, const Bounds3& scene_bounds);
+  AdaptiveGrid(const Camera& cam, int width, int height, const RenderSettings& rs,
+               const Bounds3& scene_bounds);
 
   // Levels every pixel is split to before contrast is looked at (the distortion map).
   int forced_depth(int x, int y) const { return forced_[size_t(y) * w_ + x]; }
@@ -61,8 +62,8 @@ class AdaptiveGrid {
   // `footprint`: the lattice spacing the sample stands for, in pixels (textures filter over it).
   using Eval = std::function<SampleResult(Vec2 uv, uint64_t key, double footprint, uint64_t& rays)>;
   using Emit = std::function<void(int x, int y, const PixelResult&)>;
-  void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval, const Emit& emit,
-                   uint64_t& rays) const;
+  void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval,
+                   const Emit& emit, uint64_t& rays) const;
 
  private:
   int w_, h_, depth_, steps_;  // steps_ = 2^depth_ lattice steps per pixel

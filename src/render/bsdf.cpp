@@ -44,8 +44,12 @@ struct LobeWeights {
   double diffuse, phong, ggx, mirror, dielectric, total;
 };
 LobeWeights lobe_weights(const Bsdf& b) {
-  LobeWeights w{luminance(b.diffuse), luminance(b.phong), luminance(b.ggx_f0) > 0 ? std::max(0.1, luminance(b.ggx_f0)) : 0.0,
-                luminance(b.mirror), b.transmission, 0};
+  LobeWeights w{luminance(b.diffuse),
+                luminance(b.phong),
+                luminance(b.ggx_f0) > 0 ? std::max(0.1, luminance(b.ggx_f0)) : 0.0,
+                luminance(b.mirror),
+                b.transmission,
+                0};
   w.total = w.diffuse + w.phong + w.ggx + w.mirror + w.dielectric;
   return w;
 }

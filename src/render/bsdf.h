@@ -17,14 +17,14 @@ struct BsdfSample {
 };
 
 struct Bsdf {
-  Frame frame;       // shading frame (n = shading normal, facing the outgoing ray)
-  Vec3 ng;           // geometric normal, same side as frame.n
-  Color diffuse;     // Lambert albedo
-  Color phong;       // Phong specular colour (ks)
+  Frame frame;    // shading frame (n = shading normal, facing the outgoing ray)
+  Vec3 ng;        // geometric normal, same side as frame.n
+  Color diffuse;  // Lambert albedo
+  Color phong;    // Phong specular colour (ks)
   double phong_exponent = 50;
-  Color ggx_f0;      // GGX Schlick F0 (0 = no GGX lobe)
+  Color ggx_f0;  // GGX Schlick F0 (0 = no GGX lobe)
   double ggx_alpha = 0.25;
-  Color mirror;      // perfect mirror weight
+  Color mirror;             // perfect mirror weight
   double transmission = 0;  // smooth dielectric weight
   double eta = 1.5;         // ior inside / outside (the frame faces the outside)
   bool entering = true;     // the ray arrives from the outside

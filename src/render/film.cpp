@@ -9,9 +9,12 @@ namespace anamorph {
 
 const std::vector<AovInfo>& aov_table() {
   static const std::vector<AovInfo> t = {
-      {Aov::Albedo, "albedo", {"R", "G", "B"}},   {Aov::Normal, "normal", {"X", "Y", "Z"}},
-      {Aov::Depth, "depth", {"Z"}},               {Aov::Position, "position", {"X", "Y", "Z"}},
-      {Aov::Id, "id", {"id"}},                    {Aov::Uv, "uv", {"U", "V"}},
+      {Aov::Albedo, "albedo", {"R", "G", "B"}},
+      {Aov::Normal, "normal", {"X", "Y", "Z"}},
+      {Aov::Depth, "depth", {"Z"}},
+      {Aov::Position, "position", {"X", "Y", "Z"}},
+      {Aov::Id, "id", {"id"}},
+      {Aov::Uv, "uv", {"U", "V"}},
       {Aov::Spp, "spp", {"N"}},
   };
   return t;
@@ -79,7 +82,8 @@ void Film::set(int x, int y, const Color& L, double alpha, uint32_t spp, const A
   p.alpha = alpha;
   p.n = 1;
   p.spp = spp;
-  if (aov_floats_ > 0) std::fill_n(aov_.begin() + long((size_t(y) * w_ + x) * aov_floats_), aov_floats_, 0.0);
+  if (aov_floats_ > 0)
+    std::fill_n(aov_.begin() + long((size_t(y) * w_ + x) * aov_floats_), aov_floats_, 0.0);
   add_aovs(x, y, a, true);
 }
 
@@ -99,17 +103,29 @@ void Film::add_aovs(int x, int y, const AovSample& a, bool first_sample) {
   double* v = &aov_[(size_t(y) * w_ + x) * aov_floats_];
   for (Aov k : aovs_) {
     switch (k) {
-      case Aov::Albedo: v[0] += a.albedo.x, v[1] += a.albedo.y, v[2] += a.albedo.z, v += 3; break;
-      case Aov::Normal: v[0] += a.normal.x, v[1] += a.normal.y, v[2] += a.normal.z, v += 3; break;
-      case Aov::Position: v[0] += a.position.x, v[1] += a.position.y, v[2] += a.position.z, v += 3; break;
-      case Aov::Depth: v[0] += a.depth, v += 1; break;
+      case Aov::Albedo:
+        v[0] += a.albedo.x, v[1] += a.albedo.y, v[2] += a.albedo.z, v += 3;
+        break;
+      case Aov::Normal:
+        v[0] += a.normal.x, v[1] += a.normal.y, v[2] += a.normal.z, v += 3;
+        break;
+      case Aov::Position:
+        v[0] += a.position.x, v[1] += a.position.y, v[2] += a.position.z, v += 3;
+        break;
+      case Aov::Depth:
+        v[0] += a.depth, v += 1;
+        break;
       case Aov::Id:
         // An average of ids means nothing: keep the id seen by the first sample.
         if (first_sample) v[0] = a.id + 1;  // stored +1 so 0 means "nothing"
         v += 1;
         break;
-      case Aov::Uv: v[0] += a.uv.x, v[1] += a.uv.y, v += 2; break;
-      case Aov::Spp: v += 1; break;  // read from the pixel's sample count at output
+      case Aov::Uv:
+        v[0] += a.uv.x, v[1] += a.uv.y, v += 2;
+        break;
+      case Aov::Spp:
+        v += 1;
+        break;  // read from the pixel's sample count at output
     }
   }
 }
@@ -155,10 +171,14 @@ OutputImage Film::output() const {
       const double* v = &aov_[i * aov_floats_ + off];
       for (size_t c = 0; c < nc; ++c) {
         float val;
-        if (k == Aov::Id) val = v[c] > 0 ? float(v[c] - 1) : -1.0f;
-        else if (k == Aov::Spp) val = float(p.spp);
-        else if (p.hits == 0) val = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
-        else val = float(v[c] / p.hits);
+        if (k == Aov::Id)
+          val = v[c] > 0 ? float(v[c] - 1) : -1.0f;
+        else if (k == Aov::Spp)
+          val = float(p.spp);
+        else if (p.hits == 0)
+          val = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
+        else
+          val = float(v[c] / p.hits);
         l.data[i * nc + c] = val;
       }
     }

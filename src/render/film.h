@@ -59,10 +59,10 @@ class Film {
   struct Pixel {
     double rgb[3] = {0, 0, 0};
     double alpha = 0;
-    double lum2 = 0;     // sum of squared luminance (variance estimate)
-    uint32_t n = 0;      // terms in the sums
-    uint32_t hits = 0;   // samples that hit a surface (AOV averages)
-    uint32_t spp = 0;    // camera samples taken (equals n for uniform sampling)
+    double lum2 = 0;    // sum of squared luminance (variance estimate)
+    uint32_t n = 0;     // terms in the sums
+    uint32_t hits = 0;  // samples that hit a surface (AOV averages)
+    uint32_t spp = 0;   // camera samples taken (equals n for uniform sampling)
   };
   void add_aovs(int x, int y, const AovSample& a, bool first_sample);
   Pixel& px(int x, int y) { return pixels_[size_t(y) * w_ + x]; }
@@ -70,8 +70,8 @@ class Film {
   int w_, h_;
   std::vector<Aov> aovs_;
   std::vector<Pixel> pixels_;
-  size_t aov_floats_ = 0;     // per pixel
-  std::vector<double> aov_;   // per pixel sums, aov_floats_ each
+  size_t aov_floats_ = 0;    // per pixel
+  std::vector<double> aov_;  // per pixel sums, aov_floats_ each
 };
 
 }  // namespace anamorph

@@ -7,7 +7,8 @@
 
 namespace anamorph {
 
-ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float>& b, int w, int h) {
+ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float>& b, int w,
+                            int h) {
   ImageMetrics m;
   const size_t n = size_t(w) * h;
   double se = 0, ae = 0, re = 0, sd = 0;
@@ -16,7 +17,8 @@ ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float
     for (int c = 0; c < 3; ++c) {
       const double x = a[i * 4 + c], y = b[i * 4 + c];
       se += (x - y) * (x - y);
-      const double dx = linear_to_srgb(float(std::clamp(x, 0.0, 1.0))), dy = linear_to_srgb(float(std::clamp(y, 0.0, 1.0)));
+      const double dx = linear_to_srgb(float(std::clamp(x, 0.0, 1.0))),
+                   dy = linear_to_srgb(float(std::clamp(y, 0.0, 1.0)));
       sd += (dx - dy) * (dx - dy);
       ae += std::abs(x - y);
       re += std::abs(x - y) / (std::abs(y) + 0.01);
@@ -40,7 +42,8 @@ ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float
     for (int x0 = 0; x0 + win <= w; x0 += win / 2) {
       double ma = 0, mb = 0;
       for (int y = y0; y < y0 + win; ++y)
-        for (int x = x0; x < x0 + win; ++x) ma += la[size_t(y) * w + x], mb += lb[size_t(y) * w + x];
+        for (int x = x0; x < x0 + win; ++x)
+          ma += la[size_t(y) * w + x], mb += lb[size_t(y) * w + x];
       ma /= win * win;
       mb /= win * win;
       double va = 0, vb = 0, cov = 0;

@@ -15,6 +15,7 @@ struct ImageMetrics {
 };
 
 // a and b: interleaved RGBA (alpha ignored), width * height * 4.
-ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float>& b, int width, int height);
+ImageMetrics compare_images(const std::vector<float>& a, const std::vector<float>& b, int width,
+                            int height);
 
 }  // namespace anamorph

@@ -35,7 +35,8 @@ class Whitted final : public Integrator {
   }
 
  private:
-  Color trace(const Ray& ray, const Hit* h, const Footprint& fp, Rng& rng, int depth, uint64_t& rays) const {
+  Color trace(const Ray& ray, const Hit* h, const Footprint& fp, Rng& rng, int depth,
+              uint64_t& rays) const {
     const Lights& lights = ctx_.lights;
     const Vec3 dir = normalize(ray.d);
     if (!h) return lights.has_environment() ? lights.environment(dir) : Color{};
@@ -83,12 +84,14 @@ class Whitted final : public Integrator {
     return L;
   }
 
-  Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth, uint64_t& rays) const {
+  Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth,
+               uint64_t& rays) const {
     const Ray r = spawn(h, d);
     Hit next;
     ++rays;
     const bool found = ctx_.accel.intersect(r, &next);
-    return trace(r, found ? &next : nullptr, found ? propagate(fp, next) : Footprint{}, rng, depth + 1, rays);
+    return trace(r, found ? &next : nullptr, found ? propagate(fp, next) : Footprint{}, rng,
+                 depth + 1, rays);
   }
 };
 
@@ -122,7 +125,8 @@ class PathTracer final : public Integrator {
       const Vec3 wo = -dir;
       const Color le = lights.emitted(hit, wo);
       if (max_component(le) > 0) {
-        const double w = prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, dir));
+        const double w =
+            prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, dir));
         L += beta * le * w;
       }
       if (depth >= ctx_.max_depth) break;

@@ -8,7 +8,9 @@
 namespace anamorph {
 
 namespace {
-double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return 0.5 * length(cross(b - a, c - a));
+}
 }  // namespace
 
 Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
@@ -48,8 +50,7 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     auto add_mesh = [&](const TriangleMesh& m, const Transform* xf, uint32_t mesh_index) {
       const Material& mat = scene.materials[m.material];
       if (!mat.is_emissive()) return;
-      const Color scale = mat.emission.value *
-                          mat.emission_strength;
+      const Color scale = mat.emission.value * mat.emission_strength;
       for (size_t t = 0; t < m.triangle_count(); ++t) {
         Emitter e{};
         e.kind = Emitter::Kind::Triangle;
@@ -76,7 +77,8 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     if (rec.kind == Accel::Record::Kind::FlatMesh) {
       add_mesh(*rec.mesh, nullptr, 0);
     } else if (rec.kind == Accel::Record::Kind::Instance) {
-      for (uint32_t j = 0; j < rec.proto->meshes.size(); ++j) add_mesh(rec.proto->meshes[j], &rec.world_from_object, j);
+      for (uint32_t j = 0; j < rec.proto->meshes.size(); ++j)
+        add_mesh(rec.proto->meshes[j], &rec.world_from_object, j);
     } else if (rec.shape->kind == AnalyticShape::Kind::Sphere) {
       const Material& mat = scene.materials[rec.shape->material];
       if (!mat.is_emissive()) continue;
@@ -84,9 +86,10 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
       e.kind = Emitter::Kind::Sphere;
       e.p0 = rec.world_from_object.point({0, 0, 0});
       // Spheres are placed by translation (and the object transform); take its mean scale.
-      e.radius = rec.shape->radius * std::cbrt(std::abs(
-          dot(cross(rec.world_from_object.vector({1, 0, 0}), rec.world_from_object.vector({0, 1, 0})),
-              rec.world_from_object.vector({0, 0, 1}))));
+      e.radius =
+          rec.shape->radius * std::cbrt(std::abs(dot(cross(rec.world_from_object.vector({1, 0, 0}),
+                                                           rec.world_from_object.vector({0, 1, 0})),
+                                                     rec.world_from_object.vector({0, 0, 1}))));
       e.material = &mat;
       e.L = mat.emission.value * mat.emission_strength;
       by_surface_[{id, 0, 0}] = uint32_t(emitters_.size());
@@ -161,7 +164,8 @@ Color Lights::environment(const Vec3& d) const {
   const Vec2 uv = env_uv(d);
   const Image& im = *env.image;
   // Bilinear, wrapping in u and clamping in v.
-  const double x = uv.x * im.width - 0.5, y = std::clamp(uv.y * im.height - 0.5, 0.0, im.height - 1.0);
+  const double x = uv.x * im.width - 0.5,
+               y = std::clamp(uv.y * im.height - 0.5, 0.0, im.height - 1.0);
   const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
   const double tx = x - x0, ty = y - y0;
   auto px = [&](int xi, int yi) {

@@ -13,10 +13,10 @@
 namespace anamorph {
 
 struct LightSample {
-  Color L;            // incident radiance (or intensity / d^2 for point-like lights)
-  Vec3 wi;            // unit direction toward the light
-  double dist = kInf; // distance to the sampled point (kInf for directional / environment)
-  double pdf = 0;     // solid-angle density (1 for delta lights), not including the pick pmf
+  Color L;             // incident radiance (or intensity / d^2 for point-like lights)
+  Vec3 wi;             // unit direction toward the light
+  double dist = kInf;  // distance to the sampled point (kInf for directional / environment)
+  double pdf = 0;      // solid-angle density (1 for delta lights), not including the pick pmf
   bool delta = false;
 };
 
@@ -32,7 +32,9 @@ class Lights {
   // Whitted shades every delta light and one power-chosen area emitter.
   const std::vector<uint32_t>& delta_lights() const { return delta_; }
   bool has_area() const { return area_pick_.size() > 0 && area_pick_.total() > 0; }
-  size_t pick_area(double u, double* pmf) const { return area_[area_pick_.sample_discrete(u, pmf)]; }
+  size_t pick_area(double u, double* pmf) const {
+    return area_[area_pick_.sample_discrete(u, pmf)];
+  }
 
   // Radiance leaving an emissive surface at a hit toward wo (zero if not emissive).
   Color emitted(const Hit& h, const Vec3& wo) const;
@@ -50,13 +52,13 @@ class Lights {
  private:
   struct Emitter {
     enum class Kind { Point, Spot, Directional, Triangle, Sphere, Environment } kind;
-    Color L;                    // intensity / irradiance / radiance (constant part)
-    Vec3 p0, p1, p2;            // triangle vertices; p0 = position / sphere center
-    Vec2 uv0, uv1, uv2;         // triangle uvs (textured emission)
-    Vec3 dir;                   // spot axis / directional travel direction
+    Color L;                              // intensity / irradiance / radiance (constant part)
+    Vec3 p0, p1, p2;                      // triangle vertices; p0 = position / sphere center
+    Vec2 uv0, uv1, uv2;                   // triangle uvs (textured emission)
+    Vec3 dir;                             // spot axis / directional travel direction
     double cos_inner = 1, cos_outer = 1;  // spot
     double radius = 0, area = 0;
-    const Material* material = nullptr;   // triangles and spheres: emission texture
+    const Material* material = nullptr;  // triangles and spheres: emission texture
     bool two_sided = true;
   };
   struct Key {
@@ -65,7 +67,8 @@ class Lights {
   };
   struct KeyHash {
     size_t operator()(const Key& k) const {
-      return std::hash<uint64_t>()((uint64_t(k.object) << 32 | k.mesh) * 0x9E3779B97F4A7C15ULL ^ k.prim);
+      return std::hash<uint64_t>()((uint64_t(k.object) << 32 | k.mesh) * 0x9E3779B97F4A7C15ULL ^
+                                   k.prim);
     }
   };
 

@@ -42,13 +42,20 @@ Color id_color(double id) {
 Color aov_beauty(Mode m, const AovSample& a) {
   if (!a.hit) return {};
   switch (m) {
-    case Mode::Albedo: return a.albedo;
-    case Mode::Normal: return a.normal * 0.5 + Vec3(0.5);
-    case Mode::Depth: return Color(a.depth);
-    case Mode::Position: return a.position;
-    case Mode::Id: return id_color(a.id);
-    case Mode::Uv: return {a.uv.x, a.uv.y, 0};
-    default: return {};
+    case Mode::Albedo:
+      return a.albedo;
+    case Mode::Normal:
+      return a.normal * 0.5 + Vec3(0.5);
+    case Mode::Depth:
+      return Color(a.depth);
+    case Mode::Position:
+      return a.position;
+    case Mode::Id:
+      return id_color(a.id);
+    case Mode::Uv:
+      return {a.uv.x, a.uv.y, 0};
+    default:
+      return {};
   }
 }
 
@@ -76,10 +83,15 @@ struct Renderer::Job {
   std::vector<uint8_t> textured;  // per material: some texture is not a constant
 
   Job(const Renderer& rr, const RenderContext& ctx, const Film& film, bool aovs)
-      : r(rr), rs(rr.scene_.render), mode(mode_of(rs.integrator)),
+      : r(rr),
+        rs(rr.scene_.render),
+        mode(mode_of(rs.integrator)),
         integrator(mode == Mode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
-        sampler(sampler_kind(rs.sampler)), gaussian(rs.filter == "gaussian"),
-        want_aovs(aovs || mode != Mode::Radiance), W(film.width()), H(film.height()) {
+        sampler(sampler_kind(rs.sampler)),
+        gaussian(rs.filter == "gaussian"),
+        want_aovs(aovs || mode != Mode::Radiance),
+        W(film.width()),
+        H(film.height()) {
     // A sample filters textures over its share of the pixel (adaptive subdivision passes the
     // lattice spacing each sample stands for).
     const bool corners = rs.antialias == "adaptive" && rs.integrator == "whitted";
@@ -96,8 +108,8 @@ struct Renderer::Job {
   // a pixel (adaptive subdivision: the lattice spacing the sample stands for).
   // Writes into `out` (reused by the caller: building a fresh result per sample meant zeroing
   // ~150 bytes per ray, a visible cost for primary-ray renders).
-  void finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays, SampleResult& out,
-              double footprint = 1) const {
+  void finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays,
+              SampleResult& out, double footprint = 1) const {
     out.alpha = 1;
     out.aov.hit = false;
     Footprint fp;
@@ -108,14 +120,16 @@ struct Renderer::Job {
     if (want_aovs && hit) {
       const Material& m = r.scene_.materials[hit->material];
       out.aov.hit = true;
-      out.aov.albedo = textured[hit->material] ? m.base_color.eval(texcoord_at(*hit, fp)) : m.base_color.value;
+      out.aov.albedo =
+          textured[hit->material] ? m.base_color.eval(texcoord_at(*hit, fp)) : m.base_color.value;
       out.aov.normal = dot(hit->ns, cam.dir) > 0 ? -hit->ns : hit->ns;
       out.aov.position = hit->p;
       out.aov.depth = hit->t;  // distance along the camera ray from its origin (dir is unit)
       out.aov.id = hit->object_id;
       out.aov.uv = hit->uv;
     }
-    out.L = mode == Mode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays) : aov_beauty(mode, out.aov);
+    out.L = mode == Mode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays)
+                                   : aov_beauty(mode, out.aov);
   }
 
   // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
@@ -148,7 +162,9 @@ SampleResult Renderer::sample(Vec2 uv, uint64_t seed_index) const {
 }
 
 Renderer::Renderer(const Scene& scene)
-    : scene_(scene), accel_(std::make_unique<Accel>(scene)), lights_(std::make_unique<Lights>(scene, *accel_)) {}
+    : scene_(scene),
+      accel_(std::make_unique<Accel>(scene)),
+      lights_(std::make_unique<Lights>(scene, *accel_)) {}
 
 Renderer::~Renderer() = default;
 
@@ -168,9 +184,10 @@ void merge(RenderStats& stats, const std::vector<TileStats>& tiles) {
     stats.samples += st.samples;
     if (!st.nans) continue;
     // Keep the first in (y, x, sample) order so reports do not depend on scheduling.
-    const bool earlier = stats.nan_samples == 0 || st.nan_y < stats.nan_y ||
-                         (st.nan_y == stats.nan_y &&
-                          (st.nan_x < stats.nan_x || (st.nan_x == stats.nan_x && st.nan_s < stats.nan_sample)));
+    const bool earlier =
+        stats.nan_samples == 0 || st.nan_y < stats.nan_y ||
+        (st.nan_y == stats.nan_y &&
+         (st.nan_x < stats.nan_x || (st.nan_x == stats.nan_x && st.nan_s < stats.nan_sample)));
     if (earlier) stats.nan_x = st.nan_x, stats.nan_y = st.nan_y, stats.nan_sample = st.nan_s;
     stats.nan_samples += st.nans;
   }
@@ -191,7 +208,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   std::vector<Tile> tiles;
   const int ts = rs.tile_size;
   for (int y = 0; y < H; y += ts)
-    for (int x = 0; x < W; x += ts) tiles.push_back({x, y, std::min(x + ts, W), std::min(y + ts, H)});
+    for (int x = 0; x < W; x += ts)
+      tiles.push_back({x, y, std::min(x + ts, W), std::min(y + ts, H)});
 
   RenderStats stats;
   std::mutex mu;
@@ -219,29 +237,35 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     tbb::enumerable_thread_specific<AdaptiveWorkspace> spaces;
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t ti = range.begin(); ti != range.end(); ++ti) {
-          if (cancelled()) return;
-          const Tile& t = tiles[ti];
-          TileStats& st = tile_stats[ti];
-          AdaptiveWorkspace& ws = spaces.local();
-          auto eval = [&](Vec2 uv, uint64_t key, double footprint, uint64_t& rays) {
-            Rng rng(key, rs.seed);
-            return job.sample_at(uv, rng, rays, footprint);
-          };
-          grid.render_tile(t.x0, t.y0, t.x1, t.y1, ws, eval, [&](int x, int y, const PixelResult& p) {
-            AovSample a;
-            if (job.want_aovs && !film.aovs().empty()) {
-              Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), rs.seed);
-              a = job.sample_at({(x + 0.5) / W, (y + 0.5) / H}, rng, st.rays).aov;
+      tbb::parallel_for(
+          tbb::blocked_range<size_t>(0, tiles.size(), 1),
+          [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t ti = range.begin(); ti != range.end(); ++ti) {
+              if (cancelled()) return;
+              const Tile& t = tiles[ti];
+              TileStats& st = tile_stats[ti];
+              AdaptiveWorkspace& ws = spaces.local();
+              auto eval = [&](Vec2 uv, uint64_t key, double footprint, uint64_t& rays) {
+                Rng rng(key, rs.seed);
+                return job.sample_at(uv, rng, rays, footprint);
+              };
+              grid.render_tile(
+                  t.x0, t.y0, t.x1, t.y1, ws, eval,
+                  [&](int x, int y, const PixelResult& p) {
+                    AovSample a;
+                    if (job.want_aovs && !film.aovs().empty()) {
+                      Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), rs.seed);
+                      a = job.sample_at({(x + 0.5) / W, (y + 0.5) / H}, rng, st.rays).aov;
+                    }
+                    if (p.nans) st.nan(x, y, 0);
+                    film.set(x, y, p.L, p.alpha, p.samples, a);
+                    st.samples += p.samples;
+                  },
+                  st.rays);
+              report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
             }
-            if (p.nans) st.nan(x, y, 0);
-            film.set(x, y, p.L, p.alpha, p.samples, a);
-            st.samples += p.samples;
-          }, st.rays);
-          report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
-        }
-      }, tbb::simple_partitioner());
+          },
+          tbb::simple_partitioner());
     });
     merge(stats, tile_stats);
     stats.cancelled = cancelled();
@@ -267,7 +291,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   // Which pixels still take samples (noise-driven sampling only; empty means all of them).
   std::vector<uint8_t> active(noise_driven ? size_t(W) * H : 0, 1);
   const bool lens_time = scene_.camera->uses_lens_or_time();
-  const bool needs_rng = lens_time || job.mode == Mode::Radiance || job.sampler != SamplerKind::Center;
+  const bool needs_rng =
+      lens_time || job.mode == Mode::Radiance || job.sampler != SamplerKind::Center;
   const uint64_t work_total = uint64_t(W) * H * spp;
 
   uint32_t s_begin = 0;
@@ -275,74 +300,84 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     const uint32_t s_end = pass_end[pass];
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t ti = range.begin(); ti != range.end(); ++ti) {
-          if (cancelled()) return;
-          const Tile& t = tiles[ti];
-          TileStats& st = tile_stats[ti];
-          // Coherent packets of 4x4 pixels for the primary rays. The packet's arrays live for the
-          // whole tile: constructing them per packet (zeroing about 6 KB) cost a third of the
-          // time of primary-ray renders.
-          constexpr int kPacket = 16;
-          Ray rays[kPacket];
-          CameraRay cam[kPacket];
-          bool valid[kPacket], found[kPacket], use[kPacket];
-          Hit hits[kPacket];
-          Rng rng[kPacket];
-          CameraSample samples[kPacket];
-          int lx[kPacket], ly[kPacket];
-          SampleResult res;
-          for (uint32_t s = s_begin; s < s_end; ++s) {
-            for (int y = t.y0; y < t.y1; y += 4)
-              for (int x = t.x0; x < t.x1; x += 4) {
-                for (int k = 0; k < kPacket; ++k) {
-                  lx[k] = x + (k & 3);
-                  ly[k] = y + (k >> 2);
-                  valid[k] = false;
-                  use[k] = lx[k] < t.x1 && ly[k] < t.y1 && (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
-                  if (!use[k]) continue;
-                  // AOV images of pinhole cameras at pixel centers use no random numbers at all.
-                  if (needs_rng) rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
-                  const uint32_t key = uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
-                  Vec2 off = pixel_offset(job.sampler, s, spp, key, rng[k]);
-                  if (job.gaussian) off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
-                  CameraSample& cs = samples[k];
-                  cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0), std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
-                  if (lens_time) {
-                    cs.lens = {rng[k].uniform(), rng[k].uniform()};
-                    cs.time = rng[k].uniform();
+      tbb::parallel_for(
+          tbb::blocked_range<size_t>(0, tiles.size(), 1),
+          [&](const tbb::blocked_range<size_t>& range) {
+            for (size_t ti = range.begin(); ti != range.end(); ++ti) {
+              if (cancelled()) return;
+              const Tile& t = tiles[ti];
+              TileStats& st = tile_stats[ti];
+              // Coherent packets of 4x4 pixels for the primary rays. The packet's arrays live for
+              // the whole tile: constructing them per packet (zeroing about 6 KB) cost a third of
+              // the time of primary-ray renders.
+              constexpr int kPacket = 16;
+              Ray rays[kPacket];
+              CameraRay cam[kPacket];
+              bool valid[kPacket], found[kPacket], use[kPacket];
+              Hit hits[kPacket];
+              Rng rng[kPacket];
+              CameraSample samples[kPacket];
+              int lx[kPacket], ly[kPacket];
+              SampleResult res;
+              for (uint32_t s = s_begin; s < s_end; ++s) {
+                for (int y = t.y0; y < t.y1; y += 4)
+                  for (int x = t.x0; x < t.x1; x += 4) {
+                    for (int k = 0; k < kPacket; ++k) {
+                      lx[k] = x + (k & 3);
+                      ly[k] = y + (k >> 2);
+                      valid[k] = false;
+                      use[k] = lx[k] < t.x1 && ly[k] < t.y1 &&
+                               (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
+                      if (!use[k]) continue;
+                      // AOV images of pinhole cameras at pixel centers use no random numbers at
+                      // all.
+                      if (needs_rng)
+                        rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
+                      const uint32_t key =
+                          uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
+                      Vec2 off = pixel_offset(job.sampler, s, spp, key, rng[k]);
+                      if (job.gaussian)
+                        off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
+                      CameraSample& cs = samples[k];
+                      cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0),
+                               std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
+                      if (lens_time) {
+                        cs.lens = {rng[k].uniform(), rng[k].uniform()};
+                        cs.time = rng[k].uniform();
+                      }
+                    }
+                    // Unused lanes get a harmless sample; their rays are masked out below.
+                    for (int k = 0; k < kPacket; ++k)
+                      if (!use[k]) samples[k] = CameraSample{};
+                    scene_.camera->generate_batch(samples, kPacket, cam, valid);
+                    for (int k = 0; k < kPacket; ++k) {
+                      valid[k] = valid[k] && use[k];
+                      if (valid[k]) rays[k] = Ray{cam[k].org, cam[k].dir, 0, kInf};
+                    }
+                    accel_->intersect16(rays, valid, hits, found);
+                    for (int k = 0; k < kPacket; ++k) {
+                      if (!use[k]) continue;
+                      st.samples++;
+                      if (!valid[k]) {
+                        film.add(lx[k], ly[k], {}, 0, AovSample{}, s == 0);  // no ray: transparent
+                        continue;
+                      }
+                      st.rays++;
+                      job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays,
+                                 res);
+                      if (!is_finite(res.L)) {
+                        st.nan(lx[k], ly[k], int(s));
+                        continue;  // dropped
+                      }
+                      film.add(lx[k], ly[k], res.L, res.alpha, res.aov, s == 0);
+                    }
                   }
-                }
-                // Unused lanes get a harmless sample; their rays are masked out below.
-                for (int k = 0; k < kPacket; ++k)
-                  if (!use[k]) samples[k] = CameraSample{};
-                scene_.camera->generate_batch(samples, kPacket, cam, valid);
-                for (int k = 0; k < kPacket; ++k) {
-                  valid[k] = valid[k] && use[k];
-                  if (valid[k]) rays[k] = Ray{cam[k].org, cam[k].dir, 0, kInf};
-                }
-                accel_->intersect16(rays, valid, hits, found);
-                for (int k = 0; k < kPacket; ++k) {
-                  if (!use[k]) continue;
-                  st.samples++;
-                  if (!valid[k]) {
-                    film.add(lx[k], ly[k], {}, 0, AovSample{}, s == 0);  // no ray: transparent
-                    continue;
-                  }
-                  st.rays++;
-                  job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays, res);
-                  if (!is_finite(res.L)) {
-                    st.nan(lx[k], ly[k], int(s));
-                    continue;  // dropped
-                  }
-                  film.add(lx[k], ly[k], res.L, res.alpha, res.aov, s == 0);
-                }
               }
-          }
-          report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) * (s_end - s_begin), work_total, st.rays, int(pass),
-                 int(pass_end.size()));
-        }
-      }, tbb::simple_partitioner());
+              report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) * (s_end - s_begin), work_total, st.rays,
+                     int(pass), int(pass_end.size()));
+            }
+          },
+          tbb::simple_partitioner());
     });
     merge(stats, tile_stats);
     if (cancelled()) {

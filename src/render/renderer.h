@@ -18,25 +18,25 @@ class Accel;
 class Lights;
 
 struct Progress {
-  double fraction = 0;       // of all samples
-  double seconds = 0;        // since start
-  uint64_t rays = 0;         // traced so far
+  double fraction = 0;  // of all samples
+  double seconds = 0;   // since start
+  uint64_t rays = 0;    // traced so far
   int pass = 0, passes = 1;
 };
 
 struct RenderOptions {
-  int threads = 0;                           // 0 = all cores
+  int threads = 0;  // 0 = all cores
   std::vector<Aov> aovs;
-  std::function<void(const Progress&)> on_progress;  // called from worker threads, serialised
+  std::function<void(const Progress&)> on_progress;    // called from worker threads, serialised
   std::function<void(const Film&, int pass)> on_pass;  // after each progressive pass
   const std::atomic<bool>* cancel = nullptr;
-  bool progressive = true;                   // passes of 1, 1, 2, 4, ... samples
+  bool progressive = true;  // passes of 1, 1, 2, 4, ... samples
 };
 
 struct RenderStats {
   double seconds = 0;
   uint64_t rays = 0, samples = 0;
-  uint64_t nan_samples = 0;    // non-finite radiance, dropped
+  uint64_t nan_samples = 0;                     // non-finite radiance, dropped
   int nan_x = -1, nan_y = -1, nan_sample = -1;  // the first one in (y, x, sample) order
   bool cancelled = false;
   double mrays_per_second() const { return seconds > 0 ? rays / seconds * 1e-6 : 0; }

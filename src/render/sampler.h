@@ -15,7 +15,8 @@ namespace anamorph {
 enum class SamplerKind { Center, Stratified, Random };
 
 inline SamplerKind sampler_kind(const std::string& s) {
-  return s == "center" ? SamplerKind::Center : (s == "random" ? SamplerKind::Random : SamplerKind::Stratified);
+  return s == "center" ? SamplerKind::Center
+                       : (s == "random" ? SamplerKind::Random : SamplerKind::Stratified);
 }
 
 // Kensler's hash-based permutation of [0, n) (Correlated Multi-Jittered Sampling, 2013).
@@ -48,7 +49,8 @@ inline uint32_t permute(uint32_t i, uint32_t n, uint32_t key) {
 // Offset of sample `s` of `n` inside the pixel, in [0,1)^2 (before filter warping).
 inline Vec2 pixel_offset(SamplerKind k, uint32_t s, uint32_t n, uint32_t pixel_key, Rng& rng) {
   switch (k) {
-    case SamplerKind::Center: return {0.5, 0.5};
+    case SamplerKind::Center:
+      return {0.5, 0.5};
     case SamplerKind::Random: {
       const double a = rng.uniform();
       return {a, rng.uniform()};

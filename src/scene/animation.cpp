@@ -49,10 +49,12 @@ std::vector<AnimatedKey> take_animation(toml::table& root) {
     TableReader r(*e.as_table(), fmt::format("animate[{}]", idx++));
     AnimatedKey a;
     a.key = r.string("key", "");
-    if (a.key.empty()) r.fail("key", "is required: the dotted scene key to animate, e.g. \"camera.fov\"");
+    if (a.key.empty())
+      r.fail("key", "is required: the dotted scene key to animate, e.g. \"camera.fov\"");
     const std::string interp = r.string("interpolation", "linear", kInterpolations);
-    a.interp = interp == "smooth" ? AnimatedKey::Interp::Smooth
-                                  : (interp == "step" ? AnimatedKey::Interp::Step : AnimatedKey::Interp::Linear);
+    a.interp = interp == "smooth"
+                   ? AnimatedKey::Interp::Smooth
+                   : (interp == "step" ? AnimatedKey::Interp::Step : AnimatedKey::Interp::Linear);
     a.loc = loc_of(*r.table().get("key"));
     const toml::node* keys = r.node("keys");
     if (!keys || !keys->is_array() || keys->as_array()->empty())
@@ -89,7 +91,8 @@ std::vector<double> evaluate(const AnimatedKey& a, double f) {
   const size_t n = a.frames.size();
   if (n == 1 || f <= a.frames.front()) return a.values.front();
   if (f >= a.frames.back()) return a.values.back();
-  const size_t i = size_t(std::upper_bound(a.frames.begin(), a.frames.end(), f) - a.frames.begin()) - 1;
+  const size_t i =
+      size_t(std::upper_bound(a.frames.begin(), a.frames.end(), f) - a.frames.begin()) - 1;
   const double f0 = a.frames[i], f1 = a.frames[i + 1];
   const double t = (f - f0) / (f1 - f0);
   std::vector<double> out(a.values[i].size());
@@ -105,10 +108,13 @@ std::vector<double> evaluate(const AnimatedKey& a, double f) {
     }
     // Cubic Hermite with Catmull-Rom tangents (per unit frame), one-sided at the ends: C1 and
     // exact at every key.
-    const double m0 = i > 0 ? (p1 - a.values[i - 1][c]) / (f1 - a.frames[i - 1]) : (p1 - p0) / (f1 - f0);
-    const double m1 = i + 2 < n ? (a.values[i + 2][c] - p0) / (a.frames[i + 2] - f0) : (p1 - p0) / (f1 - f0);
+    const double m0 =
+        i > 0 ? (p1 - a.values[i - 1][c]) / (f1 - a.frames[i - 1]) : (p1 - p0) / (f1 - f0);
+    const double m1 =
+        i + 2 < n ? (a.values[i + 2][c] - p0) / (a.frames[i + 2] - f0) : (p1 - p0) / (f1 - f0);
     const double t2 = t * t, t3 = t2 * t, h = f1 - f0;
-    out[c] = (2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * h * m0 + (-2 * t3 + 3 * t2) * p1 + (t3 - t2) * h * m1;
+    out[c] = (2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * h * m0 + (-2 * t3 + 3 * t2) * p1 +
+             (t3 - t2) * h * m1;
   }
   return out;
 }

@@ -15,10 +15,10 @@ namespace anamorph {
 namespace {
 
 // Keys every camera form accepts.
-const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance", "coin",
-                                   "shutter", "rolling_shutter", "rolling_shutter_angle"};
-const std::string_view kRolling[] = {"none", "top_to_bottom", "bottom_to_top", "left_to_right", "right_to_left",
-                                     "angle"};
+const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance",       "coin",
+                                   "shutter",   "rolling_shutter", "rolling_shutter_angle"};
+const std::string_view kRolling[] = {"none",          "top_to_bottom", "bottom_to_top",
+                                     "left_to_right", "right_to_left", "angle"};
 
 template <class Info>
 auto create_checked(TableReader& r, const Info& info, const ParamValues& v) {
@@ -109,7 +109,8 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
     if (size_t(idx) >= model_cameras.size())
       r.fail("gltf_camera", fmt::format("there are {} cameras in the loaded models (0..{})",
                                         model_cameras.size(), model_cameras.size() - 1));
-    if (composed || r.has("preset")) r.fail("gltf_camera", "cannot be combined with preset or org/dir");
+    if (composed || r.has("preset"))
+      r.fail("gltf_camera", "cannot be combined with preset or org/dir");
     parts = from_model_camera(model_cameras[size_t(idx)], img);
   } else if (composed) {
     if (r.has("preset")) r.fail("preset", "give either a preset or org/dir functions, not both");
@@ -123,7 +124,8 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
     parts.description = fmt::format("org {} + dir {}", type_of("org"), type_of("dir"));
     if (type_of("org") == "point" && type_of("dir") == "constant" && warnings)
       warnings->push_back(
-          "camera: org = point with dir = constant gives every pixel the same ray (a uniform image)");
+          "camera: org = point with dir = constant gives every pixel the same ray (a uniform "
+          "image)");
   } else {
     std::vector<std::string_view> names;
     for (const auto& p : camera_presets()) names.push_back(p.name);
@@ -139,7 +141,8 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
         if (!known) {
           r.allow(key);
           if (warnings)
-            warnings->push_back(fmt::format("camera.{}: ignored, preset \"{}\" has no such key", key, name));
+            warnings->push_back(
+                fmt::format("camera.{}: ignored, preset \"{}\" has no such key", key, name));
         }
       }
     }
@@ -168,14 +171,17 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
         r.fail("shutter", "expected [open, close] in frames, e.g. [0, 0.5]");
       shutter->open = *a->get(0)->value<double>();
       shutter->close = *a->get(1)->value<double>();
-      if (!std::isfinite(shutter->open) || !std::isfinite(shutter->close) || shutter->close < shutter->open)
+      if (!std::isfinite(shutter->open) || !std::isfinite(shutter->close) ||
+          shutter->close < shutter->open)
         r.fail("shutter", "expected finite [open, close] with close >= open");
     }
     const std::string rolling = r.string("rolling_shutter", "none", kRolling);
     shutter->shutter.rolling = rolling != "none";
     const double angles[] = {0, 90, 270, 0, 180};
-    const size_t i = size_t(std::find(std::begin(kRolling), std::end(kRolling), rolling) - std::begin(kRolling));
-    shutter->shutter.rolling_angle = rolling == "angle" ? r.number("rolling_shutter_angle", 90) : (i < 5 ? angles[i] : 90);
+    const size_t i =
+        size_t(std::find(std::begin(kRolling), std::end(kRolling), rolling) - std::begin(kRolling));
+    shutter->shutter.rolling_angle =
+        rolling == "angle" ? r.number("rolling_shutter_angle", 90) : (i < 5 ? angles[i] : 90);
     if (rolling != "angle" && r.has("rolling_shutter_angle"))
       r.fail("rolling_shutter_angle", "only used with rolling_shutter = \"angle\"");
   }

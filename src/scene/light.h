@@ -22,10 +22,10 @@ struct Light {
 };
 
 struct Environment {
-  Color color{0, 0, 0};                 // constant radiance (used when no image)
-  std::shared_ptr<const Image> image;   // equirectangular, linear RGB
+  Color color{0, 0, 0};                // constant radiance (used when no image)
+  std::shared_ptr<const Image> image;  // equirectangular, linear RGB
   double strength = 1;
-  double rotation = 0;                  // degrees about +y
+  double rotation = 0;  // degrees about +y
   bool present() const { return image || max_component(color) > 0; }
 };
 

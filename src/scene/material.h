@@ -15,21 +15,21 @@ struct Material {
 
   // Shared
   Texture base_color = Texture::constant({0.8, 0.8, 0.8});  // diffuse colour / glTF baseColor
-  Texture emission = Texture::constant({0, 0, 0});          // radiance emitted (x emission_strength)
+  Texture emission = Texture::constant({0, 0, 0});  // radiance emitted (x emission_strength)
   double emission_strength = 1;
 
   // Whitted
-  double diffuse = 1;        // kd multiplier of base_color
-  Color specular{0, 0, 0};   // Phong highlight colour (ks)
-  double exponent = 50;      // Phong exponent
-  double reflectivity = 0;   // mirror reflection weight
-  double transmission = 0;   // refraction weight
-  double ior = 1.5;          // index of refraction (also used for Fresnel)
+  double diffuse = 1;       // kd multiplier of base_color
+  Color specular{0, 0, 0};  // Phong highlight colour (ks)
+  double exponent = 50;     // Phong exponent
+  double reflectivity = 0;  // mirror reflection weight
+  double transmission = 0;  // refraction weight
+  double ior = 1.5;         // index of refraction (also used for Fresnel)
 
   // glTF metallic-roughness
   double metallic = 1, roughness = 1;
   Texture metallic_roughness = Texture::constant({1, 1, 1});  // G = roughness, B = metallic
-  Texture normal_map;        // tangent-space normal map (Kind::Constant = none)
+  Texture normal_map;  // tangent-space normal map (Kind::Constant = none)
   bool has_normal_map = false;
   double normal_scale = 1;
   enum class AlphaMode { Opaque, Mask, Blend };

@@ -15,25 +15,26 @@ namespace anamorph {
 
 struct RenderSettings {
   int width = 640, height = 480;
-  std::string integrator = "whitted";  // whitted | path | albedo | normal | depth | position | id | uv
+  std::string integrator =
+      "whitted";  // whitted | path | albedo | normal | depth | position | id | uv
   int spp = 1;
   std::string sampler = "stratified";  // center | stratified | random
   int max_depth = 5;
   uint64_t seed = 0;
-  std::string filter = "box";          // box | gaussian
-  double filter_radius = 1.5;          // gaussian: radius in pixels (box: pixel area)
+  std::string filter = "box";  // box | gaussian
+  double filter_radius = 1.5;  // gaussian: radius in pixels (box: pixel area)
   int tile_size = 32;
   // Antialiasing. "uniform": spp samples per pixel. "adaptive": for whitted, the paper's
   // contrast-driven corner subdivision seeded by the camera's distortion; for path, noise-driven
   // sampling between min_spp and max_spp.
   std::string antialias = "adaptive";
-  double aa_threshold = 0.1;       // contrast that splits a square (whitted adaptive)
-  int aa_depth = 3;                // maximum subdivision levels per pixel (whitted adaptive)
-  bool aa_distortion = true;       // stretched pixels start subdivided (whitted adaptive)
-  int min_spp = 8;                 // path adaptive
-  int max_spp = 1024;              // path adaptive
-  double noise_threshold = 0.01;   // path adaptive: relative standard error that stops a pixel
-  double time_limit = 0;           // path adaptive: seconds, 0 = none (breaks determinism)
+  double aa_threshold = 0.1;      // contrast that splits a square (whitted adaptive)
+  int aa_depth = 3;               // maximum subdivision levels per pixel (whitted adaptive)
+  bool aa_distortion = true;      // stretched pixels start subdivided (whitted adaptive)
+  int min_spp = 8;                // path adaptive
+  int max_spp = 1024;             // path adaptive
+  double noise_threshold = 0.01;  // path adaptive: relative standard error that stops a pixel
+  double time_limit = 0;          // path adaptive: seconds, 0 = none (breaks determinism)
 };
 
 struct Scene {
@@ -49,9 +50,9 @@ struct Scene {
   std::vector<Light> lights;
   Environment environment;
   std::vector<std::string> warnings;
-  double frame = 0;                      // the animation frame this scene was built for
-  std::vector<std::string> animated;     // keys with [[animate]] entries
-  double first_key = 0, last_key = 0;    // frame range covered by the keys
+  double frame = 0;                    // the animation frame this scene was built for
+  std::vector<std::string> animated;   // keys with [[animate]] entries
+  double first_key = 0, last_key = 0;  // frame range covered by the keys
 
   size_t triangle_count() const;  // unique (prototype) triangles
   size_t instanced_triangle_count() const;

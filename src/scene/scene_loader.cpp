@@ -7,8 +7,8 @@
 #include <map>
 
 #include "io/image_io.h"
-#include "scene/animation.h"
 #include "math/frame.h"
+#include "scene/animation.h"
 #include "scene/camera_reader.h"
 #include "scene/loaders.h"
 #include "scene/toml_reader.h"
@@ -19,8 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string_view kIntegrators[] = {"whitted", "path", "albedo", "normal", "depth",
-                                         "position", "id", "uv"};
+const std::string_view kIntegrators[] = {"whitted", "path",     "albedo", "normal",
+                                         "depth",   "position", "id",     "uv"};
 const std::string_view kSamplers[] = {"center", "stratified", "random"};
 const std::string_view kFilters[] = {"box", "gaussian"};
 const std::string_view kAntialias[] = {"uniform", "adaptive"};
@@ -66,7 +66,8 @@ void anchor_paths(toml::node& n, const fs::path& dir) {
     for (auto&& [k, v] : *t) {
       if (k.str() == "file" && v.is_string()) {
         const fs::path p = *v.value<std::string>();
-        if (p.is_relative()) v.as_string()->get() = fs::absolute(dir / p).lexically_normal().string();
+        if (p.is_relative())
+          v.as_string()->get() = fs::absolute(dir / p).lexically_normal().string();
       } else {
         anchor_paths(v, dir);
       }
@@ -77,13 +78,15 @@ void anchor_paths(toml::node& n, const fs::path& dir) {
 }
 
 toml::table load_with_includes(const fs::path& file, int depth) {
-  if (depth > 16) throw SceneError({file.string()}, "include", "includes nested too deeply (a cycle?)");
+  if (depth > 16)
+    throw SceneError({file.string()}, "include", "includes nested too deeply (a cycle?)");
   toml::table t = parse_toml_file(file);
   const toml::node* inc = t.get("include");
   if (!inc) return t;
   std::vector<std::string> files;
   TableReader r(t, "");
-  if (inc->is_string()) files.push_back(*inc->value<std::string>());
+  if (inc->is_string())
+    files.push_back(*inc->value<std::string>());
   else if (const toml::array* a = inc->as_array()) {
     for (const auto& e : *a) {
       if (!e.is_string()) r.fail("include", "expected a file name or a list of file names");
@@ -117,7 +120,8 @@ toml::table parse_value_text(const std::string& text) {
 
 // Sets the value at a dotted path; numeric parts index arrays (arrays of tables and plain
 // arrays alike, e.g. camera.coin.0.strength or camera.org.points.1.2).
-void set_path(toml::table& root, const std::string& key, const toml::node& value, const SourceLoc& where) {
+void set_path(toml::table& root, const std::string& key, const toml::node& value,
+              const SourceLoc& where) {
   std::vector<std::string> parts;
   for (size_t s = 0, e; s <= key.size(); s = e + 1) {
     e = key.find('.', s);
@@ -128,7 +132,9 @@ void set_path(toml::table& root, const std::string& key, const toml::node& value
     char* end = nullptr;
     const long idx = std::strtol(p.c_str(), &end, 10);
     if (p.empty() || *end || idx < 0 || size_t(idx) >= a.size())
-      throw SceneError(where, key, fmt::format("'{}' is not a valid index (the array has {} entries)", p, a.size()));
+      throw SceneError(
+          where, key,
+          fmt::format("'{}' is not a valid index (the array has {} entries)", p, a.size()));
     return size_t(idx);
   };
   toml::node* cur = &root;
@@ -202,16 +208,18 @@ Texture read_texture(Context& c, TableReader& r, std::string_view key, Color def
     }
     tex.value = t.color("scale_color", {1, 1, 1});
     const std::string w = t.string("wrap", "repeat", kWraps);
-    tex.wrap_s = tex.wrap_t = w == "clamp" ? Wrap::Clamp : (w == "mirror" ? Wrap::Mirror : Wrap::Repeat);
+    tex.wrap_s = tex.wrap_t =
+        w == "clamp" ? Wrap::Clamp : (w == "mirror" ? Wrap::Mirror : Wrap::Repeat);
     tex.nearest = t.boolean("nearest", false);
     const Vec3 off = t.vec3("uv_offset", {0, 0, 0});
     const Vec3 sc = t.vec3("uv_scale", {1, 1, 1});
-    tex.uv_transform = UvTransform::from_offset_rotation_scale({off.x, off.y}, radians(t.number("uv_rotation", 0)),
-                                                                {sc.x, sc.y});
+    tex.uv_transform = UvTransform::from_offset_rotation_scale(
+        {off.x, off.y}, radians(t.number("uv_rotation", 0)), {sc.x, sc.y});
   } else {
     tex.kind = type == "checker" ? Texture::Kind::Checker : Texture::Kind::Grid;
     const std::string s = t.string("space", type == "checker" ? "world" : "uv", kSpaces);
-    tex.space = s == "uv" ? Texture::Space::Uv : (s == "object" ? Texture::Space::Object : Texture::Space::World);
+    tex.space = s == "uv" ? Texture::Space::Uv
+                          : (s == "object" ? Texture::Space::Object : Texture::Space::World);
     tex.color_a = t.color("color_a", {0.9, 0.9, 0.9});
     tex.color_b = t.color("color_b", {0.1, 0.1, 0.1});
     tex.scale = t.number("scale", 1.0, 1e-9, kInf);
@@ -258,7 +266,8 @@ uint32_t material_ref(Context& c, TableReader& r, std::string_view key) {
     std::vector<std::string> names;
     for (const auto& [n, _] : c.material_ids) names.push_back(n);
     const std::string s = suggest(name, names);
-    r.fail(key, fmt::format("no material named \"{}\"{}", name, s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s)));
+    r.fail(key, fmt::format("no material named \"{}\"{}", name,
+                            s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s)));
   }
   return it->second;
 }
@@ -333,7 +342,8 @@ void read_object(Context& c, TableReader& r, int index) {
       const Vec3 lo = r.vec3("min", {-0.5, -0.5, -0.5}), hi = r.vec3("max", {0.5, 0.5, 0.5});
       center = (lo + hi) * 0.5;
       size = hi - lo;
-      if (min_component(size) <= 0) r.fail("max", "max must be greater than min in every component");
+      if (min_component(size) <= 0)
+        r.fail("max", "max must be greater than min in every component");
     } else {
       center = r.vec3("center", center);
       size = r.vec3("size", size);
@@ -384,8 +394,10 @@ void read_light(TableReader& r, Scene& s, int index) {
     l.position = r.vec3("position", {0, 0, 0});
     l.intensity = r.color("intensity", {1, 1, 1}) * strength;
     if (l.kind == Light::Kind::Spot) {
-      if (r.has("look_at")) l.direction = r.vec3("look_at", {}) - l.position;
-      else l.direction = r.vec3("direction", {0, -1, 0});
+      if (r.has("look_at"))
+        l.direction = r.vec3("look_at", {}) - l.position;
+      else
+        l.direction = r.vec3("direction", {0, -1, 0});
       if (!(length(l.direction) > 0)) r.fail("direction", "must not be zero");
       l.direction = normalize(l.direction);
       l.cone_angle = r.number("cone_angle", 30, 0, 180);
@@ -407,7 +419,8 @@ void read_light(TableReader& r, Scene& s, int index) {
                                            r.boolean("two_sided", false));
     TriangleMesh m;
     m.name = l.name;
-    for (const Vec3& p : {corner, corner + eu, corner + eu + ev, corner + ev}) m.positions.push_back(Vec3f(p));
+    for (const Vec3& p : {corner, corner + eu, corner + eu + ev, corner + ev})
+      m.positions.push_back(Vec3f(p));
     // Counter-clockwise seen from the emitting side (edge_u x edge_v).
     m.indices = {0, 1, 2, 0, 2, 3};
     m.material = mat;
@@ -466,10 +479,12 @@ void for_each_table(TableReader& root, std::string_view key, F&& f) {
 }
 
 // The scene text at a (fractional) frame: animation evaluated, then the overrides.
-toml::table at_frame(const toml::table& original, const std::vector<std::string>& overrides, double frame) {
+toml::table at_frame(const toml::table& original, const std::vector<std::string>& overrides,
+                     double frame) {
   toml::table root = original;
   const std::vector<AnimatedKey> animation = take_animation(root);
-  for (const AnimatedKey& a : animation) set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
+  for (const AnimatedKey& a : animation)
+    set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
   return root;
 }
@@ -480,7 +495,8 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   // build works on `root` itself, whose errors point into the files.
   const toml::table original = root;
   const std::vector<AnimatedKey> animation = take_animation(root);
-  for (const AnimatedKey& a : animation) set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
+  for (const AnimatedKey& a : animation)
+    set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
   Scene s;
   s.frame = frame;
@@ -516,7 +532,8 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     rs.tile_size = int(r.integer("tile_size", rs.tile_size, 4, 1024));
     // Whitted antialiases adaptively unless the file asks for a fixed sampler or scheme.
     const bool whitted = rs.integrator == "whitted";
-    rs.antialias = r.string("antialias", whitted && !r.has("sampler") && !r.has("spp") ? "adaptive" : "uniform",
+    rs.antialias = r.string("antialias",
+                            whitted && !r.has("sampler") && !r.has("spp") ? "adaptive" : "uniform",
                             kAntialias);
     rs.aa_threshold = r.number("aa_threshold", rs.aa_threshold, 0, kInf);
     rs.aa_depth = int(r.integer("aa_depth", rs.aa_depth, 0, 6));
@@ -534,7 +551,8 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   s.materials.push_back(def);
   for_each_table(top, "material", [&](TableReader& r, int) {
     Material m = read_material(c, r);
-    if (c.material_ids.count(m.name)) r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
+    if (c.material_ids.count(m.name))
+      r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
     c.material_ids[m.name] = uint32_t(s.materials.size());
     s.materials.push_back(std::move(m));
   });
@@ -551,9 +569,9 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   const toml::table empty;
   const toml::table& ct = cn ? *cn->as_table() : empty;
   TableReader cr(ct, "camera");
-  const bool preset_overridden = std::any_of(overrides.begin(), overrides.end(), [](const std::string& o) {
-    return o.rfind("camera.preset=", 0) == 0;
-  });
+  const bool preset_overridden =
+      std::any_of(overrides.begin(), overrides.end(),
+                  [](const std::string& o) { return o.rfind("camera.preset=", 0) == 0; });
   ShutterSpec shutter;
   s.camera = read_camera(cr, {s.render.width, s.render.height}, c.model_cameras, preset_overridden,
                          &s.warnings, &shutter);
@@ -565,13 +583,16 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
       const toml::node* n2 = r2.get("camera");
       TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
       ShutterSpec unused;
-      return read_camera(cr2, {s.render.width, s.render.height}, c.model_cameras, preset_overridden, nullptr, &unused);
+      return read_camera(cr2, {s.render.width, s.render.height}, c.model_cameras, preset_overridden,
+                         nullptr, &unused);
     };
     if (shutter.open != 0) s.camera = camera_at(shutter.open);
     const auto close = camera_at(shutter.close);
-    static_cast<VirtualCamera&>(*s.camera).set_motion(static_cast<const VirtualCamera&>(*close).rig(), shutter.shutter);
+    static_cast<VirtualCamera&>(*s.camera).set_motion(
+        static_cast<const VirtualCamera&>(*close).rig(), shutter.shutter);
   } else if (shutter.shutter.rolling) {
-    static_cast<VirtualCamera&>(*s.camera).set_motion(static_cast<const VirtualCamera&>(*s.camera).rig(), shutter.shutter);
+    static_cast<VirtualCamera&>(*s.camera).set_motion(
+        static_cast<const VirtualCamera&>(*s.camera).rig(), shutter.shutter);
   }
   top.finish();
   return s;

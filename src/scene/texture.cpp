@@ -33,8 +33,8 @@ MipMap::MipMap(Image base) {
         for (int c = 0; c < dst.channels; ++c) {
           const int x0 = std::min(2 * x, src.width - 1), x1 = std::min(2 * x + 1, src.width - 1);
           const int y0 = std::min(2 * y, src.height - 1), y1 = std::min(2 * y + 1, src.height - 1);
-          dst.at(x, y, c) =
-              0.25f * (src.at(x0, y0, c) + src.at(x1, y0, c) + src.at(x0, y1, c) + src.at(x1, y1, c));
+          dst.at(x, y, c) = 0.25f * (src.at(x0, y0, c) + src.at(x1, y0, c) + src.at(x0, y1, c) +
+                                     src.at(x1, y1, c));
         }
     levels_.push_back(std::move(dst));
   }
@@ -42,14 +42,16 @@ MipMap::MipMap(Image base) {
 
 static int wrap_index(int i, int n, Wrap w) {
   switch (w) {
-    case Wrap::Clamp: return std::clamp(i, 0, n - 1);
+    case Wrap::Clamp:
+      return std::clamp(i, 0, n - 1);
     case Wrap::Mirror: {
       const int period = 2 * n;
       int m = ((i % period) + period) % period;
       return m < n ? m : period - 1 - m;
     }
     case Wrap::Repeat:
-    default: return ((i % n) + n) % n;
+    default:
+      return ((i % n) + n) % n;
   }
 }
 
@@ -127,18 +129,21 @@ double filtered_line(double x, double w, double lw) {
 Color Texture::eval(const TexCoord& tc, double* alpha) const {
   if (alpha) *alpha = 1;
   switch (kind) {
-    case Kind::Constant: return value;
+    case Kind::Constant:
+      return value;
     case Kind::Image: {
       const Vec2 uv = uv_transform.apply(tc.uv);
       const Vec2 dx = uv_transform.apply_vector(tc.duvdx), dy = uv_transform.apply_vector(tc.duvdy);
-      const double width = std::max({std::abs(dx.x), std::abs(dx.y), std::abs(dy.x), std::abs(dy.y)});
+      const double width =
+          std::max({std::abs(dx.x), std::abs(dx.y), std::abs(dy.x), std::abs(dy.y)});
       float rgba[4];
       image->lookup(uv, width, wrap_s, wrap_t, nearest, rgba);
       if (alpha) *alpha = rgba[3];
       return Color{rgba[0], rgba[1], rgba[2]} * value;
     }
     case Kind::Checker:
-    case Kind::Grid: break;
+    case Kind::Grid:
+      break;
   }
   // Procedural patterns: coordinates, per-axis footprint half-widths, and the axes to use.
   Vec3 p, w;

@@ -28,20 +28,23 @@ struct UvTransform {
   Vec2 apply(Vec2 uv) const {
     return {m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]};
   }
-  Vec2 apply_vector(Vec2 d) const { return {m[0][0] * d.x + m[0][1] * d.y, m[1][0] * d.x + m[1][1] * d.y}; }
+  Vec2 apply_vector(Vec2 d) const {
+    return {m[0][0] * d.x + m[0][1] * d.y, m[1][0] * d.x + m[1][1] * d.y};
+  }
   bool identity() const {
-    return m[0][0] == 1 && m[0][1] == 0 && m[0][2] == 0 && m[1][0] == 0 && m[1][1] == 1 && m[1][2] == 0;
+    return m[0][0] == 1 && m[0][1] == 0 && m[0][2] == 0 && m[1][0] == 0 && m[1][1] == 1 &&
+           m[1][2] == 0;
   }
   static UvTransform from_offset_rotation_scale(Vec2 offset, double rotation, Vec2 scale);
 };
 
 // Everything a texture lookup may need about the shading point.
 struct TexCoord {
-  Vec2 uv;             // surface parameterization
-  Vec2 duvdx, duvdy;   // uv change across one pixel (ray differentials); zero = no filtering
-  Vec3 p_world;        // hit point in world space
-  Vec3 p_object;       // hit point in object space
-  Vec3 dpdx, dpdy;     // world-space footprint of one pixel
+  Vec2 uv;                 // surface parameterization
+  Vec2 duvdx, duvdy;       // uv change across one pixel (ray differentials); zero = no filtering
+  Vec3 p_world;            // hit point in world space
+  Vec3 p_object;           // hit point in object space
+  Vec3 dpdx, dpdy;         // world-space footprint of one pixel
   Vec3 n_world, n_object;  // geometric normal (procedural 3D patterns drop the axis along it)
   Transform const* object_from_world = nullptr;  // for object-space footprints (null = identity)
 };
@@ -52,7 +55,7 @@ struct Texture {
   enum class Kind { Constant, Image, Checker, Grid };
   enum class Space { Uv, Object, World };
   Kind kind = Kind::Constant;
-  Color value{1, 1, 1};          // Constant
+  Color value{1, 1, 1};  // Constant
   // Image
   std::shared_ptr<const MipMap> image;
   Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;

@@ -15,7 +15,8 @@ SceneError::SceneError(const SourceLoc& l, std::string k, const std::string& msg
     : std::runtime_error([&] {
         std::string where = l.file.empty() ? std::string("--set") : l.file;
         if (l.line > 0) where += fmt::format(":{}:{}", l.line, l.column);
-        return k.empty() ? fmt::format("{}: {}", where, msg) : fmt::format("{}: {}: {}", where, k, msg);
+        return k.empty() ? fmt::format("{}: {}", where, msg)
+                         : fmt::format("{}: {}: {}", where, k, msg);
       }()),
       loc(l),
       key(std::move(k)) {}
@@ -87,13 +88,20 @@ void TableReader::fail_at(const toml::node& n, std::string_view key, const std::
 
 static std::string type_name(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a number";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date/time";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date/time";
   }
 }
 
@@ -109,8 +117,10 @@ static void check_range(const TableReader& r, const toml::node& n, std::string_v
   const bool above = hi_ex ? !(v < hi) : !(v <= hi);
   if (below || above) {
     std::string range = fmt::format("{}{}, {}{}", lo_ex ? "(" : "[", lo, hi, hi_ex ? ")" : "]");
-    if (std::isinf(hi)) range = fmt::format("{} {}", lo_ex ? ">" : ">=", lo);
-    else if (std::isinf(lo)) range = fmt::format("{} {}", hi_ex ? "<" : "<=", hi);
+    if (std::isinf(hi))
+      range = fmt::format("{} {}", lo_ex ? ">" : ">=", lo);
+    else if (std::isinf(lo))
+      range = fmt::format("{} {}", hi_ex ? "<" : "<=", hi);
     r.fail_at(n, key, fmt::format("value {} is out of range (must be {})", v, range));
   }
 }
@@ -132,7 +142,8 @@ double TableReader::required_number(std::string_view key, double lo, double hi) 
 // Integers, and floats with an integral value (animated keys interpolate as floats).
 static std::optional<int64_t> as_integer(const toml::node& n) {
   if (n.is_integer()) return n.value<int64_t>();
-  if (auto d = n.value<double>(); d && std::isfinite(*d) && *d == std::round(*d) && std::abs(*d) < 9e15)
+  if (auto d = n.value<double>();
+      d && std::isfinite(*d) && *d == std::round(*d) && std::abs(*d) < 9e15)
     return int64_t(*d);
   return std::nullopt;
 }
@@ -155,7 +166,8 @@ bool TableReader::boolean(std::string_view key, bool def) {
 
 static std::string join_choices(std::span<const std::string_view> c) {
   std::string s;
-  for (size_t i = 0; i < c.size(); ++i) s += (i ? ", " : "") + std::string("\"") + std::string(c[i]) + "\"";
+  for (size_t i = 0; i < c.size(); ++i)
+    s += (i ? ", " : "") + std::string("\"") + std::string(c[i]) + "\"";
   return s;
 }
 
@@ -169,7 +181,8 @@ std::string TableReader::string(std::string_view key, std::string def,
     std::vector<std::string> cs(choices.begin(), choices.end());
     const std::string s = suggest(v, cs);
     fail(key, fmt::format("unknown value \"{}\"{} (valid: {})", v,
-                          s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s), join_choices(choices)));
+                          s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
+                          join_choices(choices)));
   }
   return v;
 }
@@ -186,7 +199,8 @@ static std::optional<Vec3> as_vec3(const toml::node& n) {
   return v;
 }
 
-static void check_finite_vec(const TableReader& r, const toml::node& n, std::string_view key, const Vec3& v) {
+static void check_finite_vec(const TableReader& r, const toml::node& n, std::string_view key,
+                             const Vec3& v) {
   if (!is_finite(v)) r.fail_at(n, key, "components must be finite numbers");
 }
 
@@ -218,7 +232,10 @@ Transform TableReader::transform(std::string_view key) {
   const toml::node* n = node(key);
   if (!n) return {};
   const toml::table* t = n->as_table();
-  if (!t) fail(key, "expected a table { translate = [...], rotate = [deg, x, y, z], scale = ..., matrix = [16 numbers] }");
+  if (!t)
+    fail(key,
+         "expected a table { translate = [...], rotate = [deg, x, y, z], scale = ..., matrix = [16 "
+         "numbers] }");
   TableReader r(*t, full_key(key));
   Transform m;
   if (const toml::node* mn = r.node("matrix")) {
@@ -239,10 +256,14 @@ Transform TableReader::transform(std::string_view key) {
   Transform s, rot, tr;
   if (const toml::node* sn = r.node("scale")) {
     Vec3 sv;
-    if (auto x = as_number(*sn)) sv = Vec3(*x);
-    else if (auto v = as_vec3(*sn)) sv = *v;
-    else r.fail("scale", "expected a number or [sx, sy, sz]");
-    if (!is_finite(sv) || sv.x == 0 || sv.y == 0 || sv.z == 0) r.fail("scale", "scale factors must be finite and non-zero");
+    if (auto x = as_number(*sn))
+      sv = Vec3(*x);
+    else if (auto v = as_vec3(*sn))
+      sv = *v;
+    else
+      r.fail("scale", "expected a number or [sx, sy, sz]");
+    if (!is_finite(sv) || sv.x == 0 || sv.y == 0 || sv.z == 0)
+      r.fail("scale", "scale factors must be finite and non-zero");
     s = Transform::scale(sv);
   }
   if (const toml::node* rn = r.node("rotate")) {
@@ -255,7 +276,8 @@ Transform TableReader::transform(std::string_view key) {
         if (!x || !std::isfinite(*x)) r.fail("rotate", "expected 4 finite numbers");
         v[i] = *x;
       }
-      if (Vec3{v[1], v[2], v[3]} == Vec3{0, 0, 0}) r.fail("rotate", "rotation axis must not be zero");
+      if (Vec3{v[1], v[2], v[3]} == Vec3{0, 0, 0})
+        r.fail("rotate", "rotation axis must not be zero");
       return Transform::rotate(v[0], {v[1], v[2], v[3]});
     };
     const toml::array* a = rn->as_array();
@@ -300,7 +322,8 @@ ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::n
     return *a;
   };
   switch (spec.type) {
-    case ParamType::Number: return num(n);
+    case ParamType::Number:
+      return num(n);
     case ParamType::Integer: {
       const auto iv = as_integer(n);
       if (!iv) r.fail_at(n, key, "expected an integer, got " + type_name(n));
@@ -318,16 +341,18 @@ ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::n
           std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
         std::vector<std::string> cs(spec.choices.begin(), spec.choices.end());
         const std::string s = suggest(v, cs);
-        r.fail_at(n, key, fmt::format("unknown value \"{}\"{} (valid: {})", v,
-                                      s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
-                                      join_choices(spec.choices)));
+        r.fail_at(n, key,
+                  fmt::format("unknown value \"{}\"{} (valid: {})", v,
+                              s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
+                              join_choices(spec.choices)));
       }
       if (key == "file") {
         // File parameters are relative to the file that names them, like every path in a scene.
         std::filesystem::path p = v;
         const SourceLoc l = loc_of(n);
         if (p.is_relative() && !l.file.empty()) p = std::filesystem::path(l.file).parent_path() / p;
-        if (!std::filesystem::exists(p)) r.fail_at(n, key, fmt::format("file not found: {}", p.string()));
+        if (!std::filesystem::exists(p))
+          r.fail_at(n, key, fmt::format("file not found: {}", p.string()));
         return p.string();
       }
       return v;
@@ -336,7 +361,8 @@ ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::n
       const Vec3 v = vec(n, 2);
       return Vec2{v.x, v.y};
     }
-    case ParamType::Vec3: return vec(n, 3);
+    case ParamType::Vec3:
+      return vec(n, 3);
     case ParamType::NumberList: {
       std::vector<double> out;
       for (const auto& e : list(n)) out.push_back(num(e));
@@ -369,7 +395,8 @@ ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::n
       std::map<std::string, double> out;
       for (const auto& [k, v] : *t) {
         auto x = as_number(v);
-        if (!x || !std::isfinite(*x)) r.fail_at(v, key, fmt::format("constant '{}' must be a finite number", k.str()));
+        if (!x || !std::isfinite(*x))
+          r.fail_at(v, key, fmt::format("constant '{}' must be a finite number", k.str()));
         out[std::string(k.str())] = *x;
       }
       return out;
@@ -415,7 +442,8 @@ void TableReader::finish() {
     if (used_.count(k.str())) continue;
     const std::string s = suggest(k.str(), known);
     std::string msg = "unknown key";
-    if (!s.empty()) msg += fmt::format(" (did you mean '{}'?)", s);
+    if (!s.empty())
+      msg += fmt::format(" (did you mean '{}'?)", s);
     else if (!known.empty()) {
       msg += " (valid keys here: ";
       for (size_t i = 0; i < known.size(); ++i) msg += (i ? ", " : "") + known[i];
@@ -427,7 +455,8 @@ void TableReader::finish() {
 
 std::string to_toml_text(const toml::table& t) {
   std::ostringstream os;
-  os << toml::toml_formatter(t, toml::toml_formatter::default_flags & ~toml::format_flags::indentation);
+  os << toml::toml_formatter(
+      t, toml::toml_formatter::default_flags & ~toml::format_flags::indentation);
   return os.str();
 }
 

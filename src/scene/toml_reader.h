@@ -47,7 +47,10 @@ class TableReader {
   std::string full_key(std::string_view key) const;
   bool has(std::string_view key) const { return t_.contains(key); }
   // Marks a key as accepted without reading it here.
-  void allow(std::string_view key) { used_.insert(std::string(key)); known_.insert(std::string(key)); }
+  void allow(std::string_view key) {
+    used_.insert(std::string(key));
+    known_.insert(std::string(key));
+  }
   const toml::node* node(std::string_view key);  // marks used; nullptr when absent
 
   double number(std::string_view key, double def, double lo = -kInf, double hi = kInf);
@@ -68,7 +71,8 @@ class TableReader {
   void finish();
 
   [[noreturn]] void fail(std::string_view key, const std::string& msg) const;
-  [[noreturn]] void fail_at(const toml::node& n, std::string_view key, const std::string& msg) const;
+  [[noreturn]] void fail_at(const toml::node& n, std::string_view key,
+                            const std::string& msg) const;
 
  private:
   void mark(std::string_view key);

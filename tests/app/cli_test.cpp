@@ -38,7 +38,8 @@ Result run(const std::string& args) {
 }
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("anamorph_cli_" + name + "_" + std::to_string(getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("anamorph_cli_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -58,7 +59,8 @@ std::string slurp(const fs::path& p) {
 
 const char* kSmall =
     "[image]\nwidth = 24\nheight = 16\n[camera]\nlook_from = [0, 1, 4]\nlook_at = [0, 0, 0]\n"
-    "[[object]]\ntype = \"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 3, 2]\nintensity = 10\n";
+    "[[object]]\ntype = \"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 3, 2]\nintensity = "
+    "10\n";
 
 #define EXPECT_CONTAINS(hay, needle) \
   EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
@@ -98,12 +100,15 @@ TEST(Cli, RendersPngWithMetadata) {
 TEST(Cli, AovsGoToOneExr) {
   const fs::path d = temp_dir("aov");
   const std::string scene = write(d / "s.toml", kSmall);
-  const Result r = run("render " + scene + " -o " + (d / "o.exr").string() + " --aov albedo,normal,depth -q");
+  const Result r =
+      run("render " + scene + " -o " + (d / "o.exr").string() + " --aov albedo,normal,depth -q");
   ASSERT_EQ(r.code, 0) << r.out;
   int w, h;
   const auto ch = read_exr_channels(d / "o.exr", &w, &h);
-  for (const char* c : {"R", "G", "B", "A", "albedo.R", "normal.X", "depth.Z"}) EXPECT_TRUE(ch.count(c)) << c;
-  EXPECT_EQ(run("render " + scene + " -o " + (d / "o.exr").string() + " --aov albedo,bogus").code, 2);
+  for (const char* c : {"R", "G", "B", "A", "albedo.R", "normal.X", "depth.Z"})
+    EXPECT_TRUE(ch.count(c)) << c;
+  EXPECT_EQ(run("render " + scene + " -o " + (d / "o.exr").string() + " --aov albedo,bogus").code,
+            2);
   fs::remove_all(d);
 }
 
@@ -114,7 +119,8 @@ TEST(Cli, BadSceneExitCode2WithLocationAndNoOutput) {
     std::string text, expect;
   };
   const Case cases[] = {
-      {"[image]\nwidth = 10\nhieght = 5\n", "s.toml:3:1: image.hieght: unknown key (did you mean 'height'?)"},
+      {"[image]\nwidth = 10\nhieght = 5\n",
+       "s.toml:3:1: image.hieght: unknown key (did you mean 'height'?)"},
       {"[camera\n", "TOML syntax error"},
       {"[camera]\nfov = 200\n", "camera.fov"},
       {"[camera]\nfov = -1\n", "out of range"},
@@ -145,8 +151,8 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   const pid_t pid = fork();
   if (pid == 0) {
     const std::string bin = test::binary().string();
-    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "-o", out.c_str(), "--width", "2000",
-          "--height", "2000", "--spp", "4096", static_cast<char*>(nullptr));
+    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "-o", out.c_str(), "--width",
+          "2000", "--height", "2000", "--spp", "4096", static_cast<char*>(nullptr));
     _exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
@@ -159,8 +165,8 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   const pid_t pid2 = fork();
   if (pid2 == 0) {
     const std::string bin = test::binary().string();
-    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "-o", out.c_str(), "--width", "2000",
-          "--height", "2000", "--spp", "4096", static_cast<char*>(nullptr));
+    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "-o", out.c_str(), "--width",
+          "2000", "--height", "2000", "--spp", "4096", static_cast<char*>(nullptr));
     _exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
@@ -195,14 +201,16 @@ TEST(Cli, RobustnessModels) {
   ANAMORPH_REQUIRE_SHARED();
   const fs::path d = temp_dir("robust");
   const fs::path gl = test::shared_scenes() / "gltf" / "robustness";
-  const std::string bad = write(d / "inf.toml", std::string(kSmall) + "[[object]]\ntype = \"mesh\"\nfile = \"" +
-                                                    (gl / "BoxWithInfinites.glb").string() + "\"\n");
+  const std::string bad =
+      write(d / "inf.toml", std::string(kSmall) + "[[object]]\ntype = \"mesh\"\nfile = \"" +
+                                (gl / "BoxWithInfinites.glb").string() + "\"\n");
   const Result r1 = run("render " + bad + " -o " + (d / "o.png").string());
   EXPECT_EQ(r1.code, 2) << r1.out;
   EXPECT_CONTAINS(r1.out, "non-finite");
   EXPECT_FALSE(fs::exists(d / "o.png"));
-  const std::string fix = write(d / "bad_normals.toml", std::string(kSmall) + "[[object]]\ntype = \"mesh\"\nfile = \"" +
-                                                            (gl / "BoxBadNormals.glb").string() + "\"\n");
+  const std::string fix =
+      write(d / "bad_normals.toml", std::string(kSmall) + "[[object]]\ntype = \"mesh\"\nfile = \"" +
+                                        (gl / "BoxBadNormals.glb").string() + "\"\n");
   const Result r2 = run("render " + fix + " -q -o " + (d / "o.png").string());
   EXPECT_EQ(r2.code, 0) << r2.out;
   EXPECT_CONTAINS(r2.out, "warning");
@@ -215,8 +223,9 @@ namespace anamorph {
 
 TEST(Cli, FramesRenderASequenceAndVideoNeedsFfmpeg) {
   const fs::path d = temp_dir("frames");
-  const std::string scene = write(d / "s.toml", std::string(kSmall) +
-                                                    "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 40], [2, 70]]\n");
+  const std::string scene =
+      write(d / "s.toml",
+            std::string(kSmall) + "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 40], [2, 70]]\n");
   const Result r = run("render " + scene + " -q --frames 0:2 -o " + (d / "f_%03d.png").string());
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* f : {"f_000.png", "f_001.png", "f_002.png"}) EXPECT_TRUE(fs::exists(d / f)) << f;
@@ -225,11 +234,12 @@ TEST(Cli, FramesRenderASequenceAndVideoNeedsFfmpeg) {
   EXPECT_EQ(run("render " + scene + " --frames 0:2 -o " + (d / "nopattern.png").string()).code, 2);
   EXPECT_EQ(run("render " + scene + " --frames 5:2 -o " + (d / "f_%03d.png").string()).code, 2);
   // Without ffmpeg on the PATH, --video says so before rendering anything.
-  const Result v = run("render " + scene + " --frames 0:1 -o " + (d / "v_%03d.png").string() + " --video " +
-                       (d / "v.mp4").string() + " 2>&1; true");
+  const Result v = run("render " + scene + " --frames 0:1 -o " + (d / "v_%03d.png").string() +
+                       " --video " + (d / "v.mp4").string() + " 2>&1; true");
   if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
     EXPECT_CONTAINS(v.out, "not on the PATH");
-    EXPECT_FALSE(fs::exists(d / "v_000.png")) << "nothing is rendered when the video cannot be made";
+    EXPECT_FALSE(fs::exists(d / "v_000.png"))
+        << "nothing is rendered when the video cannot be made";
   } else {
     EXPECT_TRUE(fs::exists(d / "v.mp4")) << v.out;
     EXPECT_GT(fs::file_size(d / "v.mp4"), 0u);
@@ -243,8 +253,9 @@ namespace anamorph {
 
 TEST(Cli, CoinsInInfoAndOverlay) {
   const fs::path d = temp_dir("coins");
-  const std::string scene = write(d / "s.toml", std::string(kSmall) +
-                                                    "[[camera.coin]]\nposition = [0, 0, 0]\nstrength = 0.5\nradius = 0.3\n");
+  const std::string scene = write(
+      d / "s.toml", std::string(kSmall) +
+                        "[[camera.coin]]\nposition = [0, 0, 0]\nstrength = 0.5\nradius = 0.3\n");
   const Result info = run("info " + scene);
   ASSERT_EQ(info.code, 0) << info.out;
   // The coin sits where the camera looks: the image center.

@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -77,8 +77,8 @@ TEST_P(SceneSmoke, RendersSmallWithoutNaNAndNotUniform) {
   const fs::path& file = GetParam().path;
   // The file's own size gives the aspect of the small render.
   const Scene full = load_scene(file);
-  const int height = std::max(
-      1, int(std::lround(double(kWidth) * full.render.height / full.render.width)));
+  const int height =
+      std::max(1, int(std::lround(double(kWidth) * full.render.height / full.render.width)));
   const std::vector<std::string> overrides = {"image.width=" + std::to_string(kWidth),
                                               "image.height=" + std::to_string(height),
                                               "render.spp=" + std::to_string(kSpp)};
@@ -111,11 +111,10 @@ TEST_P(SceneSmoke, RendersSmallWithoutNaNAndNotUniform) {
       covered += film.alpha(x, y);
     }
   EXPECT_EQ(non_finite, 0) << file;
-  EXPECT_GT(covered, 0.5 * kWidth * height)
-      << file << ": most pixels have no ray (total coverage " << covered << " of "
-      << kWidth * height << ")";
-  EXPECT_GT(hi - lo, 0.1) << file << ": the image is uniform (luminance from " << lo << " to "
-                          << hi << ")";
+  EXPECT_GT(covered, 0.5 * kWidth * height) << file << ": most pixels have no ray (total coverage "
+                                            << covered << " of " << kWidth * height << ")";
+  EXPECT_GT(hi - lo, 0.1) << file << ": the image is uniform (luminance from " << lo << " to " << hi
+                          << ")";
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, SceneSmoke, testing::ValuesIn(scene_files()), test_name);
@@ -137,12 +136,28 @@ TEST(SceneFiles, PaperHasTheFourteenRowsOfTableOne) {
 // The application scenes the docs point to (docs/gallery.md, docs/cameras.md) are all there and
 // are picked up by the smoke test above.
 TEST(SceneFiles, ApplicationsAreFound) {
-  const char* const expected[] = {
-      "domemaster", "omnimax", "vr_ods", "light_field_quilt", "integral_image", "mercator",
-      "lambert", "focus_context", "coin_animation", "bspline_animation", "matched_lens",
-      "isometric", "fisheye_180", "light_probe", "matched_pinhole", "panorama_360",
-      "cylindrical_panorama", "little_planet", "panini_wide", "cubemap", "pushbroom",
-      "crossed_slits"};
+  const char* const expected[] = {"domemaster",
+                                  "omnimax",
+                                  "vr_ods",
+                                  "light_field_quilt",
+                                  "integral_image",
+                                  "mercator",
+                                  "lambert",
+                                  "focus_context",
+                                  "coin_animation",
+                                  "bspline_animation",
+                                  "matched_lens",
+                                  "isometric",
+                                  "fisheye_180",
+                                  "light_probe",
+                                  "matched_pinhole",
+                                  "panorama_360",
+                                  "cylindrical_panorama",
+                                  "little_planet",
+                                  "panini_wide",
+                                  "cubemap",
+                                  "pushbroom",
+                                  "crossed_slits"};
   const std::vector<SceneFile> files = scene_files();
   for (const char* name : expected) {
     const bool found = std::any_of(files.begin(), files.end(), [&](const SceneFile& f) {

@@ -10,8 +10,11 @@
 namespace anamorph {
 
 namespace {
-const char* kCases[][2] = {{"perspective", "fov = 50"}, {"fisheye", "fov = 200"}, {"equirectangular", ""},
-                           {"ods", ""}, {"cylindrical", ""}};
+const char* kCases[][2] = {{"perspective", "fov = 50"},
+                           {"fisheye", "fov = 200"},
+                           {"equirectangular", ""},
+                           {"ods", ""},
+                           {"cylindrical", ""}};
 }  // namespace
 
 TEST(DepthOfField, ApertureZeroIsThePinholeRayBitForBit) {
@@ -26,7 +29,8 @@ TEST(DepthOfField, ApertureZeroIsThePinholeRayBitForBit) {
       const auto a = pin.generate(s), b = dof.generate(s);
       ASSERT_EQ(bool(a), bool(b)) << c[0];
       if (!a) continue;
-      EXPECT_EQ(0, std::memcmp(&*a, &*b, sizeof(CameraRay))) << c[0] << " at " << s.uv.x << "," << s.uv.y;
+      EXPECT_EQ(0, std::memcmp(&*a, &*b, sizeof(CameraRay)))
+          << c[0] << " at " << s.uv.x << "," << s.uv.y;
     }
   }
 }
@@ -47,7 +51,8 @@ TEST(DepthOfField, RaysMeetAtTheFocusDistance) {
       const Vec3 target = p->org + p->dir * focus;
       const Vec3 offset = r->org - p->org;
       EXPECT_LE(length(offset), aperture * (1 + 1e-12)) << c[0];
-      EXPECT_NEAR(dot(offset, p->dir), 0, 1e-12) << c[0] << ": the lens disk is perpendicular to the ray";
+      EXPECT_NEAR(dot(offset, p->dir), 0, 1e-12)
+          << c[0] << ": the lens disk is perpendicular to the ray";
       // The DOF ray passes through the pinhole ray's point at the focus distance.
       const Vec3 to = target - r->org;
       EXPECT_NEAR(length(to - r->dir * dot(to, r->dir)), 0, 1e-9) << c[0];

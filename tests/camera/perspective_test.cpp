@@ -46,8 +46,8 @@ TEST(Perspective, EdgesSpanFov) {
 TEST(Perspective, UpIsUpAndRightIsRight) {
   const VirtualCamera cam = make(60, "horizontal", {100, 100});
   const auto top = cam.generate({{0.5, 0.0}}), right = cam.generate({{1.0, 0.5}});
-  EXPECT_GT(top->dir.y, 0);        // v = 0 is the top of the image
-  EXPECT_GT(right->dir.x, 0);      // looking down -z with +y up, +x is to the right
+  EXPECT_GT(top->dir.y, 0);    // v = 0 is the top of the image
+  EXPECT_GT(right->dir.x, 0);  // looking down -z with +y up, +x is to the right
 }
 
 TEST(Perspective, DifferentialsMatchFiniteDifferences) {

@@ -77,7 +77,8 @@ TEST_P(EveryPreset, RoundTripPixelRayPointPixel) {
     if (!found) {
       std::string diffs;
       for (const Vec2& s : sols)
-        diffs += " (" + std::to_string((s.x - uv.x) * W) + ", " + std::to_string((s.y - uv.y) * H) + ") px";
+        diffs += " (" + std::to_string((s.x - uv.x) * W) + ", " + std::to_string((s.y - uv.y) * H) +
+                 ") px";
       ADD_FAILURE() << c.label() << "\n  pixel (" << px << ", " << py << ") uv " << str(uv)
                     << "\n  ray org " << str(r->org) << " dir " << str(r->dir) << "\n  distance "
                     << dist << " point " << str(p) << "\n  project -> " << str(sols)
@@ -103,8 +104,10 @@ TEST_P(EveryPreset, DifferentialsMatchFiniteDifferences) {
     const auto seam = [&](const Vec3& a, const Vec3& m, const Vec3& b, const Vec3& d) {
       return length((b - m) / h - (m - a) / h) > 1e-2 * (1 + length(d));
     };
-    if (seam(ru0->dir, r->dir, ru1->dir, r->ddir_du) || seam(rv0->dir, r->dir, rv1->dir, r->ddir_dv) ||
-        seam(ru0->org, r->org, ru1->org, r->dorg_du) || seam(rv0->org, r->org, rv1->org, r->dorg_dv)) {
+    if (seam(ru0->dir, r->dir, ru1->dir, r->ddir_du) ||
+        seam(rv0->dir, r->dir, rv1->dir, r->ddir_dv) ||
+        seam(ru0->org, r->org, ru1->org, r->dorg_du) ||
+        seam(rv0->org, r->org, rv1->org, r->dorg_dv)) {
       ++seams;
       continue;
     }
@@ -206,6 +209,7 @@ TEST_P(EveryPreset, ClosedFormInverseAgreesWithNumeric) {
   EXPECT_GE(checked, 6);
 }
 
-INSTANTIATE_TEST_SUITE_P(Presets, EveryPreset, ::testing::ValuesIn(test::preset_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(Presets, EveryPreset, ::testing::ValuesIn(test::preset_cases()),
+                         case_name);
 
 }  // namespace anamorph

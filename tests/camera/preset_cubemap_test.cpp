@@ -66,7 +66,8 @@ TEST(Cubemap, InsideFacesAreUnmirroredAndSeamsMeet) {
 }
 
 TEST(Cubemap, OpenGlConventionFollowsTheSpecTable) {
-  const VirtualCamera cam = camera("cubemap", "layout = \"6x1\"\nconvention = \"opengl\"", {1536, 256});
+  const VirtualCamera cam =
+      camera("cubemap", "layout = \"6x1\"\nconvention = \"opengl\"", {1536, 256});
   Rng rng(8, 8);
   for (int k = 0; k < 200; ++k) {
     const Vec3 d{2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1};

@@ -34,7 +34,8 @@ TEST(PresetDocs, EveryPresetHasSectionPictureAndCurrentTable) {
     const std::string pic = "images/cameras/" + name + ".png";
     EXPECT_NE(md.find("(" + pic + ")"), std::string::npos) << "no picture for " << name;
     EXPECT_TRUE(std::filesystem::exists(docs / pic)) << docs / pic;
-    const std::string open = "<!-- params:" + name + " -->\n", close = "<!-- /params:" + name + " -->";
+    const std::string open = "<!-- params:" + name + " -->\n",
+                      close = "<!-- /params:" + name + " -->";
     const size_t a = md.find(open), b = md.find(close);
     ASSERT_TRUE(a != std::string::npos && b != std::string::npos && a < b)
         << "no parameter block for " << name << kRegenerate;
@@ -48,7 +49,8 @@ TEST(PresetDocs, ReferencedImagesExist) {
   const std::string md = read_text(docs / "cameras.md");
   const std::regex ref(R"(\((images/[A-Za-z0-9_/.-]+\.(png|svg))\))");
   int n = 0;
-  for (auto it = std::sregex_iterator(md.begin(), md.end(), ref); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(md.begin(), md.end(), ref); it != std::sregex_iterator();
+       ++it) {
     ++n;
     EXPECT_TRUE(std::filesystem::exists(docs / (*it)[1].str())) << (*it)[1].str();
   }

@@ -37,16 +37,11 @@ double expected_theta(const MappingCase& m, double r) {
 }
 
 const MappingCase kMappings[] = {
-    {"equidistant", 90, ""},
-    {"equidistant", 180, ""},
-    {"equidistant", 360, ""},
-    {"equisolid", 180, ""},
-    {"equisolid", 360, ""},
-    {"stereographic", 120, ""},
-    {"stereographic", 300, ""},
-    {"orthographic", 180, ""},
-    {"orthographic", 100, ""},
-    {"polynomial", degrees(2.3), "poly = [0, 1.2, 0, -0.1, 0.05]\n"},
+    {"equidistant", 90, ""},    {"equidistant", 180, ""},
+    {"equidistant", 360, ""},   {"equisolid", 180, ""},
+    {"equisolid", 360, ""},     {"stereographic", 120, ""},
+    {"stereographic", 300, ""}, {"orthographic", 180, ""},
+    {"orthographic", 100, ""},  {"polynomial", degrees(2.3), "poly = [0, 1.2, 0, -0.1, 0.05]\n"},
 };
 
 std::string fisheye_toml(const MappingCase& m, const std::string& fit) {
@@ -120,8 +115,9 @@ TEST(Fisheye, OutsideTheCircleThereIsNoRay) {
 TEST(Fisheye, AnnularPolynomialHasNoDirectionAtTheCenter) {
   // theta(0) = k0 > 0: the center pixel is a whole cone of directions, so it gets no ray (never
   // a NaN); its neighbours look k0 off the axis.
-  const VirtualCamera cam = camera(
-      "fisheye", "fov = 180\nmapping = \"polynomial\"\npoly = [0.2, 1.3707963267948966]", {101, 101});
+  const VirtualCamera cam =
+      camera("fisheye", "fov = 180\nmapping = \"polynomial\"\npoly = [0.2, 1.3707963267948966]",
+             {101, 101});
   EXPECT_FALSE(ray(cam, {0.5, 0.5}));
   const auto r = ray(cam, {0.5 + 1e-9, 0.5});
   ASSERT_TRUE(r);
@@ -181,8 +177,8 @@ TEST(MirrorBall, CenterReflectsBackRimShowsBehindTheBall) {
 
 TEST(Dome, DomemasterOrientationAndTilt) {
   for (double tilt : {0.0, 20.0}) {
-    const std::string toml = "look_from = [1, 2, 3]\nlook_at = [1, 2, -5]\ntilt = " +
-                             std::to_string(tilt);
+    const std::string toml =
+        "look_from = [1, 2, 3]\nlook_at = [1, 2, -5]\ntilt = " + std::to_string(tilt);
     const VirtualCamera cam = camera("dome", toml, {1024, 1024});
     const double t = radians(tilt);
     const Vec3 up{0, 1, 0}, front{0, 0, -1}, right{1, 0, 0};
@@ -204,23 +200,25 @@ TEST(Dome, OffCenterEyeLooksAtTheDomePoint) {
   // passes through the dome point that the equidistant domemaster assigns to the pixel.
   const Vec3 center{1, 2, 3}, eye_offset{0.5, -2, 3};
   const double R = 10, tilt = 30;
-  const VirtualCamera cam = camera(
-      "dome", "look_from = [1, 2, 3]\nlook_at = [1, 2, -5]\nradius = 10\ntilt = 30\n"
-              "eye_offset = [0.5, -2, 3]",
-      {1024, 1024});
+  const VirtualCamera cam =
+      camera("dome",
+             "look_from = [1, 2, 3]\nlook_at = [1, 2, -5]\nradius = 10\ntilt = 30\n"
+             "eye_offset = [0.5, -2, 3]",
+             {1024, 1024});
   const double t = radians(tilt);
   const Vec3 A{0, std::cos(t), -std::sin(t)}, U{0, std::sin(t), std::cos(t)}, X{1, 0, 0};
   for (Vec2 uv : {Vec2{0.5, 0.5}, Vec2{0.2, 0.6}, Vec2{0.7, 0.05}, Vec2{0.93, 0.41}}) {
     const double a = 2 * uv.x - 1, b = 1 - 2 * uv.y, rho = std::hypot(a, b);
     const double theta = rho * kPi / 2;
-    const Vec3 unit = rho > 0 ? (X * (a / rho) + U * (b / rho)) * std::sin(theta) + A * std::cos(theta) : A;
+    const Vec3 unit =
+        rho > 0 ? (X * (a / rho) + U * (b / rho)) * std::sin(theta) + A * std::cos(theta) : A;
     const Vec3 dome_point = center + unit * R;
     const auto r = ray(cam, uv);
     ASSERT_TRUE(r);
     EXPECT_LT(length(r->org - (center + eye_offset)), 1e-12) << "org = the eye";
     const Vec3 to = dome_point - r->org;
-    EXPECT_LT(angle_deg(r->dir, to), 1e-9) << "uv " << str(uv) << " dir " << str(r->dir)
-                                           << " expected toward " << str(dome_point);
+    EXPECT_LT(angle_deg(r->dir, to), 1e-9)
+        << "uv " << str(uv) << " dir " << str(r->dir) << " expected toward " << str(dome_point);
   }
   EXPECT_THROW(make_preset("dome", "radius = 1\neye_offset = [0, 0, 1.5]", {64, 64}), ParamError);
 }

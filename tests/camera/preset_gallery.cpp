@@ -33,17 +33,19 @@ struct Post {  // vertical cylinder from the ground to y = top
 };
 
 const Sphere kSpheres[] = {
-    {{0, 0, -5}, 1, {0.8, 0.1, 0.08}},      // front: red
-    {{5, 0, 0}, 1, {0.1, 0.6, 0.1}},        // right: green
-    {{0, 0, 5}, 1, {0.1, 0.2, 0.8}},        // back: blue
-    {{-5, 0, 0}, 1, {0.85, 0.7, 0.05}},     // left: yellow
-    {{0, 5, 0}, 1, {0.9, 0.9, 0.9}},        // overhead: white
-    {{1.2, -0.6, -2.5}, 0.4, {0.7, 0.1, 0.7}},  // near, front right: magenta
+    {{0, 0, -5}, 1, {0.8, 0.1, 0.08}},           // front: red
+    {{5, 0, 0}, 1, {0.1, 0.6, 0.1}},             // right: green
+    {{0, 0, 5}, 1, {0.1, 0.2, 0.8}},             // back: blue
+    {{-5, 0, 0}, 1, {0.85, 0.7, 0.05}},          // left: yellow
+    {{0, 5, 0}, 1, {0.9, 0.9, 0.9}},             // overhead: white
+    {{1.2, -0.6, -2.5}, 0.4, {0.7, 0.1, 0.7}},   // near, front right: magenta
     {{-1.5, -0.3, -3.2}, 0.5, {0.1, 0.7, 0.7}},  // near, front left: cyan
 };
 const Post kPosts[] = {
-    {2.5, -4, 0.15, 2.5, {0.9, 0.5, 0.2}}, {-2.5, -4, 0.15, 2.5, {0.9, 0.5, 0.2}},
-    {2.5, 4, 0.15, 2.5, {0.5, 0.5, 0.5}},  {-2.5, 4, 0.15, 2.5, {0.5, 0.5, 0.5}},
+    {2.5, -4, 0.15, 2.5, {0.9, 0.5, 0.2}},
+    {-2.5, -4, 0.15, 2.5, {0.9, 0.5, 0.2}},
+    {2.5, 4, 0.15, 2.5, {0.5, 0.5, 0.5}},
+    {-2.5, 4, 0.15, 2.5, {0.5, 0.5, 0.5}},
 };
 constexpr double kGround = -1.2;
 const Vec3 kSun = normalize(Vec3{0.4, 0.8, 0.3});
@@ -70,7 +72,8 @@ void hit_sphere(const Sphere& s, const Vec3& o, const Vec3& d, Hit* h) {
 
 void hit_post(const Post& p, const Vec3& o, const Vec3& d, Hit* h) {
   const double ox = o.x - p.x, oz = o.z - p.z;
-  const double a = d.x * d.x + d.z * d.z, b = ox * d.x + oz * d.z, c = ox * ox + oz * oz - p.r * p.r;
+  const double a = d.x * d.x + d.z * d.z, b = ox * d.x + oz * d.z,
+               c = ox * ox + oz * oz - p.r * p.r;
   if (a <= 0) return;
   const double disc = b * b - a * c;
   if (disc < 0) return;

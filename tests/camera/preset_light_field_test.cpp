@@ -23,9 +23,8 @@ Vec2 tile_center(int col, int row, int cols, int rows) {
 
 TEST(LightField, QuiltOrderStartsBottomLeftAndEyesMoveRight) {
   const int cols = 5, rows = 9;
-  const VirtualCamera cam =
-      camera("light_field", std::string(kRig) + "columns = 5\nrows = 9\nview_cone = 40",
-             {2500, 2700});
+  const VirtualCamera cam = camera(
+      "light_field", std::string(kRig) + "columns = 5\nrows = 9\nview_cone = 40", {2500, 2700});
   const int n = cols * rows;
   double prev_x = -1e300;
   for (int view = 0; view < n; ++view) {
@@ -72,8 +71,8 @@ TEST(LightField, EveryViewSeesAPointNearTheFocalPlane) {
 
 TEST(Integral, LensGridAndElementalFieldOfView) {
   const int cols = 16, rows = 9;
-  const VirtualCamera cam = camera(
-      "integral", "columns = 16\nrows = 9\nwidth = 1.6\nlens_fov = 30", {1600, 900});
+  const VirtualCamera cam =
+      camera("integral", "columns = 16\nrows = 9\nwidth = 1.6\nlens_fov = 30", {1600, 900});
   const double pitch = 0.1;  // 1.6 / 16 across, 0.9 / 9 down
   for (int row = 0; row < rows; ++row)
     for (int col = 0; col < cols; ++col) {

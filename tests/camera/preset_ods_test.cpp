@@ -33,8 +33,8 @@ TEST(Ods, OriginsOnTheCircleRaysTangentEyesMirrored) {
     EXPECT_NEAR(length(oa), ipd / 2, 1e-15) << "on the circle, uv " << str(l);
     EXPECT_NEAR(length(ob), ipd / 2, 1e-15);
     // Tangent: the origin's radius is perpendicular to the ray's horizontal direction.
-    EXPECT_NEAR(dot(oa, a->dir), 0, 1e-15) << "uv " << str(l) << " org " << str(oa) << " dir "
-                                           << str(a->dir);
+    EXPECT_NEAR(dot(oa, a->dir), 0, 1e-15)
+        << "uv " << str(l) << " org " << str(oa) << " dir " << str(a->dir);
     EXPECT_LT(length(oa + ob), 1e-15) << "the eyes are mirrored through the center";
     EXPECT_LT(angle_deg(a->dir, b->dir), 1e-12) << "both eyes look the same way";
   }
@@ -80,7 +80,8 @@ TEST(Ods, NearPointsHaveParallax) {
   const VirtualCamera cam = camera("ods", std::string(kRig) + "ipd = 0.064", {2048, 2048});
   const auto sols = cam.project(kCenter + Vec3{0.1, 0.05, -0.5});
   ASSERT_EQ(sols.size(), 2u) << str(sols);
-  const Vec2 left = sols[0].y < 0.5 ? sols[0] : sols[1], right = sols[0].y < 0.5 ? sols[1] : sols[0];
+  const Vec2 left = sols[0].y < 0.5 ? sols[0] : sols[1],
+             right = sols[0].y < 0.5 ? sols[1] : sols[0];
   EXPECT_LT(left.y, 0.5);
   EXPECT_GE(right.y, 0.5);
   // The left eye sees a point ahead further to the right (larger u) than the right eye does.

@@ -58,12 +58,13 @@ const ImageInfo kImg{1920, 1080};
 // Our projection of a world point as OpenCV pixel coordinates.
 std::vector<Vec2> pixels(const Camera& cam, const Vec3& p) {
   std::vector<Vec2> out;
-  for (const Vec2& uv : cam.project(p)) out.push_back({uv.x * kImg.width - 0.5, uv.y * kImg.height - 0.5});
+  for (const Vec2& uv : cam.project(p))
+    out.push_back({uv.x * kImg.width - 0.5, uv.y * kImg.height - 0.5});
   return out;
 }
 
-const Vec3 kPoints[] = {{0, 0, 5},        {0.3, -0.2, 2},   {-1.1, 0.6, 3.5},
-                        {0.9, 0.5, 1.7},  {-0.4, -0.3, 1.2}, {2.0, 1.0, 4.0}};
+const Vec3 kPoints[] = {{0, 0, 5},       {0.3, -0.2, 2},    {-1.1, 0.6, 3.5},
+                        {0.9, 0.5, 1.7}, {-0.4, -0.3, 1.2}, {2.0, 1.0, 4.0}};
 
 }  // namespace
 
@@ -78,12 +79,13 @@ TEST(OpenCvPinhole, MatchesOpenCvEquations) {
     const Vec3 p = ours_from_opencv(P);
     const auto got = pixels(cam, p);
     ASSERT_EQ(got.size(), 1u) << "OpenCV point " << str(P) << " expected pixel " << str(expected);
-    EXPECT_LT(length(got[0] - expected), 1e-6)
-        << "OpenCV point " << str(P) << " expected pixel " << str(expected) << " got " << str(got[0]);
+    EXPECT_LT(length(got[0] - expected), 1e-6) << "OpenCV point " << str(P) << " expected pixel "
+                                               << str(expected) << " got " << str(got[0]);
     // The ray of that pixel (undistorted by Newton) passes through the point.
     const auto r = ray(cam, {(expected.x + 0.5) / kImg.width, (expected.y + 0.5) / kImg.height});
     ASSERT_TRUE(r);
-    EXPECT_LT(angle_deg(r->dir, p), 1e-9) << "ray of pixel " << str(expected) << " dir " << str(r->dir);
+    EXPECT_LT(angle_deg(r->dir, p), 1e-9)
+        << "ray of pixel " << str(expected) << " dir " << str(r->dir);
   }
 }
 
@@ -135,11 +137,12 @@ TEST(OpenCvFisheye, MatchesOpenCvEquations) {
     const Vec3 p = ours_from_opencv(P);
     const auto got = pixels(cam, p);
     ASSERT_EQ(got.size(), 1u) << "OpenCV point " << str(P) << " expected pixel " << str(expected);
-    EXPECT_LT(length(got[0] - expected), 1e-6)
-        << "OpenCV point " << str(P) << " expected pixel " << str(expected) << " got " << str(got[0]);
+    EXPECT_LT(length(got[0] - expected), 1e-6) << "OpenCV point " << str(P) << " expected pixel "
+                                               << str(expected) << " got " << str(got[0]);
     const auto r = ray(cam, {(expected.x + 0.5) / kImg.width, (expected.y + 0.5) / kImg.height});
     ASSERT_TRUE(r);
-    EXPECT_LT(angle_deg(r->dir, p), 1e-9) << "ray of pixel " << str(expected) << " dir " << str(r->dir);
+    EXPECT_LT(angle_deg(r->dir, p), 1e-9)
+        << "ray of pixel " << str(expected) << " dir " << str(r->dir);
   }
 }
 

@@ -53,15 +53,18 @@ struct PresetCase {
   ImageInfo img;
   // Image position whose ray looks along look_at (NaN = not meaningful for this camera).
   Vec2 center{0.5, 0.5};
-  std::string label() const { return preset + " {" + toml + "} " + std::to_string(img.width) + "x" +
-                                     std::to_string(img.height); }
+  std::string label() const {
+    return preset + " {" + toml + "} " + std::to_string(img.width) + "x" +
+           std::to_string(img.height);
+  }
 };
 
 // gtest prints parameters with this (instead of their bytes).
 inline void PrintTo(const PresetCase& c, std::ostream* os) { *os << c.label(); }
 
 // A rig that is neither axis-aligned nor at the origin, so every test also exercises it.
-inline constexpr const char* kRig = "look_from = [1, 2, 3]\nlook_at = [2, 2.5, -4]\nup = [0.1, 1, 0]\n";
+inline constexpr const char* kRig =
+    "look_from = [1, 2, 3]\nlook_at = [2, 2.5, -4]\nup = [0.1, 1, 0]\n";
 
 inline std::vector<PresetCase> preset_cases() {
   const double nan = std::nan("");
@@ -69,20 +72,26 @@ inline std::vector<PresetCase> preset_cases() {
   return {
       {"perspective", rig + "fov = 60", {1920, 1080}},
       {"perspective", rig + "fov = 100\nfov_axis = \"diagonal\"", {1920, 1080}},
-      {"perspective", rig + "fov = 40\nfov_axis = \"vertical\"\nlens_shift = [0.1, -0.2]",
-       {1920, 1080}, {nan, nan}},
+      {"perspective",
+       rig + "fov = 40\nfov_axis = \"vertical\"\nlens_shift = [0.1, -0.2]",
+       {1920, 1080},
+       {nan, nan}},
       {"orthographic", rig + "view_width = 3", {1920, 1080}},
       {"fisheye", rig + "fov = 180", {1920, 1080}},
       {"fisheye", rig + "fov = 360", {1024, 1024}},
       {"fisheye", rig + "fov = 300\nmapping = \"equisolid\"", {1024, 1024}},
-      {"fisheye", rig + "fov = 200\nmapping = \"stereographic\"\nfit = \"full_frame\"", {1920, 1080}},
+      {"fisheye",
+       rig + "fov = 200\nmapping = \"stereographic\"\nfit = \"full_frame\"",
+       {1920, 1080}},
       {"fisheye", rig + "fov = 170\nmapping = \"orthographic\"", {1080, 1920}},
       {"fisheye",
        rig + "fov = 131.78029288008932\nmapping = \"polynomial\"\npoly = [0, 1.2, 0, -0.1, 0.05]\n"
              "fit = \"pixels\"\ncircle_diameter = 1000",
        {1920, 1080}},
       {"mirror_ball", rig, {1024, 1024}, {nan, nan}},
-      {"dome", rig + "tilt = 25\nradius = 2\neye_offset = [0.1, -0.3, 0.4]", {2048, 2048},
+      {"dome",
+       rig + "tilt = 25\nradius = 2\neye_offset = [0.1, -0.3, 0.4]",
+       {2048, 2048},
        {nan, nan}},
       {"opencv_pinhole",
        rig + "fx = 1400\nfy = 1390\ncx = 959.5\ncy = 539.5\nk1 = -0.28\nk2 = 0.09\nk3 = -0.01\n"
@@ -93,8 +102,10 @@ inline std::vector<PresetCase> preset_cases() {
              "k4 = -0.0003",
        {1920, 1080}},
       {"equirectangular", rig, {2048, 1024}},
-      {"equirectangular", rig + "longitude_range = [-100, 80]\nlatitude_range = [-30, 60]",
-       {1920, 1080}, {100.0 / 180, 60.0 / 90}},
+      {"equirectangular",
+       rig + "longitude_range = [-100, 80]\nlatitude_range = [-30, 60]",
+       {1920, 1080},
+       {100.0 / 180, 60.0 / 90}},
       {"cylindrical", rig, {1920, 1080}},
       {"cylindrical", rig + "projection = \"orthographic\"\nheight = 2", {1920, 1080}},
       {"mercator", rig, {2048, 2048}},
@@ -106,7 +117,9 @@ inline std::vector<PresetCase> preset_cases() {
       {"cubemap", rig, {1536, 1024}, {nan, nan}},
       {"cubemap", rig + "layout = \"6x1\"\nconvention = \"opengl\"", {3072, 512}, {nan, nan}},
       {"ods", rig, {2048, 2048}, {0.5, 0.25}},
-      {"ods", rig + "pole_merge = [60, 85]\nlayout = \"side_by_side\"\nipd = 0.3", {4096, 1024},
+      {"ods",
+       rig + "pole_merge = [60, 85]\nlayout = \"side_by_side\"\nipd = 0.3",
+       {4096, 1024},
        {0.25, 0.5}},
       {"light_field", rig, {3360, 3360}, {nan, nan}},
       {"integral", rig + "columns = 24\nrows = 12\nwidth = 2", {1920, 1080}, {nan, nan}},

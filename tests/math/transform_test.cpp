@@ -28,11 +28,13 @@ TEST(Transform, LookAtMapsMinusZToForward) {
   EXPECT_NEAR(length(f - want), 0.0, 1e-12);
   EXPECT_NEAR(length(t.point({0, 0, 0}) - from), 0.0, 1e-12);
   // right = f x up must be +x of camera space
-  EXPECT_NEAR(length(normalize(t.vector({1, 0, 0})) - normalize(cross(want, Vec3{0, 1, 0}))), 0, 1e-12);
+  EXPECT_NEAR(length(normalize(t.vector({1, 0, 0})) - normalize(cross(want, Vec3{0, 1, 0}))), 0,
+              1e-12);
 }
 
 TEST(Rng, SameSeedSameStreamDifferentPixelsDiffer) {
-  Rng a = Rng::for_sample(3, 4, 5, 42), b = Rng::for_sample(3, 4, 5, 42), c = Rng::for_sample(4, 3, 5, 42);
+  Rng a = Rng::for_sample(3, 4, 5, 42), b = Rng::for_sample(3, 4, 5, 42),
+      c = Rng::for_sample(4, 3, 5, 42);
   for (int i = 0; i < 100; ++i) {
     const uint32_t x = a.next_u32();
     EXPECT_EQ(x, b.next_u32());

@@ -11,7 +11,8 @@ namespace {
 
 // Whitted, adaptive: a white sphere in front of a black sky.
 const std::string kEdge =
-    "[image]\nwidth = 40\nheight = 30\n[render]\nintegrator = \"whitted\"\nantialias = \"adaptive\"\n"
+    "[image]\nwidth = 40\nheight = 30\n[render]\nintegrator = \"whitted\"\nantialias = "
+    "\"adaptive\"\n"
     "aa_depth = 3\ntile_size = 8\n"
     "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 40\n"
     "[[material]]\nname = \"e\"\ncolor = 0\nemission = 1\n"
@@ -46,7 +47,8 @@ TEST(Adaptive, NoSeamsAtTileBordersAndThreadIndependent) {
   EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(float)))
       << "one tile vs many tiles (and 1 vs 2 threads) must give identical bits";
   for (int y = 0; y < 30; ++y)
-    for (int x = 0; x < 40; ++x) ASSERT_EQ(small.film->samples(x, y), whole.film->samples(x, y)) << x << "," << y;
+    for (int x = 0; x < 40; ++x)
+      ASSERT_EQ(small.film->samples(x, y), whole.film->samples(x, y)) << x << "," << y;
 }
 
 TEST(Adaptive, StretchedPixelsStartSubdivided) {
@@ -58,17 +60,20 @@ TEST(Adaptive, StretchedPixelsStartSubdivided) {
       "[environment]\ncolor = 0.5\n";
   const auto r = test::render_text(scene);
   // Equal image content (a constant sky) everywhere: only the camera's stretch can add samples.
-  EXPECT_GT(spp(r, 32, 32), spp(r, 0, 32)) << "the center of a 170 degree perspective covers more solid angle";
+  EXPECT_GT(spp(r, 32, 32), spp(r, 0, 32))
+      << "the center of a 170 degree perspective covers more solid angle";
   EXPECT_EQ(spp(r, 0, 32), 4u);
 }
 
 TEST(Adaptive, NoiseDrivenPathStopsFlatPixelsEarly) {
   const std::string scene =
-      "[image]\nwidth = 32\nheight = 16\n[render]\nintegrator = \"path\"\nantialias = \"adaptive\"\n"
+      "[image]\nwidth = 32\nheight = 16\n[render]\nintegrator = \"path\"\nantialias = "
+      "\"adaptive\"\n"
       "min_spp = 8\nmax_spp = 256\nnoise_threshold = 0.002\n"
       "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 50\n"
       "[[object]]\ntype = \"box\"\ncenter = [1.5, 0, 0]\nsize = [2, 2, 2]\n"
-      "[[light]]\ntype = \"quad\"\ncorner = [0.5, 3, -1]\nedge_u = [0, 0, 2]\nedge_v = [2, 0, 0]\nradiance = 5\n"
+      "[[light]]\ntype = \"quad\"\ncorner = [0.5, 3, -1]\nedge_u = [0, 0, 2]\nedge_v = [2, 0, "
+      "0]\nradiance = 5\n"
       "[environment]\ncolor = 0.2\n";
   const auto r = test::render_text(scene, {}, 0, {Aov::Spp});
   // Left: only the constant sky (no variance) -> min_spp. Right: a box lit by an area light.

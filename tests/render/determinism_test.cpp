@@ -9,13 +9,16 @@ namespace anamorph {
 
 namespace {
 const std::string kScene =
-    "[image]\nwidth = 67\nheight = 41\n[render]\nintegrator = \"path\"\nspp = 3\nmax_depth = 4\ntile_size = 8\n"
-    "[camera]\nlook_from = [0, 1.5, 5]\nlook_at = [0, 0.5, 0]\nfov = 50\naperture_radius = 0.05\nfocus_distance = 5\n"
+    "[image]\nwidth = 67\nheight = 41\n[render]\nintegrator = \"path\"\nspp = 3\nmax_depth = "
+    "4\ntile_size = 8\n"
+    "[camera]\nlook_from = [0, 1.5, 5]\nlook_at = [0, 0.5, 0]\nfov = 50\naperture_radius = "
+    "0.05\nfocus_distance = 5\n"
     "[[material]]\nname = \"c\"\ncolor = { type = \"checker\", scale = 0.5 }\n"
     "[[material]]\nname = \"g\"\ncolor = 1\ntransmission = 1\n"
     "[[object]]\ntype = \"plane\"\nmaterial = \"c\"\n"
     "[[object]]\ntype = \"sphere\"\ncenter = [0, 0.7, 0]\nradius = 0.7\nmaterial = \"g\"\n"
-    "[[light]]\ntype = \"quad\"\ncorner = [-1, 3, -1]\nedge_u = [2, 0, 0]\nedge_v = [0, 0, 2]\nradiance = 5\n"
+    "[[light]]\ntype = \"quad\"\ncorner = [-1, 3, -1]\nedge_u = [2, 0, 0]\nedge_v = [0, 0, "
+    "2]\nradiance = 5\n"
     "[environment]\ncolor = [0.1, 0.2, 0.3]\n";
 
 std::vector<float> pixels(const test::Rendered& r) { return r.film->output().layers[0].data; }
@@ -25,8 +28,8 @@ void expect_identical(const std::vector<float>& a, const std::vector<float>& b, 
   size_t diff = 0, first = 0;
   for (size_t i = 0; i < a.size(); ++i)
     if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0 && diff++ == 0) first = i;
-  EXPECT_EQ(diff, 0u) << what << ": " << diff << " values differ, first at float " << first << ": " << a[first]
-                      << " vs " << b[first];
+  EXPECT_EQ(diff, 0u) << what << ": " << diff << " values differ, first at float " << first << ": "
+                      << a[first] << " vs " << b[first];
 }
 }  // namespace
 

@@ -37,7 +37,8 @@ TEST(Furnace, MetallicRoughnessWhiteFurnaceStaysBelowOne) {
   const std::string scene =
       "[image]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"path\"\nspp = 64\n"
       "[camera]\nlook_from = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 8\n"
-      "[[material]]\nname = \"m\"\ntype = \"metallic_roughness\"\ncolor = 1\nmetallic = 1\nroughness = 0.5\n"
+      "[[material]]\nname = \"m\"\ntype = \"metallic_roughness\"\ncolor = 1\nmetallic = "
+      "1\nroughness = 0.5\n"
       "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"m\"\n"
       "[environment]\ncolor = 1\n";
   const auto r = test::render_text(scene);
@@ -96,8 +97,9 @@ TEST(Whitted, ShadowBlocksTheLight) {
       "[[light]]\ntype = \"point\"\nposition = [0, 2, 0]\nintensity = 8\n";
   // The camera sees the disk at y = 1 (it is between), so move it: look past the disk.
   const auto lit = test::render_text(scene, {"object.1.center=[5, 1, 0]"});
-  const auto shadowed = test::render_text(scene, {"camera.look_from=[0.3, 5, 0]", "camera.look_at=[0.3, 0, 0]",
-                                                  "object.1.center=[0.15, 1, 0]"});
+  const auto shadowed =
+      test::render_text(scene, {"camera.look_from=[0.3, 5, 0]", "camera.look_at=[0.3, 0, 0]",
+                                "object.1.center=[0.15, 1, 0]"});
   EXPECT_GT(lit.film->pixel(0, 0).x, 0.1);
   EXPECT_EQ(shadowed.film->pixel(0, 0).x, 0.0);
 }
@@ -122,7 +124,8 @@ TEST(Film, NoRaySamplesAreTransparent) {
   // A fisheye-like composition that yields no ray: a zero direction.
   const auto r = test::render_text(
       "[image]\nwidth = 2\nheight = 2\n"
-      "[camera]\norg = { type = \"plane\" }\ndir = { type = \"from_surface\", surface = { type = \"point\" } }\n");
+      "[camera]\norg = { type = \"plane\" }\ndir = { type = \"from_surface\", surface = { type = "
+      "\"point\" } }\n");
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 2; ++x) EXPECT_EQ(r.film->alpha(x, y), 0.0);
 }
@@ -150,9 +153,11 @@ double mean_red(const test::Rendered& r) {
 
 TEST(AreaLights, SphereLightIrradianceWhittedAndPath) {
   const double want = 0.5 * 10 * (0.5 / 3) * (0.5 / 3);
-  EXPECT_NEAR(mean_red(test::render_text(kSphereLight, {"render.integrator=whitted"})), want, 0.01 * want);
-  EXPECT_NEAR(mean_red(test::render_text(kSphereLight, {"render.integrator=path", "render.max_depth=1"})), want,
+  EXPECT_NEAR(mean_red(test::render_text(kSphereLight, {"render.integrator=whitted"})), want,
               0.01 * want);
+  EXPECT_NEAR(
+      mean_red(test::render_text(kSphereLight, {"render.integrator=path", "render.max_depth=1"})),
+      want, 0.01 * want);
 }
 
 TEST(AreaLights, QuadLightMatchesTheSphereOfEqualSolidAngleRoughly) {
@@ -162,7 +167,8 @@ TEST(AreaLights, QuadLightMatchesTheSphereOfEqualSolidAngleRoughly) {
       "[camera]\nlook_from = [0, 1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\nfov = 0.01\n"
       "[[material]]\nname = \"d\"\ncolor = 0.5\n"
       "[[object]]\ntype = \"plane\"\nmaterial = \"d\"\n"
-      "[[light]]\ntype = \"quad\"\ncorner = [-0.05, 3, -0.05]\nedge_u = [0.1, 0, 0]\nedge_v = [0, 0, 0.1]\n"
+      "[[light]]\ntype = \"quad\"\ncorner = [-0.05, 3, -0.05]\nedge_u = [0.1, 0, 0]\nedge_v = [0, "
+      "0, 0.1]\n"
       "radiance = 100\n";
   const double want = 0.5 / kPi * 100 * 0.01 / 9;
   EXPECT_NEAR(mean_red(test::render_text(scene)), want, 0.01 * want);
@@ -189,7 +195,8 @@ TEST(Environment, ImageFurnaceIsImportanceSampledWithoutBias) {
       "[camera]\nlook_from = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 5\n"
       "[[material]]\nname = \"w\"\ncolor = 0.8\n"
       "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"w\"\n"
-      "[environment]\nfile = \"" + (dir / "env.exr").string() + "\"\n";
+      "[environment]\nfile = \"" +
+      (dir / "env.exr").string() + "\"\n";
   const auto r = test::render_text(scene);
   // Reference: the same scene lit by a brute-force estimate is hard to state analytically, so
   // check the invariant instead: doubling `strength` doubles the image (linearity) and the

@@ -23,8 +23,8 @@ struct Probe {
   }
 };
 void expect_vec(const Vec3& a, const Vec3& b, double tol, const char* what) {
-  EXPECT_NEAR(length(a - b), 0, tol) << what << ": got (" << a.x << ", " << a.y << ", " << a.z << ") want ("
-                                     << b.x << ", " << b.y << ", " << b.z << ")";
+  EXPECT_NEAR(length(a - b), 0, tol) << what << ": got (" << a.x << ", " << a.y << ", " << a.z
+                                     << ") want (" << b.x << ", " << b.y << ", " << b.z << ")";
 }
 }  // namespace
 
@@ -63,11 +63,14 @@ TEST(Shapes, PlaneBoxCylinderDisk) {
   Probe disk("[[object]]\ntype = \"disk\"\ncenter = [0, 0, -2]\nnormal = [0, 0, 1]\nradius = 1\n");
   EXPECT_NEAR(disk.hit({0.5, 0.5, 0}, {0, 0, -1}).t, 2, 1e-5);
   Hit miss;
-  EXPECT_FALSE(disk.accel->intersect({{1.2, 0, 0}, {0, 0, -1}}, &miss)) << "outside the disk radius";
+  EXPECT_FALSE(disk.accel->intersect({{1.2, 0, 0}, {0, 0, -1}}, &miss))
+      << "outside the disk radius";
 }
 
 TEST(Shapes, TiltedCylinderFollowsItsAxis) {
-  Probe p("[[object]]\ntype = \"cylinder\"\nbase = [-1, 1, 1]\ntop = [1, -1, -1]\nradius = 0.25\ncapped = false\n");
+  Probe p(
+      "[[object]]\ntype = \"cylinder\"\nbase = [-1, 1, 1]\ntop = [1, -1, -1]\nradius = "
+      "0.25\ncapped = false\n");
   const Vec3 axis = normalize(Vec3{2, -2, -2});
   const Hit h = p.hit({5, 5, 0}, Vec3{0, 0, 0} - Vec3{5, 5, 0});
   const Vec3 rel = h.p - Vec3{-1, 1, 1};

@@ -13,7 +13,8 @@ const std::string kScene =
     "[image]\nwidth = 8\nheight = 6\n"
     "[camera]\nlook_from = [0, 1, 5]\nlook_at = [0, 0, 0]\nfov = 50\n"
     "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n"
-    "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 50], [10, 30], [20, 60]]\ninterpolation = \"smooth\"\n"
+    "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 50], [10, 30], [20, 60]]\ninterpolation = "
+    "\"smooth\"\n"
     "[[animate]]\nkey = \"object.0.center\"\nkeys = [[0, [0, 0, 0]], [10, [2, 4, -6]]]\n";
 
 double fov_of(const Scene& s) {
@@ -23,8 +24,10 @@ double fov_of(const Scene& s) {
 }  // namespace
 
 TEST(Animation, ExactAtKeysAndClampedOutside) {
-  for (auto [frame, want] : {std::pair{0.0, 50.0}, {10.0, 30.0}, {20.0, 60.0}, {-5.0, 50.0}, {99.0, 60.0}})
-    EXPECT_NEAR(fov_of(load_scene_from_string(kScene, "t.toml", {}, frame)), want, 1e-9) << "frame " << frame;
+  for (auto [frame, want] :
+       {std::pair{0.0, 50.0}, {10.0, 30.0}, {20.0, 60.0}, {-5.0, 50.0}, {99.0, 60.0}})
+    EXPECT_NEAR(fov_of(load_scene_from_string(kScene, "t.toml", {}, frame)), want, 1e-9)
+        << "frame " << frame;
 }
 
 TEST(Animation, LinearVectorsInterpolateComponentwise) {
@@ -53,14 +56,16 @@ TEST(Animation, AFrameEqualsAStillWithTheValuesSet) {
   const auto anim = take_animation(t);
   const double fov = evaluate(anim[0], f)[0];
   const auto c = evaluate(anim[1], f);
-  const Scene still = load_scene_from_string(
-      kScene, "t.toml",
-      {"camera.fov=" + std::to_string(fov), "object.0.center=[" + std::to_string(c[0]) + "," + std::to_string(c[1]) +
-                                                "," + std::to_string(c[2]) + "]"},
-      0);
+  const Scene still =
+      load_scene_from_string(kScene, "t.toml",
+                             {"camera.fov=" + std::to_string(fov),
+                              "object.0.center=[" + std::to_string(c[0]) + "," +
+                                  std::to_string(c[1]) + "," + std::to_string(c[2]) + "]"},
+                             0);
   EXPECT_NEAR(fov_of(animated), fov_of(still), 1e-5);
-  EXPECT_NEAR(length(animated.shapes[0].world_from_object.point({}) - still.shapes[0].world_from_object.point({})), 0,
-              1e-5);
+  EXPECT_NEAR(length(animated.shapes[0].world_from_object.point({}) -
+                     still.shapes[0].world_from_object.point({})),
+              0, 1e-5);
 }
 
 TEST(Animation, BadDefinitionsAreLocatedErrors) {
@@ -72,11 +77,15 @@ TEST(Animation, BadDefinitionsAreLocatedErrors) {
     }
     return std::string();
   };
-  EXPECT_NE(err("[[animate]]\nkey = \"camera.fov\"\nkeys = [[5, 1], [2, 3]]\n").find("increase"), std::string::npos);
-  EXPECT_NE(err("[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, \"a\"]]\n").find("finite numbers"), std::string::npos);
-  EXPECT_NE(err("[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 1]]\ninterpolation = \"cubic\"\n").find("smooth"),
+  EXPECT_NE(err("[[animate]]\nkey = \"camera.fov\"\nkeys = [[5, 1], [2, 3]]\n").find("increase"),
             std::string::npos);
-  EXPECT_NE(err("[[animate]]\nkey = \"camera.fvo\"\nkeys = [[0, 40]]\n").find("did you mean 'fov'"), std::string::npos);
+  EXPECT_NE(err("[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, \"a\"]]\n").find("finite numbers"),
+            std::string::npos);
+  EXPECT_NE(err("[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 1]]\ninterpolation = \"cubic\"\n")
+                .find("smooth"),
+            std::string::npos);
+  EXPECT_NE(err("[[animate]]\nkey = \"camera.fvo\"\nkeys = [[0, 40]]\n").find("did you mean 'fov'"),
+            std::string::npos);
 }
 
 }  // namespace anamorph

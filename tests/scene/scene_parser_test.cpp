@@ -24,7 +24,8 @@ std::string error_of(const std::string& text, const std::vector<std::string>& ov
 }
 
 void expect_contains(const std::string& msg, const std::string& part) {
-  EXPECT_NE(msg.find(part), std::string::npos) << "message: " << msg << "\nexpected to contain: " << part;
+  EXPECT_NE(msg.find(part), std::string::npos)
+      << "message: " << msg << "\nexpected to contain: " << part;
 }
 
 double horizontal_fov_degrees(const Scene& s) {
@@ -92,7 +93,8 @@ TEST(SceneParser, MissingMeshFile) {
 
 TEST(SceneParser, UnknownMaterialSuggests) {
   const std::string msg = error_of(
-      "[[material]]\nname = \"mirror\"\nreflectivity = 1\n[[object]]\ntype = \"sphere\"\nmaterial = \"miror\"\n");
+      "[[material]]\nname = \"mirror\"\nreflectivity = 1\n[[object]]\ntype = \"sphere\"\nmaterial "
+      "= \"miror\"\n");
   expect_contains(msg, "did you mean \"mirror\"");
 }
 
@@ -102,8 +104,9 @@ TEST(SceneParser, EnergyConservationChecked) {
 }
 
 TEST(SceneParser, SetOverridesAnyKey) {
-  const Scene s = load_scene_from_string("[camera]\nfov = 60\n", "t.toml",
-                                         {"camera.fov=90", "image.width=320", "render.integrator=path"});
+  const Scene s =
+      load_scene_from_string("[camera]\nfov = 60\n", "t.toml",
+                             {"camera.fov=90", "image.width=320", "render.integrator=path"});
   EXPECT_NEAR(horizontal_fov_degrees(s), 90, 1e-9);
   EXPECT_EQ(s.render.width, 320);
   EXPECT_EQ(s.render.integrator, "path");
@@ -114,7 +117,8 @@ TEST(SceneParser, SetIntoArrayOfTables) {
                                          {"object.0.radius=2.5"});
   ASSERT_EQ(s.shapes.size(), 1u);
   EXPECT_DOUBLE_EQ(s.shapes[0].radius, 2.5);
-  expect_contains(error_of("[[object]]\ntype = \"sphere\"\n", {"object.3.radius=2"}), "not a valid index");
+  expect_contains(error_of("[[object]]\ntype = \"sphere\"\n", {"object.3.radius=2"}),
+                  "not a valid index");
 }
 
 TEST(SceneParser, SetWithUnknownKeyIsAnError) {
@@ -127,12 +131,14 @@ TEST(SceneParser, IncludesMergeTablesAndConcatenateArrays) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "anamorph_include_test";
   fs::create_directories(dir);
-  std::ofstream(dir / "world.toml") << "[image]\nwidth = 100\nheight = 50\n[[object]]\ntype = \"sphere\"\n";
-  std::ofstream(dir / "main.toml") << "include = \"world.toml\"\n[image]\nwidth = 200\n[[object]]\ntype = \"box\"\n";
+  std::ofstream(dir / "world.toml")
+      << "[image]\nwidth = 100\nheight = 50\n[[object]]\ntype = \"sphere\"\n";
+  std::ofstream(dir / "main.toml")
+      << "include = \"world.toml\"\n[image]\nwidth = 200\n[[object]]\ntype = \"box\"\n";
   const Scene s = load_scene(dir / "main.toml");
-  EXPECT_EQ(s.render.width, 200);   // the including file wins
-  EXPECT_EQ(s.render.height, 50);   // the included file supplies the rest
-  EXPECT_EQ(s.shapes.size(), 2u);   // arrays of tables concatenate
+  EXPECT_EQ(s.render.width, 200);  // the including file wins
+  EXPECT_EQ(s.render.height, 50);  // the included file supplies the rest
+  EXPECT_EQ(s.shapes.size(), 2u);  // arrays of tables concatenate
   std::ofstream(dir / "bad.toml") << "[image]\nwidht = 3\n";
   std::ofstream(dir / "main2.toml") << "include = \"bad.toml\"\n";
   try {
@@ -143,8 +149,10 @@ TEST(SceneParser, IncludesMergeTablesAndConcatenateArrays) {
   }
   // Paths in an included file are relative to that file, wherever the including file is.
   fs::create_directories(dir / "sub" / "models");
-  fs::copy_file(test::data_dir() / "models" / "shared_mesh.gltf", dir / "sub" / "models" / "m.gltf");
-  std::ofstream(dir / "sub" / "world.toml") << "[[object]]\ntype = \"mesh\"\nfile = \"models/m.gltf\"\n";
+  fs::copy_file(test::data_dir() / "models" / "shared_mesh.gltf",
+                dir / "sub" / "models" / "m.gltf");
+  std::ofstream(dir / "sub" / "world.toml")
+      << "[[object]]\ntype = \"mesh\"\nfile = \"models/m.gltf\"\n";
   std::ofstream(dir / "main3.toml") << "include = \"sub/world.toml\"\n";
   EXPECT_EQ(load_scene(dir / "main3.toml").instances.size(), 2u);
   fs::remove_all(dir);
@@ -152,7 +160,8 @@ TEST(SceneParser, IncludesMergeTablesAndConcatenateArrays) {
 
 TEST(SceneParser, TransformComposesScaleRotateTranslate) {
   const Scene s = load_scene_from_string(
-      "[[object]]\ntype = \"sphere\"\ntransform = { scale = 2, rotate = [90, 0, 1, 0], translate = [1, 0, 0] }\n",
+      "[[object]]\ntype = \"sphere\"\ntransform = { scale = 2, rotate = [90, 0, 1, 0], translate = "
+      "[1, 0, 0] }\n",
       "t.toml");
   const Vec3 p = s.shapes[0].world_from_object.point({1, 0, 0});
   // scale: (2,0,0); rotate 90 about y: (0,0,-2); translate: (1,0,-2)
@@ -161,12 +170,14 @@ TEST(SceneParser, TransformComposesScaleRotateTranslate) {
 
 TEST(SceneParser, OrgDirCompositionAndWarnings) {
   const Scene s = load_scene_from_string(
-      "[camera]\norg = { type = \"point\", position = [0, 0, 0] }\ndir = { type = \"constant\", direction = [0, 0, -1] }\n",
+      "[camera]\norg = { type = \"point\", position = [0, 0, 0] }\ndir = { type = \"constant\", "
+      "direction = [0, 0, -1] }\n",
       "t.toml");
   ASSERT_FALSE(s.warnings.empty());
   expect_contains(s.warnings[0], "same ray");
   expect_contains(error_of("[camera]\norg = { type = \"point\" }\n"), "dir");
-  expect_contains(error_of("[camera]\npreset = \"perspective\"\norg = { type = \"point\" }\ndir = { type = \"constant\" }\n"),
+  expect_contains(error_of("[camera]\npreset = \"perspective\"\norg = { type = \"point\" }\ndir = "
+                           "{ type = \"constant\" }\n"),
                   "either a preset or org/dir");
 }
 
@@ -189,9 +200,11 @@ TEST(SceneParser, SharedGltfMeshIsInstancedNotCopied) {
 TEST(SceneParser, GltfCameraSelectable) {
   ANAMORPH_REQUIRE_SHARED();
   const std::string file = (test::shared_scenes() / "gltf" / "Cameras" / "Cameras.gltf").string();
-  const std::string base = "[image]\nwidth = 100\nheight = 100\n[[object]]\ntype = \"mesh\"\nfile = \"" + file + "\"\n";
+  const std::string base =
+      "[image]\nwidth = 100\nheight = 100\n[[object]]\ntype = \"mesh\"\nfile = \"" + file + "\"\n";
   const Scene s = load_scene_from_string(base + "[camera]\ngltf_camera = 0\n", "t.toml");
-  EXPECT_NE(s.camera->describe().find("glTF perspective"), std::string::npos) << s.camera->describe();
+  EXPECT_NE(s.camera->describe().find("glTF perspective"), std::string::npos)
+      << s.camera->describe();
   // yfov 0.7 rad with aspect 1: the vertical edge-to-edge angle is 0.7 rad.
   const auto top = s.camera->generate({{0.5, 0.0}}), bottom = s.camera->generate({{0.5, 1.0}});
   EXPECT_NEAR(std::acos(dot(top->dir, bottom->dir)), 0.7, 1e-9);
@@ -209,9 +222,11 @@ TEST(SceneParser, ThreeBoxTexturedContainersRenderAlike) {
   ANAMORPH_REQUIRE_SHARED();
   const auto g = test::shared_scenes() / "gltf";
   size_t tris = 0;
-  for (const auto& f : {g / "BoxTextured-glTF" / "BoxTextured.gltf", g / "BoxTextured-glTF-Binary" / "BoxTextured.glb",
+  for (const auto& f : {g / "BoxTextured-glTF" / "BoxTextured.gltf",
+                        g / "BoxTextured-glTF-Binary" / "BoxTextured.glb",
                         g / "BoxTextured-glTF-Embedded" / "BoxTextured.gltf"}) {
-    const Scene s = load_scene_from_string("[[object]]\ntype = \"mesh\"\nfile = \"" + f.string() + "\"\n", "t.toml");
+    const Scene s = load_scene_from_string(
+        "[[object]]\ntype = \"mesh\"\nfile = \"" + f.string() + "\"\n", "t.toml");
     EXPECT_EQ(s.instanced_triangle_count(), 12u) << f;
     tris += s.triangle_count();
   }

@@ -1,4 +1,5 @@
-// Camera motion blur and rolling shutter: a ray's time picks the rig between shutter open and close.
+// Camera motion blur and rolling shutter: a ray's time picks the rig between shutter open and
+// close.
 #include <gtest/gtest.h>
 
 #include "scene/scene_loader.h"
@@ -44,20 +45,24 @@ TEST(Shutter, RotationIsSlerpedNotStretched) {
 }
 
 TEST(Shutter, RollingShutterTimeFollowsTheImageRows) {
-  const Scene s = load_scene_from_string(kMoving, "t.toml", {"camera.rolling_shutter=top_to_bottom"});
+  const Scene s =
+      load_scene_from_string(kMoving, "t.toml", {"camera.rolling_shutter=top_to_bottom"});
   // Top row: shutter open; bottom row: shutter close; the sample's own time is ignored.
-  const Vec3 top = origin(s, {0.5, 0.0}, 0.7), bottom = origin(s, {0.5, 1.0}, 0.7), mid = origin(s, {0.5, 0.5}, 0.1);
+  const Vec3 top = origin(s, {0.5, 0.0}, 0.7), bottom = origin(s, {0.5, 1.0}, 0.7),
+             mid = origin(s, {0.5, 0.5}, 0.1);
   EXPECT_NEAR(top.x, 0, 1e-12);
   EXPECT_NEAR(bottom.x, 2, 1e-12);
   EXPECT_NEAR(mid.x, 1, 1e-12);
-  const Scene lr = load_scene_from_string(kMoving, "t.toml", {"camera.rolling_shutter=right_to_left"});
+  const Scene lr =
+      load_scene_from_string(kMoving, "t.toml", {"camera.rolling_shutter=right_to_left"});
   EXPECT_NEAR(origin(lr, {1.0, 0.3}, 0.5).x, 0, 1e-12);
   EXPECT_NEAR(origin(lr, {0.0, 0.3}, 0.5).x, 2, 1e-12);
 }
 
 TEST(Shutter, BadShutterIsAnError) {
   EXPECT_THROW(load_scene_from_string("[camera]\nshutter = [1, 0]\n", "t.toml"), SceneError);
-  EXPECT_THROW(load_scene_from_string("[camera]\nrolling_shutter = \"sideways\"\n", "t.toml"), SceneError);
+  EXPECT_THROW(load_scene_from_string("[camera]\nrolling_shutter = \"sideways\"\n", "t.toml"),
+               SceneError);
 }
 
 }  // namespace anamorph
