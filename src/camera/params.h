@@ -46,6 +46,10 @@ struct ParamSpec {
   bool max_exclusive = false;
 };
 
+// The Markdown table (name | type | default | range | meaning) of a parameter table, for the
+// docs of functions and presets alike.
+std::string params_markdown_table(std::span<const ParamSpec> params);
+
 struct NestedFunction;
 using ParamValue = std::variant<double, int64_t, bool, std::string, Vec2, Vec3, std::vector<double>,
                                 std::vector<Vec3>, std::vector<std::vector<Vec3>>,

@@ -2,7 +2,6 @@
 // from their parameter tables.
 #include "camera/presets.h"
 
-#include <cstdio>
 #include <sstream>
 #include <vector>
 
@@ -61,53 +60,6 @@ VirtualCameraParts make_preset(std::string_view name, std::string_view toml_text
   return info->create(params_from_toml(info->params, toml_text), img);
 }
 
-namespace {
-
-std::string fmt_number(double x) {
-  if (x == kInf) return "inf";
-  if (x == -kInf) return "-inf";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", x);
-  return buf;
-}
-
-std::string cell(std::string_view text) {
-  std::string r;
-  for (char c : text) {
-    if (c == '|')
-      r += "\\|";
-    else if (c == '\n')
-      r += ' ';
-    else
-      r += c;
-  }
-  return r;
-}
-
-}  // namespace
-
-std::string preset_params_markdown(const PresetInfo& p) {
-  std::ostringstream os;
-  os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
-  for (const ParamSpec& s : p.params) {
-    os << "| `" << s.name << "` | " << to_string(s.type) << " | ";
-    if (s.default_value.empty())
-      os << "*required*";
-    else if (s.default_value == "none")
-      os << "*optional*";
-    else
-      os << '`' << cell(s.default_value) << '`';
-    os << " | ";
-    if (!s.choices.empty()) {
-      for (size_t i = 0; i < s.choices.size(); ++i)
-        os << (i ? ", " : "") << "`\"" << s.choices[i] << "\"`";
-    } else if (s.min != -kInf || s.max != kInf) {
-      os << (s.min_exclusive || s.min == -kInf ? '(' : '[') << fmt_number(s.min) << ", "
-         << fmt_number(s.max) << (s.max_exclusive || s.max == kInf ? ')' : ']');
-    }
-    os << " | " << cell(s.doc) << " |\n";
-  }
-  return os.str();
-}
+std::string preset_params_markdown(const PresetInfo& p) { return params_markdown_table(p.params); }
 
 }  // namespace anamorph

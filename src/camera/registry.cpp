@@ -232,6 +232,17 @@ ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::tabl
 
 void markdown_section(std::ostringstream& os, std::string_view kind, std::string_view name,
                       std::string_view doc, std::span<const ParamSpec> params) {
+  os << "### " << kind << " `" << name << "`\n\n" << doc << "\n\n";
+  if (params.empty()) {
+    os << "No parameters.\n\n";
+    return;
+  }
+  os << params_markdown_table(params) << "\n";
+}
+
+}  // namespace
+
+std::string params_markdown_table(std::span<const ParamSpec> params) {
   const auto cell = [](std::string_view text) {
     std::string r;
     for (char c : text) {
@@ -244,11 +255,7 @@ void markdown_section(std::ostringstream& os, std::string_view kind, std::string
     }
     return r;
   };
-  os << "### " << kind << " `" << name << "`\n\n" << doc << "\n\n";
-  if (params.empty()) {
-    os << "No parameters.\n\n";
-    return;
-  }
+  std::ostringstream os;
   os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
   for (const auto& p : params) {
     std::string def;
@@ -271,10 +278,8 @@ void markdown_section(std::ostringstream& os, std::string_view kind, std::string
     os << "| `" << p.name << "` | " << to_string(p.type) << " | " << def << " | " << cell(range)
        << " | " << cell(p.doc) << " |\n";
   }
-  os << "\n";
+  return os.str();
 }
-
-}  // namespace
 
 std::string_view to_string(ParamType t) {
   switch (t) {
