@@ -130,7 +130,7 @@ struct Accel::MaskStore {
   std::vector<std::unique_ptr<MaskData>> list;
 };
 
-Accel::Accel(const Scene& scene) : scene_(&scene) {
+Accel::Accel(const Scene& scene) {
   device_ = rtcNewDevice(nullptr);
   if (!device_)
     throw std::runtime_error(
@@ -406,15 +406,6 @@ static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RT
       fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i],
            rh.hit.v[i]);
   }
-}
-
-void Accel::intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
-  intersect_packet<8, RTCRayHit8>(
-      rays, valid, found, top_,
-      [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
-        fill_hit(rays[i], t, g, p, in, u, v, &hits[i]);
-      },
-      rtcIntersect8);
 }
 
 void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {

@@ -50,8 +50,7 @@ class Accel {
 
   bool intersect(const Ray& r, Hit* hit) const;
   bool occluded(const Ray& r) const;
-  // Intersects 8 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
-  void intersect8(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
+  // Intersects 16 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
   void intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
   Bounds3 bounds() const { return bounds_; }
   const AccelStats& stats() const { return stats_; }
@@ -79,7 +78,6 @@ class Accel {
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
   std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space
   std::unique_ptr<MaskStore> masks_;              // alpha-mask filter data, referenced by Embree
-  const Scene* scene_;
   Bounds3 bounds_;
   AccelStats stats_;
 };

@@ -27,7 +27,6 @@ class Lights {
   size_t count() const { return emitters_.size(); }
   // Chooses a light proportionally to its estimated power.
   size_t pick(double u, double* pmf) const { return pick_.sample_discrete(u, pmf); }
-  double pick_pmf(size_t i) const { return pick_.pmf(i); }
   bool sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const;
   // Whitted shades every delta light and one power-chosen area emitter.
   const std::vector<uint32_t>& delta_lights() const { return delta_; }
@@ -47,7 +46,6 @@ class Lights {
   double pdf_environment(const Vec3& dir) const;  // pick pmf included
   // Mean radiance of the environment over the sphere (Whitted's ambient term).
   Color environment_average() const { return env_average_; }
-  bool is_environment(size_t i) const { return int(i) == env_index_; }
 
  private:
   struct Emitter {

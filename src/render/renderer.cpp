@@ -152,15 +152,6 @@ struct Renderer::Job {
   }
 };
 
-SampleResult Renderer::sample(Vec2 uv, uint64_t seed_index) const {
-  Film dummy(1, 1, {});
-  const RenderContext ctx{scene_, *accel_, *lights_, scene_.render.max_depth};
-  const Job job(*this, ctx, dummy, true);
-  Rng rng(seed_index, scene_.render.seed);
-  uint64_t rays = 0;
-  return job.sample_at(uv, rng, rays);
-}
-
 Renderer::Renderer(const Scene& scene)
     : scene_(scene),
       accel_(std::make_unique<Accel>(scene)),

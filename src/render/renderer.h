@@ -47,9 +47,6 @@ class Renderer {
   explicit Renderer(const Scene& scene);  // builds the acceleration structure and lights
   ~Renderer();
   RenderStats render(Film& film, const RenderOptions& opt) const;
-  // One camera sample at image position uv, for debugging and tests (`seed_index` picks the
-  // random stream).
-  SampleResult sample(Vec2 uv, uint64_t seed_index = 0) const;
   const Accel& accel() const { return *accel_; }
 
  private:
