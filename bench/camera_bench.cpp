@@ -4,6 +4,8 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <string>
+#include <utility>
 
 #include "accel/accel.h"
 #include "camera/presets.h"
@@ -28,9 +30,33 @@ void generate_all(benchmark::State& state, const Camera& cam) {
   state.SetItemsProcessed(state.iterations() * kW * kH);
 }
 
+// The renderer's way: 4x4 packets of pixel centers through generate_batch.
+void generate_packets(benchmark::State& state, const Camera& cam) {
+  CameraSample s[16];
+  CameraRay out[16];
+  bool valid[16];
+  for (auto _ : state) {
+    double acc = 0;
+    for (int y = 0; y < kH; y += 4)
+      for (int x = 0; x < kW; x += 4) {
+        for (int k = 0; k < 16; ++k)
+          s[k].uv = {(x + (k & 3) + 0.5) / kW, (y + (k >> 2) + 0.5) / kH};
+        cam.generate_batch(s, 16, out, valid);
+        for (int k = 0; k < 16; ++k)
+          if (valid[k]) acc += out[k].dir.x;
+      }
+    benchmark::DoNotOptimize(acc);
+  }
+  state.SetItemsProcessed(state.iterations() * kW * kH);
+}
+
+// state.range(0): 0 = one ray at a time (generate), 1 = the renderer's packets (generate_batch).
 void BM_Preset(benchmark::State& state, const char* name, const char* toml) {
   const VirtualCamera cam(make_preset(name, toml, {kW, kH}));
-  generate_all(state, cam);
+  if (state.range(0))
+    generate_packets(state, cam);
+  else
+    generate_all(state, cam);
 }
 
 // A bicubic B-spline image surface (5x5 control points, gently curved) with normal directions.
@@ -46,23 +72,36 @@ const char* kSplineCamera =
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_Preset, perspective, "perspective", "fov = 60")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, orthographic, "orthographic", "")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, fisheye, "fisheye", "fov = 180")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, equirectangular, "equirectangular", "")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, dome, "dome", "tilt = 30")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, ods, "ods", "")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, opencv_fisheye, "opencv_fisheye",
-                  "fx = 600\ncy = 540\nfy = 600\ncx = 960\nk1 = 0.05\nk2 = -0.01")
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, cubemap, "cubemap", "")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Preset, light_field, "light_field", "")->Unit(benchmark::kMillisecond);
+// Every preset, with its defaults except where a bench needs a typical setting.
+const bool kPresetsRegistered = [] {
+  const std::pair<const char*, const char*> settings[] = {
+      {"perspective", "fov = 60"},
+      {"fisheye", "fov = 180"},
+      {"dome", "tilt = 30"},
+      {"opencv_pinhole", "fx = 1400\nfy = 1400\ncx = 960\ncy = 540\nk1 = -0.1\np1 = 0.001"},
+      {"opencv_fisheye", "fx = 600\ncy = 540\nfy = 600\ncx = 960\nk1 = 0.05\nk2 = -0.01"}};
+  for (const PresetInfo& p : camera_presets()) {
+    const char* toml = "";
+    for (const auto& [name, text] : settings)
+      if (p.name == name) toml = text;
+    benchmark::RegisterBenchmark(("BM_Preset/" + std::string(p.name)).c_str(), BM_Preset,
+                                 p.name.data(), toml)
+        ->ArgName("batch")
+        ->Arg(0)
+        ->Arg(1)
+        ->Unit(benchmark::kMillisecond);
+  }
+  return true;
+}();
 
 static void BM_BSplineNormal(benchmark::State& state) {
   const Scene s = load_scene_from_string(kSplineCamera, "bench.toml");
-  generate_all(state, *s.camera);
+  if (state.range(0))
+    generate_packets(state, *s.camera);
+  else
+    generate_all(state, *s.camera);
 }
-BENCHMARK(BM_BSplineNormal)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BSplineNormal)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // The denominator: tracing 1920x1080 primary rays through the bunny, 4x4 packets, one thread.
 static void BM_TraceBunny1080p(benchmark::State& state) {

@@ -36,6 +36,19 @@ struct DirSample {
   Vec3 d, dd_du, dd_dv;
 };
 
+// Up to kCameraBatch directions in structure-of-arrays form, so that loops over them vectorize
+// (the renderer asks for its 4x4 primary-ray packets at once).
+inline constexpr int kCameraBatch = 16;
+struct DirBatch {
+  double d[3][kCameraBatch], du[3][kCameraBatch], dv[3][kCameraBatch];
+  bool ok[kCameraBatch];
+  void set(int i, const DirSample& s) {
+    d[0][i] = s.d.x, d[1][i] = s.d.y, d[2][i] = s.d.z;
+    du[0][i] = s.dd_du.x, du[1][i] = s.dd_du.y, du[2][i] = s.dd_du.z;
+    dv[0][i] = s.dd_dv.x, dv[1][i] = s.dd_dv.y, dv[2][i] = s.dd_dv.z;
+  }
+};
+
 class OrgFunction {
  public:
   virtual ~OrgFunction() = default;
@@ -49,6 +62,11 @@ class OrgFunction {
   // override it to compute each column's u-basis and each row's v-basis once.
   virtual void eval_grid(std::span<const double> us, std::span<const double> vs,
                          SurfaceSample* out) const;
+
+  // n <= kCameraBatch samples at (u[i], v[i]): out[i] and ok[i] as eval would give them, bit for
+  // bit. The default loops over eval.
+  virtual void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
+                          bool* ok) const;
 };
 
 class DirFunction {
@@ -58,6 +76,12 @@ class DirFunction {
   // field): dependent directions (normal, tangent) read it. Returns false for *no ray*. Const,
   // thread-safe, allocates nothing.
   virtual bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const = 0;
+
+  // n <= kCameraBatch directions at (u[i], v[i]) with origin samples org[i * org_stride]
+  // (org_stride 0: one origin for all, e.g. a point), exactly as eval gives them (out->ok[i] is
+  // eval's result). The default loops over eval; functions whose math vectorizes override it.
+  virtual void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org,
+                          int org_stride, DirBatch* out) const;
 };
 
 // A linear map of t in [0,1] onto [a, b]; b < a reverses the parameter.

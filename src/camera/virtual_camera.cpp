@@ -1,6 +1,7 @@
 #include "camera/virtual_camera.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "math/frame.h"
@@ -14,9 +15,11 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       inverse_(std::move(parts.inverse)),
       world_from_camera_(parts.world_from_camera),
       rig_identity_(parts.world_from_camera.is_identity()),
+      rig_affine_(parts.world_from_camera.matrix().m[3] == std::array<double, 4>{0, 0, 0, 1}),
       dof_(dof),
       description_(std::move(parts.description)) {
   detect_linear_field();
+  detect_point_origin();
   if (!parts.coins.empty()) {
     // (uc, vc) come from the undistorted camera: coins_ is still empty while projecting.
     coins_ = CoinField(
@@ -71,6 +74,23 @@ void VirtualCamera::detect_linear_field() {
   d_u_ = t.vector(d0.dd_du);
   d_v_ = t.vector(d0.dd_dv);
   linear_ = true;
+}
+
+void VirtualCamera::detect_point_origin() {
+  // A single point answers every probe with the same bits and no derivatives.
+  SurfaceSample s0;
+  if (!org_->eval({0.5, 0.5}, &s0) || !is_finite(s0.p)) return;
+  const Vec3 zero{};
+  for (double u : {0.0, 0.25, 0.3819660112501051, 1.0})
+    for (double v : {0.0, 0.7071067811865476, 1.0}) {
+      SurfaceSample s;
+      if (!org_->eval({u, v}, &s) || !(s.p == s0.p) || !(s.dpdu == zero) || !(s.dpdv == zero) ||
+          !(s.n == s0.n) || !(s.dndu == zero) || !(s.dndv == zero) || !(s.dpduu == s0.dpduu) ||
+          !(s.dpduv == s0.dpduv) || !(s.dpdvv == s0.dpdvv))
+        return;
+    }
+  point_org_ = true;
+  point_sample_ = s0;
 }
 
 // Unit direction and its derivative: d(d/|d|) = (dd - n (n . dd)) / |d|.
@@ -157,6 +177,13 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
     r.ddir_dv = (d_v_ - r.dir * dot(r.dir, d_v_)) * inv;
     return r;
   }
+  if (dof_.aperture_radius == 0 && rig_affine_ && !coins_.reaches(cs.uv)) {
+    CameraRay r;
+    bool ok;
+    plain_rays(&cs.uv.x, &cs.uv.y, 1, &r, &ok);
+    if (!ok) return std::nullopt;
+    return r;
+  }
   return generate_general(cs);
 }
 
@@ -197,15 +224,113 @@ __attribute__((target_clones("avx512f", "avx2", "default"))) void linear_rays(co
   }
 }
 
+// The rig, normalization and ray differentials for a batch of directions from org/dir, in one
+// loop the compiler vectorizes. Every ray goes through here, batched or not, so the bits agree.
+struct Rig {
+  double m[3][4];
+};
+
+template <bool kPointOrg>
+inline void finish_rays(const Rig& t, const SurfaceSample* org, const bool* org_ok,
+                        const DirBatch& b, int n, CameraRay* out, bool* valid) {
+  const auto& m = t.m;
+  for (int i = 0; i < n; ++i) {
+    const SurfaceSample& s = kPointOrg ? org[0] : org[i];
+    const double px = s.p.x, py = s.p.y, pz = s.p.z;
+    const double ox = m[0][0] * px + m[0][1] * py + m[0][2] * pz + m[0][3];
+    const double oy = m[1][0] * px + m[1][1] * py + m[1][2] * pz + m[1][3];
+    const double oz = m[2][0] * px + m[2][1] * py + m[2][2] * pz + m[2][3];
+    const double dx = m[0][0] * b.d[0][i] + m[0][1] * b.d[1][i] + m[0][2] * b.d[2][i];
+    const double dy = m[1][0] * b.d[0][i] + m[1][1] * b.d[1][i] + m[1][2] * b.d[2][i];
+    const double dz = m[2][0] * b.d[0][i] + m[2][1] * b.d[1][i] + m[2][2] * b.d[2][i];
+    const double ux = m[0][0] * b.du[0][i] + m[0][1] * b.du[1][i] + m[0][2] * b.du[2][i];
+    const double uy = m[1][0] * b.du[0][i] + m[1][1] * b.du[1][i] + m[1][2] * b.du[2][i];
+    const double uz = m[2][0] * b.du[0][i] + m[2][1] * b.du[1][i] + m[2][2] * b.du[2][i];
+    const double vx = m[0][0] * b.dv[0][i] + m[0][1] * b.dv[1][i] + m[0][2] * b.dv[2][i];
+    const double vy = m[1][0] * b.dv[0][i] + m[1][1] * b.dv[1][i] + m[1][2] * b.dv[2][i];
+    const double vz = m[2][0] * b.dv[0][i] + m[2][1] * b.dv[1][i] + m[2][2] * b.dv[2][i];
+    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double inv = 1 / len;
+    // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
+    // x * 0 == 0 holds exactly for finite x.
+    valid[i] =
+        b.ok[i] && (kPointOrg || org_ok[i]) && len > 0 && len * 0 == 0 && (ox + oy + oz) * 0 == 0;
+    CameraRay& r = out[i];
+    const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
+    r.org = {ox, oy, oz};
+    r.dir = {nx, ny, nz};
+    const auto vec = [&](const Vec3& a) {
+      return Vec3{m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z,
+                  m[1][0] * a.x + m[1][1] * a.y + m[1][2] * a.z,
+                  m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
+    };
+    r.dorg_du = vec(s.dpdu);
+    r.dorg_dv = vec(s.dpdv);
+    // d(d/|d|) = (dd - n (n . dd)) / |d|
+    const double pu = nx * ux + ny * uy + nz * uz, pv = nx * vx + ny * vy + nz * vz;
+    r.ddir_du = {(ux - nx * pu) * inv, (uy - ny * pu) * inv, (uz - nz * pu) * inv};
+    r.ddir_dv = {(vx - nx * pv) * inv, (vy - ny * pv) * inv, (vz - nz * pv) * inv};
+  }
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void finish_point_org(
+    const Rig& t, const SurfaceSample& org, const DirBatch& b, int n, CameraRay* out, bool* valid) {
+  finish_rays<true>(t, &org, nullptr, b, n, out, valid);
+}
+
+__attribute__((target_clones("avx512f", "avx2", "default"))) void finish_any_org(
+    const Rig& t, const SurfaceSample* org, const bool* org_ok, const DirBatch& b, int n,
+    CameraRay* out, bool* valid) {
+  finish_rays<false>(t, org, org_ok, b, n, out, valid);
+}
+
 }  // namespace
+
+void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRay* out,
+                               bool* valid) const {
+  Rig rig;
+  const auto& a = world_from_camera_.matrix().m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) rig.m[r][c] = a[size_t(r)][size_t(c)];
+  DirBatch b;
+  if (point_org_) {
+    dir_->eval_batch(u, v, n, &point_sample_, 0, &b);
+    finish_point_org(rig, point_sample_, b, n, out, valid);
+    return;
+  }
+  SurfaceSample org[kCameraBatch];
+  bool org_ok[kCameraBatch];
+  org_->eval_batch(u, v, n, org, org_ok);
+  for (int i = 0; i < n; ++i)
+    if (!org_ok[i]) org[i] = SurfaceSample{};  // dir functions read defined values
+  dir_->eval_batch(u, v, n, org, 1, &b);
+  finish_any_org(rig, org, org_ok, b, n, out, valid);
+}
 
 void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRay* out,
                                    bool* valid) const {
-  if (linear_ && !moving_ && dof_.aperture_radius == 0 && coins_.empty()) {
-    linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, s, n, out, valid);
+  if (moving_ || dof_.aperture_radius > 0 || !rig_affine_) {
+    Camera::generate_batch(s, n, out, valid);
     return;
   }
-  Camera::generate_batch(s, n, out, valid);
+  if (linear_) {
+    linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, s, n, out, valid);
+  } else {
+    for (int base = 0; base < n; base += kCameraBatch) {
+      const int m = std::min(kCameraBatch, n - base);
+      double u[kCameraBatch], v[kCameraBatch];
+      for (int i = 0; i < m; ++i) u[i] = s[base + i].uv.x, v[i] = s[base + i].uv.y;
+      plain_rays(u, v, m, out + base, valid + base);
+    }
+  }
+  // Samples under a coin take the one-at-a-time path (the field is deformed there).
+  if (!coins_.empty())
+    for (int i = 0; i < n; ++i)
+      if (coins_.reaches(s[i].uv)) {
+        const auto r = generate(s[i]);
+        valid[i] = bool(r);
+        if (r) out[i] = *r;
+      }
 }
 
 std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs,

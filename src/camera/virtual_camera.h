@@ -77,6 +77,11 @@ class VirtualCamera final : public Camera {
 
  private:
   void detect_linear_field();
+  void detect_point_origin();
+  // The rays of n <= kCameraBatch samples with no lens, motion or coin: functions in batch, then
+  // one vectorized pass for the rig, normalization and differentials. generate() runs the same
+  // code with n = 1, so both give the same bits.
+  void plain_rays(const double* u, const double* v, int n, CameraRay* out, bool* valid) const;
   std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
   std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
   void to_world(CameraRay* r) const;  // the rig
@@ -87,6 +92,9 @@ class VirtualCamera final : public Camera {
   std::unique_ptr<InverseMap> inverse_;
   Transform world_from_camera_;
   bool rig_identity_;
+  bool rig_affine_;         // no projective row: plain_rays applies it as 3x4
+  bool point_org_ = false;  // org is one point (most presets): evaluated once
+  SurfaceSample point_sample_;
   DepthOfField dof_;
   std::string description_;
   // Affine ray field in world space: org = o0 + u o_u + v o_v, raw dir = d0 + u d_u + v d_v.

@@ -1,35 +1,82 @@
-// Batched ray generation (the renderer's packets) gives exactly the rays of generate().
+// Batched ray generation (the renderer's packets) gives exactly the rays of generate(), for every
+// preset, a free-form camera with dependent directions, and coins.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
 #include "camera/presets.h"
 #include "math/rng.h"
+#include "preset_test_util.h"
+#include "scene/scene_loader.h"
 
 namespace anamorph {
 
-TEST(CameraBatch, SameBitsAsOneByOne) {
-  const char* cases[][2] = {
-      {"perspective", "fov = 70\nlook_from = [1, 2, 3]\nlook_at = [0, 0, 0]"},
-      {"orthographic", "view_width = 3\nlook_from = [1, 2, 3]\nlook_at = [0, 0, 0]"},
-      {"fisheye", "fov = 190"}};
-  for (const auto& c : cases) {
-    const VirtualCamera cam(make_preset(c[0], c[1], {640, 480}));
-    Rng rng(5, 6);
-    CameraSample s[37];
-    for (auto& x : s)
-      x.uv = {rng.uniform(), rng.uniform()}, x.lens = {rng.uniform(), rng.uniform()};
-    CameraRay out[37];
-    bool valid[37];
-    cam.generate_batch(s, 37, out, valid);
-    for (int i = 0; i < 37; ++i) {
-      const auto r = cam.generate(s[i]);
-      ASSERT_EQ(valid[i], bool(r)) << c[0] << " sample " << i;
-      if (r) {
-        EXPECT_EQ(0, std::memcmp(&out[i], &*r, sizeof(CameraRay))) << c[0] << " sample " << i;
-      }
-    }
+namespace {
+
+// Random samples, a few exact corners and edges, batches of odd sizes (partial packets).
+void expect_batch_equals_single(const Camera& cam, const std::string& label) {
+  Rng rng(5, 6);
+  constexpr int kN = 53;
+  CameraSample s[kN];
+  for (auto& x : s) x.uv = {rng.uniform(), rng.uniform()}, x.lens = {rng.uniform(), rng.uniform()};
+  s[0].uv = {0, 0}, s[1].uv = {1, 1}, s[2].uv = {0.5, 0.5}, s[3].uv = {1, 0};
+  CameraRay out[kN];
+  bool valid[kN];
+  int n_valid = 0;
+  for (int base = 0; base < kN; base += 37) {
+    const int n = std::min(37, kN - base);
+    cam.generate_batch(s + base, n, out + base, valid + base);
   }
+  for (int i = 0; i < kN; ++i) {
+    const auto r = cam.generate(s[i]);
+    ASSERT_EQ(valid[i], bool(r)) << label << " sample " << i << " at " << test::str(s[i].uv);
+    if (!r) continue;
+    ++n_valid;
+    EXPECT_EQ(0, std::memcmp(&out[i], &*r, sizeof(CameraRay)))
+        << label << " sample " << i << " at " << test::str(s[i].uv) << ": batch org "
+        << test::str(out[i].org) << " dir " << test::str(out[i].dir) << " vs single org "
+        << test::str(r->org) << " dir " << test::str(r->dir);
+  }
+  EXPECT_GT(n_valid, 0) << label << ": no sample had a ray";
+}
+
+class EveryPresetBatch : public ::testing::TestWithParam<test::PresetCase> {};
+
+}  // namespace
+
+TEST_P(EveryPresetBatch, SameBitsAsOneByOne) {
+  const auto& c = GetParam();
+  expect_batch_equals_single(test::camera(c.preset, c.toml, c.img), c.label());
+}
+
+INSTANTIATE_TEST_SUITE_P(Presets, EveryPresetBatch, ::testing::ValuesIn(test::preset_cases()),
+                         [](const auto& param_info) {
+                           return std::to_string(param_info.index) + "_" + param_info.param.preset;
+                         });
+
+TEST(CameraBatch, FreeFormNormalAndCoinsSameBitsAsOneByOne) {
+  const char* spline =
+      "[camera]\n"
+      "org = { type = \"bspline\", points = ["
+      "[[-2, 2.4, 0.6], [-1, 2.4, 0.4], [0, 2.4, 0.3], [1, 2.4, 0.4], [2, 2.4, 0.6]],"
+      "[[-2, 1.2, 0.3], [-1, 1.2, 0.1], [0, 1.2, 0], [1, 1.2, 0.1], [2, 1.2, 0.3]],"
+      "[[-2, 0, 0], [-1, 0, -0.1], [0, 0, -0.2], [1, 0, -0.1], [2, 0, 0]],"
+      "[[-2, -1.2, 0.3], [-1, -1.2, 0.1], [0, -1.2, 0], [1, -1.2, 0.1], [2, -1.2, 0.3]],"
+      "[[-2, -2.4, 0.6], [-1, -2.4, 0.4], [0, -2.4, 0.3], [1, -2.4, 0.4], [2, -2.4, 0.6]]] }\n"
+      "dir = { type = \"normal\" }\n"
+      "transform = { translate = [1, 2, 3], rotate = [30, 0, 1, 0] }\n";
+  const Scene plain = load_scene_from_string(spline, "spline.toml");
+  expect_batch_equals_single(*plain.camera, "bspline + normal");
+  const std::string coins =
+      std::string(spline) +
+      "[[camera.coin]]\nposition = [1, 2, -1]\nradius = 0.3\nstrength = 0.6\n";
+  const Scene with_coins = load_scene_from_string(coins, "spline_coin.toml");
+  expect_batch_equals_single(*with_coins.camera, "bspline + normal + coin");
+  const Scene fisheye_coin = load_scene_from_string(
+      "[camera]\npreset = \"fisheye\"\nfov = 200\n[[camera.coin]]\nposition = [0.3, 0.2, -2]\n"
+      "radius = 0.2\nstrength = 0.8\n",
+      "fisheye_coin.toml");
+  expect_batch_equals_single(*fisheye_coin.camera, "fisheye + coin");
 }
 
 }  // namespace anamorph
