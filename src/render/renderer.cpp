@@ -79,7 +79,9 @@ struct Renderer::Job {
   bool gaussian;
   bool want_aovs;
   int W, H;
-  double du, dv;  // one sample's share of a pixel, in image units (ray differentials)
+  double du, dv;  // one pixel, in image units (ray differentials)
+  // Uniform sampling: each sample's share of a pixel, as a footprint scale (1/sqrt(spp)).
+  double uniform_scale;
   std::vector<uint8_t> textured;  // per material: some texture is not a constant
 
   Job(const Renderer& rr, const RenderContext& ctx, const Film& film, bool aovs)
@@ -92,20 +94,26 @@ struct Renderer::Job {
         want_aovs(aovs || mode != Mode::Radiance),
         W(film.width()),
         H(film.height()) {
-    // A sample filters textures over its share of the pixel (adaptive subdivision passes the
-    // lattice spacing each sample stands for).
-    const bool corners = rs.antialias == "adaptive" && rs.integrator == "whitted";
-    const double s = corners ? 1.0 : std::max(0.125, 1.0 / std::sqrt(double(rs.spp)));
-    du = s / W;
-    dv = s / H;
+    // A sample filters textures over its share of the pixel: 1/sqrt(spp) of it with uniform
+    // sampling; adaptive subdivision passes the lattice spacing each sample stands for, and
+    // noise-driven sampling the share given by the samples the pixel has once the pass ends.
+    uniform_scale = footprint_scale(rs.spp);
+    du = 1.0 / W;
+    dv = 1.0 / H;
     for (const Material& m : rr.scene_.materials)
       textured.push_back(m.base_color.kind != Texture::Kind::Constant || m.has_normal_map ||
                          m.metallic_roughness.kind != Texture::Kind::Constant ||
                          m.emission.kind != Texture::Kind::Constant);
   }
 
-  // Completes a camera sample whose first hit is known. `footprint` scales the sample's share of
-  // a pixel (adaptive subdivision: the lattice spacing the sample stands for).
+  // The share of a pixel one of n samples stands for, as a footprint scale (never below 1/8
+  // pixel: finer footprints only add texture noise).
+  static double footprint_scale(uint32_t n) {
+    return std::max(0.125, 1.0 / std::sqrt(double(std::max(1u, n))));
+  }
+
+  // Completes a camera sample whose first hit is known. `footprint` is the sample's share of a
+  // pixel as a scale of the pixel's footprint.
   // Writes into `out` (reused by the caller: building a fresh result per sample meant zeroing
   // ~150 bytes per ray, a visible cost for primary-ray renders).
   void finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays,
@@ -289,6 +297,13 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   uint32_t s_begin = 0;
   for (size_t pass = 0; pass < pass_end.size(); ++pass) {
     const uint32_t s_end = pass_end[pass];
+    // Texture footprints: with noise-driven sampling a pixel that takes this pass's samples ends
+    // with at least s_end of them, and each sample stands for that share of the pixel (a function
+    // of the sample index alone, so tiles and threads agree). Earlier, wider samples blur a
+    // little; the old fixed 1/sqrt(render.spp) (spp = 1 unless given) blurred every sample
+    // over the whole pixel.
+    const double fp_scale = noise_driven ? Job::footprint_scale(s_end) : job.uniform_scale;
+    const auto pass_key = uint32_t(mix64(pass + 1));
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
       tbb::parallel_for(
@@ -326,7 +341,13 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                         rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
                       const uint32_t key =
                           uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
-                      Vec2 off = pixel_offset(job.sampler, s, spp, key, rng[k]);
+                      // Noise-driven: each pass is stratified on its own (a pixel may stop after
+                      // any pass; the first min_spp of max_spp strata would be scattered at
+                      // random).
+                      Vec2 off = noise_driven
+                                     ? pixel_offset(job.sampler, s - s_begin, s_end - s_begin,
+                                                    pass_key ^ key, rng[k])
+                                     : pixel_offset(job.sampler, s, spp, key, rng[k]);
                       if (job.gaussian)
                         off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
                       CameraSample& cs = samples[k];
@@ -355,7 +376,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                       }
                       st.rays++;
                       job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays,
-                                 res);
+                                 res, fp_scale);
                       if (!is_finite(res.L)) {
                         st.nan(lx[k], ly[k], int(s));
                         continue;  // dropped

@@ -105,3 +105,44 @@ TEST(Adaptive, FisheyeRimGetsMoreSamplesThanItsCenter) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Adaptive, NoiseDrivenTexturesAreFilteredOverTheSamplesTaken) {
+  // A finely checkered plane (cells about 1.3 pixels, rotated against the pixel grid) lit by one
+  // directional light from the camera's side: the only variance inside a pixel is the texture.
+  // Each sample filters the texture over its share of the pixel; noise-driven sampling must not
+  // filter it over a whole pixel (render.spp is 1 there), which blurs the checker against a
+  // uniform high-sample render of the same scene.
+  const std::string scene =
+      "[image]\nwidth = 32\nheight = 32\n[render]\nintegrator = \"path\"\nmax_depth = 1\n"
+      "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 20\n"
+      "[[material]]\nname = \"c\"\ncolor = { type = \"checker\", space = \"world\", scale = 0.07, "
+      "color_a = 0.9, color_b = 0.1, transform = { rotate = [30, 0, 0, 1] } }\n"
+      "[[object]]\ntype = \"plane\"\nnormal = [0, 0, 1]\nmaterial = \"c\"\n"
+      "[[light]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nirradiance = 3.14159265358979\n";
+  const auto ref = test::render_text(scene, {"render.spp=256"});
+  const auto uni = test::render_text(scene, {"render.spp=32"});
+  const auto ada = test::render_text(scene, {"render.antialias=\"adaptive\"", "render.min_spp=4",
+                                             "render.max_spp=64", "render.noise_threshold=0.1"});
+  auto rmse = [&](const test::Rendered& a) {
+    double e = 0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const double d = a.film->pixel(x, y).x - ref.film->pixel(x, y).x;
+        e += d * d;
+      }
+    return std::sqrt(e / (32 * 32));
+  };
+  const double spp = double(ada.stats.samples) / (32 * 32);
+  const double e_ada = rmse(ada), e_uni = rmse(uni);
+  // Measured: adaptive 0.027 at 32 samples/pixel, uniform 32 spp 0.026; with every sample
+  // filtered over a whole pixel, adaptive was 0.12 (at 7 samples/pixel: the blur hid the noise).
+  EXPECT_GT(spp, 8.0) << "the checker's pixels should take more than min_spp";
+  EXPECT_LT(e_ada, 0.04) << "adaptive RMSE " << e_ada << " at " << spp
+                         << " samples/pixel; uniform 32 spp: " << e_uni;
+  EXPECT_LT(e_ada, 1.5 * e_uni) << "adaptive RMSE " << e_ada << " at " << spp
+                                << " samples/pixel; uniform 32 spp: " << e_uni;
+}
+
+}  // namespace anamorph
