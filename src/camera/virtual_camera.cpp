@@ -6,6 +6,7 @@
 
 #include "math/frame.h"
 #include "math/sampling.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -195,32 +196,54 @@ struct LinearField {
   Vec3 o0, o_u, o_v, d0, d_u, d_v;
 };
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void linear_rays(const LinearField& f,
-                                                                              const CameraSample* s,
-                                                                              int n, CameraRay* out,
-                                                                              bool* valid) {
-  constexpr int kMax = 64;
-  for (int base = 0; base < n; base += kMax) {
-    const int m = std::min(kMax, n - base);
-    double dx[kMax], dy[kMax], dz[kMax], inv[kMax];
-    for (int i = 0; i < m; ++i) {
-      const double u = s[base + i].uv.x, v = s[base + i].uv.y;
-      dx[i] = f.d0.x + f.d_u.x * u + f.d_v.x * v;
-      dy[i] = f.d0.y + f.d_u.y * u + f.d_v.y * v;
-      dz[i] = f.d0.z + f.d_u.z * u + f.d_v.z * v;
-      inv[i] = 1 / std::sqrt(dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i]);
-    }
-    for (int i = 0; i < m; ++i) {
-      const double u = s[base + i].uv.x, v = s[base + i].uv.y;
-      CameraRay& r = out[base + i];
-      valid[base + i] = std::isfinite(inv[i]) && inv[i] > 0;
-      r.org = f.o0 + f.o_u * u + f.o_v * v;
-      r.dir = Vec3{dx[i], dy[i], dz[i]} * inv[i];
-      r.dorg_du = f.o_u;
-      r.dorg_dv = f.o_v;
-      r.ddir_du = (f.d_u - r.dir * dot(r.dir, f.d_u)) * inv[i];
-      r.ddir_dv = (f.d_v - r.dir * dot(r.dir, f.d_v)) * inv[i];
-    }
+// One chunk of at most 16 rays: the arithmetic in structure-of-arrays form on local arrays
+// (vectorized: nothing there aliases the caller's bool and ray arrays), then the copy into the
+// rays. Inlined with m = 16 as a constant for full packets, so no scalar remainder loop runs.
+[[gnu::always_inline]] inline void linear_chunk(const LinearField& g, const CameraSample* s, int m,
+                                                CameraRay* out, bool* valid) {
+  constexpr int N = kCameraBatch;
+  alignas(64) double us[N], vs[N], o[3][N], d[3][N], ru[3][N], rv[3][N];
+  alignas(64) bool ok[N];
+  for (int i = 0; i < m; ++i) us[i] = s[i].uv.x, vs[i] = s[i].uv.y;
+  for (int i = 0; i < m; ++i) {
+    const double u = us[i], v = vs[i];
+    const double dx = g.d0.x + g.d_u.x * u + g.d_v.x * v;
+    const double dy = g.d0.y + g.d_u.y * u + g.d_v.y * v;
+    const double dz = g.d0.z + g.d_u.z * u + g.d_v.z * v;
+    const double inv = 1 / std::sqrt(dx * dx + dy * dy + dz * dz);
+    ok[i] = (inv * 0 == 0) & (inv > 0);
+    o[0][i] = g.o0.x + g.o_u.x * u + g.o_v.x * v;
+    o[1][i] = g.o0.y + g.o_u.y * u + g.o_v.y * v;
+    o[2][i] = g.o0.z + g.o_u.z * u + g.o_v.z * v;
+    const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
+    d[0][i] = nx, d[1][i] = ny, d[2][i] = nz;
+    const double pu = nx * g.d_u.x + ny * g.d_u.y + nz * g.d_u.z;
+    const double pv = nx * g.d_v.x + ny * g.d_v.y + nz * g.d_v.z;
+    ru[0][i] = (g.d_u.x - nx * pu) * inv, ru[1][i] = (g.d_u.y - ny * pu) * inv,
+    ru[2][i] = (g.d_u.z - nz * pu) * inv;
+    rv[0][i] = (g.d_v.x - nx * pv) * inv, rv[1][i] = (g.d_v.y - ny * pv) * inv,
+    rv[2][i] = (g.d_v.z - nz * pv) * inv;
+  }
+  for (int i = 0; i < m; ++i) valid[i] = ok[i];
+  for (int i = 0; i < m; ++i) {
+    CameraRay& r = out[i];
+    r.org = {o[0][i], o[1][i], o[2][i]};
+    r.dir = {d[0][i], d[1][i], d[2][i]};
+    r.dorg_du = g.o_u;
+    r.dorg_dv = g.o_v;
+    r.ddir_du = {ru[0][i], ru[1][i], ru[2][i]};
+    r.ddir_dv = {rv[0][i], rv[1][i], rv[2][i]};
+  }
+}
+
+ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const CameraSample* s, int n,
+                                      CameraRay* out, bool* valid) {
+  const LinearField g = f;
+  for (int base = 0; base < n; base += kCameraBatch) {
+    if (n - base >= kCameraBatch)
+      linear_chunk(g, s + base, kCameraBatch, out + base, valid + base);
+    else
+      linear_chunk(g, s + base, n - base, out + base, valid + base);
   }
 }
 
@@ -230,10 +253,23 @@ struct Rig {
   double m[3][4];
 };
 
+// Two passes: the arithmetic in structure-of-arrays form (vectorized), then the copy into the
+// renderer's array-of-structures rays. always_inline so each ISA clone gets its own copy (an
+// out-of-line template would be compiled for the baseline only).
 template <bool kPointOrg>
-inline void finish_rays(const Rig& t, const SurfaceSample* org, const bool* org_ok,
-                        const DirBatch& b, int n, CameraRay* out, bool* valid) {
-  const auto& m = t.m;
+[[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceSample* org,
+                                               const bool* org_ok, const DirBatch& b, int n,
+                                               CameraRay* out, bool* valid) {
+  const Rig rig = t;  // a local copy: stores to the rays cannot alias it
+  const auto& m = rig.m;
+  const auto vec = [&](const Vec3& a) {
+    return Vec3{m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z,
+                m[1][0] * a.x + m[1][1] * a.y + m[1][2] * a.z,
+                m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
+  };
+  constexpr int N = kCameraBatch;
+  alignas(64) double o[3][N], d[3][N], ru[3][N], rv[3][N];
+  alignas(64) bool ok[N];
   for (int i = 0; i < n; ++i) {
     const SurfaceSample& s = kPointOrg ? org[0] : org[i];
     const double px = s.p.x, py = s.p.y, pz = s.p.z;
@@ -253,35 +289,46 @@ inline void finish_rays(const Rig& t, const SurfaceSample* org, const bool* org_
     const double inv = 1 / len;
     // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
     // x * 0 == 0 holds exactly for finite x.
-    valid[i] =
-        b.ok[i] && (kPointOrg || org_ok[i]) && len > 0 && len * 0 == 0 && (ox + oy + oz) * 0 == 0;
-    CameraRay& r = out[i];
+    ok[i] =
+        b.ok[i] & (kPointOrg || org_ok[i]) & (len > 0) & (len * 0 == 0) & ((ox + oy + oz) * 0 == 0);
     const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
-    r.org = {ox, oy, oz};
-    r.dir = {nx, ny, nz};
-    const auto vec = [&](const Vec3& a) {
-      return Vec3{m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z,
-                  m[1][0] * a.x + m[1][1] * a.y + m[1][2] * a.z,
-                  m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
-    };
-    r.dorg_du = vec(s.dpdu);
-    r.dorg_dv = vec(s.dpdv);
+    o[0][i] = ox, o[1][i] = oy, o[2][i] = oz;
+    d[0][i] = nx, d[1][i] = ny, d[2][i] = nz;
     // d(d/|d|) = (dd - n (n . dd)) / |d|
     const double pu = nx * ux + ny * uy + nz * uz, pv = nx * vx + ny * vy + nz * vz;
-    r.ddir_du = {(ux - nx * pu) * inv, (uy - ny * pu) * inv, (uz - nz * pu) * inv};
-    r.ddir_dv = {(vx - nx * pv) * inv, (vy - ny * pv) * inv, (vz - nz * pv) * inv};
+    ru[0][i] = (ux - nx * pu) * inv, ru[1][i] = (uy - ny * pu) * inv,
+    ru[2][i] = (uz - nz * pu) * inv;
+    rv[0][i] = (vx - nx * pv) * inv, rv[1][i] = (vy - ny * pv) * inv,
+    rv[2][i] = (vz - nz * pv) * inv;
+  }
+  for (int i = 0; i < n; ++i) valid[i] = ok[i];
+  const Vec3 point_du = kPointOrg ? vec(org[0].dpdu) : Vec3{},
+             point_dv = kPointOrg ? vec(org[0].dpdv) : Vec3{};
+  for (int i = 0; i < n; ++i) {
+    CameraRay& r = out[i];
+    r.org = {o[0][i], o[1][i], o[2][i]};
+    r.dir = {d[0][i], d[1][i], d[2][i]};
+    r.dorg_du = kPointOrg ? point_du : vec(org[i].dpdu);
+    r.dorg_dv = kPointOrg ? point_dv : vec(org[i].dpdv);
+    r.ddir_du = {ru[0][i], ru[1][i], ru[2][i]};
+    r.ddir_dv = {rv[0][i], rv[1][i], rv[2][i]};
   }
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void finish_point_org(
-    const Rig& t, const SurfaceSample& org, const DirBatch& b, int n, CameraRay* out, bool* valid) {
-  finish_rays<true>(t, &org, nullptr, b, n, out, valid);
+ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceSample& org,
+                                           const DirBatch& b, int n, CameraRay* out, bool* valid) {
+  if (n == kCameraBatch)  // a constant trip count: full vectors, no remainder loop
+    finish_rays<true>(t, &org, nullptr, b, kCameraBatch, out, valid);
+  else
+    finish_rays<true>(t, &org, nullptr, b, n, out, valid);
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void finish_any_org(
-    const Rig& t, const SurfaceSample* org, const bool* org_ok, const DirBatch& b, int n,
-    CameraRay* out, bool* valid) {
-  finish_rays<false>(t, org, org_ok, b, n, out, valid);
+ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org, const bool* org_ok,
+                                         const DirBatch& b, int n, CameraRay* out, bool* valid) {
+  if (n == kCameraBatch)
+    finish_rays<false>(t, org, org_ok, b, kCameraBatch, out, valid);
+  else
+    finish_rays<false>(t, org, org_ok, b, n, out, valid);
 }
 
 }  // namespace

@@ -1,0 +1,13 @@
+// Function multi-versioning for the vectorized kernels (camera batches): each is compiled for
+// x86-64-v4 (AVX-512 with BW/DQ/VL), x86-64-v3 (AVX2, FMA) and the baseline, and the loader picks
+// the best the CPU has. A plain "avx512f" clone is not enough: without AVX-512BW/VL GCC finds no
+// vector type for loops that mix double lanes with bool masks and leaves them scalar.
+// -ffp-contract=off (src/CMakeLists.txt) keeps the clones bit-identical to each other.
+#pragma once
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define ANAMORPH_SIMD_CLONES \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define ANAMORPH_SIMD_CLONES
+#endif
