@@ -133,13 +133,20 @@ class PathTracer final : public Integrator {
       const Material& m = ctx_.scene.materials[hit.material];
       const Bsdf b = make_bsdf(m, hit, wo, texcoord_at(hit, fp), nullptr);
 
+      // This bounce's numbers, drawn up front so that 2D samples stay paired (with a QMC stream,
+      // stratified across the pixel's samples): light position, BSDF direction, light choice
+      // and BSDF lobe.
+      Vec2 u_light, u_bsdf;
+      rng.uniform2(u_light.x, u_light.y);
+      rng.uniform2(u_bsdf.x, u_bsdf.y);
+      const double u_pick = rng.uniform(), u_lobe = rng.uniform();
+
       // Next-event estimation.
       if (b.has_smooth() && lights.count() > 0) {
         double pmf;
-        const size_t li = lights.pick(rng.uniform(), &pmf);
+        const size_t li = lights.pick(u_pick, &pmf);
         LightSample ls;
-        const Vec2 u{rng.uniform(), rng.uniform()};
-        if (pmf > 0 && lights.sample(li, hit.p, u, &ls) && ls.pdf > 0) {
+        if (pmf > 0 && lights.sample(li, hit.p, u_light, &ls) && ls.pdf > 0) {
           const Color f = b.eval(wo, ls.wi);
           if (max_component(f) > 0 && visible(ctx_, hit, ls, rays)) {
             const double lpdf = ls.pdf * pmf;
@@ -147,13 +154,10 @@ class PathTracer final : public Integrator {
             L += beta * f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) * w / lpdf);
           }
         }
-      } else {
-        (void)rng.uniform(), (void)rng.uniform(), (void)rng.uniform();  // keep streams aligned
       }
 
       BsdfSample s;
-      const Vec2 u{rng.uniform(), rng.uniform()};
-      if (!b.sample(wo, u, rng.uniform(), &s)) break;
+      if (!b.sample(wo, u_bsdf, u_lobe, &s)) break;
       beta *= s.weight;
       prev_pdf = s.pdf;
       prev_delta = s.delta;

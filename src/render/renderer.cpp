@@ -292,6 +292,11 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const bool lens_time = scene_.camera->uses_lens_or_time();
   const bool needs_rng =
       lens_time || job.mode == Mode::Radiance || job.sampler != SamplerKind::Center;
+  // Stratified sampling: pixel position, lens, time and the first three bounces' light and BSDF
+  // numbers come from the pixel's scrambled Sobol' points (any prefix of a pixel's samples is
+  // well stratified, which noise-driven sampling needs: a pixel may stop after any pass).
+  const bool qmc = needs_rng && job.sampler == SamplerKind::Stratified;
+  constexpr int kQmcDims = 24;
   const uint64_t work_total = uint64_t(W) * H * spp;
 
   uint32_t s_begin = 0;
@@ -303,7 +308,6 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     // little; the old fixed 1/sqrt(render.spp) (spp = 1 unless given) blurred every sample
     // over the whole pixel.
     const double fp_scale = noise_driven ? Job::footprint_scale(s_end) : job.uniform_scale;
-    const auto pass_key = uint32_t(mix64(pass + 1));
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
       tbb::parallel_for(
@@ -337,24 +341,24 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                       if (!use[k]) continue;
                       // AOV images of pinhole cameras at pixel centers use no random numbers at
                       // all.
-                      if (needs_rng)
+                      if (needs_rng) {
                         rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
-                      const uint32_t key =
-                          uint32_t(mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed));
-                      // Noise-driven: each pass is stratified on its own (a pixel may stop after
-                      // any pass; the first min_spp of max_spp strata would be scattered at
-                      // random).
-                      Vec2 off = noise_driven
-                                     ? pixel_offset(job.sampler, s - s_begin, s_end - s_begin,
-                                                    pass_key ^ key, rng[k])
-                                     : pixel_offset(job.sampler, s, spp, key, rng[k]);
+                        if (qmc)
+                          rng[k].qmc(s, mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed),
+                                     kQmcDims);
+                      }
+                      Vec2 off;
+                      if (qmc)
+                        rng[k].uniform2(off.x, off.y);
+                      else
+                        off = pixel_offset(job.sampler, rng[k]);
                       if (job.gaussian)
                         off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
                       CameraSample& cs = samples[k];
                       cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0),
                                std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
                       if (lens_time) {
-                        cs.lens = {rng[k].uniform(), rng[k].uniform()};
+                        rng[k].uniform2(cs.lens.x, cs.lens.y);
                         cs.time = rng[k].uniform();
                       }
                     }

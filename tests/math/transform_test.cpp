@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "math/rng.h"
 #include "math/transform.h"
 
@@ -56,6 +59,44 @@ TEST(Rng, UniformMeanIsHalf) {
     s += u;
   }
   EXPECT_NEAR(s / n, 0.5, 0.005);
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Rng, QmcPrefixesAreStratifiedInEveryDimensionPair) {
+  // Samples 0..15 of one pixel: for each dimension pair, every elementary interval of area 1/16
+  // (16x1, 8x2, 4x4, 2x8, 1x16 cells) holds exactly one point; the 8-sample prefix likewise for
+  // area 1/8. Pairs must differ from each other (decorrelated by the scrambling).
+  constexpr int kPairs = 6;
+  double pts[kPairs][16][2];
+  for (uint32_t s = 0; s < 16; ++s) {
+    Rng r = Rng::for_sample(7, 9, s, 42);
+    r.qmc(s, 0x1234567, 2 * kPairs);
+    for (int d = 0; d < kPairs; ++d) r.uniform2(pts[d][s][0], pts[d][s][1]);
+  }
+  for (int n : {8, 16}) {
+    const int m = n == 8 ? 3 : 4;
+    for (int d = 0; d < kPairs; ++d)
+      for (int kx = 0; kx <= m; ++kx) {
+        const int cx = 1 << kx, cy = 1 << (m - kx);
+        std::vector<int> count(size_t(cx) * cy, 0);
+        for (int s = 0; s < n; ++s) count[int(pts[d][s][1] * cy) * cx + int(pts[d][s][0] * cx)]++;
+        for (size_t c = 0; c < count.size(); ++c)
+          ASSERT_EQ(count[c], 1) << "pair " << d << ", " << n << " samples, " << cx << "x" << cy
+                                 << " cells, cell " << c;
+      }
+  }
+  int same = 0;
+  for (int s = 0; s < 16; ++s) same += std::abs(pts[0][s][0] - pts[1][s][0]) < 1e-9;
+  EXPECT_LT(same, 2) << "pairs 0 and 1 repeat each other";
+  // Beyond the QMC dimensions the stream is the ordinary PCG32 one.
+  Rng a = Rng::for_sample(7, 9, 3, 42), b = Rng::for_sample(7, 9, 3, 42);
+  a.qmc(3, 0x1234567, 2);
+  double x, y;
+  a.uniform2(x, y);
+  EXPECT_EQ(a.next_u32(), b.next_u32());
 }
 
 }  // namespace anamorph
