@@ -12,6 +12,8 @@
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/fast_trig.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -126,10 +128,61 @@ struct FisheyeGeometry {
   Vec3 eye;           // the ray origin
 };
 
+// The equidistant mapping (fisheye's default, dome) as straight-line code over a batch, which
+// the compiler vectorizes: the same steps as the general path below with selects for its
+// branches and sincos_poly for the angle. Lanes outside the image circle get ok = false.
+ANAMORPH_SIMD_CLONES void equidistant_dirs(const FisheyeGeometry& geo, const double* u,
+                                           const double* v, int n, DirBatch* out) {
+  const FisheyeGeometry g = geo;  // a local copy: stores to `out` cannot alias it
+  const double tm = g.map.theta_max, R = g.radius, su = R * g.sa, sv = -R * g.sb;
+  const Vec3 X = g.frame.right, Y = g.frame.up, Z = g.frame.axis;
+  alignas(64) double radius[kCameraBatch];
+  for (int i = 0; i < n; ++i) {
+    double a = (u[i] - 0.5) * g.sa, b = (0.5 - v[i]) * g.sb;
+    const double r = std::sqrt(a * a + b * b);
+    radius[i] = r;
+    const double k = r > 1 ? r : 1.0;
+    a /= k, b /= k;
+    const double theta = (r < 1 ? r : 1.0) * tm;
+    double st, ct;
+    sincos_poly(theta, &st, &ct);
+    // radial_direction(): on the axis sin(theta)/rho -> dtheta/drho.
+    const double rho = std::sqrt(a * a + b * b);
+    const bool axis = rho < 1e-12;
+    const double rs = axis ? 1.0 : rho;
+    const double sr = axis ? tm : st / rs;
+    const double ds = axis ? 0.0 : (ct * tm * rs - st) / (rs * rs);
+    const double ca = axis ? 0.0 : a / rs, cb = axis ? 0.0 : b / rs;
+    const double lx = axis ? 0.0 : sr * a, ly = axis ? 0.0 : sr * b, lz = axis ? -1.0 : -ct;
+    const double ax = sr + a * ds * ca, ay = b * ds * ca, az = st * tm * ca;
+    const double bx = a * ds * cb, by = sr + b * ds * cb, bz = st * tm * cb;
+    // frame.to_camera(l) = right l.x + up l.y - axis l.z
+    out->d[0][i] = (X.x * lx + Y.x * ly - Z.x * lz) * R - g.eye.x;
+    out->d[1][i] = (X.y * lx + Y.y * ly - Z.y * lz) * R - g.eye.y;
+    out->d[2][i] = (X.z * lx + Y.z * ly - Z.z * lz) * R - g.eye.z;
+    out->du[0][i] = (X.x * ax + Y.x * ay - Z.x * az) * su;
+    out->du[1][i] = (X.y * ax + Y.y * ay - Z.y * az) * su;
+    out->du[2][i] = (X.z * ax + Y.z * ay - Z.z * az) * su;
+    out->dv[0][i] = (X.x * bx + Y.x * by - Z.x * bz) * sv;
+    out->dv[1][i] = (X.y * bx + Y.y * by - Z.y * bz) * sv;
+    out->dv[2][i] = (X.z * bx + Y.z * by - Z.z * bz) * sv;
+  }
+  // Outside the image circle: no ray. (A separate loop: bool stores keep the one above scalar.)
+  for (int i = 0; i < n; ++i) out->ok[i] = radius[i] <= 1 + 1e-12;
+}
+
 class FisheyeDir final : public DirFunction {
  public:
   explicit FisheyeDir(const FisheyeGeometry& g) : g_(g) {}
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    if (g_.map.kind == FisheyeMapping::kEquidistant) {
+      DirBatch b;
+      eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+      *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
+              {b.du[0][0], b.du[1][0], b.du[2][0]},
+              {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
+      return b.ok[0];
+    }
     double a = (uv.x - 0.5) * g_.sa, b = (0.5 - uv.y) * g_.sb;
     const double r = std::sqrt(a * a + b * b);
     if (!(r <= 1 + 1e-12)) return false;  // outside the image circle: no ray
@@ -143,6 +196,18 @@ class FisheyeDir final : public DirFunction {
     out->dd_du = g_.frame.to_camera(rd.dd_da) * (R * g_.sa);
     out->dd_dv = g_.frame.to_camera(rd.dd_db) * (-R * g_.sb);
     return true;
+  }
+
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
+                  DirBatch* out) const override {
+    if (g_.map.kind != FisheyeMapping::kEquidistant) {
+      DirFunction::eval_batch(u, v, n, org, org_stride, out);
+      return;
+    }
+    if (n == kCameraBatch)  // a constant trip count: full vectors, no remainder loop
+      equidistant_dirs(g_, u, v, kCameraBatch, out);
+    else
+      equidistant_dirs(g_, u, v, n, out);
   }
 
  private:

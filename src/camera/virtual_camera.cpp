@@ -202,8 +202,7 @@ struct LinearField {
 [[gnu::always_inline]] inline void linear_chunk(const LinearField& g, const CameraSample* s, int m,
                                                 CameraRay* out, bool* valid) {
   constexpr int N = kCameraBatch;
-  alignas(64) double us[N], vs[N], o[3][N], d[3][N], ru[3][N], rv[3][N];
-  alignas(64) bool ok[N];
+  alignas(64) double us[N], vs[N], o[3][N], d[3][N], ru[3][N], rv[3][N], invs[N];
   for (int i = 0; i < m; ++i) us[i] = s[i].uv.x, vs[i] = s[i].uv.y;
   for (int i = 0; i < m; ++i) {
     const double u = us[i], v = vs[i];
@@ -211,7 +210,7 @@ struct LinearField {
     const double dy = g.d0.y + g.d_u.y * u + g.d_v.y * v;
     const double dz = g.d0.z + g.d_u.z * u + g.d_v.z * v;
     const double inv = 1 / std::sqrt(dx * dx + dy * dy + dz * dz);
-    ok[i] = (inv * 0 == 0) & (inv > 0);
+    invs[i] = inv;
     o[0][i] = g.o0.x + g.o_u.x * u + g.o_v.x * v;
     o[1][i] = g.o0.y + g.o_u.y * u + g.o_v.y * v;
     o[2][i] = g.o0.z + g.o_u.z * u + g.o_v.z * v;
@@ -224,7 +223,7 @@ struct LinearField {
     rv[0][i] = (g.d_v.x - nx * pv) * inv, rv[1][i] = (g.d_v.y - ny * pv) * inv,
     rv[2][i] = (g.d_v.z - nz * pv) * inv;
   }
-  for (int i = 0; i < m; ++i) valid[i] = ok[i];
+  for (int i = 0; i < m; ++i) valid[i] = (invs[i] * 0 == 0) & (invs[i] > 0);
   for (int i = 0; i < m; ++i) {
     CameraRay& r = out[i];
     r.org = {o[0][i], o[1][i], o[2][i]};
@@ -269,10 +268,18 @@ template <bool kPointOrg>
   };
   constexpr int N = kCameraBatch;
   alignas(64) double o[3][N], d[3][N], ru[3][N], rv[3][N];
-  alignas(64) bool ok[N];
+  alignas(64) double lens[N], finite[N];
+  alignas(64) bool org_valid[N];
+  // Origins gathered into local arrays first: strided loads from the samples keep GCC from
+  // vectorizing the arithmetic.
+  alignas(64) double pxs[N], pys[N], pzs[N];
+  if (!kPointOrg)
+    for (int i = 0; i < n; ++i)
+      pxs[i] = org[i].p.x, pys[i] = org[i].p.y, pzs[i] = org[i].p.z, org_valid[i] = org_ok[i];
+  const Vec3 p0 = org[0].p;
   for (int i = 0; i < n; ++i) {
-    const SurfaceSample& s = kPointOrg ? org[0] : org[i];
-    const double px = s.p.x, py = s.p.y, pz = s.p.z;
+    const double px = kPointOrg ? p0.x : pxs[i], py = kPointOrg ? p0.y : pys[i],
+                 pz = kPointOrg ? p0.z : pzs[i];
     const double ox = m[0][0] * px + m[0][1] * py + m[0][2] * pz + m[0][3];
     const double oy = m[1][0] * px + m[1][1] * py + m[1][2] * pz + m[1][3];
     const double oz = m[2][0] * px + m[2][1] * py + m[2][2] * pz + m[2][3];
@@ -289,8 +296,8 @@ template <bool kPointOrg>
     const double inv = 1 / len;
     // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
     // x * 0 == 0 holds exactly for finite x.
-    ok[i] =
-        b.ok[i] & (kPointOrg || org_ok[i]) & (len > 0) & (len * 0 == 0) & ((ox + oy + oz) * 0 == 0);
+    lens[i] = len;
+    finite[i] = len * 0 + (ox + oy + oz) * 0;  // 0 exactly when both are finite
     const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
     o[0][i] = ox, o[1][i] = oy, o[2][i] = oz;
     d[0][i] = nx, d[1][i] = ny, d[2][i] = nz;
@@ -301,7 +308,9 @@ template <bool kPointOrg>
     rv[0][i] = (vx - nx * pv) * inv, rv[1][i] = (vy - ny * pv) * inv,
     rv[2][i] = (vz - nz * pv) * inv;
   }
-  for (int i = 0; i < n; ++i) valid[i] = ok[i];
+  // Masks are formed here, not in the loop above: bool stores from double lanes do not vectorize.
+  for (int i = 0; i < n; ++i)
+    valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org_valid[i]);
   const Vec3 point_du = kPointOrg ? vec(org[0].dpdu) : Vec3{},
              point_dv = kPointOrg ? vec(org[0].dpdv) : Vec3{};
   for (int i = 0; i < n; ++i) {

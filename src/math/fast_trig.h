@@ -14,7 +14,10 @@ inline void sincos_poly(double x, double* s, double* c) {
   constexpr double kTwoOverPi = 0.6366197723675814;
   constexpr double kPio2Hi = 1.5707963267341256, kPio2Mid = 6.077100506303966e-11,
                    kPio2Lo = 2.0222662487959506e-21;
-  const double k = std::nearbyint(x * kTwoOverPi);
+  // Round to nearest by adding and removing 1.5 * 2^52 (exact below 2^51; std::nearbyint and
+  // std::floor would keep GCC from vectorizing the loop).
+  constexpr double kRound = 6755399441055744.0;
+  const double k = (x * kTwoOverPi + kRound) - kRound;
   const double r = ((x - k * kPio2Hi) - k * kPio2Mid) - k * kPio2Lo;
   const double r2 = r * r;
   // Taylor series to degree 17 (sine) and 18 (cosine): truncation below 3e-18 on |r| <= pi/4.
@@ -27,17 +30,17 @@ inline void sincos_poly(double x, double* s, double* c) {
   ps = ps * r2 + 8.333333333333333e-03;
   ps = ps * r2 - 1.6666666666666666e-01;
   const double sr = r + r * r2 * ps;
-  double pc = 1.5619206968586225e-16;  // 1/18!
-  pc = pc * r2 - 4.779477332387385e-14;
-  pc = pc * r2 + 1.1470745597729725e-11;
-  pc = pc * r2 - 2.08767569878681e-09;
-  pc = pc * r2 + 2.755731922398589e-07;
-  pc = pc * r2 - 2.48015873015873e-05;
-  pc = pc * r2 + 1.388888888888889e-03;
-  pc = pc * r2 - 4.1666666666666664e-02;
+  double pc = -1.5619206968586225e-16;  // -1/18!
+  pc = pc * r2 + 4.779477332387385e-14;
+  pc = pc * r2 - 1.1470745597729725e-11;
+  pc = pc * r2 + 2.08767569878681e-09;
+  pc = pc * r2 - 2.755731922398589e-07;
+  pc = pc * r2 + 2.48015873015873e-05;
+  pc = pc * r2 - 1.388888888888889e-03;
+  pc = pc * r2 + 4.1666666666666664e-02;
   const double cr = (1 - 0.5 * r2) + r2 * r2 * pc;
   // Quadrant q = k mod 4: sin(r + q pi/2) = sr, cr, -sr, -cr; cos = cr, -sr, -cr, sr.
-  const double q = k - 4 * std::floor(k * 0.25);
+  const int q = int(k) & 3;  // two's complement: also right for negative k
   const bool odd = q == 1 || q == 3;
   const double s0 = odd ? cr : sr, c0 = odd ? sr : cr;
   *s = q >= 2 ? -s0 : s0;

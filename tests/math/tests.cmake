@@ -1,3 +1,4 @@
 anamorph_add_test(test_math
+  ${CMAKE_CURRENT_LIST_DIR}/fast_trig_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/transform_test.cpp
 )
