@@ -131,8 +131,8 @@ struct FisheyeGeometry {
 // The equidistant mapping (fisheye's default, dome) as straight-line code over a batch, which
 // the compiler vectorizes: the same steps as the general path below with selects for its
 // branches and sincos_poly for the angle. Lanes outside the image circle get ok = false.
-ANAMORPH_SIMD_CLONES void equidistant_dirs(const FisheyeGeometry& geo, const double* u,
-                                           const double* v, int n, DirBatch* out) {
+[[gnu::always_inline]] inline void equidistant_kernel(const FisheyeGeometry& geo, const double* u,
+                                                      const double* v, int n, DirBatch* out) {
   const FisheyeGeometry g = geo;  // a local copy: stores to `out` cannot alias it
   const double tm = g.map.theta_max, R = g.radius, su = R * g.sa, sv = -R * g.sb;
   const Vec3 X = g.frame.right, Y = g.frame.up, Z = g.frame.axis;
@@ -141,18 +141,18 @@ ANAMORPH_SIMD_CLONES void equidistant_dirs(const FisheyeGeometry& geo, const dou
     double a = (u[i] - 0.5) * g.sa, b = (0.5 - v[i]) * g.sb;
     const double r = std::sqrt(a * a + b * b);
     radius[i] = r;
-    const double k = r > 1 ? r : 1.0;
-    a /= k, b /= k;
+    const double ik = 1 / (r > 1 ? r : 1.0);  // onto the circle (exactly 1 inside it)
+    a *= ik, b *= ik;
     const double theta = (r < 1 ? r : 1.0) * tm;
     double st, ct;
     sincos_poly(theta, &st, &ct);
     // radial_direction(): on the axis sin(theta)/rho -> dtheta/drho.
     const double rho = std::sqrt(a * a + b * b);
     const bool axis = rho < 1e-12;
-    const double rs = axis ? 1.0 : rho;
-    const double sr = axis ? tm : st / rs;
-    const double ds = axis ? 0.0 : (ct * tm * rs - st) / (rs * rs);
-    const double ca = axis ? 0.0 : a / rs, cb = axis ? 0.0 : b / rs;
+    const double irs = 1 / (axis ? 1.0 : rho);  // one division for the four quotients
+    const double sr = axis ? tm : st * irs;
+    const double ds = axis ? 0.0 : (ct * tm - st * irs) * irs;
+    const double ca = axis ? 0.0 : a * irs, cb = axis ? 0.0 : b * irs;
     const double lx = axis ? 0.0 : sr * a, ly = axis ? 0.0 : sr * b, lz = axis ? -1.0 : -ct;
     const double ax = sr + a * ds * ca, ay = b * ds * ca, az = st * tm * ca;
     const double bx = a * ds * cb, by = sr + b * ds * cb, bz = st * tm * cb;
@@ -169,6 +169,18 @@ ANAMORPH_SIMD_CLONES void equidistant_dirs(const FisheyeGeometry& geo, const dou
   }
   // Outside the image circle: no ray. (A separate loop: bool stores keep the one above scalar.)
   for (int i = 0; i < n; ++i) out->ok[i] = radius[i] <= 1 + 1e-12;
+}
+
+// Constant trip counts for full packets and for one-at-a-time calls: full vectors with no
+// remainder loop, and straight-line code.
+ANAMORPH_SIMD_CLONES void equidistant_dirs(const FisheyeGeometry& g, const double* u,
+                                           const double* v, int n, DirBatch* out) {
+  if (n == kCameraBatch)
+    equidistant_kernel(g, u, v, kCameraBatch, out);
+  else if (n == 1)
+    equidistant_kernel(g, u, v, 1, out);
+  else
+    equidistant_kernel(g, u, v, n, out);
 }
 
 class FisheyeDir final : public DirFunction {
@@ -204,10 +216,7 @@ class FisheyeDir final : public DirFunction {
       DirFunction::eval_batch(u, v, n, org, org_stride, out);
       return;
     }
-    if (n == kCameraBatch)  // a constant trip count: full vectors, no remainder loop
-      equidistant_dirs(g_, u, v, kCameraBatch, out);
-    else
-      equidistant_dirs(g_, u, v, n, out);
+    equidistant_dirs(g_, u, v, n, out);
   }
 
  private:

@@ -328,6 +328,8 @@ ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceSample& or
                                            const DirBatch& b, int n, CameraRay* out, bool* valid) {
   if (n == kCameraBatch)  // a constant trip count: full vectors, no remainder loop
     finish_rays<true>(t, &org, nullptr, b, kCameraBatch, out, valid);
+  else if (n == 1)  // one-at-a-time generate(): straight-line code
+    finish_rays<true>(t, &org, nullptr, b, 1, out, valid);
   else
     finish_rays<true>(t, &org, nullptr, b, n, out, valid);
 }
@@ -336,6 +338,8 @@ ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org,
                                          const DirBatch& b, int n, CameraRay* out, bool* valid) {
   if (n == kCameraBatch)
     finish_rays<false>(t, org, org_ok, b, kCameraBatch, out, valid);
+  else if (n == 1)
+    finish_rays<false>(t, org, org_ok, b, 1, out, valid);
   else
     finish_rays<false>(t, org, org_ok, b, n, out, valid);
 }
