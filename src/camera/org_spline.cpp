@@ -45,6 +45,13 @@ class SplineOrg final : public OrgFunction {
     }
   }
 
+  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
+                  bool* ok) const override {
+    double ss[kCameraBatch], ts[kCameraBatch];
+    for (int k = 0; k < n; ++k) ss[k] = sr_(u[k]), ts[k] = tr_(v[k]), ok[k] = true;
+    s_.for_batch(ss, ts, n, [&](int k, const LocalGeom& g) { finish(g, ss[k], ts[k], &out[k]); });
+  }
+
  private:
   void finish(const LocalGeom& g, double s, double t, SurfaceSample* out) const {
     const double su = sr_.scale(), sv = tr_.scale();

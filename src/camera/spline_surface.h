@@ -71,6 +71,40 @@ class SplineSurface {
     }
   }
 
+  // Calls emit(k, geom) for the n <= 16 pairs (ss[k], ts[k]), each distinct s's and t's basis
+  // computed once: a packet of pixel centers (4x4, row by row) has four of each, and a row
+  // shares its column sums. The same arithmetic as eval(), so the same bits.
+  template <class Emit>
+  void for_batch(const double* ss, const double* ts, int n, Emit&& emit) const {
+    constexpr int kMax = 16;
+    Basis1 bu[kMax], bv[kMax];
+    int iu[kMax], iv[kMax], nu = 0, nv = 0;
+    const auto index_of = [](const double* seen, int count, double x) {
+      for (int j = count - 1; j >= 0; --j)
+        if (seen[j] == x) return j;
+      return -1;
+    };
+    double su[kMax], sv[kMax];
+    for (int k = 0; k < n; ++k) {
+      int j = index_of(su, nu, ss[k]);
+      if (j < 0) su[j = nu++] = ss[k], basis_u(ss[k], &bu[j]);
+      iu[k] = j;
+      j = index_of(sv, nv, ts[k]);
+      if (j < 0) sv[j = nv++] = ts[k], basis_v(ts[k], &bv[j]);
+      iv[k] = j;
+    }
+    Columns q;
+    int cached_v = -1, cached_span = -1;
+    for (int k = 0; k < n; ++k) {
+      const Basis1& b = bu[iu[k]];
+      if (iv[k] != cached_v || b.span != cached_span) {
+        columns(bv[iv[k]], b.span - p_, q);
+        cached_v = iv[k], cached_span = b.span;
+      }
+      emit(k, combine(b, q));
+    }
+  }
+
  private:
   // Non-zero basis functions at one parameter: derivatives 0..2 of N[span - degree .. span].
   // Plain arrays without initializers: nothing is zeroed per evaluation.
