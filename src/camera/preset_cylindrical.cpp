@@ -1,7 +1,7 @@
 // Longitude/latitude maps: equirectangular, cylindrical, mercator, lambert_equal_area.
-// equirectangular is org = point and dir = the unit sphere (the generic sphere function with
-// longitude and latitude ranges). The others are org = point and dir = LatLongDir, a direction
-// written as
+// All are org = point and dir = LatLongDir, the unit sphere (equirectangular: the same directions
+// as the generic sphere function with longitude and latitude ranges, in a form that vectorizes)
+// or a cylinder or a Mercator map around the up axis, written as
 //   dir(u,v) = (c sin(lon), s, -c cos(lon)),  lon = lon(u) linear,
 // where (c, s) is (cos(lat), sin(lat)) up to a positive factor and comes from a vertical map
 // coordinate y = y(v) that is linear in v. The maps differ only in y:
@@ -16,6 +16,8 @@
 #include "camera/org_quadric.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/fast_trig.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -69,10 +71,76 @@ struct LatLongGeometry {
   double y_top = 0, y_bottom = 0;  // map coordinate at v = 0 and v = 1
 };
 
+// LatLongDir for the maps whose terms are straight-line code (all but mercator's sinh), over a
+// batch the compiler vectorizes; sincos_poly for the angles.
+// The map is a template parameter: a branch on it inside the loop would keep it scalar.
+template <LatMap M>
+[[gnu::always_inline]] inline void latlong_kernel(const LatLongGeometry& geo, const double* u,
+                                                  const double* v, int n, DirBatch* out) {
+  const LatLongGeometry g = geo;  // a local copy: stores to `out` cannot alias it
+  const double dlon = g.lon.span(), dy = g.y_bottom - g.y_top;
+  const double fv = M == LatMap::kHorizontal ? 0.0 : dy;
+  for (int i = 0; i < n; ++i) {
+    const double lon = g.lon.lo + dlon * u[i];
+    const double y = g.y_top + dy * v[i];
+    double sl, cl, c = 1, s = 0, dc = 0, ds = 0;
+    sincos_poly(lon, &sl, &cl);
+    if constexpr (M == LatMap::kLatitude) {
+      sincos_poly(y, &s, &c);
+      dc = -s, ds = c;
+    } else if constexpr (M == LatMap::kTangent) {
+      s = y, ds = 1;
+    } else if constexpr (M == LatMap::kSine) {
+      const double yy = y < -1.0 ? -1.0 : (y > 1.0 ? 1.0 : y);
+      c = std::sqrt(1 - yy * yy), s = yy, dc = -yy / (c > 1e-12 ? c : 1e-12), ds = 1;
+    }
+    out->d[0][i] = c * sl, out->d[1][i] = s, out->d[2][i] = -c * cl;
+    out->du[0][i] = c * cl * dlon, out->du[1][i] = 0, out->du[2][i] = c * sl * dlon;
+    out->dv[0][i] = dc * sl * fv, out->dv[1][i] = ds * fv, out->dv[2][i] = -dc * cl * fv;
+  }
+  for (int i = 0; i < n; ++i) out->ok[i] = true;
+}
+
+template <LatMap M>
+[[gnu::always_inline]] inline void latlong_run(const LatLongGeometry& g, const double* u,
+                                               const double* v, int n, DirBatch* out) {
+  if (n == kCameraBatch)  // constant trip counts: full vectors; straight-line code for one
+    latlong_kernel<M>(g, u, v, kCameraBatch, out);
+  else if (n == 1)
+    latlong_kernel<M>(g, u, v, 1, out);
+  else
+    latlong_kernel<M>(g, u, v, n, out);
+}
+
+// Every map but mercator (whose sinh stays a library call: LatLongDir loops over eval for it).
+ANAMORPH_SIMD_CLONES void latlong_dirs(const LatLongGeometry& g, const double* u, const double* v,
+                                       int n, DirBatch* out) {
+  switch (g.map) {
+    case LatMap::kLatitude:
+      return latlong_run<LatMap::kLatitude>(g, u, v, n, out);
+    case LatMap::kTangent:
+      return latlong_run<LatMap::kTangent>(g, u, v, n, out);
+    case LatMap::kSine:
+      return latlong_run<LatMap::kSine>(g, u, v, n, out);
+    case LatMap::kHorizontal:
+      return latlong_run<LatMap::kHorizontal>(g, u, v, n, out);
+    case LatMap::kMercator:  // LatLongDir keeps mercator on its one-at-a-time path
+      return;
+  }
+}
+
 class LatLongDir final : public DirFunction {
  public:
   explicit LatLongDir(const LatLongGeometry& g) : g_(g) {}
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    if (g_.map != LatMap::kMercator) {
+      DirBatch b;
+      eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+      *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
+              {b.du[0][0], b.du[1][0], b.du[2][0]},
+              {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
+      return true;
+    }
     const double lon = g_.lon.lo + g_.lon.span() * uv.x;
     const double y = g_.y_top + (g_.y_bottom - g_.y_top) * uv.y;
     double c = 1, s = 0, dc = 0, ds = 0;
@@ -81,8 +149,16 @@ class LatLongDir final : public DirFunction {
     const double dlon = g_.lon.span(), dy = g_.y_bottom - g_.y_top;
     out->d = {c * sl, s, -c * cl};
     out->dd_du = Vec3{c * cl, 0, c * sl} * dlon;
-    out->dd_dv = g_.map == LatMap::kHorizontal ? Vec3{} : Vec3{dc * sl, ds, -dc * cl} * dy;
+    out->dd_dv = Vec3{dc * sl, ds, -dc * cl} * dy;
     return true;
+  }
+
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
+                  DirBatch* out) const override {
+    if (g_.map == LatMap::kMercator)
+      DirFunction::eval_batch(u, v, n, org, org_stride, out);
+    else
+      latlong_dirs(g_, u, v, n, out);
   }
 
  private:
@@ -180,10 +256,7 @@ VirtualCameraParts create_equirect(const ParamValues& v, const ImageInfo& img) {
   g.map = LatMap::kLatitude;
   g.lon = read_angle_range(v, "longitude_range", 180);
   set_vertical(&g, v, img, 90);
-  const Vec2 lon = v.vec2("longitude_range"), lat = v.vec2("latitude_range");
-  return latlong_parts(
-      g, make_point_org({}), v, "equirectangular (org point + dir sphere)",
-      make_surface_dir(make_sphere_org({}, 1, {lon.x, lon.y}, {lat.y, lat.x}), {}));
+  return latlong_parts(g, make_point_org({}), v, "equirectangular (org point + dir sphere)");
 }
 
 // --- cylindrical -----------------------------------------------------------------------------
