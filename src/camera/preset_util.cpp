@@ -102,8 +102,9 @@ TileCoord tile_of(Vec2 uv, int cols, int rows) {
   TileCoord t;
   const double x = uv.x * cols, y = uv.y * rows;
   // floor, clamped; a NaN position lands in tile 0 and is rejected by the caller's checks.
-  t.col = std::clamp(int(std::floor(std::isfinite(x) ? x : 0)), 0, cols - 1);
-  t.row = std::clamp(int(std::floor(std::isfinite(y) ? y : 0)), 0, rows - 1);
+  // Clamping first makes truncation equal floor (and skips the libm call floor is on x86-64).
+  t.col = int(std::isfinite(x) ? std::clamp(x, 0.0, double(cols - 1)) : 0.0);
+  t.row = int(std::isfinite(y) ? std::clamp(y, 0.0, double(rows - 1)) : 0.0);
   t.st = {x - t.col, y - t.row};
   return t;
 }
