@@ -33,17 +33,16 @@ void generate_all(benchmark::State& state, const Camera& cam) {
 // The renderer's way: 4x4 packets of pixel centers through generate_batch.
 void generate_packets(benchmark::State& state, const Camera& cam) {
   CameraSample s[16];
-  CameraRay out[16];
-  bool valid[16];
+  CameraRayBatch out;
   for (auto _ : state) {
     double acc = 0;
     for (int y = 0; y < kH; y += 4)
       for (int x = 0; x < kW; x += 4) {
         for (int k = 0; k < 16; ++k)
           s[k].uv = {(x + (k & 3) + 0.5) / kW, (y + (k >> 2) + 0.5) / kH};
-        cam.generate_batch(s, 16, out, valid);
+        cam.generate_batch(s, 16, &out);
         for (int k = 0; k < 16; ++k)
-          if (valid[k]) acc += out[k].dir.x;
+          if (out.valid[k]) acc += out.dir[0][k];
       }
     benchmark::DoNotOptimize(acc);
   }

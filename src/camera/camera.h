@@ -28,19 +28,40 @@ struct CameraRay {
   Vec3 ddir_du, ddir_dv;
 };
 
+// Up to kCameraBatch rays in structure-of-arrays form: what cameras compute vectorized and what
+// the renderer's 4x4 primary packets consume (no transposition into CameraRay per lane).
+inline constexpr int kCameraBatch = 16;
+struct CameraRayBatch {
+  static constexpr int N = kCameraBatch;
+  double org[3][N], dir[3][N];
+  double dorg_du[3][N], dorg_dv[3][N], ddir_du[3][N], ddir_dv[3][N];
+  bool valid[N];
+
+  CameraRay ray(int i) const {
+    const auto v = [i](const double(&a)[3][N]) { return Vec3{a[0][i], a[1][i], a[2][i]}; };
+    return {v(org), v(dir), v(dorg_du), v(dorg_dv), v(ddir_du), v(ddir_dv)};
+  }
+  void set(int i, const std::optional<CameraRay>& r) {
+    valid[i] = bool(r);
+    const CameraRay c = r ? *r : CameraRay{};
+    const auto put = [i](double(&a)[3][N], const Vec3& x) {
+      a[0][i] = x.x, a[1][i] = x.y, a[2][i] = x.z;
+    };
+    put(org, c.org), put(dir, c.dir), put(dorg_du, c.dorg_du), put(dorg_dv, c.dorg_dv);
+    put(ddir_du, c.ddir_du), put(ddir_dv, c.ddir_dv);
+  }
+};
+
 class Camera {
  public:
   virtual ~Camera() = default;
   // Must be const, thread-safe and allocation-free.
   virtual std::optional<CameraRay> generate(const CameraSample& s) const = 0;
-  // Many samples at once (the renderer's primary-ray packets); `valid[i]` false means no ray.
-  // The same rays as generate(), which cameras may compute faster together.
-  virtual void generate_batch(const CameraSample* s, int n, CameraRay* out, bool* valid) const {
-    for (int i = 0; i < n; ++i) {
-      const auto r = generate(s[i]);
-      valid[i] = bool(r);
-      if (r) out[i] = *r;
-    }
+  // n <= kCameraBatch samples at once (the renderer's primary-ray packets): the same rays as
+  // generate(), bit for bit, which cameras may compute faster together. `out->valid[i]` false
+  // means no ray (the lane's other values are then unspecified).
+  virtual void generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
+    for (int i = 0; i < n; ++i) out->set(i, generate(s[i]));
   }
   // Whether rays depend on CameraSample::lens or ::time (depth of field, motion); the renderer
   // draws those random numbers only when they matter.

@@ -15,6 +15,7 @@
 #include <string>
 #include <string_view>
 
+#include "camera/camera.h"
 #include "camera/params.h"
 #include "math/vec.h"
 
@@ -38,7 +39,6 @@ struct DirSample {
 
 // Up to kCameraBatch directions in structure-of-arrays form, so that loops over them vectorize
 // (the renderer asks for its 4x4 primary-ray packets at once).
-inline constexpr int kCameraBatch = 16;
 struct DirBatch {
   double d[3][kCameraBatch], du[3][kCameraBatch], dv[3][kCameraBatch];
   bool ok[kCameraBatch];

@@ -179,11 +179,10 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
     return r;
   }
   if (dof_.aperture_radius == 0 && rig_affine_ && !coins_.reaches(cs.uv)) {
-    CameraRay r;
-    bool ok;
-    plain_rays(&cs.uv.x, &cs.uv.y, 1, &r, &ok);
-    if (!ok) return std::nullopt;
-    return r;
+    CameraRayBatch b;
+    plain_rays(&cs.uv.x, &cs.uv.y, 1, &b);
+    if (!b.valid[0]) return std::nullopt;
+    return b.ray(0);
   }
   return generate_general(cs);
 }
@@ -191,75 +190,65 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
 namespace {
 
 // The affine ray field for a batch, in structure-of-arrays form so the compiler vectorizes it;
-// compiled for AVX-512, AVX2 and the baseline, chosen at load time.
+// compiled for several ISAs, chosen at load time (math/simd.h).
 struct LinearField {
   Vec3 o0, o_u, o_v, d0, d_u, d_v;
 };
 
-// One chunk of at most 16 rays: the arithmetic in structure-of-arrays form on local arrays
-// (vectorized: nothing there aliases the caller's bool and ray arrays), then the copy into the
-// rays. Inlined with m = 16 as a constant for full packets, so no scalar remainder loop runs.
-[[gnu::always_inline]] inline void linear_chunk(const LinearField& g, const CameraSample* s, int m,
-                                                CameraRay* out, bool* valid) {
+// The loops below write straight into the batch's arrays. Masks are formed in loops of their
+// own: bool stores from double lanes keep GCC from vectorizing a loop. Each kernel is inlined
+// with n = 16 (full packets: full vectors, no remainder loop) and n = 1 (generate(): straight-line
+// code) as constants.
+[[gnu::always_inline]] inline void linear_kernel(const LinearField& f, const double* u,
+                                                 const double* v, int n, CameraRayBatch* out) {
+  const LinearField g = f;  // a local copy: stores to `out` cannot alias it
   constexpr int N = kCameraBatch;
-  alignas(64) double us[N], vs[N], o[3][N], d[3][N], ru[3][N], rv[3][N], invs[N];
-  for (int i = 0; i < m; ++i) us[i] = s[i].uv.x, vs[i] = s[i].uv.y;
-  for (int i = 0; i < m; ++i) {
-    const double u = us[i], v = vs[i];
-    const double dx = g.d0.x + g.d_u.x * u + g.d_v.x * v;
-    const double dy = g.d0.y + g.d_u.y * u + g.d_v.y * v;
-    const double dz = g.d0.z + g.d_u.z * u + g.d_v.z * v;
+  alignas(64) double invs[N];
+  for (int i = 0; i < n; ++i) {
+    const double dx = g.d0.x + g.d_u.x * u[i] + g.d_v.x * v[i];
+    const double dy = g.d0.y + g.d_u.y * u[i] + g.d_v.y * v[i];
+    const double dz = g.d0.z + g.d_u.z * u[i] + g.d_v.z * v[i];
     const double inv = 1 / std::sqrt(dx * dx + dy * dy + dz * dz);
     invs[i] = inv;
-    o[0][i] = g.o0.x + g.o_u.x * u + g.o_v.x * v;
-    o[1][i] = g.o0.y + g.o_u.y * u + g.o_v.y * v;
-    o[2][i] = g.o0.z + g.o_u.z * u + g.o_v.z * v;
+    out->org[0][i] = g.o0.x + g.o_u.x * u[i] + g.o_v.x * v[i];
+    out->org[1][i] = g.o0.y + g.o_u.y * u[i] + g.o_v.y * v[i];
+    out->org[2][i] = g.o0.z + g.o_u.z * u[i] + g.o_v.z * v[i];
     const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
-    d[0][i] = nx, d[1][i] = ny, d[2][i] = nz;
+    out->dir[0][i] = nx, out->dir[1][i] = ny, out->dir[2][i] = nz;
+    out->dorg_du[0][i] = g.o_u.x, out->dorg_du[1][i] = g.o_u.y, out->dorg_du[2][i] = g.o_u.z;
+    out->dorg_dv[0][i] = g.o_v.x, out->dorg_dv[1][i] = g.o_v.y, out->dorg_dv[2][i] = g.o_v.z;
+    // d(d/|d|) = (dd - n (n . dd)) / |d|
     const double pu = nx * g.d_u.x + ny * g.d_u.y + nz * g.d_u.z;
     const double pv = nx * g.d_v.x + ny * g.d_v.y + nz * g.d_v.z;
-    ru[0][i] = (g.d_u.x - nx * pu) * inv, ru[1][i] = (g.d_u.y - ny * pu) * inv,
-    ru[2][i] = (g.d_u.z - nz * pu) * inv;
-    rv[0][i] = (g.d_v.x - nx * pv) * inv, rv[1][i] = (g.d_v.y - ny * pv) * inv,
-    rv[2][i] = (g.d_v.z - nz * pv) * inv;
+    out->ddir_du[0][i] = (g.d_u.x - nx * pu) * inv, out->ddir_du[1][i] = (g.d_u.y - ny * pu) * inv,
+    out->ddir_du[2][i] = (g.d_u.z - nz * pu) * inv;
+    out->ddir_dv[0][i] = (g.d_v.x - nx * pv) * inv, out->ddir_dv[1][i] = (g.d_v.y - ny * pv) * inv,
+    out->ddir_dv[2][i] = (g.d_v.z - nz * pv) * inv;
   }
-  for (int i = 0; i < m; ++i) valid[i] = (invs[i] * 0 == 0) & (invs[i] > 0);
-  for (int i = 0; i < m; ++i) {
-    CameraRay& r = out[i];
-    r.org = {o[0][i], o[1][i], o[2][i]};
-    r.dir = {d[0][i], d[1][i], d[2][i]};
-    r.dorg_du = g.o_u;
-    r.dorg_dv = g.o_v;
-    r.ddir_du = {ru[0][i], ru[1][i], ru[2][i]};
-    r.ddir_dv = {rv[0][i], rv[1][i], rv[2][i]};
-  }
+  for (int i = 0; i < n; ++i) out->valid[i] = (invs[i] * 0 == 0) & (invs[i] > 0);
 }
 
-ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const CameraSample* s, int n,
-                                      CameraRay* out, bool* valid) {
-  const LinearField g = f;
-  for (int base = 0; base < n; base += kCameraBatch) {
-    if (n - base >= kCameraBatch)
-      linear_chunk(g, s + base, kCameraBatch, out + base, valid + base);
-    else
-      linear_chunk(g, s + base, n - base, out + base, valid + base);
-  }
+ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const double* u, const double* v, int n,
+                                      CameraRayBatch* out) {
+  if (n == kCameraBatch)
+    linear_kernel(f, u, v, kCameraBatch, out);
+  else if (n == 1)
+    linear_kernel(f, u, v, 1, out);
+  else
+    linear_kernel(f, u, v, n, out);
 }
 
-// The rig, normalization and ray differentials for a batch of directions from org/dir, in one
-// loop the compiler vectorizes. Every ray goes through here, batched or not, so the bits agree.
+// The rig, normalization and ray differentials for a batch of directions from org/dir. Every
+// ray goes through here, batched or not, so the bits agree.
 struct Rig {
   double m[3][4];
 };
 
-// Two passes: the arithmetic in structure-of-arrays form (vectorized), then the copy into the
-// renderer's array-of-structures rays. always_inline so each ISA clone gets its own copy (an
-// out-of-line template would be compiled for the baseline only).
 template <bool kPointOrg>
 [[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceSample* org,
                                                const bool* org_ok, const DirBatch& b, int n,
-                                               CameraRay* out, bool* valid) {
-  const Rig rig = t;  // a local copy: stores to the rays cannot alias it
+                                               CameraRayBatch* out) {
+  const Rig rig = t;  // a local copy: stores to `out` cannot alias it
   const auto& m = rig.m;
   const auto vec = [&](const Vec3& a) {
     return Vec3{m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z,
@@ -267,16 +256,21 @@ template <bool kPointOrg>
                 m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
   };
   constexpr int N = kCameraBatch;
-  alignas(64) double o[3][N], d[3][N], ru[3][N], rv[3][N];
   alignas(64) double lens[N], finite[N];
   alignas(64) bool org_valid[N];
   // Origins gathered into local arrays first: strided loads from the samples keep GCC from
   // vectorizing the arithmetic.
   alignas(64) double pxs[N], pys[N], pzs[N];
   if (!kPointOrg)
-    for (int i = 0; i < n; ++i)
+    for (int i = 0; i < n; ++i) {
       pxs[i] = org[i].p.x, pys[i] = org[i].p.y, pzs[i] = org[i].p.z, org_valid[i] = org_ok[i];
+      const Vec3 du = vec(org[i].dpdu), dv = vec(org[i].dpdv);
+      out->dorg_du[0][i] = du.x, out->dorg_du[1][i] = du.y, out->dorg_du[2][i] = du.z;
+      out->dorg_dv[0][i] = dv.x, out->dorg_dv[1][i] = dv.y, out->dorg_dv[2][i] = dv.z;
+    }
   const Vec3 p0 = org[0].p;
+  const Vec3 point_du = kPointOrg ? vec(org[0].dpdu) : Vec3{},
+             point_dv = kPointOrg ? vec(org[0].dpdv) : Vec3{};
   for (int i = 0; i < n; ++i) {
     const double px = kPointOrg ? p0.x : pxs[i], py = kPointOrg ? p0.y : pys[i],
                  pz = kPointOrg ? p0.z : pzs[i];
@@ -297,57 +291,50 @@ template <bool kPointOrg>
     // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
     // x * 0 == 0 holds exactly for finite x.
     lens[i] = len;
-    finite[i] = len * 0 + (ox + oy + oz) * 0;  // 0 exactly when both are finite
+    finite[i] = len * 0 + (ox + oy + oz) * 0;
     const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
-    o[0][i] = ox, o[1][i] = oy, o[2][i] = oz;
-    d[0][i] = nx, d[1][i] = ny, d[2][i] = nz;
+    out->org[0][i] = ox, out->org[1][i] = oy, out->org[2][i] = oz;
+    out->dir[0][i] = nx, out->dir[1][i] = ny, out->dir[2][i] = nz;
+    if (kPointOrg) {
+      out->dorg_du[0][i] = point_du.x, out->dorg_du[1][i] = point_du.y;
+      out->dorg_du[2][i] = point_du.z;
+      out->dorg_dv[0][i] = point_dv.x, out->dorg_dv[1][i] = point_dv.y;
+      out->dorg_dv[2][i] = point_dv.z;
+    }
     // d(d/|d|) = (dd - n (n . dd)) / |d|
     const double pu = nx * ux + ny * uy + nz * uz, pv = nx * vx + ny * vy + nz * vz;
-    ru[0][i] = (ux - nx * pu) * inv, ru[1][i] = (uy - ny * pu) * inv,
-    ru[2][i] = (uz - nz * pu) * inv;
-    rv[0][i] = (vx - nx * pv) * inv, rv[1][i] = (vy - ny * pv) * inv,
-    rv[2][i] = (vz - nz * pv) * inv;
+    out->ddir_du[0][i] = (ux - nx * pu) * inv, out->ddir_du[1][i] = (uy - ny * pu) * inv,
+    out->ddir_du[2][i] = (uz - nz * pu) * inv;
+    out->ddir_dv[0][i] = (vx - nx * pv) * inv, out->ddir_dv[1][i] = (vy - ny * pv) * inv,
+    out->ddir_dv[2][i] = (vz - nz * pv) * inv;
   }
-  // Masks are formed here, not in the loop above: bool stores from double lanes do not vectorize.
   for (int i = 0; i < n; ++i)
-    valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org_valid[i]);
-  const Vec3 point_du = kPointOrg ? vec(org[0].dpdu) : Vec3{},
-             point_dv = kPointOrg ? vec(org[0].dpdv) : Vec3{};
-  for (int i = 0; i < n; ++i) {
-    CameraRay& r = out[i];
-    r.org = {o[0][i], o[1][i], o[2][i]};
-    r.dir = {d[0][i], d[1][i], d[2][i]};
-    r.dorg_du = kPointOrg ? point_du : vec(org[i].dpdu);
-    r.dorg_dv = kPointOrg ? point_dv : vec(org[i].dpdv);
-    r.ddir_du = {ru[0][i], ru[1][i], ru[2][i]};
-    r.ddir_dv = {rv[0][i], rv[1][i], rv[2][i]};
-  }
+    out->valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org_valid[i]);
 }
 
 ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceSample& org,
-                                           const DirBatch& b, int n, CameraRay* out, bool* valid) {
-  if (n == kCameraBatch)  // a constant trip count: full vectors, no remainder loop
-    finish_rays<true>(t, &org, nullptr, b, kCameraBatch, out, valid);
-  else if (n == 1)  // one-at-a-time generate(): straight-line code
-    finish_rays<true>(t, &org, nullptr, b, 1, out, valid);
+                                           const DirBatch& b, int n, CameraRayBatch* out) {
+  if (n == kCameraBatch)
+    finish_rays<true>(t, &org, nullptr, b, kCameraBatch, out);
+  else if (n == 1)
+    finish_rays<true>(t, &org, nullptr, b, 1, out);
   else
-    finish_rays<true>(t, &org, nullptr, b, n, out, valid);
+    finish_rays<true>(t, &org, nullptr, b, n, out);
 }
 
 ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org, const bool* org_ok,
-                                         const DirBatch& b, int n, CameraRay* out, bool* valid) {
+                                         const DirBatch& b, int n, CameraRayBatch* out) {
   if (n == kCameraBatch)
-    finish_rays<false>(t, org, org_ok, b, kCameraBatch, out, valid);
+    finish_rays<false>(t, org, org_ok, b, kCameraBatch, out);
   else if (n == 1)
-    finish_rays<false>(t, org, org_ok, b, 1, out, valid);
+    finish_rays<false>(t, org, org_ok, b, 1, out);
   else
-    finish_rays<false>(t, org, org_ok, b, n, out, valid);
+    finish_rays<false>(t, org, org_ok, b, n, out);
 }
 
 }  // namespace
 
-void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRay* out,
-                               bool* valid) const {
+void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out) const {
   Rig rig;
   const auto& a = world_from_camera_.matrix().m;
   for (int r = 0; r < 3; ++r)
@@ -355,7 +342,7 @@ void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRa
   DirBatch b;
   if (point_org_) {
     dir_->eval_batch(u, v, n, &point_sample_, 0, &b);
-    finish_point_org(rig, point_sample_, b, n, out, valid);
+    finish_point_org(rig, point_sample_, b, n, out);
     return;
   }
   SurfaceSample org[kCameraBatch];
@@ -364,33 +351,24 @@ void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRa
   for (int i = 0; i < n; ++i)
     if (!org_ok[i]) org[i] = SurfaceSample{};  // dir functions read defined values
   dir_->eval_batch(u, v, n, org, 1, &b);
-  finish_any_org(rig, org, org_ok, b, n, out, valid);
+  finish_any_org(rig, org, org_ok, b, n, out);
 }
 
-void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRay* out,
-                                   bool* valid) const {
+void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
   if (moving_ || dof_.aperture_radius > 0 || !rig_affine_) {
-    Camera::generate_batch(s, n, out, valid);
+    Camera::generate_batch(s, n, out);
     return;
   }
-  if (linear_) {
-    linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, s, n, out, valid);
-  } else {
-    for (int base = 0; base < n; base += kCameraBatch) {
-      const int m = std::min(kCameraBatch, n - base);
-      double u[kCameraBatch], v[kCameraBatch];
-      for (int i = 0; i < m; ++i) u[i] = s[base + i].uv.x, v[i] = s[base + i].uv.y;
-      plain_rays(u, v, m, out + base, valid + base);
-    }
-  }
+  double u[kCameraBatch], v[kCameraBatch];
+  for (int i = 0; i < n; ++i) u[i] = s[i].uv.x, v[i] = s[i].uv.y;
+  if (linear_)
+    linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, u, v, n, out);
+  else
+    plain_rays(u, v, n, out);
   // Samples under a coin take the one-at-a-time path (the field is deformed there).
   if (!coins_.empty())
     for (int i = 0; i < n; ++i)
-      if (coins_.reaches(s[i].uv)) {
-        const auto r = generate(s[i]);
-        valid[i] = bool(r);
-        if (r) out[i] = *r;
-      }
+      if (coins_.reaches(s[i].uv)) out->set(i, generate(s[i]));
 }
 
 std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs,

@@ -51,7 +51,7 @@ class VirtualCamera final : public Camera {
   VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
 
   std::optional<CameraRay> generate(const CameraSample& s) const override;
-  void generate_batch(const CameraSample* s, int n, CameraRay* out, bool* valid) const override;
+  void generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const override;
   bool uses_lens_or_time() const override { return dof_.aperture_radius > 0 || moving_; }
   std::vector<Vec2> project(const Vec3& p) const override;
   std::string describe() const override { return description_; }
@@ -81,7 +81,7 @@ class VirtualCamera final : public Camera {
   // The rays of n <= kCameraBatch samples with no lens, motion or coin: functions in batch, then
   // one vectorized pass for the rig, normalization and differentials. generate() runs the same
   // code with n = 1, so both give the same bits.
-  void plain_rays(const double* u, const double* v, int n, CameraRay* out, bool* valid) const;
+  void plain_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
   std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
   std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
   void to_world(CameraRay* r) const;  // the rig

@@ -320,9 +320,9 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               // Coherent packets of 4x4 pixels for the primary rays. The packet's arrays live for
               // the whole tile: constructing them per packet (zeroing about 6 KB) cost a third of
               // the time of primary-ray renders.
-              constexpr int kPacket = 16;
+              constexpr int kPacket = kCameraBatch;
               Ray rays[kPacket];
-              CameraRay cam[kPacket];
+              CameraRayBatch cam;
               bool valid[kPacket], found[kPacket], use[kPacket];
               Hit hits[kPacket];
               Rng rng[kPacket];
@@ -365,10 +365,14 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                     // Unused lanes get a harmless sample; their rays are masked out below.
                     for (int k = 0; k < kPacket; ++k)
                       if (!use[k]) samples[k] = CameraSample{};
-                    scene_.camera->generate_batch(samples, kPacket, cam, valid);
+                    scene_.camera->generate_batch(samples, kPacket, &cam);
                     for (int k = 0; k < kPacket; ++k) {
-                      valid[k] = valid[k] && use[k];
-                      if (valid[k]) rays[k] = Ray{cam[k].org, cam[k].dir, 0, kInf};
+                      valid[k] = cam.valid[k] && use[k];
+                      if (valid[k])
+                        rays[k] = Ray{{cam.org[0][k], cam.org[1][k], cam.org[2][k]},
+                                      {cam.dir[0][k], cam.dir[1][k], cam.dir[2][k]},
+                                      0,
+                                      kInf};
                     }
                     accel_->intersect16(rays, valid, hits, found);
                     for (int k = 0; k < kPacket; ++k) {
@@ -379,8 +383,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                         continue;
                       }
                       st.rays++;
-                      job.finish(rays[k], cam[k], found[k] ? &hits[k] : nullptr, rng[k], st.rays,
-                                 res, fp_scale);
+                      job.finish(rays[k], cam.ray(k), found[k] ? &hits[k] : nullptr, rng[k],
+                                 st.rays, res, fp_scale);
                       if (!is_finite(res.L)) {
                         st.nan(lx[k], ly[k], int(s));
                         continue;  // dropped

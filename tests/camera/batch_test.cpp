@@ -23,10 +23,15 @@ void expect_batch_equals_single(const Camera& cam, const std::string& label) {
   CameraRay out[kN];
   bool valid[kN];
   int n_valid = 0;
-  for (int base = 0; base < kN; base += 37) {
-    const int n = std::min(37, kN - base);
-    cam.generate_batch(s + base, n, out + base, valid + base);
+  // Full packets, single samples and partial packets (sizes sum to kN).
+  int base = 0;
+  for (int n : {16, 1, 16, 7, 13}) {
+    CameraRayBatch b;
+    cam.generate_batch(s + base, n, &b);
+    for (int k = 0; k < n; ++k) out[base + k] = b.ray(k), valid[base + k] = b.valid[k];
+    base += n;
   }
+  ASSERT_EQ(base, kN);
   for (int i = 0; i < kN; ++i) {
     const auto r = cam.generate(s[i]);
     ASSERT_EQ(valid[i], bool(r)) << label << " sample " << i << " at " << test::str(s[i].uv);
