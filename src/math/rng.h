@@ -39,18 +39,28 @@ inline uint32_t lk_permute(uint32_t x, uint32_t seed) {
   x ^= x * 0x8d22f6e6u;
   return x;
 }
-// Nested uniform (Owen) scrambling of a 32-bit binary fraction.
-inline uint32_t owen(uint32_t x, uint32_t seed) {
-  return reverse_bits(lk_permute(reverse_bits(x), seed));
+// Sobol' dimension 1 with its bits reversed (dimension 0 is the bit-reversed index): each set
+// bit j of i adds row j of Pascal's triangle mod 2. Linear over GF(2), so four byte tables.
+struct Sobol1Tables {
+  uint32_t t[4][256];
+  constexpr Sobol1Tables() : t{} {
+    uint32_t rows[32] = {};
+    uint32_t w = 1;
+    for (int j = 0; j < 32; ++j, w ^= w << 1) rows[j] = w;
+    for (int k = 0; k < 4; ++k)
+      for (uint32_t b = 0; b < 256; ++b) {
+        uint32_t r = 0;
+        for (int j = 0; j < 8; ++j)
+          if (b >> j & 1) r ^= rows[8 * k + j];
+        t[k][b] = r;
+      }
+  }
+};
+inline constexpr Sobol1Tables kSobol1{};
+inline uint32_t sobol1_reversed(uint32_t i) {
+  return kSobol1.t[0][i & 255] ^ kSobol1.t[1][(i >> 8) & 255] ^ kSobol1.t[2][(i >> 16) & 255] ^
+         kSobol1.t[3][i >> 24];
 }
-// Sobol' dimension 1 (dimension 0 is the bit-reversed index).
-inline uint32_t sobol1(uint32_t i) {
-  uint32_t r = 0;
-  for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
-    if (i & 1) r ^= v;
-  return r;
-}
-inline uint32_t hash32(uint64_t k) { return uint32_t(mix64(k) >> 32); }
 }  // namespace qmc
 
 class Rng {
@@ -75,9 +85,10 @@ class Rng {
   // pixel's scrambled Sobol' points, the rest from PCG32.
   double uniform() {
     if (dim_ < qmc_dims_) {
-      const double v = qmc_value(dim_ >> 1, dim_ & 1);
-      ++dim_;
-      return v;
+      if (dim_++ & 1) return double(pending_) * 0x1p-32;
+      uint32_t x;
+      qmc_pair(dim_ >> 1, x, pending_);
+      return double(x) * 0x1p-32;
     }
     return double(next_u32()) * 0x1p-32;
   }
@@ -92,7 +103,7 @@ class Rng {
   // sequence scrambled by `key` (one per pixel): consecutive sample indices of one pixel are then
   // stratified against each other, dimension pair by dimension pair.
   void qmc(uint32_t index, uint64_t key, int dims) {
-    qmc_index_ = index;
+    qmc_rindex_ = qmc::reverse_bits(index);
     qmc_key_ = key;
     qmc_dims_ = uint8_t(dims);
     dim_ = 0;
@@ -105,15 +116,21 @@ class Rng {
   }
 
  private:
-  double qmc_value(uint32_t pair, int component) const {
-    const uint32_t seed = qmc::hash32(qmc_key_ ^ (uint64_t(pair) * 0x9E3779B97F4A7C15ULL));
-    const uint32_t i = qmc::owen(qmc_index_, seed);
-    const uint32_t x = component == 0 ? qmc::reverse_bits(i) : qmc::sobol1(i);
-    return double(qmc::owen(x, qmc::hash32(uint64_t(seed) << 1 | uint32_t(component)))) * 0x1p-32;
+  // Point `index` of dimension pair `pair`: the index shuffled by nested uniform scrambling, its
+  // Sobol' coordinates, each scrambled likewise. Owen scrambling works on bit-reversed values,
+  // which the reversed index and the reversed dimension 1 give for free.
+  void qmc_pair(uint32_t pair, uint32_t& x, uint32_t& y) const {
+    const uint64_t h = mix64(qmc_key_ ^ (uint64_t(pair) * 0x9E3779B97F4A7C15ULL));
+    const uint32_t shuffled_r = qmc::lk_permute(qmc_rindex_, uint32_t(h));  // reversed
+    const uint32_t shuffled = qmc::reverse_bits(shuffled_r);
+    // Dimension 0 is reverse_bits(shuffled); Owen-scrambling it = reverse(lk(shuffled)).
+    x = qmc::reverse_bits(qmc::lk_permute(shuffled, uint32_t(h >> 32)));
+    y = qmc::reverse_bits(
+        qmc::lk_permute(qmc::sobol1_reversed(shuffled), uint32_t(h >> 32) * 0x2545F491u + 1));
   }
   uint64_t state_ = 0x853c49e6748fea9bULL, inc_ = 0xda3e39cb94b95bdbULL;
   uint64_t qmc_key_ = 0;
-  uint32_t qmc_index_ = 0;
+  uint32_t qmc_rindex_ = 0, pending_ = 0;  // the sample index, bit-reversed; a pair's y
   uint8_t qmc_dims_ = 0, dim_ = 0;
 };
 
