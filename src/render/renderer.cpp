@@ -245,6 +245,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               TileStats& st = tile_stats[ti];
               AdaptiveWorkspace& ws = spaces.local();
               auto eval = [&](Vec2 uv, uint64_t key, double footprint, uint64_t& rays) {
+                st.samples++;  // each lattice point once per tile, however many pixels share it
                 Rng rng(key, rs.seed);
                 return job.sample_at(uv, rng, rays, footprint);
               };
@@ -258,7 +259,6 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                     }
                     if (p.nans) st.nan(x, y, 0);
                     film.set(x, y, p.L, p.alpha, p.samples, a);
-                    st.samples += p.samples;
                   },
                   st.rays);
               report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);

@@ -35,6 +35,8 @@ struct RenderOptions {
 
 struct RenderStats {
   double seconds = 0;
+  // samples: camera samples taken (adaptive subdivision: lattice points evaluated, a point shared
+  // by neighbouring pixels once; the spp AOV counts it in every pixel that uses it).
   uint64_t rays = 0, samples = 0;
   uint64_t nan_samples = 0;                     // non-finite radiance, dropped
   int nan_x = -1, nan_y = -1, nan_sample = -1;  // the first one in (y, x, sample) order
