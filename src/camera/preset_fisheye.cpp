@@ -128,13 +128,17 @@ struct FisheyeGeometry {
   Vec3 eye;           // the ray origin
 };
 
-// The equidistant mapping (fisheye's default, dome) as straight-line code over a batch, which
-// the compiler vectorizes: the same steps as the general path below with selects for its
-// branches and sincos_poly for the angle. Lanes outside the image circle get ok = false.
-[[gnu::always_inline]] inline void equidistant_kernel(const FisheyeGeometry& geo, const double* u,
-                                                      const double* v, int n, DirBatch* out) {
+// The fisheye directions as straight-line code over a batch, which the compiler vectorizes: the
+// same steps as radial_direction() with selects for its branches. No inverse trigonometry: the
+// mappings give sin(theta) and cos(theta) algebraically (equisolid from sin(theta/2), stereographic
+// from tan(theta/2), orthographic from sin(theta)); equidistant uses sincos_poly. Lanes outside
+// the image circle get ok = false. (The polynomial mapping stays on the one-at-a-time path.)
+template <FisheyeMapping::Kind K>
+[[gnu::always_inline]] inline void fisheye_kernel(const FisheyeGeometry& geo, const double* u,
+                                                  const double* v, int n, DirBatch* out) {
   const FisheyeGeometry g = geo;  // a local copy: stores to `out` cannot alias it
   const double tm = g.map.theta_max, R = g.radius, su = R * g.sa, sv = -R * g.sb;
+  const double half_sin = std::sin(tm / 2), half_tan = std::tan(tm / 2), full_sin = std::sin(tm);
   const Vec3 X = g.frame.right, Y = g.frame.up, Z = g.frame.axis;
   alignas(64) double radius[kCameraBatch];
   for (int i = 0; i < n; ++i) {
@@ -143,19 +147,36 @@ struct FisheyeGeometry {
     radius[i] = r;
     const double ik = 1 / (r > 1 ? r : 1.0);  // onto the circle (exactly 1 inside it)
     a *= ik, b *= ik;
-    const double theta = (r < 1 ? r : 1.0) * tm;
-    double st, ct;
-    sincos_poly(theta, &st, &ct);
+    const double rc = r < 1 ? r : 1.0;
+    double st, ct, dth;  // sin and cos of theta(rc), d theta / d r
+    if constexpr (K == FisheyeMapping::kEquidistant) {
+      sincos_poly(rc * tm, &st, &ct);
+      dth = tm;
+    } else if constexpr (K == FisheyeMapping::kEquisolid) {  // sin(theta/2) = r sin(tm/2)
+      const double x0 = rc * half_sin, x = x0 < 1 ? x0 : 1.0, c = std::sqrt(1 - x * x);
+      st = 2 * x * c, ct = 1 - 2 * x * x;
+      const double q = 1 - rc * rc * half_sin * half_sin;
+      dth = 2 * half_sin / std::sqrt(q > 1e-24 ? q : 1e-24);
+    } else if constexpr (K == FisheyeMapping::kStereographic) {  // tan(theta/2) = r tan(tm/2)
+      const double t = rc * half_tan, den = 1 / (1 + t * t);
+      st = 2 * t * den, ct = (1 - t * t) * den;
+      dth = 2 * half_tan * den;
+    } else {  // orthographic: sin(theta) = r sin(tm)
+      const double x0 = rc * full_sin, x = x0 < 1 ? x0 : 1.0;
+      st = x, ct = std::sqrt(1 - x * x);
+      const double q = 1 - rc * rc * full_sin * full_sin;
+      dth = full_sin / std::sqrt(q > 1e-24 ? q : 1e-24);
+    }
     // radial_direction(): on the axis sin(theta)/rho -> dtheta/drho.
     const double rho = std::sqrt(a * a + b * b);
     const bool axis = rho < 1e-12;
     const double irs = 1 / (axis ? 1.0 : rho);  // one division for the four quotients
-    const double sr = axis ? tm : st * irs;
-    const double ds = axis ? 0.0 : (ct * tm - st * irs) * irs;
+    const double sr = axis ? dth : st * irs;
+    const double ds = axis ? 0.0 : (ct * dth - st * irs) * irs;
     const double ca = axis ? 0.0 : a * irs, cb = axis ? 0.0 : b * irs;
     const double lx = axis ? 0.0 : sr * a, ly = axis ? 0.0 : sr * b, lz = axis ? -1.0 : -ct;
-    const double ax = sr + a * ds * ca, ay = b * ds * ca, az = st * tm * ca;
-    const double bx = a * ds * cb, by = sr + b * ds * cb, bz = st * tm * cb;
+    const double ax = sr + a * ds * ca, ay = b * ds * ca, az = st * dth * ca;
+    const double bx = a * ds * cb, by = sr + b * ds * cb, bz = st * dth * cb;
     // frame.to_camera(l) = right l.x + up l.y - axis l.z
     out->d[0][i] = (X.x * lx + Y.x * ly - Z.x * lz) * R - g.eye.x;
     out->d[1][i] = (X.y * lx + Y.y * ly - Z.y * lz) * R - g.eye.y;
@@ -173,21 +194,38 @@ struct FisheyeGeometry {
 
 // Constant trip counts for full packets and for one-at-a-time calls: full vectors with no
 // remainder loop, and straight-line code.
-ANAMORPH_SIMD_CLONES void equidistant_dirs(const FisheyeGeometry& g, const double* u,
-                                           const double* v, int n, DirBatch* out) {
+template <FisheyeMapping::Kind K>
+[[gnu::always_inline]] inline void fisheye_run(const FisheyeGeometry& g, const double* u,
+                                               const double* v, int n, DirBatch* out) {
   if (n == kCameraBatch)
-    equidistant_kernel(g, u, v, kCameraBatch, out);
+    fisheye_kernel<K>(g, u, v, kCameraBatch, out);
   else if (n == 1)
-    equidistant_kernel(g, u, v, 1, out);
+    fisheye_kernel<K>(g, u, v, 1, out);
   else
-    equidistant_kernel(g, u, v, n, out);
+    fisheye_kernel<K>(g, u, v, n, out);
+}
+
+ANAMORPH_SIMD_CLONES void fisheye_dirs(const FisheyeGeometry& g, const double* u, const double* v,
+                                       int n, DirBatch* out) {
+  switch (g.map.kind) {
+    case FisheyeMapping::kEquidistant:
+      return fisheye_run<FisheyeMapping::kEquidistant>(g, u, v, n, out);
+    case FisheyeMapping::kEquisolid:
+      return fisheye_run<FisheyeMapping::kEquisolid>(g, u, v, n, out);
+    case FisheyeMapping::kStereographic:
+      return fisheye_run<FisheyeMapping::kStereographic>(g, u, v, n, out);
+    case FisheyeMapping::kOrthographic:
+      return fisheye_run<FisheyeMapping::kOrthographic>(g, u, v, n, out);
+    case FisheyeMapping::kPolynomial:  // FisheyeDir keeps it on its one-at-a-time path
+      return;
+  }
 }
 
 class FisheyeDir final : public DirFunction {
  public:
   explicit FisheyeDir(const FisheyeGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
-    if (g_.map.kind == FisheyeMapping::kEquidistant) {
+    if (g_.map.kind != FisheyeMapping::kPolynomial) {
       DirBatch b;
       eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
       *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
@@ -212,11 +250,10 @@ class FisheyeDir final : public DirFunction {
 
   void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
                   DirBatch* out) const override {
-    if (g_.map.kind != FisheyeMapping::kEquidistant) {
+    if (g_.map.kind == FisheyeMapping::kPolynomial)
       DirFunction::eval_batch(u, v, n, org, org_stride, out);
-      return;
-    }
-    equidistant_dirs(g_, u, v, n, out);
+    else
+      fisheye_dirs(g_, u, v, n, out);
   }
 
  private:

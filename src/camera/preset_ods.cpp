@@ -13,6 +13,7 @@
 
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/fast_trig.h"
 
 namespace anamorph {
 
@@ -67,7 +68,9 @@ class OdsOrg final : public OrgFunction {
     double m1, m2;
     const double R = s * g_.half_ipd * g_.merge_factor(lat, &m1, &m2);
     const double Rv = s * g_.half_ipd * m1 * lv, Rvv = s * g_.half_ipd * m2 * lv * lv;
-    const Vec3 radial{std::cos(lon), 0, std::sin(lon)}, tangent{-std::sin(lon), 0, std::cos(lon)};
+    double sl, cl;
+    sincos_poly(lon, &sl, &cl);
+    const Vec3 radial{cl, 0, sl}, tangent{-sl, 0, cl};
     out->p = radial * R;
     out->dpdu = tangent * (R * lu);
     out->dpdv = radial * Rv;
@@ -89,7 +92,9 @@ class OdsDir final : public DirFunction {
     g_.eye(uv, &st, &sc);
     const double lon = g_.longitude(st.x), lat = g_.latitude(st.y);
     const double lu = g_.lon.span() * sc.x, lv = -g_.lat.span() * sc.y;
-    const double sl = std::sin(lon), cl = std::cos(lon), sp = std::sin(lat), cp = std::cos(lat);
+    double sl, cl, sp, cp;
+    sincos_poly(lon, &sl, &cl);
+    sincos_poly(lat, &sp, &cp);
     out->d = {sl * cp, sp, -cl * cp};
     out->dd_du = Vec3{cl * cp, 0, sl * cp} * lu;
     out->dd_dv = Vec3{-sl * sp, cp, cl * sp} * lv;
