@@ -128,18 +128,20 @@ struct BrownConrady {
     return x.x * x.x + x.y * x.y <= r_max * r_max && jx.x * jy.y - jy.x * jx.y > 0;
   }
 
-  // Newton's method for the undistorted x with distort(x) = target.
+  // Newton's method for the undistorted x with distort(x) = target. The line search evaluates
+  // the Jacobian with the value, so the point it accepts is not distorted a second time at the
+  // top of the next iteration (half the evaluations, the same bits).
   bool undistort(Vec2 target, Vec2* x, Vec2* jx, Vec2* jy) const {
     // Beyond what any point inside the fold reaches there is nothing to find (and Newton would
     // wander): a quick, safe rejection.
     if (!(target.x * target.x + target.y * target.y <= reach * reach)) return false;
     Vec2 p = target;
+    Vec2 d = distort(p, jx, jy);  // the value and Jacobian at p
     for (int it = 0; it < 50; ++it) {
-      const Vec2 f = distort(p, jx, jy) - target;
+      const Vec2 f = d - target;
       const double err = std::abs(f.x) + std::abs(f.y);
       if (err < 1e-14 * (1 + std::abs(target.x) + std::abs(target.y))) {
         *x = p;
-        distort(p, jx, jy);
         return valid(p, *jx, *jy);
       }
       const double det = jx->x * jy->y - jy->x * jx->y;
@@ -147,12 +149,18 @@ struct BrownConrady {
       Vec2 step{(jy->y * f.x - jy->x * f.y) / det, (-jx->y * f.x + jx->x * f.y) / det};
       // Halve steps that do not reduce the residual (folds, large distortion).
       double t = 1;
+      bool accepted = false;
       for (int k = 0; k < 20; ++k, t *= 0.5) {
-        const Vec2 f2 = distort(p - step * t, nullptr, nullptr) - target;
-        if (std::abs(f2.x) + std::abs(f2.y) < err) break;
+        d = distort(p - step * t, jx, jy);
+        const Vec2 f2 = d - target;
+        if (std::abs(f2.x) + std::abs(f2.y) < err) {
+          accepted = true;
+          break;
+        }
       }
       p = p - step * t;
       if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
+      if (!accepted) d = distort(p, jx, jy);  // the smallest step, taken unchecked
     }
     return false;
   }
@@ -232,13 +240,15 @@ struct KannalaBrandt {
     *slope = 1 + t2 * (3 * k1 + t2 * (5 * k2 + t2 * (7 * k3 + t2 * 9 * k4)));
     return t * (1 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4))));
   }
-  // theta with theta_d(theta) = td, by safeguarded Newton on [0, theta_max].
-  bool theta(double td, double* t, double* slope) const {
-    const double top = theta_d(theta_max, slope);
+  // theta with theta_d(theta) = td, by safeguarded Newton on [0, theta_max]; `top` is
+  // theta_d(theta_max). On return *slope is theta_d'(*t).
+  bool theta(double td, double top, double* t, double* slope) const {
     if (!(td >= 0 && td <= top)) return false;
     double lo = 0, hi = theta_max, x = std::min(td, theta_max);
+    bool fresh = false;  // *slope belongs to x
     for (int i = 0; i < 200; ++i) {
       const double f = theta_d(x, slope) - td;
+      fresh = true;
       if (f > 0)
         hi = x;
       else
@@ -248,20 +258,24 @@ struct KannalaBrandt {
       if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
       if (nx == x) break;
       x = nx;
+      fresh = false;
     }
     *t = x;
-    theta_d(x, slope);
+    if (!fresh) theta_d(x, slope);
     return true;
   }
 };
 
 class FisheyeCvDir final : public DirFunction {
  public:
-  FisheyeCvDir(Intrinsics k, KannalaBrandt d) : k_(k), d_(d) {}
+  FisheyeCvDir(Intrinsics k, KannalaBrandt d) : k_(k), d_(d) {
+    double slope;
+    top_ = d_.theta_d(d_.theta_max, &slope);
+  }
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
     const Vec2 xd = k_.distorted(uv);
     double theta, slope;
-    if (!d_.theta(std::sqrt(xd.x * xd.x + xd.y * xd.y), &theta, &slope)) return false;
+    if (!d_.theta(std::sqrt(xd.x * xd.x + xd.y * xd.y), top_, &theta, &slope)) return false;
     // Our image-plane (a right, b up) is OpenCV's (x, -y); theta(rho) has slope 1/theta_d'.
     RadialDirection rd;
     if (!radial_direction(xd.x, -xd.y, theta, 1 / slope, &rd)) return false;
@@ -274,6 +288,7 @@ class FisheyeCvDir final : public DirFunction {
  private:
   Intrinsics k_;
   KannalaBrandt d_;
+  double top_;  // theta_d(theta_max): the largest distorted radius
 };
 
 const ParamSpec kFisheyeParams[] = {

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "math/fast_trig.h"
+
 namespace anamorph {
 
 Vec2 window_half_extent(double e, std::string_view axis, double a) {
@@ -18,7 +20,8 @@ Vec2 window_half_extent(double e, std::string_view axis, double a) {
 
 bool radial_direction(double a, double b, double theta, double dtheta, RadialDirection* out) {
   const double rho = std::sqrt(a * a + b * b);
-  const double st = std::sin(theta), ct = std::cos(theta);
+  double st, ct;
+  sincos_poly(theta, &st, &ct);
   if (rho < 1e-12) {
     // On the axis: sin(theta)/rho -> dtheta/drho when theta(0) = 0.
     if (std::abs(theta) > 1e-9) return false;
