@@ -2,7 +2,9 @@
 // exactly one thread (its tile's), in sample order, so sums are bit-identical for any thread count.
 #pragma once
 
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/image_io.h"
@@ -56,20 +58,34 @@ class Film {
   double alpha(int x, int y) const;
 
  private:
+  // Trivial, so the allocator below can leave new pixels for clear() to zero in parallel (the
+  // first touch of a 1080p film is ~30,000 page faults); Pixel{} is all zeros.
   struct Pixel {
-    double rgb[3] = {0, 0, 0};
-    double alpha = 0;
-    double lum2 = 0;    // sum of squared luminance (variance estimate)
-    uint32_t n = 0;     // terms in the sums
-    uint32_t hits = 0;  // samples that hit a surface (AOV averages)
-    uint32_t spp = 0;   // camera samples taken (equals n for uniform sampling)
+    double rgb[3];
+    double alpha;
+    double lum2;    // sum of squared luminance (variance estimate)
+    uint32_t n;     // terms in the sums
+    uint32_t hits;  // samples that hit a surface (AOV averages)
+    uint32_t spp;   // camera samples taken (equals n for uniform sampling)
+  };
+  template <class T>
+  struct UninitializedAllocator : std::allocator<T> {
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) {}
+    template <class U>
+    void construct(U*) noexcept {}  // default construction: left to clear()
+    template <class U, class... A>
+    void construct(U* p, A&&... a) {
+      ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+    }
   };
   void add_aovs(int x, int y, const AovSample& a, bool first_sample);
   Pixel& px(int x, int y) { return pixels_[size_t(y) * w_ + x]; }
   const Pixel& px(int x, int y) const { return pixels_[size_t(y) * w_ + x]; }
   int w_, h_;
   std::vector<Aov> aovs_;
-  std::vector<Pixel> pixels_;
+  std::vector<Pixel, UninitializedAllocator<Pixel>> pixels_;
   size_t aov_floats_ = 0;    // per pixel
   std::vector<double> aov_;  // per pixel sums, aov_floats_ each
 };
