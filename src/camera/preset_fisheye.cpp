@@ -126,6 +126,8 @@ struct FisheyeGeometry {
   double sa = 2, sb = 2;
   double radius = 1;  // of the sphere, around the camera-space origin
   Vec3 eye;           // the ray origin
+  // sin(fov/4), tan(fov/4), sin(fov/2): set by FisheyeDir once, not per ray.
+  double half_sin = 0, half_tan = 0, full_sin = 0;
 };
 
 // The fisheye directions as straight-line code over a batch, which the compiler vectorizes: the
@@ -138,7 +140,7 @@ template <FisheyeMapping::Kind K>
                                                   const double* v, int n, DirBatch* out) {
   const FisheyeGeometry g = geo;  // a local copy: stores to `out` cannot alias it
   const double tm = g.map.theta_max, R = g.radius, su = R * g.sa, sv = -R * g.sb;
-  const double half_sin = std::sin(tm / 2), half_tan = std::tan(tm / 2), full_sin = std::sin(tm);
+  const double half_sin = g.half_sin, half_tan = g.half_tan, full_sin = g.full_sin;
   const Vec3 X = g.frame.right, Y = g.frame.up, Z = g.frame.axis;
   alignas(64) double radius[kCameraBatch];
   for (int i = 0; i < n; ++i) {
@@ -223,7 +225,10 @@ ANAMORPH_SIMD_CLONES void fisheye_dirs(const FisheyeGeometry& g, const double* u
 
 class FisheyeDir final : public DirFunction {
  public:
-  explicit FisheyeDir(const FisheyeGeometry& g) : g_(g) {}
+  explicit FisheyeDir(const FisheyeGeometry& g) : g_(g) {
+    const double tm = g_.map.theta_max;
+    g_.half_sin = std::sin(tm / 2), g_.half_tan = std::tan(tm / 2), g_.full_sin = std::sin(tm);
+  }
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
     if (g_.map.kind != FisheyeMapping::kPolynomial) {
       DirBatch b;
