@@ -31,62 +31,112 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
   if (!rs.aa_distortion || depth_ == 0) return;
   // Footprints at a characteristic distance: the scene's size (origins and directions both count).
   const double D = bounds.empty() ? 1.0 : std::max(1e-6, 0.5 * length(bounds.diagonal()));
-  std::vector<double> s(size_t(w_) * h_, 0.0);
-  std::vector<Vec3> pos(size_t(w_) * h_), pu(size_t(w_) * h_), pv(size_t(w_) * h_);
-  std::vector<uint8_t> valid(size_t(w_) * h_, 0);
-  // Rows in parallel, pixel centers in camera batches (the same rays as one at a time): at 1080p
-  // this pass took longer than rendering a fisheye image's samples.
-  tbb::parallel_for(0, h_, [&](int y) {
+  const size_t n = size_t(w_) * h_;
+  std::vector<double> s(n, 0.0);
+  std::vector<uint8_t> valid(n, 0), jump_right(n, 0), jump_down(n, 0);
+  // Rows in parallel, pixel centers in camera batches (the same rays as one at a time). Each row
+  // also generates the next one for the jump test, so no image-sized arrays of points and
+  // derivatives are needed (at 1080p those were 150 MB of page faults).
+  struct Center {
+    Vec3 pos, pu, pv;
+    double s = 0;
+    bool valid = false;
+  };
+  const auto centers = [&](int y, std::vector<Center>& row) {
     CameraSample cs[kCameraBatch];
     CameraRayBatch b;
     for (int x0 = 0; x0 < w_; x0 += kCameraBatch) {
-      const int n = std::min(kCameraBatch, w_ - x0);
-      for (int k = 0; k < n; ++k) cs[k].uv = {(x0 + k + 0.5) / w_, (y + 0.5) / h_};
-      cam.generate_batch(cs, n, &b);
-      for (int k = 0; k < n; ++k) {
-        if (!b.valid[k]) continue;
+      const int m = std::min(kCameraBatch, w_ - x0);
+      for (int k = 0; k < m; ++k) cs[k].uv = {(x0 + k + 0.5) / w_, (y + 0.5) / h_};
+      cam.generate_batch(cs, m, &b);
+      for (int k = 0; k < m; ++k) {
+        Center& c = row[size_t(x0 + k)];
+        c.valid = b.valid[k];
+        if (!c.valid) continue;
         const CameraRay r = b.ray(k);
-        const size_t i = size_t(y) * w_ + size_t(x0 + k);
-        pos[i] = r.org + r.dir * D;
-        pu[i] = (r.dorg_du + r.ddir_du * D) / double(w_);
-        pv[i] = (r.dorg_dv + r.ddir_dv * D) / double(h_);
-        s[i] = footprint(pu[i], pv[i]);
-        valid[i] = 1;
+        c.pos = r.org + r.dir * D;
+        c.pu = (r.dorg_du + r.ddir_du * D) / double(w_);
+        c.pv = (r.dorg_dv + r.ddir_dv * D) / double(h_);
+        c.s = footprint(c.pu, c.pv);
       }
+    }
+  };
+  // Jumps: a neighbour far from where the differentials predict it (seams of piecewise cameras,
+  // discontinuous free-form surfaces) means the pixels in between need every level.
+  const auto jump = [](const Center& a, const Center& b, const Vec3& predicted) {
+    return a.valid && b.valid && length(b.pos - a.pos - predicted) > 2 * std::max(a.s, b.s);
+  };
+  tbb::parallel_for(0, h_, [&](int y) {
+    std::vector<Center> row(static_cast<size_t>(w_));
+    std::vector<Center> next(y + 1 < h_ ? static_cast<size_t>(w_) : 0);
+    centers(y, row);
+    if (y + 1 < h_) centers(y + 1, next);
+    for (int x = 0; x < w_; ++x) {
+      const size_t i = size_t(y) * w_ + x;
+      const Center& c = row[size_t(x)];
+      s[i] = c.s;
+      valid[i] = c.valid;
+      if (x + 1 < w_) jump_right[i] = jump(c, row[size_t(x) + 1], c.pu);
+      if (y + 1 < h_) jump_down[i] = jump(c, next[size_t(x)], c.pv);
     }
   });
   std::vector<double> vals;
-  for (size_t i = 0; i < s.size(); ++i)
+  for (size_t i = 0; i < n; ++i)
     if (valid[i] && s[i] > 0) vals.push_back(s[i]);
   if (vals.empty()) return;
   std::nth_element(vals.begin(), vals.begin() + long(vals.size() / 2), vals.end());
   const double median = vals[vals.size() / 2];
-  for (size_t i = 0; i < s.size(); ++i)
-    if (valid[i] && s[i] > 0)
-      forced_[i] = uint8_t(std::clamp(int(std::floor(std::log2(s[i] / median) + 0.5)), 0, depth_));
-  // Jumps: a neighbour far from where the differentials predict it (seams of piecewise cameras,
-  // discontinuous free-form surfaces) means the pixels in between need every level.
-  for (int y = 0; y < h_; ++y)
+  tbb::parallel_for(0, h_, [&](int y) {
     for (int x = 0; x < w_; ++x) {
       const size_t i = size_t(y) * w_ + x;
-      if (!valid[i]) continue;
-      auto check = [&](size_t j, const Vec3& predicted) {
-        if (!valid[j]) return;
-        const double err = length(pos[j] - pos[i] - predicted);
-        if (err > 2 * std::max(s[i], s[j])) forced_[i] = forced_[j] = uint8_t(depth_);
-      };
-      if (x + 1 < w_) check(i + 1, pu[i]);
-      if (y + 1 < h_) check(i + size_t(w_), pv[i]);
+      if (valid[i] && s[i] > 0)
+        forced_[i] =
+            uint8_t(std::clamp(int(std::floor(std::log2(s[i] / median) + 0.5)), 0, depth_));
+      if (jump_right[i] || jump_down[i] || (x > 0 && jump_right[i - 1]) ||
+          (y > 0 && jump_down[i - size_t(w_)]))
+        forced_[i] = uint8_t(depth_);
     }
+  });
 }
 
 void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
-                               const Eval& eval, const Emit& emit, uint64_t& rays) const {
+                               const Eval& eval, const Emit& emit, uint64_t& rays,
+                               const EvalCorners* corners) const {
   const int L = steps_;
   const int nx = (x1 - x0) * L + 1, ny = (y1 - y0) * L + 1;
   ws.points.assign(size_t(nx) * ny, AdaptiveWorkspace::Point{});
   const double su = 1.0 / (double(w_) * L), sv = 1.0 / (double(h_) * L);
   const uint64_t row = uint64_t(w_) * L + 1;
+  const auto store = [](AdaptiveWorkspace::Point& p, const SampleResult& r) {
+    p.nan = !is_finite(r.L);
+    p.L = p.nan ? Color{} : r.L;
+    p.alpha = float(r.alpha);
+    p.done = true;
+  };
+
+  // Pixel corners (cx, cy) in [x0, x1] x [y0, y1], in 4x4 blocks aligned to the image: camera
+  // batches and ray packets, and the same lanes in every tile that needs the block.
+  if (corners)
+    for (int by = y0 / 4 * 4; by <= y1; by += 4)
+      for (int bx = x0 / 4 * 4; bx <= x1; bx += 4) {
+        Vec2 uv[kCameraBatch];
+        uint64_t keys[kCameraBatch];
+        bool use[kCameraBatch];
+        SampleResult out[kCameraBatch];
+        for (int k = 0; k < kCameraBatch; ++k) {
+          const int cx = bx + (k & 3), cy = by + (k >> 2);
+          const uint64_t gx = uint64_t(cx) * L, gy = uint64_t(cy) * L;
+          use[k] = cx <= w_ && cy <= h_;
+          uv[k] = use[k] ? Vec2{gx * su, gy * sv} : Vec2{0.5, 0.5};
+          keys[k] = mix64(gy * row + gx);
+        }
+        (*corners)(uv, keys, use, out, rays);
+        for (int k = 0; k < kCameraBatch; ++k) {
+          const int cx = bx + (k & 3), cy = by + (k >> 2);
+          if (cx < x0 || cx > x1 || cy < y0 || cy > y1) continue;  // another tile's corner
+          store(ws.points[size_t(cy - y0) * L * nx + size_t(cx - x0) * L], out[k]);
+        }
+      }
   uint32_t stamp = 0;
   PixelResult acc;
 
@@ -102,11 +152,7 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
         return k;
       };
       const double footprint = 1.0 / double(1 << std::max(level(gx), level(gy)));
-      const SampleResult r = eval({gx * su, gy * sv}, mix64(gy * row + gx), footprint, rays);
-      p.nan = !is_finite(r.L);
-      p.L = p.nan ? Color{} : r.L;
-      p.alpha = float(r.alpha);
-      p.done = true;
+      store(p, eval({gx * su, gy * sv}, mix64(gy * row + gx), footprint, rays));
     }
     if (p.stamp != stamp) {
       p.stamp = stamp;
@@ -131,9 +177,9 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
     return std::max(worst, ahi - alo);
   };
   // Mean of a square of side `size` lattice steps; returns colour and alpha.
-  std::function<void(int, int, int, int, Color&, double&)> square = [&](int lx, int ly, int size,
-                                                                        int forced, Color& col,
-                                                                        double& alpha) {
+  // Recursive through its own parameter (a std::function cost ~6% of an adaptive render).
+  const auto square = [&](const auto& self, int lx, int ly, int size, int forced, Color& col,
+                          double& alpha) -> void {
     const AdaptiveWorkspace::Point* c[4] = {&point(lx, ly), &point(lx + size, ly),
                                             &point(lx, ly + size), &point(lx + size, ly + size)};
     if (size > 1 && (forced > 0 || contrast(c) > threshold_)) {
@@ -143,7 +189,7 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       for (int k = 0; k < 4; ++k) {
         Color cc;
         double aa;
-        square(lx + (k & 1) * h, ly + (k >> 1) * h, h, forced - 1, cc, aa);
+        self(self, lx + (k & 1) * h, ly + (k >> 1) * h, h, forced - 1, cc, aa);
         sum += cc;
         asum += aa;
       }
@@ -165,7 +211,7 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       acc = PixelResult{};
       Color premul;
       double alpha;
-      square((x - x0) * L, (y - y0) * L, L, forced_depth(x, y), premul, alpha);
+      square(square, (x - x0) * L, (y - y0) * L, L, forced_depth(x, y), premul, alpha);
       acc.alpha = alpha;
       acc.L = premul;  // the film's sums are coverage-weighted colour
       emit(x, y, acc);

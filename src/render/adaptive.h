@@ -61,9 +61,15 @@ class AdaptiveGrid {
 
   // `footprint`: the lattice spacing the sample stands for, in pixels (textures filter over it).
   using Eval = std::function<SampleResult(Vec2 uv, uint64_t key, double footprint, uint64_t& rays)>;
+  // kCameraBatch pixel corners at once (footprint 1); lanes with use[i] false are not wanted.
+  // Gives each corner exactly what Eval would, up to how the batch traces its camera rays.
+  using EvalCorners = std::function<void(const Vec2* uv, const uint64_t* keys, const bool* use,
+                                         SampleResult* out, uint64_t& rays)>;
   using Emit = std::function<void(int x, int y, const PixelResult&)>;
+  // With `corners`, every pixel corner of the tile is evaluated first, in 4x4 blocks aligned to
+  // the image (so a corner shared by two tiles comes from the same block, with the same bits).
   void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval,
-                   const Emit& emit, uint64_t& rays) const;
+                   const Emit& emit, uint64_t& rays, const EvalCorners* corners = nullptr) const;
 
  private:
   int w_, h_, depth_, steps_;  // steps_ = 2^depth_ lattice steps per pixel

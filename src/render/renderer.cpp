@@ -158,6 +158,46 @@ struct Renderer::Job {
     finish(ray, *cam, found ? &h : nullptr, rng, rays, out, footprint);
     return out;
   }
+
+  // kCameraBatch pixel corners (footprint 1) as sample_at gives them, the camera rays generated
+  // as a batch and traced as one packet.
+  void corner_samples(const Vec2* uv, const uint64_t* keys, const bool* use, SampleResult* out,
+                      uint64_t& rays) const {
+    constexpr int N = kCameraBatch;
+    CameraSample cs[N];
+    Rng rng[N];
+    const bool lens_time = r.scene_.camera->uses_lens_or_time();
+    for (int k = 0; k < N; ++k) {
+      rng[k] = Rng(keys[k], rs.seed);
+      cs[k].uv = uv[k];
+      if (lens_time) {  // the order sample_at draws them in
+        cs[k].lens = {rng[k].uniform(), rng[k].uniform()};
+        cs[k].time = rng[k].uniform();
+      }
+    }
+    CameraRayBatch cam;
+    r.scene_.camera->generate_batch(cs, N, &cam);
+    Ray ray[N];
+    bool valid[N], found[N];
+    Hit hits[N];
+    for (int k = 0; k < N; ++k) {
+      valid[k] = use[k] && cam.valid[k];
+      if (valid[k])
+        ray[k] = Ray{{cam.org[0][k], cam.org[1][k], cam.org[2][k]},
+                     {cam.dir[0][k], cam.dir[1][k], cam.dir[2][k]},
+                     0,
+                     kInf};
+    }
+    r.accel_->intersect16(ray, valid, hits, found);
+    for (int k = 0; k < N; ++k) {
+      if (!valid[k]) {
+        out[k] = SampleResult{};  // no ray (or not wanted): transparent
+        continue;
+      }
+      ++rays;
+      finish(ray[k], cam.ray(k), found[k] ? &hits[k] : nullptr, rng[k], rays, out[k]);
+    }
+  }
 };
 
 Renderer::Renderer(const Scene& scene)
@@ -249,6 +289,12 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                 Rng rng(key, rs.seed);
                 return job.sample_at(uv, rng, rays, footprint);
               };
+              // Every pixel corner of the tile, counted here once (the blocks also trace corners
+              // of neighbouring tiles, which those count).
+              st.samples += uint64_t(t.x1 - t.x0 + 1) * uint64_t(t.y1 - t.y0 + 1);
+              const AdaptiveGrid::EvalCorners eval_corners =
+                  [&](const Vec2* uv, const uint64_t* keys, const bool* use, SampleResult* out,
+                      uint64_t& rays) { job.corner_samples(uv, keys, use, out, rays); };
               grid.render_tile(
                   t.x0, t.y0, t.x1, t.y1, ws, eval,
                   [&](int x, int y, const PixelResult& p) {
@@ -260,7 +306,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                     if (p.nans) st.nan(x, y, 0);
                     film.set(x, y, p.L, p.alpha, p.samples, a);
                   },
-                  st.rays);
+                  st.rays, &eval_corners);
               report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
             }
           },
