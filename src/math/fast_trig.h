@@ -21,24 +21,21 @@ inline void sincos_poly(double x, double* s, double* c) {
   const double r = ((x - k * kPio2Hi) - k * kPio2Mid) - k * kPio2Lo;
   const double r2 = r * r;
   // Taylor series to degree 17 (sine) and 18 (cosine): truncation below 3e-18 on |r| <= pi/4.
-  double ps = 2.8114572543455206e-15;  // 1/17!
-  ps = ps * r2 - 7.647163731819816e-13;
-  ps = ps * r2 + 1.6059043836821613e-10;
-  ps = ps * r2 - 2.505210838544172e-08;
-  ps = ps * r2 + 2.7557319223985893e-06;
-  ps = ps * r2 - 1.984126984126984e-04;
-  ps = ps * r2 + 8.333333333333333e-03;
-  ps = ps * r2 - 1.6666666666666666e-01;
+  // Estrin's scheme (pairs, then powers r^4 and r^8): a third of Horner's dependency chain, which
+  // is what one-at-a-time rays wait on.
+  const double r4 = r2 * r2, r8 = r4 * r4;
+  const double s01 = -1.6666666666666666e-01 + 8.333333333333333e-03 * r2;  // -1/3!, 1/5!
+  const double s23 = -1.984126984126984e-04 + 2.7557319223985893e-06 * r2;  // -1/7!, 1/9!
+  const double s45 = -2.505210838544172e-08 + 1.6059043836821613e-10 * r2;  // -1/11!, 1/13!
+  const double s67 = -7.647163731819816e-13 + 2.8114572543455206e-15 * r2;  // -1/15!, 1/17!
+  const double ps = (s01 + s23 * r4) + (s45 + s67 * r4) * r8;
   const double sr = r + r * r2 * ps;
-  double pc = -1.5619206968586225e-16;  // -1/18!
-  pc = pc * r2 + 4.779477332387385e-14;
-  pc = pc * r2 - 1.1470745597729725e-11;
-  pc = pc * r2 + 2.08767569878681e-09;
-  pc = pc * r2 - 2.755731922398589e-07;
-  pc = pc * r2 + 2.48015873015873e-05;
-  pc = pc * r2 - 1.388888888888889e-03;
-  pc = pc * r2 + 4.1666666666666664e-02;
-  const double cr = (1 - 0.5 * r2) + r2 * r2 * pc;
+  const double c01 = 4.1666666666666664e-02 - 1.388888888888889e-03 * r2;  // 1/4!, -1/6!
+  const double c23 = 2.48015873015873e-05 - 2.755731922398589e-07 * r2;    // 1/8!, -1/10!
+  const double c45 = 2.08767569878681e-09 - 1.1470745597729725e-11 * r2;   // 1/12!, -1/14!
+  const double c67 = 4.779477332387385e-14 - 1.5619206968586225e-16 * r2;  // 1/16!, -1/18!
+  const double pc = (c01 + c23 * r4) + (c45 + c67 * r4) * r8;
+  const double cr = (1 - 0.5 * r2) + r4 * pc;
   // Quadrant q = k mod 4: sin(r + q pi/2) = sr, cr, -sr, -cr; cos = cr, -sr, -cr, sr.
   const int q = int(k) & 3;  // two's complement: also right for negative k
   const bool odd = q == 1 || q == 3;
