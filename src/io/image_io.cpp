@@ -7,9 +7,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cctype>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <system_error>
@@ -86,6 +89,44 @@ using io_detail::fail;
 float linear_to_srgb(float v) {
   const double x = v;
   return float(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055);
+}
+
+namespace {
+
+// The code 8-bit output has traditionally been: the encoded value clamped and rounded.
+unsigned char srgb8_reference(float v) {
+  const float e = linear_to_srgb(v);
+  const float c = e > 0.0f ? std::min(e, 1.0f) : 0.0f;
+  return static_cast<unsigned char>(std::lround(c * 255.0f));
+}
+
+// t[k]: the smallest float whose code is at least k (k = 1..255), found by bisection on the bit
+// patterns of [0, 1] (the reference is monotonic; checked for every float in [0, 1]).
+std::array<float, 256> srgb8_thresholds() {
+  std::array<float, 256> t{};
+  for (int k = 1; k <= 255; ++k) {
+    uint32_t lo = 0, hi = 0x3f800000u;  // the bits of 0.0f and 1.0f
+    while (lo < hi) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      if (srgb8_reference(std::bit_cast<float>(mid)) >= k)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    t[size_t(k)] = std::bit_cast<float>(lo);
+  }
+  return t;
+}
+
+}  // namespace
+
+unsigned char linear_to_srgb8(float v) {
+  static const std::array<float, 256> t = srgb8_thresholds();
+  if (!(v > 0)) return 0;
+  int code = 0;
+  for (int step = 128; step > 0; step >>= 1)
+    if (code + step <= 255 && v >= t[size_t(code + step)]) code += step;
+  return static_cast<unsigned char>(code);
 }
 
 float srgb_to_linear(float v) {

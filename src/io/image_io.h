@@ -54,5 +54,9 @@ void write_file_atomic(const std::filesystem::path& file, const void* bytes, siz
 // sRGB transfer functions.
 float linear_to_srgb(float v);
 float srgb_to_linear(float v);
+// The 8-bit sRGB code of a linear value, clamped to [0, 1] (NaN and negatives give 0): exactly
+// round(255 * linear_to_srgb(clamp(v))), by a search in the 255 linear thresholds between codes
+// instead of a pow per value.
+unsigned char linear_to_srgb8(float v);
 
 }  // namespace anamorph

@@ -1,7 +1,8 @@
-// PNG: libpng (zlib) encodes the pixels, stb decodes them; metadata goes into tEXt/iTXt chunks
-// spliced in after IHDR.
+// PNG: our encoder (row filters, zlib in parallel bands) writes, stb decodes; metadata goes into
+// tEXt/iTXt chunks after IHDR.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -10,9 +11,9 @@
 #include <string_view>
 
 #include <fmt/format.h>
-#include <png.h>
 #include <stb_image.h>
 #include <tbb/parallel_for.h>
+#include <zlib.h>
 
 #include "io/image_io.h"
 #include "io/io_util.h"
@@ -144,34 +145,83 @@ unsigned char to_byte(float v) {
   return static_cast<unsigned char>(std::lround(c * 255.0f));
 }
 
-// RGBA8 rows into a PNG in memory with libpng: zlib level 3 and adaptive row filters, about 3x
-// faster than stb's encoder at 1080p, for smaller files. libpng reports errors by
-// longjmp, so nothing with a destructor lives between setjmp and the calls that may jump.
-bool encode_png(const unsigned char* rgba, int width, int height, std::vector<unsigned char>* out) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  if (!png) return false;
-  png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, info ? &info : nullptr);
-    return false;
+// PNG row filters 0 (none), 1 (sub) and 2 (up) for RGBA8; each row takes the one with the
+// smallest sum of absolute signed bytes (libpng's heuristic), which compresses renders as well
+// as trying all five.
+void filter_row(const unsigned char* row, const unsigned char* prev, size_t n, unsigned char* out) {
+  const auto cost = [](unsigned char b) { return b < 128 ? unsigned(b) : 256u - b; };
+  unsigned best = ~0u;
+  int best_f = 0;
+  for (int f = 0; f < 3; ++f) {
+    if (f == 2 && !prev) break;
+    unsigned sum = 0;
+    for (size_t i = 0; i < n && sum < best; ++i) {
+      const unsigned char left = i >= 4 ? row[i - 4] : 0, up = prev ? prev[i] : 0;
+      sum += cost(static_cast<unsigned char>(row[i] - (f == 1 ? left : f == 2 ? up : 0)));
+    }
+    if (sum < best) best = sum, best_f = f;
   }
-  png_set_write_fn(
-      png, out,
-      [](png_structp p, png_bytep data, size_t n) {
-        auto* v = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(p));
-        v->insert(v->end(), data, data + n);
-      },
-      nullptr);
-  png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGBA,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, 3);
-  // None, sub and up: as small as all five filters on renders, a quarter faster.
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE | PNG_FILTER_SUB | PNG_FILTER_UP);
-  png_write_info(png, info);
-  for (int y = 0; y < height; ++y)
-    png_write_row(png, const_cast<png_bytep>(rgba + size_t(y) * size_t(width) * 4));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
+  out[0] = static_cast<unsigned char>(best_f);
+  for (size_t i = 0; i < n; ++i) {
+    const unsigned char left = i >= 4 ? row[i - 4] : 0, up = prev ? prev[i] : 0;
+    out[1 + i] = static_cast<unsigned char>(row[i] - (best_f == 1 ? left : best_f == 2 ? up : 0));
+  }
+}
+
+// RGBA8 pixels into PNG chunks IHDR and IDAT (the caller adds the signature, text and IEND).
+// Rows are filtered in parallel and deflated (zlib, level 3) in fixed bands of rows, each ending
+// on a full flush, so the bands concatenate into one stream: the bytes do not depend on the
+// number of threads. About 4x faster than stb's encoder at 1080p, for smaller files.
+bool encode_png(const unsigned char* rgba, int width, int height, std::string* ihdr,
+                std::string* idat) {
+  const size_t stride = size_t(width) * 4, line = stride + 1;
+  std::vector<unsigned char> filtered(line * size_t(height));
+  tbb::parallel_for(0, height, [&](int y) {
+    filter_row(rgba + size_t(y) * stride, y > 0 ? rgba + size_t(y - 1) * stride : nullptr, stride,
+               &filtered[size_t(y) * line]);
+  });
+  constexpr int kBandRows = 64;
+  const int bands = (height + kBandRows - 1) / kBandRows;
+  std::vector<std::string> out(static_cast<size_t>(bands));
+  std::vector<uLong> adler(static_cast<size_t>(bands));
+  std::atomic<bool> ok{true};
+  tbb::parallel_for(0, bands, [&](int b) {
+    const unsigned char* in = &filtered[size_t(b) * kBandRows * line];
+    const size_t n = size_t(std::min(kBandRows, height - b * kBandRows)) * line;
+    adler[size_t(b)] = adler32(adler32(0, nullptr, 0), in, uInt(n));
+    z_stream z{};
+    if (deflateInit2(&z, 3, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
+      ok = false;
+      return;
+    }
+    std::string& o = out[size_t(b)];
+    o.resize(deflateBound(&z, uLong(n)) + 16);
+    z.next_in = const_cast<unsigned char*>(in);
+    z.avail_in = uInt(n);
+    z.next_out = reinterpret_cast<unsigned char*>(o.data());
+    z.avail_out = uInt(o.size());
+    const int r = deflate(&z, b + 1 == bands ? Z_FINISH : Z_FULL_FLUSH);
+    if (r != (b + 1 == bands ? Z_STREAM_END : Z_OK) || z.avail_in != 0) ok = false;
+    o.resize(o.size() - z.avail_out);
+    deflateEnd(&z);
+  });
+  if (!ok) return false;
+  uLong sum = adler32(0, nullptr, 0);
+  for (int b = 0; b < bands; ++b) {
+    const size_t n = size_t(std::min(kBandRows, height - b * kBandRows)) * line;
+    sum = adler32_combine(sum, adler[size_t(b)], z_off_t(n));
+  }
+  idat->assign("\x78\x5e", 2);  // zlib header: deflate, 32 KiB window, "fast" level
+  for (const std::string& o : out) *idat += o;
+  unsigned char tail[4];
+  write_be32(tail, uint32_t(sum));
+  idat->append(reinterpret_cast<const char*>(tail), 4);
+  unsigned char h[13];
+  write_be32(h, uint32_t(width));
+  write_be32(h + 4, uint32_t(height));
+  h[8] = 8, h[9] = 6, h[10] = 0, h[11] = 0,
+  h[12] = 0;  // 8 bits, RGBA, deflate, filters, no interlace
+  ihdr->assign(reinterpret_cast<const char*>(h), 13);
   return true;
 }
 
@@ -201,24 +251,22 @@ void write_png(const fs::path& file, const OutputImage& img) {
   tbb::parallel_for(0, img.height, [&](int y) {
     for (size_t i = size_t(y) * size_t(img.width); i < size_t(y + 1) * size_t(img.width); ++i) {
       const float* src = &beauty.data[i * nc];
-      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = to_byte(linear_to_srgb(src[c]));
+      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = linear_to_srgb8(src[c]);
       rgba[i * 4 + 3] = nc == 4 ? to_byte(src[3]) : 255;
     }
   });
-  std::vector<unsigned char> png;
-  if (!encode_png(rgba.data(), img.width, img.height, &png))
+  std::string ihdr, idat;
+  if (!encode_png(rgba.data(), img.width, img.height, &ihdr, &idat))
     fail("cannot write PNG", file, "PNG encoding failed");
-
-  // Signature (8) + IHDR (4 length + 4 type + 13 data + 4 CRC) = 33 bytes, then our chunks.
-  constexpr size_t kAfterIhdr = 33;
-  if (png.size() < kAfterIhdr || std::memcmp(&png[12], "IHDR", 4) != 0)
-    fail("cannot write PNG", file, "unexpected encoder output");
-  std::vector<unsigned char> text;
-  for (const auto& [key, value] : img.metadata) {
-    const std::vector<unsigned char> c = text_chunk(key, value, file);
-    text.insert(text.end(), c.begin(), c.end());
-  }
-  png.insert(png.begin() + kAfterIhdr, text.begin(), text.end());
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::vector<unsigned char> png(kSignature, kSignature + 8);
+  const auto append = [&png](const std::vector<unsigned char>& c) {
+    png.insert(png.end(), c.begin(), c.end());
+  };
+  append(make_chunk("IHDR", ihdr));
+  for (const auto& [key, value] : img.metadata) append(text_chunk(key, value, file));
+  append(make_chunk("IDAT", idat));
+  append(make_chunk("IEND", ""));
   write_file_atomic(file, png.data(), png.size());
 }
 

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "io/image_io.h"
 
 namespace anamorph {
@@ -28,6 +32,34 @@ TEST(Srgb, InverseOfEachOtherAndMonotonic) {
     EXPECT_GT(enc, prev) << "x=" << x;
     prev = enc;
   }
+}
+
+// The table-driven 8-bit encoding gives exactly the clamped, rounded encoded value: around every
+// code boundary, on a dense sweep, and for out-of-range inputs.
+TEST(Srgb, EightBitCodesMatchRoundedEncoding) {
+  const auto reference = [](float v) {
+    const float e = linear_to_srgb(v);
+    const float c = e > 0.0f ? std::min(e, 1.0f) : 0.0f;
+    return int(std::lround(c * 255.0f));
+  };
+  int mismatches = 0;
+  const auto check = [&](float v) {
+    if (int(linear_to_srgb8(v)) != reference(v) && ++mismatches <= 5)
+      ADD_FAILURE() << "v=" << v << ": table " << int(linear_to_srgb8(v)) << ", reference "
+                    << reference(v);
+  };
+  for (int k = 0; k <= 255; ++k) {
+    // The linear value at each half-code boundary, and its float neighbours.
+    float v = srgb_to_linear((k + 0.5f) / 255.0f);
+    for (int step = 0; step < 4; ++step) v = std::nextafter(v, 0.0f);
+    for (int step = 0; step < 8; ++step, v = std::nextafter(v, 2.0f)) check(v);
+  }
+  for (int i = 0; i <= 1000000; ++i) check(float(i) / 1000000.0f);
+  for (float v :
+       {-1.0f, -0.0f, 0.0f, 1e-30f, 1.0f, 1.5f, 1e30f, std::numeric_limits<float>::infinity(),
+        -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()})
+    check(v);
+  EXPECT_EQ(mismatches, 0);
 }
 
 }  // namespace anamorph
