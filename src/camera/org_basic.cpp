@@ -11,7 +11,7 @@ class PointOrg final : public OrgFunction {
  public:
   explicit PointOrg(Vec3 p) : p_(p) {}
   bool eval(Vec2, SurfaceSample* out) const override {
-    *out = SurfaceSample{};
+    clear(out);
     out->p = p_;
     return true;
   }
@@ -33,7 +33,7 @@ class PlaneOrg final : public OrgFunction {
         n_(normalize(cross(eu, ev)) * (flip ? -1.0 : 1.0)) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
     const double s = ur_(uv.x) - 0.5, t = vr_(uv.y) - 0.5;
-    *out = SurfaceSample{};
+    clear(out);
     out->p = c_ + eu_ * s + ev_ * t;
     out->dpdu = eu_ * ur_.scale();
     out->dpdv = ev_ * vr_.scale();

@@ -41,7 +41,7 @@ class MeshOrg final : public OrgFunction {
       const double ds = s - tr.uv0.x, dt = t - tr.uv0.y;
       const double b1 = tr.m00 * ds + tr.m01 * dt, b2 = tr.m10 * ds + tr.m11 * dt;
       if (b1 < -kEps || b2 < -kEps || b1 + b2 > 1 + kEps) continue;
-      *out = SurfaceSample{};
+      clear(out);
       const double su = ur_.scale(), sv = vr_.scale();
       out->p = tr.p0 + tr.e1 * b1 + tr.e2 * b2;
       out->dpdu = tr.dpds * su;

@@ -75,8 +75,10 @@ struct LatLongGeometry {
 // batch the compiler vectorizes; sincos_poly for the angles.
 // The map is a template parameter: a branch on it inside the loop would keep it scalar.
 template <LatMap M>
-[[gnu::always_inline]] inline void latlong_kernel(const LatLongGeometry& geo, const double* u,
-                                                  const double* v, int n, DirBatch* out) {
+[[gnu::always_inline]] inline void latlong_kernel(const LatLongGeometry& geo,
+                                                  const double* __restrict u,
+                                                  const double* __restrict v, int n,
+                                                  DirBatch* __restrict out) {
   const LatLongGeometry g = geo;  // a local copy: stores to `out` cannot alias it
   const double dlon = g.lon.span(), dy = g.y_bottom - g.y_top;
   const double fv = M == LatMap::kHorizontal ? 0.0 : dy;

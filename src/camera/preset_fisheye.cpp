@@ -136,8 +136,10 @@ struct FisheyeGeometry {
 // from tan(theta/2), orthographic from sin(theta)); equidistant uses sincos_poly. Lanes outside
 // the image circle get ok = false. (The polynomial mapping stays on the one-at-a-time path.)
 template <FisheyeMapping::Kind K>
-[[gnu::always_inline]] inline void fisheye_kernel(const FisheyeGeometry& geo, const double* u,
-                                                  const double* v, int n, DirBatch* out) {
+[[gnu::always_inline]] inline void fisheye_kernel(const FisheyeGeometry& geo,
+                                                  const double* __restrict u,
+                                                  const double* __restrict v, int n,
+                                                  DirBatch* __restrict out) {
   const FisheyeGeometry g = geo;  // a local copy: stores to `out` cannot alias it
   const double tm = g.map.theta_max, R = g.radius, su = R * g.sa, sv = -R * g.sb;
   const double half_sin = g.half_sin, half_tan = g.half_tan, full_sin = g.full_sin;

@@ -60,7 +60,7 @@ class OdsOrg final : public OrgFunction {
  public:
   explicit OdsOrg(const OdsGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
-    *out = SurfaceSample{};
+    clear(out);
     Vec2 st, sc;
     const double s = g_.eye(uv, &st, &sc);
     const double lon = g_.longitude(st.x), lat = g_.latitude(st.y);

@@ -51,7 +51,7 @@ class SegmentOrg final : public OrgFunction {
  public:
   SegmentOrg(Vec3 c, Vec3 e, bool along_v) : c_(c), e_(e), along_v_(along_v) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
-    *out = SurfaceSample{};
+    clear(out);
     const double t = along_v_ ? uv.y : uv.x;
     out->p = c_ + e_ * (t - 0.5);
     (along_v_ ? out->dpdv : out->dpdu) = e_;
@@ -99,17 +99,6 @@ bool clamp_to_image(Vec2* uv) {
   uv->x = std::clamp(uv->x, 0.0, 1.0);
   uv->y = std::clamp(uv->y, 0.0, 1.0);
   return true;
-}
-
-TileCoord tile_of(Vec2 uv, int cols, int rows) {
-  TileCoord t;
-  const double x = uv.x * cols, y = uv.y * rows;
-  // floor, clamped; a NaN position lands in tile 0 and is rejected by the caller's checks.
-  // Clamping first makes truncation equal floor (and skips the libm call floor is on x86-64).
-  t.col = int(std::isfinite(x) ? std::clamp(x, 0.0, double(cols - 1)) : 0.0);
-  t.row = int(std::isfinite(y) ? std::clamp(y, 0.0, double(rows - 1)) : 0.0);
-  t.st = {x - t.col, y - t.row};
-  return t;
 }
 
 }  // namespace anamorph

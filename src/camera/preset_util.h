@@ -3,6 +3,8 @@
 // ranges and tiled layouts. Camera space throughout: x right, y up, looking along -z.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -55,7 +57,17 @@ struct TileCoord {
   int col = 0, row = 0;  // row 0 = the top row of the image
   Vec2 st;               // position inside the tile, [0,1]^2, t downward
 };
-TileCoord tile_of(Vec2 uv, int cols, int rows);
+// Inline: cameras call it per ray, twice (origin and direction).
+inline TileCoord tile_of(Vec2 uv, int cols, int rows) {
+  TileCoord t;
+  const double x = uv.x * cols, y = uv.y * rows;
+  // floor, clamped; a NaN position lands in tile 0 and is rejected by the caller's checks.
+  // Clamping first makes truncation equal floor (and skips the libm call floor is on x86-64).
+  t.col = int(std::isfinite(x) ? std::clamp(x, 0.0, double(cols - 1)) : 0.0);
+  t.row = int(std::isfinite(y) ? std::clamp(y, 0.0, double(rows - 1)) : 0.0);
+  t.st = {x - t.col, y - t.row};
+  return t;
+}
 
 // A closed-form inverse given as a lambda (camera-space point -> image positions).
 template <class F>

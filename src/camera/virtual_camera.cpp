@@ -199,8 +199,9 @@ struct LinearField {
 // own: bool stores from double lanes keep GCC from vectorizing a loop. Each kernel is inlined
 // with n = 16 (full packets: full vectors, no remainder loop) and n = 1 (generate(): straight-line
 // code) as constants.
-[[gnu::always_inline]] inline void linear_kernel(const LinearField& f, const double* u,
-                                                 const double* v, int n, CameraRayBatch* out) {
+[[gnu::always_inline]] inline void linear_kernel(const LinearField& f, const double* __restrict u,
+                                                 const double* __restrict v, int n,
+                                                 CameraRayBatch* __restrict out) {
   const LinearField g = f;  // a local copy: stores to `out` cannot alias it
   constexpr int N = kCameraBatch;
   alignas(64) double invs[N];
@@ -246,8 +247,8 @@ struct Rig {
 
 template <bool kPointOrg>
 [[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceSample* org,
-                                               const bool* org_ok, const DirBatch& b, int n,
-                                               CameraRayBatch* out) {
+                                               const bool* org_ok, const DirBatch& __restrict b,
+                                               int n, CameraRayBatch* __restrict out) {
   const Rig rig = t;  // a local copy: stores to `out` cannot alias it
   const auto& m = rig.m;
   const auto vec = [&](const Vec3& a) {
@@ -349,7 +350,7 @@ void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRa
   bool org_ok[kCameraBatch];
   org_->eval_batch(u, v, n, org, org_ok);
   for (int i = 0; i < n; ++i)
-    if (!org_ok[i]) org[i] = SurfaceSample{};  // dir functions read defined values
+    if (!org_ok[i]) clear(&org[i]);  // dir functions read defined values
   dir_->eval_batch(u, v, n, org, 1, &b);
   finish_any_org(rig, org, org_ok, b, n, out);
 }
