@@ -14,6 +14,7 @@
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
 #include "math/fast_trig.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -26,19 +27,6 @@ struct OdsGeometry {
   double merge_a = 0, merge_b = 0;  // radians
   bool side_by_side = false;
 
-  // Eye sign (-1 left, +1 right) and position inside that eye's image.
-  int eye(Vec2 uv, Vec2* local, Vec2* scale) const {
-    if (side_by_side) {
-      const bool right = uv.x >= 0.5;
-      *local = {right ? 2 * uv.x - 1 : 2 * uv.x, uv.y};
-      *scale = {2, 1};
-      return right ? 1 : -1;
-    }
-    const bool right = uv.y >= 0.5;
-    *local = {uv.x, right ? 2 * uv.y - 1 : 2 * uv.y};
-    *scale = {1, 2};
-    return right ? 1 : -1;
-  }
   double longitude(double s) const { return lon.lo + lon.span() * s; }
   double latitude(double t) const { return lat.hi - lat.span() * t; }
 
@@ -56,28 +44,131 @@ struct OdsGeometry {
   }
 };
 
+// One lane of ODS geometry as straight-line code (selects for the eye and the pole merge), so
+// that batches vectorize; OdsOrg and OdsDir evaluate single samples as batches of one.
+struct OdsLane {
+  double lon, lat, lu, lv;  // angles and their derivatives d lon/du, d lat/dv
+  double s;                 // eye sign: -1 left, +1 right
+  double m, m1, m2;         // merge factor and its derivatives with respect to lat
+};
+
+// The layout is a template parameter and the logic bitwise: branches (also on a loop-invariant
+// flag) would keep the loops that inline this scalar.
+template <bool sbs>
+[[gnu::always_inline]] inline OdsLane ods_lane(const OdsGeometry& g, double u, double v) {
+  OdsLane l;
+  const bool right = sbs ? u >= 0.5 : v >= 0.5;
+  // Selects on constants only: a subtraction under a select would stay a branch (it may trap).
+  const double half = right ? 1.0 : 0.0;
+  const double x = sbs ? 2 * u - half : u;
+  const double y = sbs ? v : 2 * v - half;
+  const double scx = sbs ? 2.0 : 1.0, scy = sbs ? 1.0 : 2.0;
+  l.s = right ? 1.0 : -1.0;
+  l.lon = g.lon.lo + g.lon.span() * x;
+  l.lat = g.lat.hi - g.lat.span() * y;
+  l.lu = g.lon.span() * scx;
+  l.lv = -g.lat.span() * scy;
+  // merge_factor(): 1 up to merge_a, 0 from merge_b, a smoothstep between.
+  const double a = l.lat < 0 ? -l.lat : l.lat, sign = l.lat < 0 ? -1.0 : 1.0;
+  // Multiplications by 1/w: a division inside a select would stay a branch (it may trap).
+  const double w = g.merge_b - g.merge_a, iw = 1 / w, t = (a - g.merge_a) * iw;
+  const bool between = g.merge & (a > g.merge_a) & (a < g.merge_b);
+  l.m = (!g.merge | (a <= g.merge_a)) ? 1.0 : (a >= g.merge_b ? 0.0 : 1 - t * t * (3 - 2 * t));
+  l.m1 = between ? -sign * 6 * t * (1 - t) * iw : 0.0;
+  l.m2 = between ? -6 * (1 - 2 * t) * (iw * iw) : 0.0;
+  return l;
+}
+
+template <bool sbs>
+[[gnu::always_inline]] inline void ods_org_kernel(const OdsGeometry& geo,
+                                                  const double* __restrict u,
+                                                  const double* __restrict v, int n,
+                                                  SurfaceSample* out) {
+  const OdsGeometry g = geo;
+  constexpr int N = kCameraBatch;
+  alignas(64) double sl[N], cl[N], R[N], Rv[N], Rvv[N], lu[N];
+  for (int i = 0; i < n; ++i) {
+    const OdsLane l = ods_lane<sbs>(g, u[i], v[i]);
+    R[i] = l.s * g.half_ipd * l.m;
+    Rv[i] = l.s * g.half_ipd * l.m1 * l.lv;
+    Rvv[i] = l.s * g.half_ipd * l.m2 * l.lv * l.lv;
+    lu[i] = l.lu;
+    sincos_poly(l.lon, &sl[i], &cl[i]);
+  }
+  for (int i = 0; i < n; ++i) {
+    SurfaceSample& o = out[i];
+    clear(&o);
+    const Vec3 radial{cl[i], 0, sl[i]}, tangent{-sl[i], 0, cl[i]};
+    o.p = radial * R[i];
+    o.dpdu = tangent * (R[i] * lu[i]);
+    o.dpdv = radial * Rv[i];
+    o.dpduu = radial * (-R[i] * lu[i] * lu[i]);
+    o.dpduv = tangent * (Rv[i] * lu[i]);
+    o.dpdvv = radial * Rvv[i];
+  }
+}
+
+ANAMORPH_SIMD_CLONES void ods_orgs(const OdsGeometry& g, const double* u, const double* v, int n,
+                                   SurfaceSample* out) {
+  // Constant trip counts: full vectors; straight-line code for one.
+  if (g.side_by_side) {
+    if (n == kCameraBatch)
+      ods_org_kernel<true>(g, u, v, kCameraBatch, out);
+    else
+      ods_org_kernel<true>(g, u, v, n, out);
+  } else {
+    if (n == kCameraBatch)
+      ods_org_kernel<false>(g, u, v, kCameraBatch, out);
+    else
+      ods_org_kernel<false>(g, u, v, n, out);
+  }
+}
+
+template <bool sbs>
+[[gnu::always_inline]] inline void ods_dir_kernel(const OdsGeometry& geo,
+                                                  const double* __restrict u,
+                                                  const double* __restrict v, int n,
+                                                  DirBatch* __restrict out) {
+  const OdsGeometry g = geo;
+  for (int i = 0; i < n; ++i) {
+    const OdsLane l = ods_lane<sbs>(g, u[i], v[i]);
+    double sl, cl, sp, cp;
+    sincos_poly(l.lon, &sl, &cl);
+    sincos_poly(l.lat, &sp, &cp);
+    out->d[0][i] = sl * cp, out->d[1][i] = sp, out->d[2][i] = -cl * cp;
+    out->du[0][i] = cl * cp * l.lu, out->du[1][i] = 0, out->du[2][i] = sl * cp * l.lu;
+    out->dv[0][i] = -sl * sp * l.lv, out->dv[1][i] = cp * l.lv, out->dv[2][i] = cl * sp * l.lv;
+  }
+  for (int i = 0; i < n; ++i) out->ok[i] = true;
+}
+
+ANAMORPH_SIMD_CLONES void ods_dirs(const OdsGeometry& g, const double* u, const double* v, int n,
+                                   DirBatch* out) {
+  // Constant trip counts: full vectors; straight-line code for one.
+  if (g.side_by_side) {
+    if (n == kCameraBatch)
+      ods_dir_kernel<true>(g, u, v, kCameraBatch, out);
+    else
+      ods_dir_kernel<true>(g, u, v, n, out);
+  } else {
+    if (n == kCameraBatch)
+      ods_dir_kernel<false>(g, u, v, kCameraBatch, out);
+    else
+      ods_dir_kernel<false>(g, u, v, n, out);
+  }
+}
+
 class OdsOrg final : public OrgFunction {
  public:
   explicit OdsOrg(const OdsGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
-    clear(out);
-    Vec2 st, sc;
-    const double s = g_.eye(uv, &st, &sc);
-    const double lon = g_.longitude(st.x), lat = g_.latitude(st.y);
-    const double lu = g_.lon.span() * sc.x, lv = -g_.lat.span() * sc.y;  // dlon/du, dlat/dv
-    double m1, m2;
-    const double R = s * g_.half_ipd * g_.merge_factor(lat, &m1, &m2);
-    const double Rv = s * g_.half_ipd * m1 * lv, Rvv = s * g_.half_ipd * m2 * lv * lv;
-    double sl, cl;
-    sincos_poly(lon, &sl, &cl);
-    const Vec3 radial{cl, 0, sl}, tangent{-sl, 0, cl};
-    out->p = radial * R;
-    out->dpdu = tangent * (R * lu);
-    out->dpdv = radial * Rv;
-    out->dpduu = radial * (-R * lu * lu);
-    out->dpduv = tangent * (Rv * lu);
-    out->dpdvv = radial * Rvv;
+    ods_orgs(g_, &uv.x, &uv.y, 1, out);
     return true;
+  }
+  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
+                  bool* ok) const override {
+    ods_orgs(g_, u, v, n, out);
+    for (int i = 0; i < n; ++i) ok[i] = true;
   }
 
  private:
@@ -88,17 +179,16 @@ class OdsDir final : public DirFunction {
  public:
   explicit OdsDir(const OdsGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
-    Vec2 st, sc;
-    g_.eye(uv, &st, &sc);
-    const double lon = g_.longitude(st.x), lat = g_.latitude(st.y);
-    const double lu = g_.lon.span() * sc.x, lv = -g_.lat.span() * sc.y;
-    double sl, cl, sp, cp;
-    sincos_poly(lon, &sl, &cl);
-    sincos_poly(lat, &sp, &cp);
-    out->d = {sl * cp, sp, -cl * cp};
-    out->dd_du = Vec3{cl * cp, 0, sl * cp} * lu;
-    out->dd_dv = Vec3{-sl * sp, cp, cl * sp} * lv;
+    DirBatch b;
+    ods_dirs(g_, &uv.x, &uv.y, 1, &b);
+    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
+            {b.du[0][0], b.du[1][0], b.du[2][0]},
+            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
     return true;
+  }
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+                  DirBatch* out) const override {
+    ods_dirs(g_, u, v, n, out);
   }
 
  private:
