@@ -106,12 +106,8 @@ template <LatMap M>
 template <LatMap M>
 [[gnu::always_inline]] inline void latlong_run(const LatLongGeometry& g, const double* u,
                                                const double* v, int n, DirBatch* out) {
-  if (n == kCameraBatch)  // constant trip counts: full vectors; straight-line code for one
-    latlong_kernel<M>(g, u, v, kCameraBatch, out);
-  else if (n == 1)
-    latlong_kernel<M>(g, u, v, 1, out);
-  else
-    latlong_kernel<M>(g, u, v, n, out);
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { latlong_kernel<M>(g, u, v, m, out); });
 }
 
 // Every map but mercator (whose sinh stays a library call: LatLongDir loops over eval for it).

@@ -201,12 +201,8 @@ template <FisheyeMapping::Kind K>
 template <FisheyeMapping::Kind K>
 [[gnu::always_inline]] inline void fisheye_run(const FisheyeGeometry& g, const double* u,
                                                const double* v, int n, DirBatch* out) {
-  if (n == kCameraBatch)
-    fisheye_kernel<K>(g, u, v, kCameraBatch, out);
-  else if (n == 1)
-    fisheye_kernel<K>(g, u, v, 1, out);
-  else
-    fisheye_kernel<K>(g, u, v, n, out);
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { fisheye_kernel<K>(g, u, v, m, out); });
 }
 
 ANAMORPH_SIMD_CLONES void fisheye_dirs(const FisheyeGeometry& g, const double* u, const double* v,

@@ -110,18 +110,13 @@ template <bool sbs>
 
 ANAMORPH_SIMD_CLONES void ods_orgs(const OdsGeometry& g, const double* u, const double* v, int n,
                                    SurfaceSample* out) {
-  // Constant trip counts: full vectors; straight-line code for one.
-  if (g.side_by_side) {
-    if (n == kCameraBatch)
-      ods_org_kernel<true>(g, u, v, kCameraBatch, out);
-    else
-      ods_org_kernel<true>(g, u, v, n, out);
-  } else {
-    if (n == kCameraBatch)
-      ods_org_kernel<false>(g, u, v, kCameraBatch, out);
-    else
-      ods_org_kernel<false>(g, u, v, n, out);
-  }
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        if (g.side_by_side)
+          ods_org_kernel<true>(g, u, v, m, out);
+        else
+          ods_org_kernel<false>(g, u, v, m, out);
+      });
 }
 
 template <bool sbs>
@@ -144,18 +139,13 @@ template <bool sbs>
 
 ANAMORPH_SIMD_CLONES void ods_dirs(const OdsGeometry& g, const double* u, const double* v, int n,
                                    DirBatch* out) {
-  // Constant trip counts: full vectors; straight-line code for one.
-  if (g.side_by_side) {
-    if (n == kCameraBatch)
-      ods_dir_kernel<true>(g, u, v, kCameraBatch, out);
-    else
-      ods_dir_kernel<true>(g, u, v, n, out);
-  } else {
-    if (n == kCameraBatch)
-      ods_dir_kernel<false>(g, u, v, kCameraBatch, out);
-    else
-      ods_dir_kernel<false>(g, u, v, n, out);
-  }
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        if (g.side_by_side)
+          ods_dir_kernel<true>(g, u, v, m, out);
+        else
+          ods_dir_kernel<false>(g, u, v, m, out);
+      });
 }
 
 class OdsOrg final : public OrgFunction {

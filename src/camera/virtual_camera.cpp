@@ -231,12 +231,8 @@ struct LinearField {
 
 ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const double* u, const double* v, int n,
                                       CameraRayBatch* out) {
-  if (n == kCameraBatch)
-    linear_kernel(f, u, v, kCameraBatch, out);
-  else if (n == 1)
-    linear_kernel(f, u, v, 1, out);
-  else
-    linear_kernel(f, u, v, n, out);
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { linear_kernel(f, u, v, m, out); });
 }
 
 // The rig, normalization and ray differentials for a batch of directions from org/dir. Every
@@ -315,22 +311,16 @@ template <bool kPointOrg>
 
 ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceSample& org,
                                            const DirBatch& b, int n, CameraRayBatch* out) {
-  if (n == kCameraBatch)
-    finish_rays<true>(t, &org, nullptr, b, kCameraBatch, out);
-  else if (n == 1)
-    finish_rays<true>(t, &org, nullptr, b, 1, out);
-  else
-    finish_rays<true>(t, &org, nullptr, b, n, out);
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m)
+             __attribute__((always_inline)) { finish_rays<true>(t, &org, nullptr, b, m, out); });
 }
 
 ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org, const bool* org_ok,
                                          const DirBatch& b, int n, CameraRayBatch* out) {
-  if (n == kCameraBatch)
-    finish_rays<false>(t, org, org_ok, b, kCameraBatch, out);
-  else if (n == 1)
-    finish_rays<false>(t, org, org_ok, b, 1, out);
-  else
-    finish_rays<false>(t, org, org_ok, b, n, out);
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m)
+             __attribute__((always_inline)) { finish_rays<false>(t, org, org_ok, b, m, out); });
 }
 
 }  // namespace

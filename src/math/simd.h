@@ -11,3 +11,22 @@
 #else
 #define ANAMORPH_SIMD_CLONES
 #endif
+
+#include <type_traits>
+
+namespace anamorph {
+
+// Calls kernel(m) with m = std::integral_constant<int, kFull> when n == kFull, the constant 1
+// when n == 1, else n. Inlined into a clone, a kernel looping to a constant vectorizes without a
+// remainder loop (full packets) or becomes straight-line code (one-at-a-time rays).
+template <int kFull, class Kernel>
+[[gnu::always_inline]] inline void with_trip_count(int n, Kernel&& kernel) {
+  if (n == kFull)
+    kernel(std::integral_constant<int, kFull>{});
+  else if (n == 1)
+    kernel(std::integral_constant<int, 1>{});
+  else
+    kernel(n);
+}
+
+}  // namespace anamorph
