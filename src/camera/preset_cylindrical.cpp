@@ -25,29 +25,6 @@ namespace {
 
 enum class LatMap { kLatitude, kTangent, kMercator, kSine, kHorizontal };
 
-// (c, s) and their derivatives with respect to the map coordinate y.
-void lat_terms(LatMap m, double y, double* c, double* s, double* dc, double* ds) {
-  switch (m) {
-    case LatMap::kLatitude:
-      *c = std::cos(y), *s = std::sin(y), *dc = -*s, *ds = *c;
-      return;
-    case LatMap::kTangent:
-      *c = 1, *s = y, *dc = 0, *ds = 1;
-      return;
-    case LatMap::kMercator:
-      *c = 1, *s = std::sinh(y), *dc = 0, *ds = std::cosh(y);
-      return;
-    case LatMap::kSine: {
-      const double yy = std::clamp(y, -1.0, 1.0);
-      *c = std::sqrt(1 - yy * yy), *s = yy, *dc = -yy / std::max(*c, 1e-12), *ds = 1;
-      return;
-    }
-    case LatMap::kHorizontal:
-      *c = 1, *s = 0, *dc = 0, *ds = 0;
-      return;
-  }
-}
-
 // Latitude (radians) to the map coordinate y, and back.
 double lat_to_y(LatMap m, double lat) {
   switch (m) {
@@ -71,8 +48,8 @@ struct LatLongGeometry {
   double y_top = 0, y_bottom = 0;  // map coordinate at v = 0 and v = 1
 };
 
-// LatLongDir for the maps whose terms are straight-line code (all but mercator's sinh), over a
-// batch the compiler vectorizes; sincos_poly for the angles.
+// LatLongDir over a batch the compiler vectorizes: sincos_poly for the angles, exp_poly for
+// mercator's sinh and cosh.
 // The map is a template parameter: a branch on it inside the loop would keep it scalar.
 template <LatMap M>
 [[gnu::always_inline]] inline void latlong_kernel(const LatLongGeometry& geo,
@@ -95,6 +72,9 @@ template <LatMap M>
     } else if constexpr (M == LatMap::kSine) {
       const double yy = y < -1.0 ? -1.0 : (y > 1.0 ? 1.0 : y);
       c = std::sqrt(1 - yy * yy), s = yy, dc = -yy / (c > 1e-12 ? c : 1e-12), ds = 1;
+    } else if constexpr (M == LatMap::kMercator) {  // (c, s) = (1, sinh y), ds = cosh y
+      const double ep = exp_poly(y), em = exp_poly(-y);
+      s = 0.5 * (ep - em), ds = 0.5 * (ep + em);
     }
     out->d[0][i] = c * sl, out->d[1][i] = s, out->d[2][i] = -c * cl;
     out->du[0][i] = c * cl * dlon, out->du[1][i] = 0, out->du[2][i] = c * sl * dlon;
@@ -110,7 +90,6 @@ template <LatMap M>
       n, [&](auto m) __attribute__((always_inline)) { latlong_kernel<M>(g, u, v, m, out); });
 }
 
-// Every map but mercator (whose sinh stays a library call: LatLongDir loops over eval for it).
 ANAMORPH_SIMD_CLONES void latlong_dirs(const LatLongGeometry& g, const double* u, const double* v,
                                        int n, DirBatch* out) {
   switch (g.map) {
@@ -122,41 +101,27 @@ ANAMORPH_SIMD_CLONES void latlong_dirs(const LatLongGeometry& g, const double* u
       return latlong_run<LatMap::kSine>(g, u, v, n, out);
     case LatMap::kHorizontal:
       return latlong_run<LatMap::kHorizontal>(g, u, v, n, out);
-    case LatMap::kMercator:  // LatLongDir keeps mercator on its one-at-a-time path
-      return;
+    case LatMap::kMercator:
+      return latlong_run<LatMap::kMercator>(g, u, v, n, out);
   }
 }
 
 class LatLongDir final : public DirFunction {
  public:
   explicit LatLongDir(const LatLongGeometry& g) : g_(g) {}
+  // One sample: a batch of one, so single rays and packets give the same bits.
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
-    if (g_.map != LatMap::kMercator) {
-      DirBatch b;
-      eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
-      *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
-              {b.du[0][0], b.du[1][0], b.du[2][0]},
-              {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
-      return true;
-    }
-    const double lon = g_.lon.lo + g_.lon.span() * uv.x;
-    const double y = g_.y_top + (g_.y_bottom - g_.y_top) * uv.y;
-    double c = 1, s = 0, dc = 0, ds = 0;
-    lat_terms(g_.map, y, &c, &s, &dc, &ds);
-    const double sl = std::sin(lon), cl = std::cos(lon);
-    const double dlon = g_.lon.span(), dy = g_.y_bottom - g_.y_top;
-    out->d = {c * sl, s, -c * cl};
-    out->dd_du = Vec3{c * cl, 0, c * sl} * dlon;
-    out->dd_dv = Vec3{dc * sl, ds, -dc * cl} * dy;
+    DirBatch b;
+    eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
+            {b.du[0][0], b.du[1][0], b.du[2][0]},
+            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
     return true;
   }
 
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
                   DirBatch* out) const override {
-    if (g_.map == LatMap::kMercator)
-      DirFunction::eval_batch(u, v, n, org, org_stride, out);
-    else
-      latlong_dirs(g_, u, v, n, out);
+    latlong_dirs(g_, u, v, n, out);
   }
 
  private:

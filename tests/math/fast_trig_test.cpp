@@ -38,4 +38,15 @@ TEST(FastTrig, ExactAtZeroAndOddSymmetric) {
   }
 }
 
+TEST(FastTrig, ExpAgreesWithLibmToAFewUlp) {
+  double worst = 0, at = 0;
+  for (int i = -200000; i <= 200000; ++i) {
+    const double x = i * 3.5e-4;  // [-70, 70]
+    const double e = std::abs(exp_poly(x) - std::exp(x)) / std::exp(x);
+    if (e > worst) worst = e, at = x;
+  }
+  EXPECT_LT(worst, 6e-16) << "relative error worst at x = " << at;
+  EXPECT_EQ(exp_poly(0), 1.0);
+}
+
 }  // namespace anamorph
