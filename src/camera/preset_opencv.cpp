@@ -26,6 +26,7 @@
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -127,59 +128,137 @@ struct BrownConrady {
   bool valid(Vec2 x, Vec2 jx, Vec2 jy) const {
     return x.x * x.x + x.y * x.y <= r_max * r_max && jx.x * jy.y - jy.x * jx.y > 0;
   }
-
-  // Newton's method for the undistorted x with distort(x) = target. The line search evaluates
-  // the Jacobian with the value, so the point it accepts is not distorted a second time at the
-  // top of the next iteration (half the evaluations, the same bits).
-  bool undistort(Vec2 target, Vec2* x, Vec2* jx, Vec2* jy) const {
-    // Beyond what any point inside the fold reaches there is nothing to find (and Newton would
-    // wander): a quick, safe rejection.
-    if (!(target.x * target.x + target.y * target.y <= reach * reach)) return false;
-    Vec2 p = target;
-    Vec2 d = distort(p, jx, jy);  // the value and Jacobian at p
-    for (int it = 0; it < 50; ++it) {
-      const Vec2 f = d - target;
-      const double err = std::abs(f.x) + std::abs(f.y);
-      if (err < 1e-14 * (1 + std::abs(target.x) + std::abs(target.y))) {
-        *x = p;
-        return valid(p, *jx, *jy);
-      }
-      const double det = jx->x * jy->y - jy->x * jx->y;
-      if (!(std::abs(det) > 1e-300)) return false;
-      Vec2 step{(jy->y * f.x - jy->x * f.y) / det, (-jx->y * f.x + jx->x * f.y) / det};
-      // Halve steps that do not reduce the residual (folds, large distortion).
-      double t = 1;
-      bool accepted = false;
-      for (int k = 0; k < 20; ++k, t *= 0.5) {
-        d = distort(p - step * t, jx, jy);
-        const Vec2 f2 = d - target;
-        if (std::abs(f2.x) + std::abs(f2.y) < err) {
-          accepted = true;
-          break;
-        }
-      }
-      p = p - step * t;
-      if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
-      if (!accepted) d = distort(p, jx, jy);  // the smallest step, taken unchecked
-    }
-    return false;
-  }
 };
+
+// Newton's method for the undistorted x with distort(x) = target, for a batch: every lane takes
+// exactly the steps of the one-sample method, the batch iterates until its last lane finishes,
+// and lanes that are done are masked (selects, with divisions made safe so nothing traps), so
+// the arithmetic vectorizes. The line search evaluates the Jacobian with the value, so an
+// accepted point is not distorted a second time. Masks are doubles (1 or 0): bool stores from
+// double lanes would keep the loops scalar.
+struct NewtonLanes {
+  static constexpr int N = kCameraBatch;
+  double tx[N], ty[N];                    // targets
+  double px[N], py[N];                    // current points
+  double dx[N], dy[N];                    // distort(p)
+  double jxx[N], jxy[N], jyx[N], jyy[N];  // its Jacobian: columns (jxx, jxy), (jyx, jyy)
+  double sx[N], sy[N], err[N], t[N];      // Newton step, residual, line-search factor
+  double qdx[N], qdy[N], qjxx[N], qjxy[N], qjyx[N], qjyy[N];
+  double act[N], acc[N], ok[N];  // still iterating, step accepted, converged and valid
+};
+
+[[gnu::always_inline]] inline void distort_lane(const BrownConrady& D, double x, double y,
+                                                double* ox, double* oy, double* jxx, double* jxy,
+                                                double* jyx, double* jyy) {
+  const double r2 = x * x + y * y;
+  const double L = 1 + r2 * (D.k1 + r2 * (D.k2 + r2 * D.k3));
+  const double dL = D.k1 + r2 * (2 * D.k2 + 3 * D.k3 * r2);
+  *ox = x * L + 2 * D.p1 * x * y + D.p2 * (r2 + 2 * x * x);
+  *oy = y * L + D.p1 * (r2 + 2 * y * y) + 2 * D.p2 * x * y;
+  const double xy = 2 * x * y * dL + 2 * D.p1 * x + 2 * D.p2 * y;
+  *jxx = L + 2 * x * x * dL + 2 * D.p1 * y + 6 * D.p2 * x, *jxy = xy;
+  *jyx = xy, *jyy = L + 2 * y * y * dL + 6 * D.p1 * y + 2 * D.p2 * x;
+}
+
+[[gnu::always_inline]] inline void undistort_kernel(const BrownConrady& bc,
+                                                    NewtonLanes& __restrict S, int n) {
+  const BrownConrady D = bc;
+  const double reach2 = D.reach * D.reach, rmax2 = D.r_max * D.r_max;
+  for (int i = 0; i < n; ++i) {
+    // Beyond what any point inside the fold reaches there is nothing to find.
+    S.act[i] = S.tx[i] * S.tx[i] + S.ty[i] * S.ty[i] <= reach2 ? 1.0 : 0.0;
+    S.ok[i] = 0;
+    S.px[i] = S.tx[i], S.py[i] = S.ty[i];
+    distort_lane(D, S.px[i], S.py[i], &S.dx[i], &S.dy[i], &S.jxx[i], &S.jxy[i], &S.jyx[i],
+                 &S.jyy[i]);
+  }
+  for (int it = 0; it < 50; ++it) {
+    double any = 0;
+    for (int i = 0; i < n; ++i) {
+      const double fx = S.dx[i] - S.tx[i], fy = S.dy[i] - S.ty[i];
+      const double e = std::abs(fx) + std::abs(fy);
+      const bool live = S.act[i] != 0;
+      const bool conv = live & (e < 1e-14 * (1 + std::abs(S.tx[i]) + std::abs(S.ty[i])));
+      const double det = S.jxx[i] * S.jyy[i] - S.jyx[i] * S.jxy[i];
+      const bool good = (S.px[i] * S.px[i] + S.py[i] * S.py[i] <= rmax2) & (det > 0);
+      S.ok[i] = conv ? (good ? 1.0 : 0.0) : S.ok[i];
+      const bool step = live & !conv & (std::abs(det) > 1e-300);
+      const double idet = 1 / (step ? det : 1.0);
+      S.sx[i] = (S.jyy[i] * fx - S.jyx[i] * fy) * idet;
+      S.sy[i] = (-S.jxy[i] * fx + S.jxx[i] * fy) * idet;
+      S.err[i] = e, S.t[i] = 1, S.acc[i] = 0;
+      S.act[i] = step ? 1.0 : 0.0;
+      any += S.act[i];
+    }
+    if (any == 0) break;
+    // Halve steps that do not reduce the residual (folds, large distortion).
+    for (int k = 0; k < 20; ++k) {
+      double pending = 0;
+      for (int i = 0; i < n; ++i) {
+        const bool search = (S.act[i] != 0) & (S.acc[i] == 0);
+        distort_lane(D, S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i],
+                     &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i], &S.qjyy[i]);
+        const bool lower = std::abs(S.qdx[i] - S.tx[i]) + std::abs(S.qdy[i] - S.ty[i]) < S.err[i];
+        const bool take = search & lower;
+        S.dx[i] = take ? S.qdx[i] : S.dx[i], S.dy[i] = take ? S.qdy[i] : S.dy[i];
+        S.jxx[i] = take ? S.qjxx[i] : S.jxx[i], S.jxy[i] = take ? S.qjxy[i] : S.jxy[i];
+        S.jyx[i] = take ? S.qjyx[i] : S.jyx[i], S.jyy[i] = take ? S.qjyy[i] : S.jyy[i];
+        S.acc[i] = take ? 1.0 : S.acc[i];
+        S.t[i] = search & !lower ? S.t[i] * 0.5 : S.t[i];
+        pending += search & !lower ? 1.0 : 0.0;
+      }
+      if (pending == 0) break;
+    }
+    for (int i = 0; i < n; ++i) {
+      const bool live = S.act[i] != 0;
+      const double nx = S.px[i] - S.sx[i] * S.t[i], ny = S.py[i] - S.sy[i] * S.t[i];
+      S.px[i] = live ? nx : S.px[i], S.py[i] = live ? ny : S.py[i];
+      const bool finite = (nx * 0 == 0) & (ny * 0 == 0);
+      S.act[i] = live & finite ? 1.0 : 0.0;
+      // The smallest step, taken unchecked: distort where it landed.
+      const bool redo = live & finite & (S.acc[i] == 0);
+      distort_lane(D, S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
+                   &S.qjyy[i]);
+      S.dx[i] = redo ? S.qdx[i] : S.dx[i], S.dy[i] = redo ? S.qdy[i] : S.dy[i];
+      S.jxx[i] = redo ? S.qjxx[i] : S.jxx[i], S.jxy[i] = redo ? S.qjxy[i] : S.jxy[i];
+      S.jyx[i] = redo ? S.qjyx[i] : S.jyx[i], S.jyy[i] = redo ? S.qjyy[i] : S.jyy[i];
+    }
+  }
+}
+
+ANAMORPH_SIMD_CLONES void undistort_lanes(const BrownConrady& D, NewtonLanes& S, int n) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { undistort_kernel(D, S, m); });
+}
 
 class PinholeDir final : public DirFunction {
  public:
   PinholeDir(Intrinsics k, BrownConrady d) : k_(k), d_(d) {}
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
-    Vec2 x, jx, jy;
-    if (!d_.undistort(k_.distorted(uv), &x, &jx, &jy)) return false;
-    // d(x')/du = J^-1 (w / fx, 0), d(x')/dv = J^-1 (0, h / fy).
-    const double det = jx.x * jy.y - jy.x * jx.y;
-    const Vec2 ix{jy.y / det, -jx.y / det}, iy{-jy.x / det, jx.x / det};  // columns of J^-1
-    const Vec2 du = ix * (k_.w / k_.fx), dv = iy * (k_.h / k_.fy);
-    out->d = {x.x, -x.y, -1};
-    out->dd_du = {du.x, -du.y, 0};
-    out->dd_dv = {dv.x, -dv.y, 0};
-    return true;
+  // One sample: a batch of one, so single rays and packets give the same bits.
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    DirBatch b;
+    eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
+            {b.du[0][0], b.du[1][0], b.du[2][0]},
+            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
+    return b.ok[0];
+  }
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+                  DirBatch* out) const override {
+    NewtonLanes S;
+    for (int i = 0; i < n; ++i) {
+      const Vec2 t = k_.distorted({u[i], v[i]});
+      S.tx[i] = t.x, S.ty[i] = t.y;
+    }
+    undistort_lanes(d_, S, n);
+    for (int i = 0; i < n; ++i) {
+      out->ok[i] = S.ok[i] != 0;
+      // d(x')/du = J^-1 (w / fx, 0), d(x')/dv = J^-1 (0, h / fy).
+      const double det = S.jxx[i] * S.jyy[i] - S.jyx[i] * S.jxy[i];
+      const Vec2 ix{S.jyy[i] / det, -S.jxy[i] / det}, iy{-S.jyx[i] / det, S.jxx[i] / det};
+      const Vec2 du = ix * (k_.w / k_.fx), dv = iy * (k_.h / k_.fy);
+      out->set(i, {{S.px[i], -S.py[i], -1}, {du.x, -du.y, 0}, {dv.x, -dv.y, 0}});
+    }
   }
 
  private:
