@@ -26,6 +26,7 @@
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/fast_trig.h"
 #include "math/simd.h"
 
 namespace anamorph {
@@ -319,31 +320,81 @@ struct KannalaBrandt {
     *slope = 1 + t2 * (3 * k1 + t2 * (5 * k2 + t2 * (7 * k3 + t2 * 9 * k4)));
     return t * (1 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4))));
   }
-  // theta with theta_d(theta) = td, by safeguarded Newton on [0, theta_max]; `top` is
-  // theta_d(theta_max). On return *slope is theta_d'(*t).
-  bool theta(double td, double top, double* t, double* slope) const {
-    if (!(td >= 0 && td <= top)) return false;
-    double lo = 0, hi = theta_max, x = std::min(td, theta_max);
-    bool fresh = false;  // *slope belongs to x
-    for (int i = 0; i < 200; ++i) {
-      const double f = theta_d(x, slope) - td;
-      fresh = true;
-      if (f > 0)
-        hi = x;
-      else
-        lo = x;
-      if (std::abs(f) < 1e-15 * (1 + td)) break;
-      double nx = x - f / *slope;
-      if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
-      if (nx == x) break;
-      x = nx;
-      fresh = false;
-    }
-    *t = x;
-    if (!fresh) theta_d(x, slope);
-    return true;
-  }
 };
+
+// theta with theta_d(theta) = td by safeguarded Newton on [0, theta_max] (a step that leaves the
+// bracket bisects), then the direction at polar angle theta (radial_direction), for a batch:
+// masked lanes as in undistort_kernel, and the one-sample path is a batch of one.
+[[gnu::always_inline]] inline void kb_kernel(const KannalaBrandt& kb, const Intrinsics& in,
+                                             double top, const double* __restrict u,
+                                             const double* __restrict v, int n,
+                                             DirBatch* __restrict out) {
+  const KannalaBrandt D = kb;
+  const Intrinsics K = in;
+  constexpr int N = kCameraBatch;
+  double a[N], b[N], td[N], x[N], lo[N], hi[N], slope[N], act[N], fresh[N], ok[N];
+  for (int i = 0; i < n; ++i) {
+    const Vec2 xd = K.distorted({u[i], v[i]});
+    // Our image plane (a right, b up) is OpenCV's (x, -y).
+    a[i] = xd.x, b[i] = -xd.y;
+    td[i] = std::sqrt(xd.x * xd.x + xd.y * xd.y);
+    ok[i] = (td[i] >= 0) & (td[i] <= top) ? 1.0 : 0.0;
+    act[i] = ok[i], fresh[i] = 0, slope[i] = 1;
+    x[i] = td[i] < D.theta_max ? td[i] : D.theta_max;
+    lo[i] = 0, hi[i] = D.theta_max;
+  }
+  for (int it = 0; it < 200; ++it) {
+    double any = 0;
+    for (int i = 0; i < n; ++i) {
+      const bool live = act[i] != 0;
+      double sl;
+      const double f = D.theta_d(x[i], &sl) - td[i];
+      slope[i] = live ? sl : slope[i];
+      fresh[i] = live ? 1.0 : fresh[i];
+      hi[i] = live & (f > 0) ? x[i] : hi[i];
+      lo[i] = live & !(f > 0) ? x[i] : lo[i];
+      const bool done = std::abs(f) < 1e-15 * (1 + td[i]);
+      double nx = x[i] - f / sl;
+      nx = (nx > lo[i]) & (nx < hi[i]) ? nx : 0.5 * (lo[i] + hi[i]);
+      const bool move = live & !done & (nx != x[i]);
+      x[i] = move ? nx : x[i];
+      fresh[i] = move ? 0.0 : fresh[i];
+      act[i] = move ? 1.0 : 0.0;
+      any += act[i];
+    }
+    if (any == 0) break;
+  }
+  const double su = K.w / K.fx, sv = -K.h / K.fy;
+  for (int i = 0; i < n; ++i) {
+    double sl;
+    D.theta_d(x[i], &sl);
+    const double dtheta = 1 / (fresh[i] != 0 ? slope[i] : sl);  // theta(rho) has slope 1/theta_d'
+    double st, ct;
+    sincos_poly(x[i], &st, &ct);
+    // radial_direction(): on the axis sin(theta)/rho -> dtheta/drho (and theta must be 0).
+    const double rho = std::sqrt(a[i] * a[i] + b[i] * b[i]);
+    const bool axis = rho < 1e-12;
+    ok[i] = axis & (std::abs(x[i]) > 1e-9) ? 0.0 : ok[i];
+    const double rs = axis ? 1.0 : rho;
+    const double s = st / rs, ds = (ct * dtheta * rs - st) / (rs * rs);
+    const double ca = a[i] / rs, cb = b[i] / rs;
+    out->d[0][i] = axis ? 0.0 : s * a[i], out->d[1][i] = axis ? 0.0 : s * b[i];
+    out->d[2][i] = axis ? -1.0 : -ct;
+    out->du[0][i] = (axis ? dtheta : s + a[i] * ds * ca) * su;
+    out->du[1][i] = (axis ? 0.0 : b[i] * ds * ca) * su;
+    out->du[2][i] = (axis ? 0.0 : st * dtheta * ca) * su;
+    out->dv[0][i] = (axis ? 0.0 : a[i] * ds * cb) * sv;
+    out->dv[1][i] = (axis ? dtheta : s + b[i] * ds * cb) * sv;
+    out->dv[2][i] = (axis ? 0.0 : st * dtheta * cb) * sv;
+  }
+  for (int i = 0; i < n; ++i) out->ok[i] = ok[i] != 0;
+}
+
+ANAMORPH_SIMD_CLONES void kb_dirs(const KannalaBrandt& D, const Intrinsics& K, double top,
+                                  const double* u, const double* v, int n, DirBatch* out) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { kb_kernel(D, K, top, u, v, m, out); });
+}
 
 class FisheyeCvDir final : public DirFunction {
  public:
@@ -351,17 +402,18 @@ class FisheyeCvDir final : public DirFunction {
     double slope;
     top_ = d_.theta_d(d_.theta_max, &slope);
   }
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
-    const Vec2 xd = k_.distorted(uv);
-    double theta, slope;
-    if (!d_.theta(std::sqrt(xd.x * xd.x + xd.y * xd.y), top_, &theta, &slope)) return false;
-    // Our image-plane (a right, b up) is OpenCV's (x, -y); theta(rho) has slope 1/theta_d'.
-    RadialDirection rd;
-    if (!radial_direction(xd.x, -xd.y, theta, 1 / slope, &rd)) return false;
-    out->d = rd.d;
-    out->dd_du = rd.dd_da * (k_.w / k_.fx);
-    out->dd_dv = rd.dd_db * (-k_.h / k_.fy);
-    return true;
+  // One sample: a batch of one, so single rays and packets give the same bits.
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    DirBatch b;
+    eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
+            {b.du[0][0], b.du[1][0], b.du[2][0]},
+            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
+    return b.ok[0];
+  }
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+                  DirBatch* out) const override {
+    kb_dirs(d_, k_, top_, u, v, n, out);
   }
 
  private:
