@@ -60,9 +60,10 @@ class SplineOrg final : public OrgFunction {
     // vanishes and the cross product is noise: take the normal a hair inside the domain.
     const double tiny_s = 1e-9 * s_.size() / (s_.s_hi() - s_.s_lo());
     const double tiny_t = 1e-9 * s_.size() / (s_.t_hi() - s_.t_lo());
+    // (Squared lengths: the same tests without three square roots per sample.)
     const Vec3 N = cross(g.ps, g.pt);
-    if (length(g.ps) > tiny_s && length(g.pt) > tiny_t &&
-        length(N) > 1e-9 * length(g.ps) * length(g.pt)) {
+    const double ps2 = dot(g.ps, g.ps), pt2 = dot(g.pt, g.pt);
+    if (ps2 > tiny_s * tiny_s && pt2 > tiny_t * tiny_t && dot(N, N) > 1e-18 * ps2 * pt2) {
       set_cross_normal(g, su, sv, flip_, out);
       return;
     }
