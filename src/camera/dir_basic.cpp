@@ -6,7 +6,7 @@ namespace anamorph {
 
 namespace {
 
-class ConstantDir final : public DirFunction {
+class ConstantDir final : public DirFunctionLoop<ConstantDir> {
  public:
   explicit ConstantDir(Vec3 d) : d_(d) {}
   bool eval(Vec2, const SurfaceSample&, DirSample* out) const override {
@@ -21,7 +21,7 @@ class ConstantDir final : public DirFunction {
 // The paper's "sphere function for dir" generalized to any surface: the direction from a fixed
 // center to the surface point. When the surface does not enclose the center, two (u, v) can give
 // the same direction (the mirroring circle), and moving the surface away from the center zooms.
-class SurfaceDir final : public DirFunction {
+class SurfaceDir final : public DirFunctionLoop<SurfaceDir> {
  public:
   SurfaceDir(std::unique_ptr<OrgFunction> s, Vec3 c) : s_(std::move(s)), c_(c) {}
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
@@ -38,7 +38,7 @@ class SurfaceDir final : public DirFunction {
 
 // sign = +1: dir = point - org; sign = -1: dir = org - point. A ray whose origin is the point
 // itself has no direction (zero length: the camera reports no ray).
-class PointDir final : public DirFunction {
+class PointDir final : public DirFunctionLoop<PointDir> {
  public:
   PointDir(Vec3 p, double sign) : p_(p), sign_(sign) {}
   bool eval(Vec2, const SurfaceSample& o, DirSample* out) const override {

@@ -10,7 +10,7 @@ namespace anamorph {
 
 namespace {
 
-class NormalDir final : public DirFunction {
+class NormalDir final : public DirFunctionLoop<NormalDir> {
  public:
   explicit NormalDir(bool flip) : s_(flip ? -1.0 : 1.0) {}
   bool eval(Vec2, const SurfaceSample& o, DirSample* out) const override {
@@ -22,7 +22,7 @@ class NormalDir final : public DirFunction {
   double s_;
 };
 
-class TangentDir final : public DirFunction {
+class TangentDir final : public DirFunctionLoop<TangentDir> {
  public:
   TangentDir(bool along_v, bool flip) : v_(along_v), s_(flip ? -1.0 : 1.0) {}
   bool eval(Vec2, const SurfaceSample& o, DirSample* out) const override {
@@ -41,7 +41,7 @@ class TangentDir final : public DirFunction {
 // d = cos(a) n + sin(a) (cos(b) t1 + sin(b) t2) with t1 the unit u tangent (image right) and t2
 // the unit tangent toward image up (-v), both perpendicular to n: the angle to the normal is
 // exactly a, and the azimuth b turns counterclockwise as seen in the image.
-class DeviatedNormalDir final : public DirFunction {
+class DeviatedNormalDir final : public DirFunctionLoop<DeviatedNormalDir> {
  public:
   DeviatedNormalDir(double angle, double azimuth, bool flip)
       : ca_(std::cos(angle)),

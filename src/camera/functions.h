@@ -90,6 +90,23 @@ class DirFunction {
                           int org_stride, DirBatch* out) const;
 };
 
+// Base for direction functions whose batch is a plain loop over their own eval: the call is
+// direct (no virtual dispatch per sample) and can inline. `class F final : public
+// DirFunctionLoop<F>`.
+template <class Derived>
+class DirFunctionLoop : public DirFunction {
+ public:
+  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
+                  DirBatch* out) const override {
+    const Derived& self = static_cast<const Derived&>(*this);
+    for (int i = 0; i < n; ++i) {
+      DirSample d;
+      out->ok[i] = self.Derived::eval({u[i], v[i]}, org[size_t(i) * size_t(org_stride)], &d);
+      out->set(i, out->ok[i] ? d : DirSample{});
+    }
+  }
+};
+
 // A linear map of t in [0,1] onto [a, b]; b < a reverses the parameter.
 struct ParamRange {
   double a = 0, b = 1;

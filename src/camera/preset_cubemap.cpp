@@ -52,7 +52,7 @@ struct CubeGeometry {
   int cols = 3, rows = 2;
 };
 
-class CubemapDir final : public DirFunction {
+class CubemapDir final : public DirFunctionLoop<CubemapDir> {
  public:
   explicit CubemapDir(const CubeGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {

@@ -42,7 +42,7 @@ double panini_cos_lon(double x, double d) {
   return (-k * d + std::sqrt(std::max(disc, 0.0))) / (k + 1);
 }
 
-class PaniniDir final : public DirFunction {
+class PaniniDir final : public DirFunctionLoop<PaniniDir> {
  public:
   PaniniDir(Vec2 half, double d) : half_(half), d_(d) {}
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {

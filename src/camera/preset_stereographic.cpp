@@ -30,7 +30,7 @@ const ParamSpec kParams[] = {
      kInf, kFovAxes},
 };
 
-class StereographicDir final : public DirFunction {
+class StereographicDir final : public DirFunctionLoop<StereographicDir> {
  public:
   explicit StereographicDir(Vec2 half) : half_(half) {}
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
