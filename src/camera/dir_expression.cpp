@@ -12,7 +12,7 @@ namespace anamorph {
 
 namespace {
 
-class ExpressionDir final : public DirFunction {
+class ExpressionDir final : public DirFunctionLoop<ExpressionDir> {
  public:
   ExpressionDir(std::unique_ptr<ExpressionSet> f, ParamRange ur, ParamRange vr)
       : f_(std::move(f)), ur_(ur), vr_(vr) {}

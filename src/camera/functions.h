@@ -90,6 +90,17 @@ class DirFunction {
                           int org_stride, DirBatch* out) const;
 };
 
+// The same for origin functions: `class F final : public OrgFunctionLoop<F>`.
+template <class Derived>
+class OrgFunctionLoop : public OrgFunction {
+ public:
+  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
+                  bool* ok) const override {
+    const Derived& self = static_cast<const Derived&>(*this);
+    for (int i = 0; i < n; ++i) ok[i] = self.Derived::eval({u[i], v[i]}, &out[i]);
+  }
+};
+
 // Base for direction functions whose batch is a plain loop over their own eval: the call is
 // direct (no virtual dispatch per sample) and can inline. `class F final : public
 // DirFunctionLoop<F>`.

@@ -7,7 +7,7 @@ namespace anamorph {
 
 namespace {
 
-class PointOrg final : public OrgFunction {
+class PointOrg final : public OrgFunctionLoop<PointOrg> {
  public:
   explicit PointOrg(Vec3 p) : p_(p) {}
   bool eval(Vec2, SurfaceSample* out) const override {
@@ -22,7 +22,7 @@ class PointOrg final : public OrgFunction {
 
 // A rectilinear grid: p(u,v) = center + (u' - 1/2) edge_u + (v' - 1/2) edge_v, with u', v' the
 // image position mapped through u_range / v_range.
-class PlaneOrg final : public OrgFunction {
+class PlaneOrg final : public OrgFunctionLoop<PlaneOrg> {
  public:
   PlaneOrg(Vec3 center, Vec3 eu, Vec3 ev, ParamRange ur, ParamRange vr, bool flip)
       : c_(center),

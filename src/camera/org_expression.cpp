@@ -130,7 +130,7 @@ namespace {
 // p(s, t) from formulas; derivatives by central differences on a 3x3 stencil in the function's
 // own parameters (step 1e-4 of each range: balances truncation against rounding for the second
 // derivatives the normal's derivatives need).
-class ExpressionOrg final : public OrgFunction {
+class ExpressionOrg final : public OrgFunctionLoop<ExpressionOrg> {
  public:
   ExpressionOrg(std::unique_ptr<ExpressionSet> f, ParamRange ur, ParamRange vr, bool flip)
       : f_(std::move(f)), ur_(ur), vr_(vr), flip_(flip) {}

@@ -22,7 +22,7 @@ struct UvTriangle {
   Vec3 dNds, dNdt;
 };
 
-class MeshOrg final : public OrgFunction {
+class MeshOrg final : public OrgFunctionLoop<MeshOrg> {
  public:
   MeshOrg(std::vector<UvTriangle> tris, ParamRange ur, ParamRange vr, bool flip)
       : tris_(std::move(tris)), ur_(ur), vr_(vr), flip_(flip) {

@@ -69,7 +69,7 @@ Canonical canonical(QuadricKind kind, double s, double t) {
   return c;
 }
 
-class QuadricOrg final : public OrgFunction {
+class QuadricOrg final : public OrgFunctionLoop<QuadricOrg> {
  public:
   QuadricOrg(QuadricKind kind, const Mat3& m, Vec3 origin, ParamRange sr, ParamRange tr, bool flip)
       : kind_(kind), m_(m), a_(m.inverse_transpose()), o_(origin), sr_(sr), tr_(tr), flip_(flip) {}

@@ -13,7 +13,7 @@ namespace {
 
 enum class Kind { Cylinder, Cone, Torus };
 
-class RevolutionOrg final : public OrgFunction {
+class RevolutionOrg final : public OrgFunctionLoop<RevolutionOrg> {
  public:
   // a, b: cylinder radius; cone tan(half angle), unused; torus major and minor radius.
   RevolutionOrg(Kind kind, double a, double b, const AxisFrame& f, Vec3 origin, ParamRange sr,

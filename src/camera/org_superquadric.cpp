@@ -26,7 +26,7 @@ Pow signed_pow(double x, double dx, double ddx, double e) {
           e * (e - 1) * std::pow(ax, e - 2) * sg * dx * dx + p1 * ddx};
 }
 
-class SuperquadricOrg final : public OrgFunction {
+class SuperquadricOrg final : public OrgFunctionLoop<SuperquadricOrg> {
  public:
   SuperquadricOrg(Vec3 radii, double e_ns, double e_ew, const AxisFrame& f, Vec3 center,
                   ParamRange sr, ParamRange tr, bool flip)

@@ -50,7 +50,7 @@ struct TileGeometry {
   }
 };
 
-class TileOrg final : public OrgFunction {
+class TileOrg final : public OrgFunctionLoop<TileOrg> {
  public:
   explicit TileOrg(const TileGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
@@ -59,16 +59,12 @@ class TileOrg final : public OrgFunction {
     out->p = g_.origin(t.col, t.row);
     return true;
   }
-  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
-                  bool* ok) const override {
-    for (int i = 0; i < n; ++i) ok[i] = TileOrg::eval({u[i], v[i]}, &out[i]);  // no virtual calls
-  }
 
  private:
   TileGeometry g_;
 };
 
-class TileDir final : public DirFunction {
+class TileDir final : public DirFunctionLoop<TileDir> {
  public:
   explicit TileDir(const TileGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
@@ -79,14 +75,6 @@ class TileDir final : public DirFunction {
     out->dd_du = ds * double(g_.cols);
     out->dd_dv = dt * double(g_.rows);
     return true;
-  }
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
-                  DirBatch* out) const override {
-    for (int i = 0; i < n; ++i) {  // no virtual calls, no DirSample copies
-      DirSample d;
-      out->ok[i] = TileDir::eval({u[i], v[i]}, org[size_t(i) * size_t(org_stride)], &d);
-      out->set(i, d);
-    }
   }
 
  private:

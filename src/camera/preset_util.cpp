@@ -47,7 +47,7 @@ double polar_angle(const Vec3& v, Vec2* azimuth) {
 
 namespace {
 
-class SegmentOrg final : public OrgFunction {
+class SegmentOrg final : public OrgFunctionLoop<SegmentOrg> {
  public:
   SegmentOrg(Vec3 c, Vec3 e, bool along_v) : c_(c), e_(e), along_v_(along_v) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
