@@ -1,8 +1,38 @@
 #include "camera/spline_surface.h"
 
+#include <atomic>
+#include <bit>
 #include <cmath>
 
 namespace anamorph {
+
+namespace {
+
+uint64_t next_surface_id() {
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+// A direct-mapped per-thread cache of basis functions (degree <= 3) by surface and parameter.
+struct CachedBasis {
+  uint64_t owner = 0, key = 0;  // surface id, bits of the parameter
+  int span = 0;
+  double d[3][4];
+};
+constexpr size_t kCacheSlots = 64;
+struct BasisCache {
+  CachedBasis u[kCacheSlots], v[kCacheSlots];
+};
+thread_local BasisCache t_bases;
+
+size_t cache_slot(uint64_t key, uint64_t owner) {
+  uint64_t h = key ^ (owner * 0x9E3779B97F4A7C15ull);
+  h ^= h >> 31;
+  h *= 0xBF58476D1CE4E5B9ull;
+  return size_t(h >> 58);  // the top 6 bits: kCacheSlots = 64
+}
+
+}  // namespace
 
 SplineSurface::SplineSurface(SplineNet net, int p, int q, Basis basis, std::vector<double> knots_u,
                              std::vector<double> knots_v)
@@ -13,7 +43,8 @@ SplineSurface::SplineSurface(SplineNet net, int p, int q, Basis basis, std::vect
       basis_(basis),
       rational_(!net.weights.empty()),
       ku_(std::move(knots_u)),
-      kv_(std::move(knots_v)) {
+      kv_(std::move(knots_v)),
+      id_(next_surface_id()) {
   ctrl_.resize(4 * net.points.size());
   Bounds3 box;
   for (size_t k = 0; k < net.points.size(); ++k) {
@@ -49,6 +80,23 @@ void SplineSurface::basis_v(double t, Basis1* b) const {
     b->span = spline::find_span(nv_ - 1, q_, t, kv_);
     spline::ders_basis_funs(b->span, std::clamp(t, t_lo_, t_hi_), q_, 2, kv_, b->d);
   }
+}
+
+void SplineSurface::cached_basis(bool along_u, double x, Basis1* b) const {
+  const int deg = along_u ? p_ : q_;
+  if (deg > 3) return along_u ? basis_u(x, b) : basis_v(x, b);
+  const uint64_t key = std::bit_cast<uint64_t>(x);
+  CachedBasis& c = (along_u ? t_bases.u : t_bases.v)[cache_slot(key, id_)];
+  if (c.owner == id_ && c.key == key) {
+    b->span = c.span;
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i <= deg; ++i) b->d[k][i] = c.d[k][i];
+    return;
+  }
+  along_u ? basis_u(x, b) : basis_v(x, b);
+  c.owner = id_, c.key = key, c.span = b->span;
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i <= deg; ++i) c.d[k][i] = b->d[k][i];
 }
 
 template <bool Rational>

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -87,10 +88,10 @@ class SplineSurface {
     double su[kMax], sv[kMax];
     for (int k = 0; k < n; ++k) {
       int j = index_of(su, nu, ss[k]);
-      if (j < 0) su[j = nu++] = ss[k], basis_u(ss[k], &bu[j]);
+      if (j < 0) su[j = nu++] = ss[k], cached_basis(true, ss[k], &bu[j]);
       iu[k] = j;
       j = index_of(sv, nv, ts[k]);
-      if (j < 0) sv[j = nv++] = ts[k], basis_v(ts[k], &bv[j]);
+      if (j < 0) sv[j = nv++] = ts[k], cached_basis(false, ts[k], &bv[j]);
       iv[k] = j;
     }
     Columns q;
@@ -119,6 +120,10 @@ class SplineSurface {
 
   void basis_u(double s, Basis1* b) const;
   void basis_v(double t, Basis1* b) const;
+  // basis_u / basis_v through a small per-thread cache (degrees up to 3): the renderer's
+  // packets walk a tile row by row, so a row of packets repeats its t values and the next row
+  // repeats the columns' s values. The same bits as computing them.
+  void cached_basis(bool along_u, double x, Basis1* b) const;
   void columns(const Basis1& bv, int first_col, Columns& q) const;
   LocalGeom combine(const Basis1& bu, const Columns& q) const;
   template <bool Rational>
@@ -132,6 +137,7 @@ class SplineSurface {
   std::vector<double> ctrl_;  // homogeneous (w x, w y, w z, w) per control point, row-major
   std::vector<double> ku_, kv_;
   double s_lo_ = 0, s_hi_ = 1, t_lo_ = 0, t_hi_ = 1, size_ = 1;
+  uint64_t id_;  // tells this surface's cached bases from others' (copies are identical)
 };
 
 }  // namespace anamorph
