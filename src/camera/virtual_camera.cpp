@@ -178,9 +178,12 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
     r.ddir_dv = (d_v_ - r.dir * dot(r.dir, d_v_)) * inv;
     return r;
   }
-  if (dof_.aperture_radius == 0 && rig_affine_ && !coins_.reaches(cs.uv)) {
+  if (dof_.aperture_radius == 0 && rig_affine_) {
     CameraRayBatch b;
-    plain_rays(&cs.uv.x, &cs.uv.y, 1, &b);
+    if (coins_.reaches(cs.uv))
+      coin_rays(&cs.uv.x, &cs.uv.y, 1, &b);
+    else
+      plain_rays(&cs.uv.x, &cs.uv.y, 1, &b);
     if (!b.valid[0]) return std::nullopt;
     return b.ray(0);
   }
@@ -325,11 +328,13 @@ ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org,
 
 }  // namespace
 
-void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out) const {
+void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
+                               bool camera_space) const {
   Rig rig;
   const auto& a = world_from_camera_.matrix().m;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) rig.m[r][c] = a[size_t(r)][size_t(c)];
+    for (int c = 0; c < 4; ++c)
+      rig.m[r][c] = camera_space ? (r == c ? 1.0 : 0.0) : a[size_t(r)][size_t(c)];
   DirBatch b;
   if (point_org_) {
     dir_->eval_batch(u, v, n, &point_sample_, 0, &b);
@@ -356,10 +361,36 @@ void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch*
     linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, u, v, n, out);
   else
     plain_rays(u, v, n, out);
-  // Samples under a coin take the one-at-a-time path (the field is deformed there).
-  if (!coins_.empty())
-    for (int i = 0; i < n; ++i)
-      if (coins_.reaches(s[i].uv)) out->set(i, generate(s[i]));
+  if (coins_.empty()) return;
+  // Samples under a coin: affine cameras take their closed form one at a time, curved ones a
+  // batch of their own (the field is deformed there).
+  int lanes[kCameraBatch], m = 0;
+  double cu[kCameraBatch], cv[kCameraBatch];
+  for (int i = 0; i < n; ++i)
+    if (coins_.reaches(s[i].uv)) {
+      if (linear_) {
+        out->set(i, generate(s[i]));
+      } else {
+        lanes[m] = i, cu[m] = u[i], cv[m] = v[i];
+        ++m;
+      }
+    }
+  if (m == 0) return;
+  CameraRayBatch c;
+  coin_rays(cu, cv, m, &c);
+  for (int k = 0; k < m; ++k)
+    out->set(lanes[k], c.valid[k] ? std::optional(c.ray(k)) : std::nullopt);
+}
+
+void VirtualCamera::coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const {
+  CameraRayBatch plain;
+  plain_rays(u, v, n, &plain, /*camera_space=*/true);
+  for (int k = 0; k < n; ++k) {
+    CameraRay r = plain.ray(k);
+    const bool ok = plain.valid[k] && coins_.apply({u[k], v[k]}, &r);
+    if (ok) to_world(&r);
+    out->set(k, ok ? std::optional(r) : std::nullopt);
+  }
 }
 
 std::optional<CameraRay> VirtualCamera::generate_general(const CameraSample& cs,

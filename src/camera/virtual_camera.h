@@ -81,7 +81,13 @@ class VirtualCamera final : public Camera {
   // The rays of n <= kCameraBatch samples with no lens, motion or coin: functions in batch, then
   // one vectorized pass for the rig, normalization and differentials. generate() runs the same
   // code with n = 1, so both give the same bits.
-  void plain_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
+  // camera_space: without the rig (coins deform the field there).
+  void plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
+                  bool camera_space = false) const;
+  // Rays of n <= kCameraBatch samples that coins reach (curved cameras, no lens or motion): the
+  // functions in batch in camera space, then per ray the coins and the rig. generate() runs it
+  // with n = 1, so single rays and packets agree.
+  void coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
   std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
   std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
   void to_world(CameraRay* r) const;  // the rig
