@@ -81,8 +81,7 @@ void shape_query(const Args* args) {
       const auto tf = float(t);
       if (!(tf < tmax)) continue;  // float rounding must not accept a farther hit
       RTCRayN_tfar(ray, n, i) = tf;
-      const ShapeSurface ss = shape_surface(*rec->shape, oo + od * t);
-      const Vec3 ng = rec->world_from_object.normal(ss.n);
+      const Vec3 ng = rec->world_from_object.normal(shape_normal(*rec->shape, oo + od * t));
       RTCHitN_Ng_x(hit, n, i) = float(ng.x);
       RTCHitN_Ng_y(hit, n, i) = float(ng.y);
       RTCHitN_Ng_z(hit, n, i) = float(ng.z);

@@ -107,11 +107,55 @@ bool intersect_shape(const AnalyticShape& s, const Vec3& o, const Vec3& d, doubl
   return false;
 }
 
+namespace {
+
+// The face of a box a point lies on: the axis with the largest relative coordinate.
+int box_axis(const AnalyticShape& s, const Vec3& p) {
+  int axis = 0;
+  double best = -1;
+  for (int i = 0; i < 3; ++i) {
+    const double rel = std::abs(p[i]) / (s.size[i] * 0.5);
+    if (rel > best) best = rel, axis = i;
+  }
+  return axis;
+}
+
+// Whether a point of a capped cylinder lies on a cap (else on the side).
+bool on_cylinder_cap(const AnalyticShape& s, const Vec3& p, double rr) {
+  const double eps = 1e-9 * std::max(1.0, s.height);
+  return s.capped && (p.y <= eps || p.y >= s.height - eps) && rr < s.radius * (1 - 1e-9);
+}
+
+}  // namespace
+
+Vec3 shape_normal(const AnalyticShape& s, const Vec3& p) {
+  switch (s.kind) {
+    case AnalyticShape::Kind::Sphere:
+      return normalize(p);
+    case AnalyticShape::Kind::Plane:
+    case AnalyticShape::Kind::Disk:
+      return {0, 1, 0};
+    case AnalyticShape::Kind::Box: {
+      const int axis = box_axis(s, p);
+      Vec3 n{};
+      n[axis] = p[axis] >= 0 ? 1 : -1;
+      return n;
+    }
+    case AnalyticShape::Kind::Cylinder: {
+      const double rr = std::sqrt(p.x * p.x + p.z * p.z);
+      if (on_cylinder_cap(s, p, rr))
+        return {0, p.y <= 1e-9 * std::max(1.0, s.height) ? -1.0 : 1.0, 0};
+      return rr > 0 ? Vec3{p.x / rr, 0, p.z / rr} : Vec3{1, 0, 0};
+    }
+  }
+  return {0, 1, 0};
+}
+
 ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p) {
   ShapeSurface r;
+  r.n = shape_normal(s, p);
   switch (s.kind) {
     case AnalyticShape::Kind::Sphere: {
-      r.n = normalize(p);
       const double phi = std::atan2(p.x, p.z);  // longitude around +y
       const double theta = std::acos(std::clamp(p.y / s.radius, -1.0, 1.0));
       r.uv = {phi / (2 * kPi) + 0.5, theta / kPi};
@@ -122,28 +166,17 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p) {
       break;
     }
     case AnalyticShape::Kind::Plane:
-      r.n = {0, 1, 0};
       r.uv = {p.x, p.z};
       r.dpdu = {1, 0, 0};
       r.dpdv = {0, 0, 1};
       break;
     case AnalyticShape::Kind::Disk:
-      r.n = {0, 1, 0};
       r.uv = {p.x / (2 * s.radius) + 0.5, p.z / (2 * s.radius) + 0.5};
       r.dpdu = {2 * s.radius, 0, 0};
       r.dpdv = {0, 0, 2 * s.radius};
       break;
     case AnalyticShape::Kind::Box: {
-      // Face with the largest relative coordinate.
-      int axis = 0;
-      double best = -1;
-      for (int i = 0; i < 3; ++i) {
-        const double rel = std::abs(p[i]) / (s.size[i] * 0.5);
-        if (rel > best) best = rel, axis = i;
-      }
-      const double sign = p[axis] >= 0 ? 1 : -1;
-      r.n = Vec3{};
-      r.n[axis] = sign;
+      const int axis = box_axis(s, p);
       const int a = (axis + 1) % 3, b = (axis + 2) % 3;
       r.uv = {p[a] / s.size[a] + 0.5, p[b] / s.size[b] + 0.5};
       r.dpdu = Vec3{};
@@ -154,16 +187,11 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p) {
     }
     case AnalyticShape::Kind::Cylinder: {
       const double rr = std::sqrt(p.x * p.x + p.z * p.z);
-      const double eps = 1e-9 * std::max(1.0, s.height);
-      const bool cap =
-          s.capped && (p.y <= eps || p.y >= s.height - eps) && rr < s.radius * (1 - 1e-9);
-      if (cap) {
-        r.n = {0, p.y <= eps ? -1.0 : 1.0, 0};
+      if (on_cylinder_cap(s, p, rr)) {
         r.uv = {p.x / (2 * s.radius) + 0.5, p.z / (2 * s.radius) + 0.5};
         r.dpdu = {2 * s.radius, 0, 0};
         r.dpdv = {0, 0, 2 * s.radius};
       } else {
-        r.n = rr > 0 ? Vec3{p.x / rr, 0, p.z / rr} : Vec3{1, 0, 0};
         r.uv = {std::atan2(p.x, p.z) / (2 * kPi) + 0.5, p.y / s.height};
         r.dpdu = Vec3{p.z, 0, -p.x} * (2 * kPi);
         r.dpdv = {0, s.height, 0};
