@@ -37,9 +37,11 @@ struct CameraRayBatch {
   double dorg_du[3][N], dorg_dv[3][N], ddir_du[3][N], ddir_dv[3][N];
   bool valid[N];
 
+  static Vec3 at(const double (&a)[3][N], int i) { return {a[0][i], a[1][i], a[2][i]}; }
+  Vec3 origin(int i) const { return at(org, i); }
+  Vec3 direction(int i) const { return at(dir, i); }
   CameraRay ray(int i) const {
-    const auto v = [i](const double(&a)[3][N]) { return Vec3{a[0][i], a[1][i], a[2][i]}; };
-    return {v(org), v(dir), v(dorg_du), v(dorg_dv), v(ddir_du), v(ddir_dv)};
+    return {at(org, i), at(dir, i), at(dorg_du, i), at(dorg_dv, i), at(ddir_du, i), at(ddir_dv, i)};
   }
   void set(int i, const std::optional<CameraRay>& r) {
     valid[i] = bool(r);

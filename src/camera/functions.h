@@ -53,6 +53,11 @@ struct DirBatch {
     du[0][i] = s.dd_du.x, du[1][i] = s.dd_du.y, du[2][i] = s.dd_du.z;
     dv[0][i] = s.dd_dv.x, dv[1][i] = s.dd_dv.y, dv[2][i] = s.dd_dv.z;
   }
+  DirSample lane(int i) const {
+    return {{d[0][i], d[1][i], d[2][i]},
+            {du[0][i], du[1][i], du[2][i]},
+            {dv[0][i], dv[1][i], dv[2][i]}};
+  }
 };
 
 class OrgFunction {
@@ -90,33 +95,50 @@ class DirFunction {
                           int org_stride, DirBatch* out) const;
 };
 
-// The same for origin functions: `class F final : public OrgFunctionLoop<F>`.
+// Batches as a loop over eval. With F a final class the calls are direct (no virtual dispatch
+// per sample) and can inline; the base classes' default eval_batch use them with F = the base.
+template <class F>
+void org_batch_by_eval(const F& f, const double* u, const double* v, int n, SurfaceSample* out,
+                       bool* ok) {
+  for (int i = 0; i < n; ++i) ok[i] = f.eval({u[i], v[i]}, &out[i]);
+}
+template <class F>
+void dir_batch_by_eval(const F& f, const double* u, const double* v, int n,
+                       const SurfaceSample* org, int org_stride, DirBatch* out) {
+  for (int i = 0; i < n; ++i) {
+    DirSample d;
+    out->ok[i] = f.eval({u[i], v[i]}, org[size_t(i) * size_t(org_stride)], &d);
+    out->set(i, out->ok[i] ? d : DirSample{});
+  }
+}
+
+// Bases for functions whose batch is that loop: `class F final : public OrgFunctionLoop<F>`.
 template <class Derived>
 class OrgFunctionLoop : public OrgFunction {
  public:
   void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
                   bool* ok) const override {
-    const Derived& self = static_cast<const Derived&>(*this);
-    for (int i = 0; i < n; ++i) ok[i] = self.Derived::eval({u[i], v[i]}, &out[i]);
+    org_batch_by_eval(static_cast<const Derived&>(*this), u, v, n, out, ok);
   }
 };
-
-// Base for direction functions whose batch is a plain loop over their own eval: the call is
-// direct (no virtual dispatch per sample) and can inline. `class F final : public
-// DirFunctionLoop<F>`.
 template <class Derived>
 class DirFunctionLoop : public DirFunction {
  public:
   void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
                   DirBatch* out) const override {
-    const Derived& self = static_cast<const Derived&>(*this);
-    for (int i = 0; i < n; ++i) {
-      DirSample d;
-      out->ok[i] = self.Derived::eval({u[i], v[i]}, org[size_t(i) * size_t(org_stride)], &d);
-      out->set(i, out->ok[i] ? d : DirSample{});
-    }
+    dir_batch_by_eval(static_cast<const Derived&>(*this), u, v, n, org, org_stride, out);
   }
 };
+
+// The other way round, for functions whose batch is a kernel: eval as a batch of one, so single
+// samples and batches give the same bits.
+inline bool eval_as_batch_of_one(const DirFunction& f, Vec2 uv, const SurfaceSample& org,
+                                 DirSample* out) {
+  DirBatch b;
+  f.eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+  *out = b.lane(0);
+  return b.ok[0];
+}
 
 // A linear map of t in [0,1] onto [a, b]; b < a reverses the parameter.
 struct ParamRange {

@@ -94,16 +94,12 @@ void OrgFunction::eval_grid(std::span<const double> us, std::span<const double> 
 
 void OrgFunction::eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
                              bool* ok) const {
-  for (int i = 0; i < n; ++i) ok[i] = eval({u[i], v[i]}, &out[i]);
+  org_batch_by_eval(*this, u, v, n, out, ok);
 }
 
 void DirFunction::eval_batch(const double* u, const double* v, int n, const SurfaceSample* org,
                              int org_stride, DirBatch* out) const {
-  for (int i = 0; i < n; ++i) {
-    DirSample d;
-    out->ok[i] = eval({u[i], v[i]}, org[size_t(i) * size_t(org_stride)], &d);
-    out->set(i, out->ok[i] ? d : DirSample{});
-  }
+  dir_batch_by_eval(*this, u, v, n, org, org_stride, out);
 }
 
 }  // namespace anamorph

@@ -111,12 +111,7 @@ class LatLongDir final : public DirFunction {
   explicit LatLongDir(const LatLongGeometry& g) : g_(g) {}
   // One sample: a batch of one, so single rays and packets give the same bits.
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
-    DirBatch b;
-    eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
-    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
-            {b.du[0][0], b.du[1][0], b.du[2][0]},
-            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
-    return true;
+    return eval_as_batch_of_one(*this, uv, org, out);
   }
 
   void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,

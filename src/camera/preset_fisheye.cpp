@@ -130,8 +130,8 @@ struct FisheyeGeometry {
   double half_sin = 0, half_tan = 0, full_sin = 0;
 };
 
-// The fisheye directions as straight-line code over a batch, which the compiler vectorizes: the
-// same steps as radial_direction() with selects for its branches. No inverse trigonometry: the
+// The fisheye directions as straight-line code over a batch, which the compiler vectorizes
+// (radial_lane for the direction). No inverse trigonometry: the
 // mappings give sin(theta) and cos(theta) algebraically (equisolid from sin(theta/2), stereographic
 // from tan(theta/2), orthographic from sin(theta)); equidistant uses sincos_poly. Lanes outside
 // the image circle get ok = false. (The polynomial mapping stays on the one-at-a-time path.)
@@ -171,16 +171,11 @@ template <FisheyeMapping::Kind K>
       const double q = 1 - rc * rc * full_sin * full_sin;
       dth = full_sin / std::sqrt(q > 1e-24 ? q : 1e-24);
     }
-    // radial_direction(): on the axis sin(theta)/rho -> dtheta/drho.
-    const double rho = std::sqrt(a * a + b * b);
-    const bool axis = rho < 1e-12;
-    const double irs = 1 / (axis ? 1.0 : rho);  // one division for the four quotients
-    const double sr = axis ? dth : st * irs;
-    const double ds = axis ? 0.0 : (ct * dth - st * irs) * irs;
-    const double ca = axis ? 0.0 : a * irs, cb = axis ? 0.0 : b * irs;
-    const double lx = axis ? 0.0 : sr * a, ly = axis ? 0.0 : sr * b, lz = axis ? -1.0 : -ct;
-    const double ax = sr + a * ds * ca, ay = b * ds * ca, az = st * dth * ca;
-    const double bx = a * ds * cb, by = sr + b * ds * cb, bz = st * dth * cb;
+    bool axis;  // theta(0) = 0 for every mapping here: the axis has its direction
+    const RadialDirection rd = radial_lane(a, b, st, ct, dth, &axis);
+    const double lx = rd.d.x, ly = rd.d.y, lz = rd.d.z;
+    const double ax = rd.dd_da.x, ay = rd.dd_da.y, az = rd.dd_da.z;
+    const double bx = rd.dd_db.x, by = rd.dd_db.y, bz = rd.dd_db.z;
     // frame.to_camera(l) = right l.x + up l.y - axis l.z
     out->d[0][i] = (X.x * lx + Y.x * ly - Z.x * lz) * R - g.eye.x;
     out->d[1][i] = (X.y * lx + Y.y * ly - Z.y * lz) * R - g.eye.y;
@@ -229,12 +224,7 @@ class FisheyeDir final : public DirFunction {
   }
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
     if (g_.map.kind != FisheyeMapping::kPolynomial) {
-      DirBatch b;
-      eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
-      *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
-              {b.du[0][0], b.du[1][0], b.du[2][0]},
-              {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
-      return b.ok[0];
+      return eval_as_batch_of_one(*this, uv, org, out);
     }
     double a = (uv.x - 0.5) * g_.sa, b = (0.5 - uv.y) * g_.sb;
     const double r = std::sqrt(a * a + b * b);

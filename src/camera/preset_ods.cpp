@@ -168,13 +168,8 @@ class OdsOrg final : public OrgFunction {
 class OdsDir final : public DirFunction {
  public:
   explicit OdsDir(const OdsGeometry& g) : g_(g) {}
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
-    DirBatch b;
-    ods_dirs(g_, &uv.x, &uv.y, 1, &b);
-    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
-            {b.du[0][0], b.du[1][0], b.du[2][0]},
-            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
-    return true;
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    return eval_as_batch_of_one(*this, uv, org, out);
   }
   void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
                   DirBatch* out) const override {

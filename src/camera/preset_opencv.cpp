@@ -111,19 +111,24 @@ struct BrownConrady {
     reach = r * (1 + r2 * (k1 + r2 * (k2 + r2 * k3))) + 4 * (std::abs(p1) + std::abs(p2)) * r2;
   }
 
-  // Distorted point of undistorted x and the Jacobian d(x'')/d(x') as columns (ju, jv).
-  Vec2 distort(Vec2 x, Vec2* jx, Vec2* jy) const {
-    const double r2 = x.x * x.x + x.y * x.y;
+  // Distorted point (ox, oy) of undistorted (x, y) and the Jacobian d(x'')/d(x') as columns
+  // (jxx, jxy), (jyx, jyy); scalar arguments so batch kernels vectorize it.
+  [[gnu::always_inline]] void distort_lane(double x, double y, double* ox, double* oy, double* jxx,
+                                           double* jxy, double* jyx, double* jyy) const {
+    const double r2 = x * x + y * y;
     const double L = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
     const double dL = k1 + r2 * (2 * k2 + 3 * k3 * r2);  // dL / d(r^2)
-    const Vec2 out{x.x * L + 2 * p1 * x.x * x.y + p2 * (r2 + 2 * x.x * x.x),
-                   x.y * L + p1 * (r2 + 2 * x.y * x.y) + 2 * p2 * x.x * x.y};
-    if (jx) {
-      const double xy = 2 * x.x * x.y * dL + 2 * p1 * x.x + 2 * p2 * x.y;
-      *jx = {L + 2 * x.x * x.x * dL + 2 * p1 * x.y + 6 * p2 * x.x, xy};
-      *jy = {xy, L + 2 * x.y * x.y * dL + 6 * p1 * x.y + 2 * p2 * x.x};
-    }
-    return out;
+    *ox = x * L + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+    *oy = y * L + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+    const double xy = 2 * x * y * dL + 2 * p1 * x + 2 * p2 * y;
+    *jxx = L + 2 * x * x * dL + 2 * p1 * y + 6 * p2 * x, *jxy = xy;
+    *jyx = xy, *jyy = L + 2 * y * y * dL + 6 * p1 * y + 2 * p2 * x;
+  }
+  Vec2 distort(Vec2 x, Vec2* jx, Vec2* jy) const {
+    Vec2 o, a, b;
+    distort_lane(x.x, x.y, &o.x, &o.y, &a.x, &a.y, &b.x, &b.y);
+    *jx = a, *jy = b;
+    return o;
   }
 
   bool valid(Vec2 x, Vec2 jx, Vec2 jy) const {
@@ -148,19 +153,6 @@ struct NewtonLanes {
   double act[N], acc[N], ok[N];  // still iterating, step accepted, converged and valid
 };
 
-[[gnu::always_inline]] inline void distort_lane(const BrownConrady& D, double x, double y,
-                                                double* ox, double* oy, double* jxx, double* jxy,
-                                                double* jyx, double* jyy) {
-  const double r2 = x * x + y * y;
-  const double L = 1 + r2 * (D.k1 + r2 * (D.k2 + r2 * D.k3));
-  const double dL = D.k1 + r2 * (2 * D.k2 + 3 * D.k3 * r2);
-  *ox = x * L + 2 * D.p1 * x * y + D.p2 * (r2 + 2 * x * x);
-  *oy = y * L + D.p1 * (r2 + 2 * y * y) + 2 * D.p2 * x * y;
-  const double xy = 2 * x * y * dL + 2 * D.p1 * x + 2 * D.p2 * y;
-  *jxx = L + 2 * x * x * dL + 2 * D.p1 * y + 6 * D.p2 * x, *jxy = xy;
-  *jyx = xy, *jyy = L + 2 * y * y * dL + 6 * D.p1 * y + 2 * D.p2 * x;
-}
-
 [[gnu::always_inline]] inline void undistort_kernel(const BrownConrady& bc,
                                                     NewtonLanes& __restrict S, int n) {
   const BrownConrady D = bc;
@@ -170,8 +162,8 @@ struct NewtonLanes {
     S.act[i] = S.tx[i] * S.tx[i] + S.ty[i] * S.ty[i] <= reach2 ? 1.0 : 0.0;
     S.ok[i] = 0;
     S.px[i] = S.tx[i], S.py[i] = S.ty[i];
-    distort_lane(D, S.px[i], S.py[i], &S.dx[i], &S.dy[i], &S.jxx[i], &S.jxy[i], &S.jyx[i],
-                 &S.jyy[i]);
+    D.distort_lane(S.px[i], S.py[i], &S.dx[i], &S.dy[i], &S.jxx[i], &S.jxy[i], &S.jyx[i],
+                   &S.jyy[i]);
   }
   for (int it = 0; it < 50; ++it) {
     double any = 0;
@@ -197,8 +189,8 @@ struct NewtonLanes {
       double pending = 0;
       for (int i = 0; i < n; ++i) {
         const bool search = (S.act[i] != 0) & (S.acc[i] == 0);
-        distort_lane(D, S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i],
-                     &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i], &S.qjyy[i]);
+        D.distort_lane(S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i], &S.qdy[i],
+                       &S.qjxx[i], &S.qjxy[i], &S.qjyx[i], &S.qjyy[i]);
         const bool lower = std::abs(S.qdx[i] - S.tx[i]) + std::abs(S.qdy[i] - S.ty[i]) < S.err[i];
         const bool take = search & lower;
         S.dx[i] = take ? S.qdx[i] : S.dx[i], S.dy[i] = take ? S.qdy[i] : S.dy[i];
@@ -218,8 +210,8 @@ struct NewtonLanes {
       S.act[i] = live & finite ? 1.0 : 0.0;
       // The smallest step, taken unchecked: distort where it landed.
       const bool redo = live & finite & (S.acc[i] == 0);
-      distort_lane(D, S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
-                   &S.qjyy[i]);
+      D.distort_lane(S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
+                     &S.qjyy[i]);
       S.dx[i] = redo ? S.qdx[i] : S.dx[i], S.dy[i] = redo ? S.qdy[i] : S.dy[i];
       S.jxx[i] = redo ? S.qjxx[i] : S.jxx[i], S.jxy[i] = redo ? S.qjxy[i] : S.jxy[i];
       S.jyx[i] = redo ? S.qjyx[i] : S.jyx[i], S.jyy[i] = redo ? S.qjyy[i] : S.jyy[i];
@@ -237,12 +229,7 @@ class PinholeDir final : public DirFunction {
   PinholeDir(Intrinsics k, BrownConrady d) : k_(k), d_(d) {}
   // One sample: a batch of one, so single rays and packets give the same bits.
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
-    DirBatch b;
-    eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
-    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
-            {b.du[0][0], b.du[1][0], b.du[2][0]},
-            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
-    return b.ok[0];
+    return eval_as_batch_of_one(*this, uv, org, out);
   }
   void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
                   DirBatch* out) const override {
@@ -371,21 +358,16 @@ struct KannalaBrandt {
     const double dtheta = 1 / (fresh[i] != 0 ? slope[i] : sl);  // theta(rho) has slope 1/theta_d'
     double st, ct;
     sincos_poly(x[i], &st, &ct);
-    // radial_direction(): on the axis sin(theta)/rho -> dtheta/drho (and theta must be 0).
-    const double rho = std::sqrt(a[i] * a[i] + b[i] * b[i]);
-    const bool axis = rho < 1e-12;
-    ok[i] = axis & (std::abs(x[i]) > 1e-9) ? 0.0 : ok[i];
-    const double rs = axis ? 1.0 : rho;
-    const double s = st / rs, ds = (ct * dtheta * rs - st) / (rs * rs);
-    const double ca = a[i] / rs, cb = b[i] / rs;
-    out->d[0][i] = axis ? 0.0 : s * a[i], out->d[1][i] = axis ? 0.0 : s * b[i];
-    out->d[2][i] = axis ? -1.0 : -ct;
-    out->du[0][i] = (axis ? dtheta : s + a[i] * ds * ca) * su;
-    out->du[1][i] = (axis ? 0.0 : b[i] * ds * ca) * su;
-    out->du[2][i] = (axis ? 0.0 : st * dtheta * ca) * su;
-    out->dv[0][i] = (axis ? 0.0 : a[i] * ds * cb) * sv;
-    out->dv[1][i] = (axis ? dtheta : s + b[i] * ds * cb) * sv;
-    out->dv[2][i] = (axis ? 0.0 : st * dtheta * cb) * sv;
+    bool axis;  // on the axis theta must be 0
+    const RadialDirection rd = radial_lane(a[i], b[i], st, ct, dtheta, &axis);
+    // (The comparison on a selected value, not under `axis`: a conditional compare may trap and
+    // would stay a branch.)
+    ok[i] = (axis ? std::abs(x[i]) : 0.0) > 1e-9 ? 0.0 : ok[i];
+    out->d[0][i] = rd.d.x, out->d[1][i] = rd.d.y, out->d[2][i] = rd.d.z;
+    out->du[0][i] = rd.dd_da.x * su, out->du[1][i] = rd.dd_da.y * su;
+    out->du[2][i] = rd.dd_da.z * su;
+    out->dv[0][i] = rd.dd_db.x * sv, out->dv[1][i] = rd.dd_db.y * sv;
+    out->dv[2][i] = rd.dd_db.z * sv;
   }
   for (int i = 0; i < n; ++i) out->ok[i] = ok[i] != 0;
 }
@@ -404,12 +386,7 @@ class FisheyeCvDir final : public DirFunction {
   }
   // One sample: a batch of one, so single rays and packets give the same bits.
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
-    DirBatch b;
-    eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
-    *out = {{b.d[0][0], b.d[1][0], b.d[2][0]},
-            {b.du[0][0], b.du[1][0], b.du[2][0]},
-            {b.dv[0][0], b.dv[1][0], b.dv[2][0]}};
-    return b.ok[0];
+    return eval_as_batch_of_one(*this, uv, org, out);
   }
   void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
                   DirBatch* out) const override {

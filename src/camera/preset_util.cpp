@@ -19,24 +19,11 @@ Vec2 window_half_extent(double e, std::string_view axis, double a) {
 }
 
 bool radial_direction(double a, double b, double theta, double dtheta, RadialDirection* out) {
-  const double rho = std::sqrt(a * a + b * b);
   double st, ct;
   sincos_poly(theta, &st, &ct);
-  if (rho < 1e-12) {
-    // On the axis: sin(theta)/rho -> dtheta/drho when theta(0) = 0.
-    if (std::abs(theta) > 1e-9) return false;
-    out->d = {0, 0, -1};
-    out->dd_da = {dtheta, 0, 0};
-    out->dd_db = {0, dtheta, 0};
-    return true;
-  }
-  const double s = st / rho;                                 // sin(theta) / rho
-  const double ds = (ct * dtheta * rho - st) / (rho * rho);  // d s / d rho
-  const double ca = a / rho, cb = b / rho;                   // d rho / da, d rho / db
-  out->d = {s * a, s * b, -ct};
-  out->dd_da = {s + a * ds * ca, b * ds * ca, st * dtheta * ca};
-  out->dd_db = {a * ds * cb, s + b * ds * cb, st * dtheta * cb};
-  return true;
+  bool axis;
+  *out = radial_lane(a, b, st, ct, dtheta, &axis);
+  return !axis || std::abs(theta) <= 1e-9;
 }
 
 double polar_angle(const Vec3& v, Vec2* azimuth) {

@@ -28,6 +28,22 @@ struct RadialDirection {
 };
 bool radial_direction(double a, double b, double theta, double dtheta, RadialDirection* out);
 
+// The same from sin and cos of theta, as straight-line code that batch kernels vectorize
+// (selects for the axis, one division). *on_axis tells rho = 0, where theta must be 0.
+[[gnu::always_inline]] inline RadialDirection radial_lane(double a, double b, double st, double ct,
+                                                          double dtheta, bool* on_axis) {
+  const double rho = std::sqrt(a * a + b * b);
+  const bool axis = rho < 1e-12;  // sin(theta)/rho -> dtheta/drho there
+  *on_axis = axis;
+  const double irs = 1 / (axis ? 1.0 : rho);
+  const double s = axis ? dtheta : st * irs;                          // sin(theta) / rho
+  const double ds = axis ? 0.0 : (ct * dtheta - st * irs) * irs;      // d s / d rho
+  const double ca = axis ? 0.0 : a * irs, cb = axis ? 0.0 : b * irs;  // d rho / da, d rho / db
+  return {{axis ? 0.0 : s * a, axis ? 0.0 : s * b, axis ? -1.0 : -ct},
+          {s + a * ds * ca, b * ds * ca, st * dtheta * ca},
+          {a * ds * cb, s + b * ds * cb, st * dtheta * cb}};
+}
+
 // The inverse: polar angle from -z of a camera-space vector, and the unit azimuth (a, b) (zero
 // on the axis).
 double polar_angle(const Vec3& v, Vec2* azimuth);

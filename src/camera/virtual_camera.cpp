@@ -19,6 +19,11 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       rig_affine_(parts.world_from_camera.matrix().m[3] == std::array<double, 4>{0, 0, 0, 1}),
       dof_(dof),
       description_(std::move(parts.description)) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) {
+      rig34_.m[r][c] = world_from_camera_.matrix().m[size_t(r)][size_t(c)];
+      camera34_.m[r][c] = r == c ? 1.0 : 0.0;
+    }
   detect_linear_field();
   detect_point_origin();
   if (!parts.coins.empty()) {
@@ -240,9 +245,7 @@ ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const double* u, con
 
 // The rig, normalization and ray differentials for a batch of directions from org/dir. Every
 // ray goes through here, batched or not, so the bits agree.
-struct Rig {
-  double m[3][4];
-};
+using Rig = AffineRig;
 
 template <bool kPointOrg>
 [[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceSample* org,
@@ -330,11 +333,7 @@ ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org,
 
 void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
                                bool camera_space) const {
-  Rig rig;
-  const auto& a = world_from_camera_.matrix().m;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c)
-      rig.m[r][c] = camera_space ? (r == c ? 1.0 : 0.0) : a[size_t(r)][size_t(c)];
+  const Rig& rig = camera_space ? camera34_ : rig34_;
   DirBatch b;
   if (point_org_) {
     dir_->eval_batch(u, v, n, &point_sample_, 0, &b);

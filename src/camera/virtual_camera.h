@@ -46,6 +46,11 @@ struct DepthOfField {
   double focus_distance = 1;   // along each ray, from its origin
 };
 
+// The rig's upper 3x4 (an affine map), as the batch kernels apply it.
+struct AffineRig {
+  double m[3][4];
+};
+
 class VirtualCamera final : public Camera {
  public:
   VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
@@ -98,8 +103,9 @@ class VirtualCamera final : public Camera {
   std::unique_ptr<InverseMap> inverse_;
   Transform world_from_camera_;
   bool rig_identity_;
-  bool rig_affine_;         // no projective row: plain_rays applies it as 3x4
-  bool point_org_ = false;  // org is one point (most presets): evaluated once
+  bool rig_affine_;                 // no projective row: plain_rays applies it as 3x4
+  AffineRig rig34_{}, camera34_{};  // that 3x4, and the identity (camera space)
+  bool point_org_ = false;          // org is one point (most presets): evaluated once
   SurfaceSample point_sample_;
   DepthOfField dof_;
   std::string description_;
