@@ -59,8 +59,13 @@ std::vector<unsigned char> read_file_bytes(const fs::path& file) {
 }
 
 bool is_png(const std::vector<unsigned char>& b) {
-  static constexpr unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  return b.size() >= 8 && std::memcmp(b.data(), sig, 8) == 0;
+  return b.size() >= 8 && std::memcmp(b.data(), kPngSignature, 8) == 0;
+}
+
+unsigned char unit_to_byte(float v) {
+  // NaN and negatives become 0; the clamp keeps out-of-gamut values from wrapping.
+  const float c = v > 0.0f ? std::min(v, 1.0f) : 0.0f;
+  return static_cast<unsigned char>(std::lround(c * 255.0f));
 }
 
 bool is_exr(const std::vector<unsigned char>& b) {
@@ -94,11 +99,7 @@ float linear_to_srgb(float v) {
 namespace {
 
 // The code 8-bit output has traditionally been: the encoded value clamped and rounded.
-unsigned char srgb8_reference(float v) {
-  const float e = linear_to_srgb(v);
-  const float c = e > 0.0f ? std::min(e, 1.0f) : 0.0f;
-  return static_cast<unsigned char>(std::lround(c * 255.0f));
-}
+unsigned char srgb8_reference(float v) { return io_detail::unit_to_byte(linear_to_srgb(v)); }
 
 // t[k]: the smallest float whose code is at least k (k = 1..255), found by bisection on the bit
 // patterns of [0, 1] (the reference is monotonic; checked for every float in [0, 1]).

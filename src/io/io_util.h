@@ -20,7 +20,11 @@ namespace anamorph::io_detail {
 // The whole file; throws ImageIoError naming the file (and strerror) when it cannot be read.
 std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
 
+inline constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 bool is_png(const std::vector<unsigned char>& bytes);
+
+// A value in [0, 1] as an 8-bit code, rounded; NaN and negatives give 0, values above 1 give 255.
+unsigned char unit_to_byte(float v);
 bool is_exr(const std::vector<unsigned char>& bytes);
 
 // Size and per-layer value counts of an image about to be written; throws naming the file.

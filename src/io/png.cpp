@@ -139,12 +139,6 @@ std::vector<unsigned char> text_chunk(const std::string& key, const std::string&
   return make_chunk("iTXt", *k + std::string("\0\0\0\0\0", 5) + value);
 }
 
-unsigned char to_byte(float v) {
-  // NaN and negatives become 0; the clamp keeps out-of-gamut values from wrapping.
-  const float c = v > 0.0f ? std::min(v, 1.0f) : 0.0f;
-  return static_cast<unsigned char>(std::lround(c * 255.0f));
-}
-
 // PNG row filters 0 (none), 1 (sub) and 2 (up) for RGBA8; each row takes the one with the
 // smallest sum of absolute signed bytes (libpng's heuristic), which compresses renders as well
 // as trying all five.
@@ -219,8 +213,11 @@ bool encode_png(const unsigned char* rgba, int width, int height, std::string* i
   unsigned char h[13];
   write_be32(h, uint32_t(width));
   write_be32(h + 4, uint32_t(height));
-  h[8] = 8, h[9] = 6, h[10] = 0, h[11] = 0,
-  h[12] = 0;  // 8 bits, RGBA, deflate, filters, no interlace
+  h[8] = 8;   // bits per channel
+  h[9] = 6;   // RGBA
+  h[10] = 0;  // deflate
+  h[11] = 0;  // adaptive row filters
+  h[12] = 0;  // no interlace
   ihdr->assign(reinterpret_cast<const char*>(h), 13);
   return true;
 }
@@ -252,14 +249,13 @@ void write_png(const fs::path& file, const OutputImage& img) {
     for (size_t i = size_t(y) * size_t(img.width); i < size_t(y + 1) * size_t(img.width); ++i) {
       const float* src = &beauty.data[i * nc];
       for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = linear_to_srgb8(src[c]);
-      rgba[i * 4 + 3] = nc == 4 ? to_byte(src[3]) : 255;
+      rgba[i * 4 + 3] = nc == 4 ? io_detail::unit_to_byte(src[3]) : 255;
     }
   });
   std::string ihdr, idat;
   if (!encode_png(rgba.data(), img.width, img.height, &ihdr, &idat))
     fail("cannot write PNG", file, "PNG encoding failed");
-  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  std::vector<unsigned char> png(kSignature, kSignature + 8);
+  std::vector<unsigned char> png(io_detail::kPngSignature, io_detail::kPngSignature + 8);
   const auto append = [&png](const std::vector<unsigned char>& c) {
     png.insert(png.end(), c.begin(), c.end());
   };

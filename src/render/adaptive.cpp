@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "math/rng.h"
@@ -34,9 +35,10 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
   const size_t n = size_t(w_) * h_;
   std::vector<double> s(n, 0.0);
   std::vector<uint8_t> valid(n, 0), jump_right(n, 0), jump_down(n, 0);
-  // Rows in parallel, pixel centers in camera batches (the same rays as one at a time). Each row
-  // also generates the next one for the jump test, so no image-sized arrays of points and
-  // derivatives are needed (at 1080p those were 150 MB of page faults).
+  // Bands of rows in parallel, pixel centers in camera batches (the same rays as one at a time).
+  // A band walks its rows keeping the current and the next one for the jump test, so no
+  // image-sized arrays of points and derivatives are needed (at 1080p those were 150 MB of page
+  // faults).
   struct Center {
     Vec3 pos, pu, pv;
     double s = 0;
@@ -66,18 +68,20 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
   const auto jump = [](const Center& a, const Center& b, const Vec3& predicted) {
     return a.valid && b.valid && length(b.pos - a.pos - predicted) > 2 * std::max(a.s, b.s);
   };
-  tbb::parallel_for(0, h_, [&](int y) {
-    std::vector<Center> row(static_cast<size_t>(w_));
-    std::vector<Center> next(y + 1 < h_ ? static_cast<size_t>(w_) : 0);
-    centers(y, row);
-    if (y + 1 < h_) centers(y + 1, next);
-    for (int x = 0; x < w_; ++x) {
-      const size_t i = size_t(y) * w_ + x;
-      const Center& c = row[size_t(x)];
-      s[i] = c.s;
-      valid[i] = c.valid;
-      if (x + 1 < w_) jump_right[i] = jump(c, row[size_t(x) + 1], c.pu);
-      if (y + 1 < h_) jump_down[i] = jump(c, next[size_t(x)], c.pv);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h_, 16), [&](const tbb::blocked_range<int>& band) {
+    std::vector<Center> row(static_cast<size_t>(w_)), next(static_cast<size_t>(w_));
+    centers(band.begin(), row);
+    for (int y = band.begin(); y != band.end(); ++y) {
+      if (y + 1 < h_) centers(y + 1, next);
+      for (int x = 0; x < w_; ++x) {
+        const size_t i = size_t(y) * w_ + x;
+        const Center& c = row[size_t(x)];
+        s[i] = c.s;
+        valid[i] = c.valid;
+        if (x + 1 < w_) jump_right[i] = jump(c, row[size_t(x) + 1], c.pu);
+        if (y + 1 < h_) jump_down[i] = jump(c, next[size_t(x)], c.pv);
+      }
+      row.swap(next);
     }
   });
   std::vector<double> vals;

@@ -141,14 +141,19 @@ struct Renderer::Job {
   }
 
   // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
-  SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint = 1) const {
+  // The camera sample at image position uv: lens and time drawn from rng when the camera uses them.
+  CameraSample camera_sample(Vec2 uv, Rng& rng) const {
     CameraSample cs;
     cs.uv = uv;
     if (r.scene_.camera->uses_lens_or_time()) {
       cs.lens = {rng.uniform(), rng.uniform()};
       cs.time = rng.uniform();
     }
-    const auto cam = r.scene_.camera->generate(cs);
+    return cs;
+  }
+
+  SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint = 1) const {
+    const auto cam = r.scene_.camera->generate(camera_sample(uv, rng));
     if (!cam) return SampleResult{};  // no ray: transparent
     const Ray ray{cam->org, cam->dir, 0, kInf};
     Hit h;
@@ -166,14 +171,9 @@ struct Renderer::Job {
     constexpr int N = kCameraBatch;
     CameraSample cs[N];
     Rng rng[N];
-    const bool lens_time = r.scene_.camera->uses_lens_or_time();
     for (int k = 0; k < N; ++k) {
       rng[k] = Rng(keys[k], rs.seed);
-      cs[k].uv = uv[k];
-      if (lens_time) {  // the order sample_at draws them in
-        cs[k].lens = {rng[k].uniform(), rng[k].uniform()};
-        cs[k].time = rng[k].uniform();
-      }
+      cs[k] = camera_sample(uv[k], rng[k]);
     }
     CameraRayBatch cam;
     r.scene_.camera->generate_batch(cs, N, &cam);
@@ -182,11 +182,7 @@ struct Renderer::Job {
     Hit hits[N];
     for (int k = 0; k < N; ++k) {
       valid[k] = use[k] && cam.valid[k];
-      if (valid[k])
-        ray[k] = Ray{{cam.org[0][k], cam.org[1][k], cam.org[2][k]},
-                     {cam.dir[0][k], cam.dir[1][k], cam.dir[2][k]},
-                     0,
-                     kInf};
+      if (valid[k]) ray[k] = Ray{cam.origin(k), cam.direction(k), 0, kInf};
     }
     r.accel_->intersect16(ray, valid, hits, found);
     for (int k = 0; k < N; ++k) {
@@ -414,11 +410,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                     scene_.camera->generate_batch(samples, kPacket, &cam);
                     for (int k = 0; k < kPacket; ++k) {
                       valid[k] = cam.valid[k] && use[k];
-                      if (valid[k])
-                        rays[k] = Ray{{cam.org[0][k], cam.org[1][k], cam.org[2][k]},
-                                      {cam.dir[0][k], cam.dir[1][k], cam.dir[2][k]},
-                                      0,
-                                      kInf};
+                      if (valid[k]) rays[k] = Ray{cam.origin(k), cam.direction(k), 0, kInf};
                     }
                     accel_->intersect16(rays, valid, hits, found);
                     for (int k = 0; k < kPacket; ++k) {
