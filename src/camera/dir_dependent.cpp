@@ -10,12 +10,23 @@ namespace anamorph {
 
 namespace {
 
-class NormalDir final : public DirFunctionLoop<NormalDir> {
+class NormalDir final : public DirFunction {
  public:
   explicit NormalDir(bool flip) : s_(flip ? -1.0 : 1.0) {}
   bool eval(Vec2, const SurfaceSample& o, DirSample* out) const override {
     *out = DirSample{o.n * s_, o.dndu * s_, o.dndv * s_};
     return true;  // a surface without normal (a point) gives a zero direction: no ray
+  }
+  void eval_batch(const double*, const double*, int n, const SurfaceBatch& o,
+                  DirBatch* out) const override {
+    const double s = s_;
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < n; ++i) {
+        out->d[c][i] = o.n[c][i] * s;
+        out->du[c][i] = o.dndu[c][i] * s;
+        out->dv[c][i] = o.dndv[c][i] * s;
+      }
+    for (int i = 0; i < n; ++i) out->ok[i] = true;
   }
 
  private:

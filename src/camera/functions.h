@@ -38,6 +38,31 @@ inline void clear(SurfaceSample* s) {
   s->p = s->dpdu = s->dpdv = s->n = s->dndu = s->dndv = s->dpduu = s->dpduv = s->dpdvv = Vec3{};
 }
 
+// Up to kCameraBatch origin samples in structure-of-arrays form (the fields of SurfaceSample, one
+// array per component), so that origin kernels and the dependent directions reading them
+// vectorize. ok[i] false: no ray; that lane's fields are then all zero (dir functions read
+// defined values).
+struct SurfaceBatch {
+  static constexpr int N = kCameraBatch;
+  double p[3][N], dpdu[3][N], dpdv[3][N], n[3][N], dndu[3][N], dndv[3][N];
+  double dpduu[3][N], dpduv[3][N], dpdvv[3][N];
+  bool ok[N];
+
+  static Vec3 at(const double (&a)[3][N], int i) { return {a[0][i], a[1][i], a[2][i]}; }
+  static void put(double (&a)[3][N], int i, const Vec3& x) {
+    a[0][i] = x.x, a[1][i] = x.y, a[2][i] = x.z;
+  }
+  SurfaceSample lane(int i) const {
+    return {at(p, i),    at(dpdu, i),  at(dpdv, i),  at(n, i),    at(dndu, i),
+            at(dndv, i), at(dpduu, i), at(dpduv, i), at(dpdvv, i)};
+  }
+  void set(int i, const SurfaceSample& s) {
+    put(p, i, s.p), put(dpdu, i, s.dpdu), put(dpdv, i, s.dpdv), put(n, i, s.n);
+    put(dndu, i, s.dndu), put(dndv, i, s.dndv), put(dpduu, i, s.dpduu), put(dpduv, i, s.dpduv);
+    put(dpdvv, i, s.dpdvv);
+  }
+};
+
 // A (not necessarily unit) direction with its derivatives with respect to image (u, v).
 struct DirSample {
   Vec3 d, dd_du, dd_dv;
@@ -67,17 +92,9 @@ class OrgFunction {
   // nothing.
   virtual bool eval(Vec2 uv, SurfaceSample* out) const = 0;
 
-  // Batch evaluation over a grid of image positions (a tile of pixel centers): out[j * us.size()
-  // + i] is the sample at (us[i], vs[j]). A position with no ray gets p = NaN (the renderer's
-  // "no ray" test is !is_finite(p)). The default loops over eval; tensor-product splines
-  // override it to compute each column's u-basis and each row's v-basis once.
-  virtual void eval_grid(std::span<const double> us, std::span<const double> vs,
-                         SurfaceSample* out) const;
-
-  // n <= kCameraBatch samples at (u[i], v[i]): out[i] and ok[i] as eval would give them, bit for
-  // bit. The default loops over eval.
-  virtual void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
-                          bool* ok) const;
+  // n <= kCameraBatch samples at (u[i], v[i]): lane i and ok[i] as eval would give them, bit for
+  // bit (a lane without ray all zero). The default loops over eval.
+  virtual void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const;
 };
 
 class DirFunction {
@@ -88,26 +105,30 @@ class DirFunction {
   // thread-safe, allocates nothing.
   virtual bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const = 0;
 
-  // n <= kCameraBatch directions at (u[i], v[i]) with origin samples org[i * org_stride]
-  // (org_stride 0: one origin for all, e.g. a point), exactly as eval gives them (out->ok[i] is
-  // eval's result). The default loops over eval; functions whose math vectorizes override it.
-  virtual void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org,
-                          int org_stride, DirBatch* out) const;
+  // n <= kCameraBatch directions at (u[i], v[i]) with the origin samples in org's lanes,
+  // exactly as eval gives them (out->ok[i] is eval's result). The default loops over eval;
+  // functions whose math vectorizes override it.
+  virtual void eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
+                          DirBatch* out) const;
 };
 
 // Batches as a loop over eval. With F a final class the calls are direct (no virtual dispatch
 // per sample) and can inline; the base classes' default eval_batch use them with F = the base.
 template <class F>
-void org_batch_by_eval(const F& f, const double* u, const double* v, int n, SurfaceSample* out,
-                       bool* ok) {
-  for (int i = 0; i < n; ++i) ok[i] = f.eval({u[i], v[i]}, &out[i]);
+void org_batch_by_eval(const F& f, const double* u, const double* v, int n, SurfaceBatch* out) {
+  for (int i = 0; i < n; ++i) {
+    SurfaceSample s;
+    out->ok[i] = f.eval({u[i], v[i]}, &s);
+    if (!out->ok[i]) clear(&s);
+    out->set(i, s);
+  }
 }
 template <class F>
-void dir_batch_by_eval(const F& f, const double* u, const double* v, int n,
-                       const SurfaceSample* org, int org_stride, DirBatch* out) {
+void dir_batch_by_eval(const F& f, const double* u, const double* v, int n, const SurfaceBatch& org,
+                       DirBatch* out) {
   for (int i = 0; i < n; ++i) {
     DirSample d;
-    out->ok[i] = f.eval({u[i], v[i]}, org[size_t(i) * size_t(org_stride)], &d);
+    out->ok[i] = f.eval({u[i], v[i]}, org.lane(i), &d);
     out->set(i, out->ok[i] ? d : DirSample{});
   }
 }
@@ -116,26 +137,33 @@ void dir_batch_by_eval(const F& f, const double* u, const double* v, int n,
 template <class Derived>
 class OrgFunctionLoop : public OrgFunction {
  public:
-  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
-                  bool* ok) const override {
-    org_batch_by_eval(static_cast<const Derived&>(*this), u, v, n, out, ok);
+  void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
+    org_batch_by_eval(static_cast<const Derived&>(*this), u, v, n, out);
   }
 };
 template <class Derived>
 class DirFunctionLoop : public DirFunction {
  public:
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
                   DirBatch* out) const override {
-    dir_batch_by_eval(static_cast<const Derived&>(*this), u, v, n, org, org_stride, out);
+    dir_batch_by_eval(static_cast<const Derived&>(*this), u, v, n, org, out);
   }
 };
 
 // The other way round, for functions whose batch is a kernel: eval as a batch of one, so single
 // samples and batches give the same bits.
+inline bool eval_as_batch_of_one(const OrgFunction& f, Vec2 uv, SurfaceSample* out) {
+  SurfaceBatch b;
+  f.eval_batch(&uv.x, &uv.y, 1, &b);
+  *out = b.lane(0);
+  return b.ok[0];
+}
 inline bool eval_as_batch_of_one(const DirFunction& f, Vec2 uv, const SurfaceSample& org,
                                  DirSample* out) {
+  SurfaceBatch o;
+  o.set(0, org);
   DirBatch b;
-  f.eval_batch(&uv.x, &uv.y, 1, &org, 0, &b);
+  f.eval_batch(&uv.x, &uv.y, 1, o, &b);
   *out = b.lane(0);
   return b.ok[0];
 }

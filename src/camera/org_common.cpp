@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "math/simd.h"
+
 namespace anamorph {
 
 AxisFrame read_axis_frame(const ParamValues& v, std::string_view axis_key,
@@ -75,6 +77,69 @@ bool set_cross_normal(const LocalGeom& g, double su, double sv, bool flip, Surfa
   return set_normal(N, Ns, Nt, su, sv, flip, out);
 }
 
+namespace {
+
+[[gnu::always_inline]] inline void cross_normal_kernel(const LocalGeomBatch& __restrict g,
+                                                       double su, double sv, double sign,
+                                                       double min_ps2, double min_pt2, int n,
+                                                       SurfaceBatch* __restrict out,
+                                                       bool* __restrict check) {
+  constexpr int N = kCameraBatch;
+  alignas(64) double m_ps[N], m_pt[N], m_n[N], fin[N];
+  // (Lambdas in a kernel need always_inline, see math/simd.h.)
+  const auto at = [](const double(&a)[3][N], int i) __attribute__((always_inline)) {
+    return Vec3{a[0][i], a[1][i], a[2][i]};
+  };
+  const auto put = [](double(&a)[3][N], int i, const Vec3& x) __attribute__((always_inline)) {
+    a[0][i] = x.x, a[1][i] = x.y, a[2][i] = x.z;
+  };
+  for (int i = 0; i < n; ++i) {
+    const Vec3 ps = at(g.ps, i), pt = at(g.pt, i), pss = at(g.pss, i), pst = at(g.pst, i),
+               ptt = at(g.ptt, i);
+    // set_position
+    put(out->p, i, at(g.p, i));
+    put(out->dpdu, i, ps * su);
+    put(out->dpdv, i, pt * sv);
+    put(out->dpduu, i, pss * (su * su));
+    put(out->dpduv, i, pst * (su * sv));
+    put(out->dpdvv, i, ptt * (sv * sv));
+    // set_cross_normal
+    const Vec3 Nv = cross(ps, pt);
+    const Vec3 Ns = cross(pss, pt) + cross(ps, pst);
+    const Vec3 Nt = cross(pst, pt) + cross(ps, ptt);
+    const double ps2 = dot(ps, ps), pt2 = dot(pt, pt), n2 = dot(Nv, Nv);
+    const double len = length(Nv);
+    // set_normal without its tests: lanes that fail them are flagged below for the caller.
+    const Vec3 nn = Nv / len;
+    put(out->n, i, nn * sign);
+    put(out->dndu, i, (Ns - nn * dot(nn, Ns)) * (sign * su / len));
+    put(out->dndv, i, (Nt - nn * dot(nn, Nt)) * (sign * sv / len));
+    // (Margins as doubles, compared in a loop of their own: a > b iff a - b > 0, also for
+    // subnormals, infinities and NaN.)
+    m_ps[i] = ps2 - min_ps2, m_pt[i] = pt2 - min_pt2, m_n[i] = n2 - 1e-18 * ps2 * pt2;
+    fin[i] = len * 0;
+  }
+  for (int i = 0; i < n; ++i)
+    check[i] = !((m_ps[i] > 0) & (m_pt[i] > 0) & (m_n[i] > 0) & (fin[i] == 0));
+  for (int i = 0; i < n; ++i) out->ok[i] = true;
+}
+
+ANAMORPH_SIMD_CLONES void cross_normal_clones(const LocalGeomBatch& g, double su, double sv,
+                                              double sign, double min_ps2, double min_pt2, int n,
+                                              SurfaceBatch* out, bool* check) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        cross_normal_kernel(g, su, sv, sign, min_ps2, min_pt2, m, out, check);
+      });
+}
+
+}  // namespace
+
+void cross_normal_batch(const LocalGeomBatch& g, double su, double sv, bool flip, double min_ps2,
+                        double min_pt2, int n, SurfaceBatch* out, bool* check) {
+  cross_normal_clones(g, su, sv, flip ? -1.0 : 1.0, min_ps2, min_pt2, n, out, check);
+}
+
 LocalGeom transform_geom(const LocalGeom& g, const Mat3& m, Vec3 origin) {
   return {origin + m * g.p, m * g.ps, m * g.pt, m * g.pss, m * g.pst, m * g.ptt};
 }
@@ -83,23 +148,13 @@ LocalGeom transform_geom(const LocalGeom& g, const Mat3& m, Vec3 origin) {
 
 namespace anamorph {
 
-void OrgFunction::eval_grid(std::span<const double> us, std::span<const double> vs,
-                            SurfaceSample* out) const {
-  for (size_t j = 0; j < vs.size(); ++j)
-    for (size_t i = 0; i < us.size(); ++i) {
-      SurfaceSample& s = out[j * us.size() + i];
-      if (!eval({us[i], vs[j]}, &s)) s.p = Vec3(std::numeric_limits<double>::quiet_NaN());
-    }
+void OrgFunction::eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const {
+  org_batch_by_eval(*this, u, v, n, out);
 }
 
-void OrgFunction::eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
-                             bool* ok) const {
-  org_batch_by_eval(*this, u, v, n, out, ok);
-}
-
-void DirFunction::eval_batch(const double* u, const double* v, int n, const SurfaceSample* org,
-                             int org_stride, DirBatch* out) const {
-  dir_batch_by_eval(*this, u, v, n, org, org_stride, out);
+void DirFunction::eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
+                             DirBatch* out) const {
+  dir_batch_by_eval(*this, u, v, n, org, out);
 }
 
 }  // namespace anamorph

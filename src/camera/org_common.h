@@ -52,6 +52,29 @@ bool set_normal(Vec3 N, Vec3 Ns, Vec3 Nt, double su, double sv, bool flip, Surfa
 // The normal of an open parametric surface: N = ps x pt with its derivatives.
 bool set_cross_normal(const LocalGeom& g, double su, double sv, bool flip, SurfaceSample* out);
 
+// LocalGeom for up to kCameraBatch samples, structure of arrays.
+struct LocalGeomBatch {
+  static constexpr int N = kCameraBatch;
+  double p[3][N], ps[3][N], pt[3][N], pss[3][N], pst[3][N], ptt[3][N];
+  void set(int i, const LocalGeom& g) {
+    SurfaceBatch::put(p, i, g.p), SurfaceBatch::put(ps, i, g.ps), SurfaceBatch::put(pt, i, g.pt);
+    SurfaceBatch::put(pss, i, g.pss), SurfaceBatch::put(pst, i, g.pst);
+    SurfaceBatch::put(ptt, i, g.ptt);
+  }
+  LocalGeom lane(int i) const {
+    const auto at = [i](const double(&a)[3][N]) { return SurfaceBatch::at(a, i); };
+    return {at(p), at(ps), at(pt), at(pss), at(pst), at(ptt)};
+  }
+};
+
+// set_position and set_cross_normal for a batch, vectorized: lanes 0..n-1 of `out` (ok[i] true).
+// Lanes whose derivatives are too short for a reliable cross product (|ps|^2 <= min_ps2,
+// |pt|^2 <= min_pt2, ps nearly parallel to pt) or whose normal is not finite get check[i] = true
+// and unspecified normal fields: the caller computes those one at a time. The others get the
+// same bits as set_position and set_cross_normal.
+void cross_normal_batch(const LocalGeomBatch& g, double su, double sv, bool flip, double min_ps2,
+                        double min_pt2, int n, SurfaceBatch* out, bool* check);
+
 // Maps a canonical sample through world = origin + m * canonical (normals map separately, by
 // m.inverse_transpose(), which equals m for rotations).
 LocalGeom transform_geom(const LocalGeom& g, const Mat3& m, Vec3 origin);

@@ -22,48 +22,39 @@ class SplineOrg final : public OrgFunction {
   }
 
   bool eval(Vec2 uv, SurfaceSample* out) const override {
-    const double s = sr_(uv.x), t = tr_(uv.y);
-    finish(s_.eval(s, t), s, t, out);
-    return true;
+    return eval_as_batch_of_one(*this, uv, out);
   }
 
-  void eval_grid(std::span<const double> us, std::span<const double> vs,
-                 SurfaceSample* out) const override {
-    // Map the image positions to knot parameters in fixed-size chunks (no allocation).
-    constexpr size_t kChunk = 64;
-    double ss[kChunk], ts[kChunk];
-    for (size_t j0 = 0; j0 < vs.size(); j0 += kChunk) {
-      const size_t nj = std::min(kChunk, vs.size() - j0);
-      for (size_t j = 0; j < nj; ++j) ts[j] = tr_(vs[j0 + j]);
-      for (size_t i0 = 0; i0 < us.size(); i0 += kChunk) {
-        const size_t ni = std::min(kChunk, us.size() - i0);
-        for (size_t i = 0; i < ni; ++i) ss[i] = sr_(us[i0 + i]);
-        s_.for_grid({ss, ni}, {ts, nj}, [&](size_t i, size_t j, const LocalGeom& g) {
-          finish(g, ss[i], ts[j], &out[(j0 + j) * us.size() + i0 + i]);
-        });
-      }
-    }
-  }
-
-  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
-                  bool* ok) const override {
+  void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
     double ss[kCameraBatch], ts[kCameraBatch];
-    for (int k = 0; k < n; ++k) ss[k] = sr_(u[k]), ts[k] = tr_(v[k]), ok[k] = true;
-    s_.for_batch(ss, ts, n, [&](int k, const LocalGeom& g) { finish(g, ss[k], ts[k], &out[k]); });
+    for (int k = 0; k < n; ++k) ss[k] = sr_(u[k]), ts[k] = tr_(v[k]);
+    LocalGeomBatch g;
+    s_.eval_batch(ss, ts, n, &g);
+    bool check[kCameraBatch];
+    const double ms = min_ds(), mt = min_dt();
+    cross_normal_batch(g, sr_.scale(), tr_.scale(), flip_, ms * ms, mt * mt, n, out, check);
+    for (int k = 0; k < n; ++k)
+      if (check[k]) {
+        SurfaceSample x;
+        finish(g.lane(k), ss[k], ts[k], &x);
+        out->set(k, x);
+      }
   }
 
  private:
+  // Where the net collapses (a row of equal points, as at a NURBS sphere's pole) d/ds or d/dt
+  // vanishes and the cross product is noise: below these lengths the normal is taken a hair
+  // inside the domain (finish).
+  double min_ds() const { return 1e-9 * s_.size() / (s_.s_hi() - s_.s_lo()); }
+  double min_dt() const { return 1e-9 * s_.size() / (s_.t_hi() - s_.t_lo()); }
+
+  // One sample the batch kernel flagged (and, for usable derivatives, what the kernel computes).
   void finish(const LocalGeom& g, double s, double t, SurfaceSample* out) const {
-    const double su = sr_.scale(), sv = tr_.scale();
+    const double su = sr_.scale(), sv = tr_.scale(), ms = min_ds(), mt = min_dt();
     set_position(g, su, sv, out);
-    // Where the net collapses (a row of equal points, as at a NURBS sphere's pole) d/ds or d/dt
-    // vanishes and the cross product is noise: take the normal a hair inside the domain.
-    const double tiny_s = 1e-9 * s_.size() / (s_.s_hi() - s_.s_lo());
-    const double tiny_t = 1e-9 * s_.size() / (s_.t_hi() - s_.t_lo());
-    // (Squared lengths: the same tests without three square roots per sample.)
     const Vec3 N = cross(g.ps, g.pt);
     const double ps2 = dot(g.ps, g.ps), pt2 = dot(g.pt, g.pt);
-    if (ps2 > tiny_s * tiny_s && pt2 > tiny_t * tiny_t && dot(N, N) > 1e-18 * ps2 * pt2) {
+    if (ps2 > ms * ms && pt2 > mt * mt && dot(N, N) > 1e-18 * ps2 * pt2) {
       set_cross_normal(g, su, sv, flip_, out);
       return;
     }

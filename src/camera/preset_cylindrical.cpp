@@ -114,7 +114,7 @@ class LatLongDir final : public DirFunction {
     return eval_as_batch_of_one(*this, uv, org, out);
   }
 
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
                   DirBatch* out) const override {
     latlong_dirs(g_, u, v, n, out);
   }

@@ -241,10 +241,10 @@ class FisheyeDir final : public DirFunction {
     return true;
   }
 
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample* org, int org_stride,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
                   DirBatch* out) const override {
     if (g_.map.kind == FisheyeMapping::kPolynomial)
-      DirFunction::eval_batch(u, v, n, org, org_stride, out);
+      DirFunction::eval_batch(u, v, n, org, out);
     else
       fisheye_dirs(g_, u, v, n, out);
   }

@@ -83,7 +83,7 @@ template <bool sbs>
 [[gnu::always_inline]] inline void ods_org_kernel(const OdsGeometry& geo,
                                                   const double* __restrict u,
                                                   const double* __restrict v, int n,
-                                                  SurfaceSample* out) {
+                                                  SurfaceBatch* __restrict out) {
   const OdsGeometry g = geo;
   constexpr int N = kCameraBatch;
   alignas(64) double sl[N], cl[N], R[N], Rv[N], Rvv[N], lu[N];
@@ -96,20 +96,22 @@ template <bool sbs>
     sincos_poly(l.lon, &sl[i], &cl[i]);
   }
   for (int i = 0; i < n; ++i) {
-    SurfaceSample& o = out[i];
-    clear(&o);
-    const Vec3 radial{cl[i], 0, sl[i]}, tangent{-sl[i], 0, cl[i]};
-    o.p = radial * R[i];
-    o.dpdu = tangent * (R[i] * lu[i]);
-    o.dpdv = radial * Rv[i];
-    o.dpduu = radial * (-R[i] * lu[i] * lu[i]);
-    o.dpduv = tangent * (Rv[i] * lu[i]);
-    o.dpdvv = radial * Rvv[i];
+    const double c = cl[i], s = sl[i], r = R[i], ru = R[i] * lu[i];
+    // radial (c, 0, s), tangent (-s, 0, c); the normal fields stay zero.
+    out->p[0][i] = c * r, out->p[1][i] = 0, out->p[2][i] = s * r;
+    out->dpdu[0][i] = -s * ru, out->dpdu[1][i] = 0, out->dpdu[2][i] = c * ru;
+    out->dpdv[0][i] = c * Rv[i], out->dpdv[1][i] = 0, out->dpdv[2][i] = s * Rv[i];
+    const double ruu = -R[i] * lu[i] * lu[i], ruv = Rv[i] * lu[i];
+    out->dpduu[0][i] = c * ruu, out->dpduu[1][i] = 0, out->dpduu[2][i] = s * ruu;
+    out->dpduv[0][i] = -s * ruv, out->dpduv[1][i] = 0, out->dpduv[2][i] = c * ruv;
+    out->dpdvv[0][i] = c * Rvv[i], out->dpdvv[1][i] = 0, out->dpdvv[2][i] = s * Rvv[i];
+    for (int k = 0; k < 3; ++k) out->n[k][i] = out->dndu[k][i] = out->dndv[k][i] = 0;
   }
+  for (int i = 0; i < n; ++i) out->ok[i] = true;
 }
 
 ANAMORPH_SIMD_CLONES void ods_orgs(const OdsGeometry& g, const double* u, const double* v, int n,
-                                   SurfaceSample* out) {
+                                   SurfaceBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         if (g.side_by_side)
@@ -152,13 +154,10 @@ class OdsOrg final : public OrgFunction {
  public:
   explicit OdsOrg(const OdsGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
-    ods_orgs(g_, &uv.x, &uv.y, 1, out);
-    return true;
+    return eval_as_batch_of_one(*this, uv, out);
   }
-  void eval_batch(const double* u, const double* v, int n, SurfaceSample* out,
-                  bool* ok) const override {
+  void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
     ods_orgs(g_, u, v, n, out);
-    for (int i = 0; i < n; ++i) ok[i] = true;
   }
 
  private:
@@ -171,7 +170,7 @@ class OdsDir final : public DirFunction {
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
     return eval_as_batch_of_one(*this, uv, org, out);
   }
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
                   DirBatch* out) const override {
     ods_dirs(g_, u, v, n, out);
   }

@@ -231,7 +231,7 @@ class PinholeDir final : public DirFunction {
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
     return eval_as_batch_of_one(*this, uv, org, out);
   }
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
                   DirBatch* out) const override {
     NewtonLanes S;
     for (int i = 0; i < n; ++i) {
@@ -388,7 +388,7 @@ class FisheyeCvDir final : public DirFunction {
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
     return eval_as_batch_of_one(*this, uv, org, out);
   }
-  void eval_batch(const double* u, const double* v, int n, const SurfaceSample*, int,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
                   DirBatch* out) const override {
     kb_dirs(d_, k_, top_, u, v, n, out);
   }

@@ -4,6 +4,8 @@
 #include <bit>
 #include <cmath>
 
+#include "math/simd.h"
+
 namespace anamorph {
 
 namespace {
@@ -24,6 +26,16 @@ struct BasisCache {
   CachedBasis u[kCacheSlots], v[kCacheSlots];
 };
 thread_local BasisCache t_bases;
+
+// Rows in power form (SplineSurface::row_poly) by surface, parameter t and s-span: the packets
+// along a tile row (8 for the default 32-pixel tiles) repeat their four rows.
+struct CachedRow {
+  uint64_t owner = 0, key = 0;
+  int span = -1;
+  double c[3][4][4];
+};
+constexpr size_t kRowSlots = 64;
+thread_local CachedRow t_rows[kRowSlots];
 
 size_t cache_slot(uint64_t key, uint64_t owner) {
   uint64_t h = key ^ (owner * 0x9E3779B97F4A7C15ull);
@@ -59,6 +71,30 @@ SplineSurface::SplineSurface(SplineNet net, int p, int q, Basis basis, std::vect
     s_hi_ = ku_[size_t(nu_)];
     t_lo_ = kv_[size_t(q_)];
     t_hi_ = kv_[size_t(nv_)];
+  }
+  if (p_ <= 3) {
+    // Each span's basis functions as cubics in h = s - start: value, slope and half the second
+    // derivative at the start, the cubic term from the second derivative at the end.
+    const int spans = basis_ == Basis::BSpline ? nu_ : p_ + 1;
+    to_power_.assign(16 * size_t(spans), 0.0);
+    for (int i = p_; i < spans; ++i) {
+      spline::BasisDers d0, d1;
+      double w = 1;
+      if (basis_ == Basis::Bernstein) {
+        spline::bernstein_ders(p_, 0, d0);
+        spline::bernstein_ders(p_, 1, d1);
+      } else {
+        w = ku_[size_t(i) + 1] - ku_[size_t(i)];
+        if (!(w > 0)) continue;  // an empty span: find_span never returns it
+        spline::ders_basis_funs(i, ku_[size_t(i)], p_, 2, ku_, d0);
+        spline::ders_basis_funs(i, ku_[size_t(i) + 1], p_, 2, ku_, d1);
+      }
+      for (int l = 0; l <= p_; ++l) {
+        double* c = &to_power_[16 * size_t(i) + 4 * size_t(l)];
+        c[0] = d0[0][l], c[1] = d0[1][l], c[2] = 0.5 * d0[2][l];
+        c[3] = p_ == 3 ? (d1[2][l] - d0[2][l]) / (6 * w) : 0.0;
+      }
+    }
   }
 }
 
@@ -162,6 +198,119 @@ LocalGeom SplineSurface::combine_impl(const Basis1& bu, const Columns& q) const 
 
 LocalGeom SplineSurface::combine(const Basis1& bu, const Columns& q) const {
   return rational_ ? combine_impl<true>(bu, q) : combine_impl<false>(bu, q);
+}
+
+void SplineSurface::row_poly(const Basis1& bv, int span_u, RowPoly* r) const {
+  Columns q;
+  columns(bv, span_u - p_, q);
+  const double* m = &to_power_[16 * size_t(span_u)];
+  for (int o = 0; o < 3; ++o)
+    for (int e = 0; e < 4; ++e)
+      for (int x = 0; x < 4; ++x) {
+        double acc = 0;
+        for (int l = 0; l <= p_; ++l) acc += m[4 * l + e] * q.c[l][o][x];
+        r->c[o][e][x] = acc;
+      }
+}
+
+namespace {
+
+// Lanes a .. a+m-1 of one row and span from its power form: Horner in h for A, dA/ds, d2A/ds2
+// (o = 0), dA/dt, d2A/dsdt (o = 1) and d2A/dt2 (o = 2), then the quotient rule if rational.
+template <bool kRational>
+[[gnu::always_inline]] inline void row_lanes(const double (&rc)[3][4][4],
+                                             const double* __restrict h, int a, int m,
+                                             LocalGeomBatch* __restrict out) {
+  double c[3][4][4];  // a local copy: stores to `out` cannot alias it
+  for (int o = 0; o < 3; ++o)
+    for (int e = 0; e < 4; ++e)
+      for (int x = 0; x < 4; ++x) c[o][e][x] = rc[o][e][x];
+  for (int j = 0; j < m; ++j) {
+    const double t = h[j];
+    double A[6][4];
+    for (int x = 0; x < (kRational ? 4 : 3); ++x) {
+      A[0][x] = ((c[0][3][x] * t + c[0][2][x]) * t + c[0][1][x]) * t + c[0][0][x];
+      A[1][x] = (3 * c[0][3][x] * t + 2 * c[0][2][x]) * t + c[0][1][x];
+      A[2][x] = ((c[1][3][x] * t + c[1][2][x]) * t + c[1][1][x]) * t + c[1][0][x];
+      A[3][x] = 6 * c[0][3][x] * t + 2 * c[0][2][x];
+      A[4][x] = (3 * c[1][3][x] * t + 2 * c[1][2][x]) * t + c[1][1][x];
+      A[5][x] = ((c[2][3][x] * t + c[2][2][x]) * t + c[2][1][x]) * t + c[2][0][x];
+    }
+    const int i = a + j;
+    if constexpr (!kRational) {
+      for (int x = 0; x < 3; ++x) {
+        out->p[x][i] = A[0][x], out->ps[x][i] = A[1][x], out->pt[x][i] = A[2][x];
+        out->pss[x][i] = A[3][x], out->pst[x][i] = A[4][x], out->ptt[x][i] = A[5][x];
+      }
+    } else {
+      // Quotient rule for S = A / W up to second order (as combine_impl).
+      const double iw = 1.0 / A[0][3];
+      const double ws = A[1][3], wt = A[2][3], wss = A[3][3], wst = A[4][3], wtt = A[5][3];
+      for (int x = 0; x < 3; ++x) {
+        const double p = A[0][x] * iw;
+        const double ps = (A[1][x] - p * ws) * iw, pt = (A[2][x] - p * wt) * iw;
+        out->p[x][i] = p, out->ps[x][i] = ps, out->pt[x][i] = pt;
+        out->pss[x][i] = (A[3][x] - ps * (2 * ws) - p * wss) * iw;
+        out->pst[x][i] = (A[4][x] - ps * wt - pt * ws - p * wst) * iw;
+        out->ptt[x][i] = (A[5][x] - pt * (2 * wt) - p * wtt) * iw;
+      }
+    }
+  }
+}
+
+ANAMORPH_SIMD_CLONES void row_lanes_clones(const double (&c)[3][4][4], bool rational,
+                                           const double* h, int a, int m, LocalGeomBatch* out) {
+  // A 4x4 packet of pixel centers has rows of 4 lanes.
+  with_trip_count<4>(
+      m, [&](auto k) __attribute__((always_inline)) {
+        if (rational)
+          row_lanes<true>(c, h, a, k, out);
+        else
+          row_lanes<false>(c, h, a, k, out);
+      });
+}
+
+}  // namespace
+
+void SplineSurface::polynomial_rows(const double* ss, const double* ts, int n,
+                                    LocalGeomBatch* out) const {
+  constexpr int kMax = kCameraBatch;
+  double h[kMax];
+  int span[kMax];
+  for (int k = 0; k < n; ++k) {
+    if (k > 0 && ss[k] == ss[k - 1]) {
+      span[k] = span[k - 1], h[k] = h[k - 1];
+    } else if (basis_ == Basis::Bernstein) {
+      span[k] = p_, h[k] = ss[k];
+    } else {
+      span[k] = spline::find_span(nu_ - 1, p_, ss[k], ku_);
+      h[k] = std::clamp(ss[k], s_lo_, s_hi_) - ku_[size_t(span[k])];
+    }
+  }
+  for (int a = 0; a < n;) {
+    int b = a + 1;
+    while (b < n && ts[b] == ts[a] && span[b] == span[a]) ++b;
+    const uint64_t key = std::bit_cast<uint64_t>(ts[a]);
+    CachedRow& c = t_rows[cache_slot(key + uint64_t(span[a]), id_) % kRowSlots];
+    if (!(c.owner == id_ && c.key == key && c.span == span[a])) {
+      Basis1 bv;
+      cached_basis(false, ts[a], &bv);
+      RowPoly r;
+      row_poly(bv, span[a], &r);
+      std::copy(&r.c[0][0][0], &r.c[0][0][0] + 48, &c.c[0][0][0]);
+      c.owner = id_, c.key = key, c.span = span[a];
+    }
+    row_lanes_clones(c.c, rational_, h + a, a, b - a, out);
+    a = b;
+  }
+}
+
+void SplineSurface::eval_batch(const double* ss, const double* ts, int n,
+                               LocalGeomBatch* out) const {
+  if (!to_power_.empty())
+    polynomial_rows(ss, ts, n, out);
+  else
+    for_batch(ss, ts, n, [&](int k, const LocalGeom& g) { out->set(k, g); });
 }
 
 }  // namespace anamorph

@@ -1,7 +1,7 @@
 // Tensor-product spline surfaces (B-spline, NURBS, Bezier) in their own parameters, with first
 // and second derivatives. All setup happens in the constructor; evaluation uses fixed-size stack
 // arrays only. A row of samples shares its v-basis, a run of samples in one knot span shares the
-// column sums, which is what makes grid evaluation cheaper than separate evaluations.
+// column sums, which is what makes a packet cheaper than separate evaluations.
 #pragma once
 
 #include <algorithm>
@@ -47,30 +47,9 @@ class SplineSurface {
     return combine(bu, q);
   }
 
-  // Calls emit(i, j, geom) for every (ss[i], ts[j]); bases computed once per column (in chunks)
-  // and once per row and chunk.
-  template <class Emit>
-  void for_grid(std::span<const double> ss, std::span<const double> ts, Emit&& emit) const {
-    constexpr size_t kChunk = 16;
-    Basis1 bu[kChunk], bv;
-    Columns q;
-    for (size_t i0 = 0; i0 < ss.size(); i0 += kChunk) {
-      const size_t i1 = std::min(ss.size(), i0 + kChunk);
-      for (size_t i = i0; i < i1; ++i) basis_u(ss[i], &bu[i - i0]);
-      for (size_t j = 0; j < ts.size(); ++j) {
-        basis_v(ts[j], &bv);
-        int cached = -1;
-        for (size_t i = i0; i < i1; ++i) {
-          const Basis1& b = bu[i - i0];
-          if (b.span != cached) {
-            columns(bv, b.span - p_, q);
-            cached = b.span;
-          }
-          emit(i, j, combine(b, q));
-        }
-      }
-    }
-  }
+  // The n <= kCameraBatch pairs (ss[k], ts[k]) into lanes of `out`. Degrees up to 3 along s take
+  // each row's curve in power form per knot span (polynomial_rows), others for_batch.
+  void eval_batch(const double* ss, const double* ts, int n, LocalGeomBatch* out) const;
 
   // Calls emit(k, geom) for the n <= 16 pairs (ss[k], ts[k]), each distinct s's and t's basis
   // computed once: a packet of pixel centers (4x4, row by row) has four of each, and a row
@@ -131,6 +110,14 @@ class SplineSurface {
   template <bool Rational>
   LocalGeom combine_impl(const Basis1& bu, const Columns& q) const;
 
+  // Power form of a row: coef[o][e][x] is the h^e coefficient of the o-th t-derivative of A,
+  // h = s - (start of the s-span). Runs of lanes with one row and span share it.
+  struct RowPoly {
+    double c[3][4][4];
+  };
+  void row_poly(const Basis1& bv, int span_u, RowPoly* r) const;
+  void polynomial_rows(const double* ss, const double* ts, int n, LocalGeomBatch* out) const;
+
   int nu_, nv_, p_, q_;
   Basis basis_;
   bool rational_;
@@ -138,6 +125,8 @@ class SplineSurface {
   std::vector<double> ku_, kv_;
   double s_lo_ = 0, s_hi_ = 1, t_lo_ = 0, t_hi_ = 1, size_ = 1;
   uint64_t id_;  // tells this surface's cached bases from others' (copies are identical)
+  // p <= 3: the s-basis functions of each span as cubics in h, to_power_[16 span + 4 l + e].
+  std::vector<double> to_power_;
 };
 
 }  // namespace anamorph

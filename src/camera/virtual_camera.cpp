@@ -96,7 +96,8 @@ void VirtualCamera::detect_point_origin() {
         return;
     }
   point_org_ = true;
-  point_sample_ = s0;
+  point_batch_ = std::make_unique<SurfaceBatch>();
+  for (int i = 0; i < kCameraBatch; ++i) point_batch_->set(i, s0), point_batch_->ok[i] = true;
 }
 
 // Unit direction and its derivative: d(d/|d|) = (dd - n (n . dd)) / |d|.
@@ -248,9 +249,9 @@ ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const double* u, con
 using Rig = AffineRig;
 
 template <bool kPointOrg>
-[[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceSample* org,
-                                               const bool* org_ok, const DirBatch& __restrict b,
-                                               int n, CameraRayBatch* __restrict out) {
+[[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceBatch& __restrict org,
+                                               const DirBatch& __restrict b, int n,
+                                               CameraRayBatch* __restrict out) {
   const Rig rig = t;  // a local copy: stores to `out` cannot alias it
   const auto& m = rig.m;
   const auto vec = [&](const Vec3& a) {
@@ -260,23 +261,18 @@ template <bool kPointOrg>
   };
   constexpr int N = kCameraBatch;
   alignas(64) double lens[N], finite[N];
-  alignas(64) bool org_valid[N];
-  // Origins gathered into local arrays first: strided loads from the samples keep GCC from
-  // vectorizing the arithmetic.
-  alignas(64) double pxs[N], pys[N], pzs[N];
   if (!kPointOrg)
     for (int i = 0; i < n; ++i) {
-      pxs[i] = org[i].p.x, pys[i] = org[i].p.y, pzs[i] = org[i].p.z, org_valid[i] = org_ok[i];
-      const Vec3 du = vec(org[i].dpdu), dv = vec(org[i].dpdv);
+      const Vec3 du = vec(SurfaceBatch::at(org.dpdu, i)), dv = vec(SurfaceBatch::at(org.dpdv, i));
       out->dorg_du[0][i] = du.x, out->dorg_du[1][i] = du.y, out->dorg_du[2][i] = du.z;
       out->dorg_dv[0][i] = dv.x, out->dorg_dv[1][i] = dv.y, out->dorg_dv[2][i] = dv.z;
     }
-  const Vec3 p0 = org[0].p;
-  const Vec3 point_du = kPointOrg ? vec(org[0].dpdu) : Vec3{},
-             point_dv = kPointOrg ? vec(org[0].dpdv) : Vec3{};
+  const Vec3 p0 = SurfaceBatch::at(org.p, 0);
+  const Vec3 point_du = kPointOrg ? vec(SurfaceBatch::at(org.dpdu, 0)) : Vec3{},
+             point_dv = kPointOrg ? vec(SurfaceBatch::at(org.dpdv, 0)) : Vec3{};
   for (int i = 0; i < n; ++i) {
-    const double px = kPointOrg ? p0.x : pxs[i], py = kPointOrg ? p0.y : pys[i],
-                 pz = kPointOrg ? p0.z : pzs[i];
+    const double px = kPointOrg ? p0.x : org.p[0][i], py = kPointOrg ? p0.y : org.p[1][i],
+                 pz = kPointOrg ? p0.z : org.p[2][i];
     const double ox = m[0][0] * px + m[0][1] * py + m[0][2] * pz + m[0][3];
     const double oy = m[1][0] * px + m[1][1] * py + m[1][2] * pz + m[1][3];
     const double oz = m[2][0] * px + m[2][1] * py + m[2][2] * pz + m[2][3];
@@ -312,21 +308,19 @@ template <bool kPointOrg>
     out->ddir_dv[2][i] = (vz - nz * pv) * inv;
   }
   for (int i = 0; i < n; ++i)
-    out->valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org_valid[i]);
+    out->valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org.ok[i]);
 }
 
-ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceSample& org,
-                                           const DirBatch& b, int n, CameraRayBatch* out) {
+ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceBatch& org, const DirBatch& b,
+                                           int n, CameraRayBatch* out) {
   with_trip_count<kCameraBatch>(
-      n, [&](auto m)
-             __attribute__((always_inline)) { finish_rays<true>(t, &org, nullptr, b, m, out); });
+      n, [&](auto m) __attribute__((always_inline)) { finish_rays<true>(t, org, b, m, out); });
 }
 
-ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceSample* org, const bool* org_ok,
-                                         const DirBatch& b, int n, CameraRayBatch* out) {
+ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceBatch& org, const DirBatch& b,
+                                         int n, CameraRayBatch* out) {
   with_trip_count<kCameraBatch>(
-      n, [&](auto m)
-             __attribute__((always_inline)) { finish_rays<false>(t, org, org_ok, b, m, out); });
+      n, [&](auto m) __attribute__((always_inline)) { finish_rays<false>(t, org, b, m, out); });
 }
 
 }  // namespace
@@ -336,17 +330,14 @@ void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRa
   const Rig& rig = camera_space ? camera34_ : rig34_;
   DirBatch b;
   if (point_org_) {
-    dir_->eval_batch(u, v, n, &point_sample_, 0, &b);
-    finish_point_org(rig, point_sample_, b, n, out);
+    dir_->eval_batch(u, v, n, *point_batch_, &b);
+    finish_point_org(rig, *point_batch_, b, n, out);
     return;
   }
-  SurfaceSample org[kCameraBatch];
-  bool org_ok[kCameraBatch];
-  org_->eval_batch(u, v, n, org, org_ok);
-  for (int i = 0; i < n; ++i)
-    if (!org_ok[i]) clear(&org[i]);  // dir functions read defined values
-  dir_->eval_batch(u, v, n, org, 1, &b);
-  finish_any_org(rig, org, org_ok, b, n, out);
+  SurfaceBatch org;
+  org_->eval_batch(u, v, n, &org);
+  dir_->eval_batch(u, v, n, org, &b);
+  finish_any_org(rig, org, b, n, out);
 }
 
 void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {

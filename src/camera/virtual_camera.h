@@ -105,8 +105,8 @@ class VirtualCamera final : public Camera {
   bool rig_identity_;
   bool rig_affine_;                 // no projective row: plain_rays applies it as 3x4
   AffineRig rig34_{}, camera34_{};  // that 3x4, and the identity (camera space)
-  bool point_org_ = false;          // org is one point (most presets): evaluated once
-  SurfaceSample point_sample_;
+  bool point_org_ = false;  // org is one point (most presets): evaluated once, in every lane
+  std::unique_ptr<SurfaceBatch> point_batch_;
   DepthOfField dof_;
   std::string description_;
   // Affine ray field in world space: org = o0 + u o_u + v o_v, raw dir = d0 + u d_u + v d_v.

@@ -3,6 +3,8 @@
 // the best the CPU has. A plain "avx512f" clone is not enough: without AVX-512BW/VL GCC finds no
 // vector type for loops that mix double lanes with bool masks and leaves them scalar.
 // -ffp-contract=off (src/CMakeLists.txt) keeps the clones bit-identical to each other.
+// A lambda inside a kernel needs __attribute__((always_inline)): it is compiled for the default
+// target, is not inlined into the clone before the vectorizer runs, and leaves the loop scalar.
 #pragma once
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)

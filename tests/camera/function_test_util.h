@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "camera/functions.h"
 
@@ -31,6 +34,46 @@ inline SurfaceSample sample(const OrgFunction& f, Vec2 uv) {
   SurfaceSample s;
   EXPECT_TRUE(f.eval(uv, &s)) << "no sample at (" << uv.x << ", " << uv.y << ")";
   return s;
+}
+
+// Samples at many positions through eval_batch, in packets of kCameraBatch (lane i of the
+// result is positions[i]; ok[i] its flag).
+inline std::vector<SurfaceSample> batch_samples(const OrgFunction& f,
+                                                const std::vector<Vec2>& positions,
+                                                std::vector<bool>* ok = nullptr) {
+  std::vector<SurfaceSample> out(positions.size());
+  if (ok) ok->assign(positions.size(), false);
+  for (size_t i0 = 0; i0 < positions.size(); i0 += kCameraBatch) {
+    const int n = int(std::min<size_t>(kCameraBatch, positions.size() - i0));
+    double u[kCameraBatch], v[kCameraBatch];
+    for (int k = 0; k < n; ++k) u[k] = positions[i0 + k].x, v[k] = positions[i0 + k].y;
+    SurfaceBatch b;
+    f.eval_batch(u, v, n, &b);
+    for (int k = 0; k < n; ++k) {
+      out[i0 + k] = b.lane(k);
+      if (ok) (*ok)[i0 + k] = b.ok[k];
+    }
+  }
+  return out;
+}
+
+// Every field of two samples equal, bit for bit (NaN never equals), printing the first that
+// differs.
+inline void expect_same_bits(const SurfaceSample& a, const SurfaceSample& b,
+                             const std::string& what) {
+  const std::pair<const char*, const Vec3 SurfaceSample::*> fields[] = {
+      {"p", &SurfaceSample::p},         {"dpdu", &SurfaceSample::dpdu},
+      {"dpdv", &SurfaceSample::dpdv},   {"n", &SurfaceSample::n},
+      {"dndu", &SurfaceSample::dndu},   {"dndv", &SurfaceSample::dndv},
+      {"dpduu", &SurfaceSample::dpduu}, {"dpduv", &SurfaceSample::dpduv},
+      {"dpdvv", &SurfaceSample::dpdvv}};
+  for (const auto& [name, field] : fields) {
+    const Vec3 &x = a.*field, &y = b.*field;
+    if (!(x.x == y.x && x.y == y.y && x.z == y.z)) {
+      ADD_FAILURE() << what << ": " << name << " " << str(x) << " vs " << str(y);
+      return;
+    }
+  }
 }
 
 // |a - b| <= tol * max(1, |b|), printing both on failure.

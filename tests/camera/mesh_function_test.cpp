@@ -103,11 +103,12 @@ TEST(MeshOrg, OutsideEveryTriangleIsNoRay) {
   SurfaceSample s;
   EXPECT_FALSE(f->eval({0.1, 0.5}, &s)) << "u' = -0.3 lies outside the UV layout";
   EXPECT_TRUE(f->eval({0.5, 0.5}, &s));
-  const double us[] = {0.1, 0.5}, vs[] = {0.5};
-  SurfaceSample grid[2];
-  f->eval_grid(us, vs, grid);
-  EXPECT_FALSE(is_finite(grid[0].p)) << "eval_grid marks no ray with a NaN point";
-  EXPECT_TRUE(is_finite(grid[1].p));
+  const double us[] = {0.1, 0.5}, vs[] = {0.5, 0.5};
+  SurfaceBatch b;
+  f->eval_batch(us, vs, 2, &b);
+  EXPECT_FALSE(b.ok[0]) << "eval_batch marks no ray";
+  EXPECT_EQ(b.p[0][0], 0.0) << "a lane without ray is all zero";
+  EXPECT_TRUE(b.ok[1]);
 }
 
 TEST(MeshOrg, SelectByName) {

@@ -1,6 +1,6 @@
 // Properties every origin function must have: analytic derivatives equal finite differences,
 // unit normals orthogonal to the surface, range reversal mirrors the image, flip_normal flips,
-// and eval_grid agrees with eval.
+// and eval_batch agrees with eval bit for bit.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -214,24 +214,24 @@ TEST_P(OrgFunctionTest, FlipNormalReversesNormalOnly) {
   }
 }
 
-TEST_P(OrgFunctionTest, EvalGridMatchesEval) {
+TEST_P(OrgFunctionTest, EvalBatchMatchesEvalBitForBit) {
   const auto f = build(GetParam());
-  const std::vector<double> us = {0.0, 0.1, 0.25, 0.26, 0.7, 1.0, 0.4};
-  const std::vector<double> vs = {0.05, 0.5, 0.95, 0.3};
-  std::vector<SurfaceSample> grid(us.size() * vs.size());
-  f->eval_grid(us, vs, grid.data());
-  for (size_t j = 0; j < vs.size(); ++j)
-    for (size_t i = 0; i < us.size(); ++i) {
-      const SurfaceSample s = sample(*f, {us[i], vs[j]});
-      const SurfaceSample& g = grid[j * us.size() + i];
-      const std::string at = test::cat(" at (", us[i], ", ", vs[j], ")");
-      expect_close(g.p, s.p, 1e-12, test::cat("p", at));
-      expect_close(g.dpdu, s.dpdu, 1e-12, test::cat("dpdu", at));
-      expect_close(g.dpdv, s.dpdv, 1e-12, test::cat("dpdv", at));
-      expect_close(g.n, s.n, 1e-12, test::cat("n", at));
-      expect_close(g.dndu, s.dndu, 1e-10, test::cat("dndu", at));
-      expect_close(g.dpdvv, s.dpdvv, 1e-10, test::cat("dpdvv", at));
-    }
+  // A 4x4 packet of pixel centers, then a partial packet with repeats and the domain ends.
+  std::vector<Vec2> at;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) at.push_back({(100 + i + 0.5) / 640, (37 + j + 0.5) / 480});
+  for (double u : {0.0, 0.1, 0.25, 0.26, 0.7, 1.0, 0.4})
+    for (double v : {0.05, 0.5, 0.95}) at.push_back({u, v});
+  std::vector<bool> ok;
+  const std::vector<SurfaceSample> batch = test::batch_samples(*f, at, &ok);
+  for (size_t i = 0; i < at.size(); ++i) {
+    SurfaceSample s;
+    const bool eval_ok = f->eval(at[i], &s);
+    const std::string where =
+        test::cat("lane ", i % kCameraBatch, " at (", at[i].x, ", ", at[i].y, ")");
+    EXPECT_EQ(bool(ok[i]), eval_ok) << where;
+    if (eval_ok) test::expect_same_bits(batch[i], s, where);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(All, OrgFunctionTest, ::testing::ValuesIn(cases()),

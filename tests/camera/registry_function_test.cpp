@@ -148,8 +148,10 @@ TEST(FunctionRegistry, EvaluationAllocatesNothingAfterWarmUp) {
     const auto dir = make_dir(c.dir, c.dir_toml);
     SurfaceSample s;
     DirSample d;
-    const double us[] = {0.1, 0.2, 0.3, 0.9}, vs[] = {0.4, 0.5};
-    SurfaceSample grid[8];
+    const double us[] = {0.1, 0.2, 0.3, 0.9, 0.1, 0.2, 0.3, 0.9};
+    const double vs[] = {0.4, 0.4, 0.4, 0.4, 0.5, 0.5, 0.5, 0.5};
+    SurfaceBatch orgs;
+    DirBatch dirs;
     org->eval({0.5, 0.5}, &s);  // warm-up (expression: this thread compiles its parser)
     dir->eval({0.5, 0.5}, s, &d);
     const long before = g_allocations;
@@ -160,7 +162,8 @@ TEST(FunctionRegistry, EvaluationAllocatesNothingAfterWarmUp) {
       dir->eval(uv, s, &d);
       sum += d.d.x;
     }
-    org->eval_grid(us, vs, grid);
+    org->eval_batch(us, vs, 8, &orgs);
+    dir->eval_batch(us, vs, 8, orgs, &dirs);
     const long used = g_allocations - before;
     EXPECT_EQ(used, 0) << c.org << " + " << c.dir << " allocated " << used << " times (sum " << sum
                        << ")";
