@@ -278,8 +278,12 @@ void SplineSurface::polynomial_rows(const double* ss, const double* ts, int n,
   double h[kMax];
   int span[kMax];
   for (int k = 0; k < n; ++k) {
-    if (k > 0 && ss[k] == ss[k - 1]) {
-      span[k] = span[k - 1], h[k] = h[k - 1];
+    // (A 4x4 packet repeats each s four lanes later.)
+    const int same = k >= 4 && ss[k] == ss[k - 4]   ? k - 4
+                     : k >= 1 && ss[k] == ss[k - 1] ? k - 1
+                                                    : -1;
+    if (same >= 0) {
+      span[k] = span[same], h[k] = h[same];
     } else if (basis_ == Basis::Bernstein) {
       span[k] = p_, h[k] = ss[k];
     } else {

@@ -186,10 +186,10 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
   }
   if (dof_.aperture_radius == 0 && rig_affine_) {
     CameraRayBatch b;
-    if (coins_.reaches(cs.uv))
-      coin_rays(&cs.uv.x, &cs.uv.y, 1, &b);
-    else
+    if (coins_.empty())
       plain_rays(&cs.uv.x, &cs.uv.y, 1, &b);
+    else
+      coin_rays(&cs.uv.x, &cs.uv.y, 1, &b);
     if (!b.valid[0]) return std::nullopt;
     return b.ray(0);
   }
@@ -325,19 +325,31 @@ ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceBatch& org, 
 
 }  // namespace
 
+const SurfaceBatch& VirtualCamera::eval_functions(const double* u, const double* v, int n,
+                                                  SurfaceBatch* org, DirBatch* dir) const {
+  if (point_org_) {
+    dir_->eval_batch(u, v, n, *point_batch_, dir);
+    return *point_batch_;
+  }
+  org_->eval_batch(u, v, n, org);
+  dir_->eval_batch(u, v, n, *org, dir);
+  return *org;
+}
+
+void VirtualCamera::finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
+                           CameraRayBatch* out) const {
+  const Rig& rig = camera_space ? camera34_ : rig34_;
+  if (point_org_)
+    finish_point_org(rig, org, dir, n, out);
+  else
+    finish_any_org(rig, org, dir, n, out);
+}
+
 void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
                                bool camera_space) const {
-  const Rig& rig = camera_space ? camera34_ : rig34_;
-  DirBatch b;
-  if (point_org_) {
-    dir_->eval_batch(u, v, n, *point_batch_, &b);
-    finish_point_org(rig, *point_batch_, b, n, out);
-    return;
-  }
   SurfaceBatch org;
-  org_->eval_batch(u, v, n, &org);
-  dir_->eval_batch(u, v, n, org, &b);
-  finish_any_org(rig, org, b, n, out);
+  DirBatch dir;
+  finish(eval_functions(u, v, n, &org, &dir), dir, camera_space, n, out);
 }
 
 void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
@@ -347,35 +359,34 @@ void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch*
   }
   double u[kCameraBatch], v[kCameraBatch];
   for (int i = 0; i < n; ++i) u[i] = s[i].uv.x, v[i] = s[i].uv.y;
-  if (linear_)
-    linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, u, v, n, out);
-  else
-    plain_rays(u, v, n, out);
-  if (coins_.empty()) return;
-  // Samples under a coin: affine cameras take their closed form one at a time, curved ones a
-  // batch of their own (the field is deformed there).
-  int lanes[kCameraBatch], m = 0;
-  double cu[kCameraBatch], cv[kCameraBatch];
-  for (int i = 0; i < n; ++i)
-    if (coins_.reaches(s[i].uv)) {
-      if (linear_) {
-        out->set(i, generate(s[i]));
-      } else {
-        lanes[m] = i, cu[m] = u[i], cv[m] = v[i];
-        ++m;
-      }
-    }
-  if (m == 0) return;
-  CameraRayBatch c;
-  coin_rays(cu, cv, m, &c);
-  for (int k = 0; k < m; ++k)
-    out->set(lanes[k], c.valid[k] ? std::optional(c.ray(k)) : std::nullopt);
+  if (!linear_) {
+    if (coins_.empty())
+      plain_rays(u, v, n, out);
+    else
+      coin_rays(u, v, n, out);
+    return;
+  }
+  linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, u, v, n, out);
+  // Samples under a coin: an affine field's closed form, one at a time.
+  if (!coins_.empty())
+    for (int i = 0; i < n; ++i)
+      if (coins_.reaches(s[i].uv)) out->set(i, generate(s[i]));
 }
 
 void VirtualCamera::coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const {
+  // The functions once for all samples; samples no coin reaches finish as without coins (same
+  // bits), the others in camera space, deformed, then through the rig.
+  SurfaceBatch org_storage;
+  DirBatch dir;
+  const SurfaceBatch& org = eval_functions(u, v, n, &org_storage, &dir);
+  finish(org, dir, /*camera_space=*/false, n, out);
+  bool reached[kCameraBatch], any = false;
+  for (int k = 0; k < n; ++k) any |= reached[k] = coins_.reaches({u[k], v[k]});
+  if (!any) return;
   CameraRayBatch plain;
-  plain_rays(u, v, n, &plain, /*camera_space=*/true);
+  finish(org, dir, /*camera_space=*/true, n, &plain);
   for (int k = 0; k < n; ++k) {
+    if (!reached[k]) continue;
     CameraRay r = plain.ray(k);
     const bool ok = plain.valid[k] && coins_.apply({u[k], v[k]}, &r);
     if (ok) to_world(&r);

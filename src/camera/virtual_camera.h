@@ -89,10 +89,18 @@ class VirtualCamera final : public Camera {
   // camera_space: without the rig (coins deform the field there).
   void plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
                   bool camera_space = false) const;
-  // Rays of n <= kCameraBatch samples that coins reach (curved cameras, no lens or motion): the
-  // functions in batch in camera space, then per ray the coins and the rig. generate() runs it
-  // with n = 1, so single rays and packets agree.
+  // Rays of n <= kCameraBatch samples of a curved camera with coins (no lens or motion): the
+  // functions once in batch; samples no coin reaches finish as plain_rays does, the others in
+  // camera space, then per ray the coins and the rig. generate() runs it with n = 1, so single
+  // rays and packets agree.
   void coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
+  // The org and dir functions for a batch; returns the origin samples (`org` or, for a point
+  // origin, the precomputed lanes).
+  const SurfaceBatch& eval_functions(const double* u, const double* v, int n, SurfaceBatch* org,
+                                     DirBatch* dir) const;
+  // The rig (or none, camera_space), normalization and differentials for evaluated functions.
+  void finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
+              CameraRayBatch* out) const;
   std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
   std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
   void to_world(CameraRay* r) const;  // the rig
