@@ -151,7 +151,16 @@ struct NewtonLanes {
   double sx[N], sy[N], err[N], t[N];      // Newton step, residual, line-search factor
   double qdx[N], qdy[N], qjxx[N], qjxy[N], qjyx[N], qjyy[N];
   double act[N], acc[N], ok[N];  // still iterating, step accepted, converged and valid
+  double pend[N];                // still searching / needs its point distorted
 };
+
+// Whether any of n masks is set: a loop of its own, since a floating-point sum in the lane
+// loops would keep them scalar (adding in another order changes the result).
+[[gnu::always_inline]] inline bool any_set(const double* mask, int n) {
+  bool any = false;
+  for (int i = 0; i < n; ++i) any |= mask[i] != 0;
+  return any;
+}
 
 [[gnu::always_inline]] inline void undistort_kernel(const BrownConrady& bc,
                                                     NewtonLanes& __restrict S, int n) {
@@ -161,12 +170,17 @@ struct NewtonLanes {
     // Beyond what any point inside the fold reaches there is nothing to find.
     S.act[i] = S.tx[i] * S.tx[i] + S.ty[i] * S.ty[i] <= reach2 ? 1.0 : 0.0;
     S.ok[i] = 0;
-    S.px[i] = S.tx[i], S.py[i] = S.ty[i];
+    // Start from the radial term inverted to first order, x = x'' / L(|x''|^2) (where that
+    // stays inside the fold; the target itself otherwise).
+    const double r2 = S.tx[i] * S.tx[i] + S.ty[i] * S.ty[i];
+    const double L = 1 + r2 * (D.k1 + r2 * (D.k2 + r2 * D.k3));
+    const bool scaled = (L > 0.5) & (r2 <= rmax2 * L * L);
+    const double g = 1 / (scaled ? L : 1.0);
+    S.px[i] = S.tx[i] * g, S.py[i] = S.ty[i] * g;
     D.distort_lane(S.px[i], S.py[i], &S.dx[i], &S.dy[i], &S.jxx[i], &S.jxy[i], &S.jyx[i],
                    &S.jyy[i]);
   }
   for (int it = 0; it < 50; ++it) {
-    double any = 0;
     for (int i = 0; i < n; ++i) {
       const double fx = S.dx[i] - S.tx[i], fy = S.dy[i] - S.ty[i];
       const double e = std::abs(fx) + std::abs(fy);
@@ -181,12 +195,10 @@ struct NewtonLanes {
       S.sy[i] = (-S.jxy[i] * fx + S.jxx[i] * fy) * idet;
       S.err[i] = e, S.t[i] = 1, S.acc[i] = 0;
       S.act[i] = step ? 1.0 : 0.0;
-      any += S.act[i];
     }
-    if (any == 0) break;
+    if (!any_set(S.act, n)) break;
     // Halve steps that do not reduce the residual (folds, large distortion).
     for (int k = 0; k < 20; ++k) {
-      double pending = 0;
       for (int i = 0; i < n; ++i) {
         const bool search = (S.act[i] != 0) & (S.acc[i] == 0);
         D.distort_lane(S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i], &S.qdy[i],
@@ -198,9 +210,9 @@ struct NewtonLanes {
         S.jyx[i] = take ? S.qjyx[i] : S.jyx[i], S.jyy[i] = take ? S.qjyy[i] : S.jyy[i];
         S.acc[i] = take ? 1.0 : S.acc[i];
         S.t[i] = search & !lower ? S.t[i] * 0.5 : S.t[i];
-        pending += search & !lower ? 1.0 : 0.0;
+        S.pend[i] = search & !lower ? 1.0 : 0.0;
       }
-      if (pending == 0) break;
+      if (!any_set(S.pend, n)) break;
     }
     for (int i = 0; i < n; ++i) {
       const bool live = S.act[i] != 0;
@@ -208,8 +220,12 @@ struct NewtonLanes {
       S.px[i] = live ? nx : S.px[i], S.py[i] = live ? ny : S.py[i];
       const bool finite = (nx * 0 == 0) & (ny * 0 == 0);
       S.act[i] = live & finite ? 1.0 : 0.0;
+      S.pend[i] = live & finite & (S.acc[i] == 0) ? 1.0 : 0.0;
+    }
+    if (!any_set(S.pend, n)) continue;  // (rare: a line search that ran out of halvings)
+    for (int i = 0; i < n; ++i) {
       // The smallest step, taken unchecked: distort where it landed.
-      const bool redo = live & finite & (S.acc[i] == 0);
+      const bool redo = (S.act[i] != 0) & (S.acc[i] == 0);
       D.distort_lane(S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
                      &S.qjyy[i]);
       S.dx[i] = redo ? S.qdx[i] : S.dx[i], S.dy[i] = redo ? S.qdy[i] : S.dy[i];
@@ -331,7 +347,6 @@ struct KannalaBrandt {
     lo[i] = 0, hi[i] = D.theta_max;
   }
   for (int it = 0; it < 200; ++it) {
-    double any = 0;
     for (int i = 0; i < n; ++i) {
       const bool live = act[i] != 0;
       double sl;
@@ -347,9 +362,8 @@ struct KannalaBrandt {
       x[i] = move ? nx : x[i];
       fresh[i] = move ? 0.0 : fresh[i];
       act[i] = move ? 1.0 : 0.0;
-      any += act[i];
     }
-    if (any == 0) break;
+    if (!any_set(act, n)) break;
   }
   const double su = K.w / K.fx, sv = -K.h / K.fy;
   for (int i = 0; i < n; ++i) {
