@@ -10,6 +10,7 @@
 
 #include "camera/camera.h"
 #include "camera/virtual_camera.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -153,9 +154,6 @@ Coin make_coin(std::string_view toml_text) {
 
 namespace {
 
-bool affects_org(CoinAffects a) { return (uint8_t(a) & uint8_t(CoinAffects::Org)) != 0; }
-bool affects_dir(CoinAffects a) { return (uint8_t(a) & uint8_t(CoinAffects::Dir)) != 0; }
-
 // Cell index of a coordinate; NaN and out-of-range values go to the nearest edge cell, which is
 // safe because every disk has its center inside [0,1]^2 (clamping moves a point closer to it).
 int cell_index(double t, int n) {
@@ -281,74 +279,227 @@ bool CoinField::reaches(Vec2 uv) const {
   return hit;
 }
 
-bool CoinField::apply(Vec2 uv, CameraRay* r) const {
-  if (sites_.empty()) return true;
-  const Vec3 p = r->org, pu = r->dorg_du, pv = r->dorg_dv;
-  bool moved = false, bent = false;
-  // Origin: D = sum w_i e_i with e_i = p_c,i - p (de_i/du = -p_u), so
-  //   dD/du = sum w_u,i e_i - p_u sum w_i.
-  // Direction: sum w_i (c_i - d) = C - W d with c_i = e_i / l_i, W = sum w_i, C = sum w_i c_i;
-  //   d(w c)/du = (w_u + a (c . p_u)) c - a p_u with a = w / l, so
-  //   dC/du = sum (w_u,i + a_i (c_i . p_u)) c_i - p_u sum a_i.
-  // Sums that multiply p_u or p_v are applied once at the end.
-  Vec3 D, Du, Dv, C, Cu, Cv;
-  double Wo = 0, W = 0, Wu = 0, Wv = 0, Sa = 0;
-  for_cell(uv, [&](uint32_t i) {
-    const Disk& k = disks_[i];
-    const double qu = uv.x - k.u, qv = uv.y - k.v;
-    const double x = (qu * qu + qv * qv) * k.inv_r2;
-    if (!(x < 1)) return;
-    const CoinSite& c = sites_[i];
+namespace {
+
+// The sums of apply() over a batch's lanes, structure of arrays (see the formulas there).
+struct CoinSums {
+  static constexpr int N = kCameraBatch;
+  double D[3][N], Du[3][N], Dv[3][N], C[3][N], Cu[3][N], Cv[3][N];
+  double Wo[N], W[N], Wu[N], Wv[N], Sa[N];
+  double moved[N], bent[N];  // masks: some coin moved the origin / bent the direction
+};
+
+// One site's contribution to every lane; lanes outside its radius add nothing (selects, with the
+// arithmetic kept finite there so nothing traps).
+struct SiteLanes {
+  double u, v, inv_r2, inv_lc2, strength, stiffness;
+  Vec3 pc;  // the coin in camera space
+};
+
+template <CoinFalloff kF, bool kOrg, bool kDir>
+[[gnu::always_inline]] inline void add_site(const SiteLanes& site, const double* __restrict u,
+                                            const double* __restrict v,
+                                            const CameraRayBatch& __restrict r, int n,
+                                            CoinSums* __restrict acc) {
+  const SiteLanes c = site;
+  const auto at = [](const double(&a)[3][kCameraBatch], int i) __attribute__((always_inline)) {
+    return Vec3{a[0][i], a[1][i], a[2][i]};
+  };
+  const auto add =
+      [](double(&a)[3][kCameraBatch], int i, const Vec3& x) __attribute__((always_inline)) {
+    a[0][i] += x.x, a[1][i] += x.y, a[2][i] += x.z;
+  };
+  for (int i = 0; i < n; ++i) {
+    const double qu = u[i] - c.u, qv = v[i] - c.v;
+    const double x0 = (qu * qu + qv * qv) * c.inv_r2;
+    const bool in = x0 < 1;
+    const double x = in ? x0 : 0.0;
+    const Vec3 p = at(r.org, i), pu = at(r.dorg_du, i), pv = at(r.dorg_dv, i);
     // w = m F(x) A(z): F = B_s(K(x)) with x = d^2 / R^2, A with z = l^2 / l_c^2.
-    const KernelValue K = kernel(c.falloff, x);
+    const KernelValue K = kernel(kF, x);
     const KernelValue B = stiffness(c.stiffness, K.k);
-    const Vec3 e = c.p_camera - p;
-    const double ee = dot(e, e), epu = dot(e, pu), epv = dot(e, pv), il = inv_lc2_[i];
+    const Vec3 e = c.pc - p;
+    const double ee = dot(e, e), epu = dot(e, pu), epv = dot(e, pv), il = c.inv_lc2;
     const KernelValue A = distance(ee * il);
     // dx/du = 2 qu / R^2, dz/du = -2 (e . p_u) / l_c^2.
-    const double mF = c.strength * B.k, mFx = c.strength * B.dk * K.dk * 2 * k.inv_r2;
+    const double mF = c.strength * B.k, mFx = c.strength * B.dk * K.dk * 2 * c.inv_r2;
     const double mFAz = mF * A.dk * -2 * il;
-    const double w = mF * A.k;
-    const double w_u = mFx * qu * A.k + mFAz * epu;
-    const double w_v = mFx * qv * A.k + mFAz * epv;
-    if (affects_org(c.affects)) {
-      D += e * w;
-      Du += e * w_u;
-      Dv += e * w_v;
-      Wo += w;
-      moved = true;
+    const double w = in ? mF * A.k : 0.0;
+    const double w_u = in ? mFx * qu * A.k + mFAz * epu : 0.0;
+    const double w_v = in ? mFx * qv * A.k + mFAz * epv : 0.0;
+    if (kOrg) {
+      add(acc->D, i, e * w), add(acc->Du, i, e * w_u), add(acc->Dv, i, e * w_v);
+      acc->Wo[i] += w;
+      acc->moved[i] = in ? 1.0 : acc->moved[i];
     }
-    if (affects_dir(c.affects)) {
-      if (!(ee > 0)) return;  // A = 0 there: the coin lets go of a point at the coin
-      const double il1 = 1 / std::sqrt(ee), a = w * il1;
-      W += w;
-      Wu += w_u;
-      Wv += w_v;
-      Sa += a;
-      C += e * a;
-      Cu += e * ((w_u + a * epu * il1) * il1);
-      Cv += e * ((w_v + a * epv * il1) * il1);
-      bent = true;
+    if (kDir) {
+      // A = 0 at the coin: it lets go of a point there.
+      const bool bends = in & (ee > 0);
+      const double il1 = 1 / std::sqrt(bends ? ee : 1.0);
+      const double wd = bends ? w : 0.0, wd_u = bends ? w_u : 0.0, wd_v = bends ? w_v : 0.0;
+      const double a = wd * il1;
+      acc->W[i] += wd, acc->Wu[i] += wd_u, acc->Wv[i] += wd_v, acc->Sa[i] += a;
+      add(acc->C, i, e * a);
+      add(acc->Cu, i, e * ((wd_u + a * epu * il1) * il1));
+      add(acc->Cv, i, e * ((wd_v + a * epv * il1) * il1));
+      acc->bent[i] = bends ? 1.0 : acc->bent[i];
     }
-  });
-  if (moved) {
-    r->org = p + D;
-    r->dorg_du = pu + (Du - pu * Wo);
-    r->dorg_dv = pv + (Dv - pv * Wo);
   }
-  if (bent) {
-    const Vec3 d0 = r->dir;
-    const Vec3 d = d0 * (1 - W) + C;
-    const Vec3 du = r->ddir_du * (1 - W) - d0 * Wu + (Cu - pu * Sa);
-    const Vec3 dv = r->ddir_dv * (1 - W) - d0 * Wv + (Cv - pv * Sa);
+}
+
+template <CoinFalloff kF>
+[[gnu::always_inline]] inline void add_site_by_affects(const SiteLanes& site, CoinAffects affects,
+                                                       const double* u, const double* v,
+                                                       const CameraRayBatch& r, int n,
+                                                       CoinSums* acc) {
+  switch (affects) {
+    case CoinAffects::Org:
+      return add_site<kF, true, false>(site, u, v, r, n, acc);
+    case CoinAffects::Dir:
+      return add_site<kF, false, true>(site, u, v, r, n, acc);
+    case CoinAffects::Both:
+      return add_site<kF, true, true>(site, u, v, r, n, acc);
+  }
+}
+
+ANAMORPH_SIMD_CLONES void add_site_lanes(const SiteLanes& site, CoinFalloff falloff,
+                                         CoinAffects affects, const double* u, const double* v,
+                                         const CameraRayBatch& r, int n, CoinSums* acc) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        switch (falloff) {
+          case CoinFalloff::Smooth:
+            return add_site_by_affects<CoinFalloff::Smooth>(site, affects, u, v, r, m, acc);
+          case CoinFalloff::Quadratic:
+            return add_site_by_affects<CoinFalloff::Quadratic>(site, affects, u, v, r, m, acc);
+          case CoinFalloff::Gaussian:
+            return add_site_by_affects<CoinFalloff::Gaussian>(site, affects, u, v, r, m, acc);
+        }
+      });
+}
+
+// The deformed rays from the sums; ok[i] = 0 where the bent direction vanishes (no ray).
+[[gnu::always_inline]] inline void deform_kernel(const CoinSums& __restrict s, int n,
+                                                 CameraRayBatch* __restrict r,
+                                                 double* __restrict ok) {
+  const auto at = [](const double(&a)[3][kCameraBatch], int i) __attribute__((always_inline)) {
+    return Vec3{a[0][i], a[1][i], a[2][i]};
+  };
+  const auto put = [](double(&a)[3][kCameraBatch], int i, bool keep_old, const Vec3& x)
+      __attribute__((always_inline)) {
+    a[0][i] = keep_old ? a[0][i] : x.x, a[1][i] = keep_old ? a[1][i] : x.y;
+    a[2][i] = keep_old ? a[2][i] : x.z;
+  };
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p = at(r->org, i), pu = at(r->dorg_du, i), pv = at(r->dorg_dv, i);
+    const bool moved = s.moved[i] != 0, bent = s.bent[i] != 0;
+    put(r->org, i, !moved, p + at(s.D, i));
+    put(r->dorg_du, i, !moved, pu + (at(s.Du, i) - pu * s.Wo[i]));
+    put(r->dorg_dv, i, !moved, pv + (at(s.Dv, i) - pv * s.Wo[i]));
+    const Vec3 d0 = at(r->dir, i);
+    const double W = s.W[i];
+    const Vec3 d = d0 * (1 - W) + at(s.C, i);
+    const Vec3 du = at(r->ddir_du, i) * (1 - W) - d0 * s.Wu[i] + (at(s.Cu, i) - pu * s.Sa[i]);
+    const Vec3 dv = at(r->ddir_dv, i) * (1 - W) - d0 * s.Wv[i] + (at(s.Cv, i) - pv * s.Sa[i]);
     const double len = length(d);
-    if (!(len > 0) || !std::isfinite(len)) return false;  // bent exactly backwards: no ray
-    const double inv = 1 / len;
-    r->dir = d * inv;
-    r->ddir_du = (du - r->dir * dot(r->dir, du)) * inv;
-    r->ddir_dv = (dv - r->dir * dot(r->dir, dv)) * inv;
+    const bool fine = (len > 0) & (len * 0 == 0);  // bent exactly backwards: no ray
+    ok[i] = bent & !fine ? 0.0 : 1.0;
+    const double inv = 1 / (fine ? len : 1.0);
+    const Vec3 nd = d * inv;
+    put(r->dir, i, !bent, nd);
+    put(r->ddir_du, i, !bent, (du - nd * dot(nd, du)) * inv);
+    put(r->ddir_dv, i, !bent, (dv - nd * dot(nd, dv)) * inv);
   }
+}
+
+ANAMORPH_SIMD_CLONES void deform_lanes(const CoinSums& s, int n, CameraRayBatch* r, double* ok) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { deform_kernel(s, m, r, ok); });
+}
+
+}  // namespace
+
+bool CoinField::may_reach(const double* u, const double* v, int n) const {
+  if (sites_.empty() || n == 0) return false;
+  double u0 = u[0], u1 = u[0], v0 = v[0], v1 = v[0];
+  for (int i = 1; i < n; ++i) {
+    u0 = std::min(u0, u[i]), u1 = std::max(u1, u[i]);
+    v0 = std::min(v0, v[i]), v1 = std::max(v1, v[i]);
+  }
+  // Every site whose disk touches the box is listed in a cell the box overlaps.
+  const int i0 = cell_index(u0, grid_), i1 = cell_index(u1, grid_);
+  const int j0 = cell_index(v0, grid_), j1 = cell_index(v1, grid_);
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const size_t c = size_t(j) * grid_ + i;
+      for (uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+        const Disk& d = disks_[cell_items_[k]];
+        const double qu = std::clamp(d.u, u0, u1) - d.u, qv = std::clamp(d.v, v0, v1) - d.v;
+        if ((qu * qu + qv * qv) * d.inv_r2 < 1) return true;
+      }
+    }
+  return false;
+}
+
+bool CoinField::apply(Vec2 uv, CameraRay* r) const {
+  if (sites_.empty()) return true;
+  CameraRayBatch b;
+  b.set(0, *r);
+  bool reached;
+  apply_batch(&uv.x, &uv.y, 1, &b, &reached);
+  if (!reached) return true;  // untouched, bit for bit
+  if (!b.valid[0]) return false;
+  *r = b.ray(0);
   return true;
+}
+
+void CoinField::apply_batch(const double* u, const double* v, int n, CameraRayBatch* rays,
+                            bool* reached) const {
+  for (int i = 0; i < n; ++i) reached[i] = false;
+  if (sites_.empty()) return;
+  // The sites of the lanes' grid cells, in increasing order (as each cell lists them), so every
+  // lane adds its coins in the same order whatever its neighbours are.
+  constexpr int kMaxSites = 64;
+  uint32_t cand[kMaxSites];
+  int m = 0;
+  bool overflow = false;
+  for (int i = 0; i < n; ++i)
+    for_cell({u[i], v[i]}, [&](uint32_t k) {
+      const Disk& d = disks_[k];
+      const double qu = u[i] - d.u, qv = v[i] - d.v;
+      if (!((qu * qu + qv * qv) * d.inv_r2 < 1)) return;
+      reached[i] = true;
+      if (std::find(cand, cand + m, k) != cand + m) return;
+      if (m == kMaxSites) {
+        overflow = true;
+        return;
+      }
+      cand[m++] = k;
+    });
+  if (m == 0) return;
+  if (overflow) {
+    // More coins at once than the list holds: lane by lane.
+    for (int i = 0; i < n; ++i)
+      if (reached[i]) {
+        CameraRay r = rays->ray(i);
+        const bool ok = apply({u[i], v[i]}, &r);
+        rays->set(i, ok ? std::optional(r) : std::nullopt);
+      }
+    return;
+  }
+  std::sort(cand, cand + m);
+  CoinSums s;
+  std::fill_n(&s.D[0][0], sizeof(CoinSums) / sizeof(double), 0.0);
+  for (int j = 0; j < m; ++j) {
+    const uint32_t k = cand[j];
+    const CoinSite& c = sites_[k];
+    const SiteLanes lane{disks_[k].u, disks_[k].v, disks_[k].inv_r2, inv_lc2_[k],
+                         c.strength,  c.stiffness, c.p_camera};
+    add_site_lanes(lane, c.falloff, c.affects, u, v, *rays, n, &s);
+  }
+  double ok[kCameraBatch];
+  deform_lanes(s, n, rays, ok);
+  for (int i = 0; i < n; ++i) rays->valid[i] = rays->valid[i] & (ok[i] != 0);
 }
 
 double CoinField::overlay(Vec2 uv, Vec2 pixel) const {

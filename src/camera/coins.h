@@ -37,6 +37,7 @@ namespace anamorph {
 
 class Camera;
 struct CameraRay;
+struct CameraRayBatch;
 
 enum class CoinAffects : uint8_t { Org = 1, Dir = 2, Both = 3 };
 enum class CoinFalloff : uint8_t { Smooth, Quadratic, Gaussian };
@@ -113,11 +114,20 @@ class CoinField {
 
   // True when some coin's radius contains uv (its ray must be deformed).
   bool reaches(Vec2 uv) const;
+  // False when no coin reaches any of the n positions (a test of their bounding box: true does
+  // not mean that one does).
+  bool may_reach(const double* u, const double* v, int n) const;
   // Deforms the camera-space pinhole ray at uv (unit direction, derivatives with respect to u and
   // v) by the coins that reach uv: the origin by the org formula, the direction by the dir
   // formula, with exact derivatives. Leaves the ray untouched (bit for bit) when no coin reaches
   // uv; false when the bent direction vanishes (no ray). Allocation-free, thread-safe.
   bool apply(Vec2 uv, CameraRay* r) const;
+  // apply() for lanes 0..n-1 of a batch of camera-space rays at (u[i], v[i]), vectorized over
+  // the lanes: reached[i] tells whether a coin reaches lane i (its ray is then deformed, or,
+  // bent exactly backwards, marked invalid); lanes no coin reaches are untouched. apply() is
+  // this with n = 1, so both give the same bits.
+  void apply_batch(const double* u, const double* v, int n, CameraRayBatch* rays,
+                   bool* reached) const;
 
   // Coverage in [0, 1] of the `--aov coins` markers at uv: a dot of 3 pixels radius at each
   // (uc, vc) and a 1.5 pixel wide outline of each radius of influence. `pixel` is the size of a

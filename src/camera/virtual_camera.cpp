@@ -380,17 +380,16 @@ void VirtualCamera::coin_rays(const double* u, const double* v, int n, CameraRay
   DirBatch dir;
   const SurfaceBatch& org = eval_functions(u, v, n, &org_storage, &dir);
   finish(org, dir, /*camera_space=*/false, n, out);
-  bool reached[kCameraBatch], any = false;
-  for (int k = 0; k < n; ++k) any |= reached[k] = coins_.reaches({u[k], v[k]});
-  if (!any) return;
+  if (!coins_.may_reach(u, v, n)) return;
+  bool reached[kCameraBatch];
   CameraRayBatch plain;
   finish(org, dir, /*camera_space=*/true, n, &plain);
+  coins_.apply_batch(u, v, n, &plain, reached);
   for (int k = 0; k < n; ++k) {
     if (!reached[k]) continue;
     CameraRay r = plain.ray(k);
-    const bool ok = plain.valid[k] && coins_.apply({u[k], v[k]}, &r);
-    if (ok) to_world(&r);
-    out->set(k, ok ? std::optional(r) : std::nullopt);
+    if (plain.valid[k]) to_world(&r);
+    out->set(k, plain.valid[k] ? std::optional(r) : std::nullopt);
   }
 }
 

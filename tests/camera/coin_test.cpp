@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -649,6 +650,66 @@ TEST(CoinCamera, GridFindsExactlyTheCoinsThatReachASample) {
     ASSERT_EQ(cam.coins().reaches(uv), brute) << str(uv);
   }
   EXPECT_FALSE(cam.coins().reaches({std::nan(""), 0.5}));
+}
+
+// The vectorized packet path against one ray at a time: same bits, lanes no coin reaches
+// untouched, may_reach never false where a lane is reached; tight packets (pixel neighbours) and
+// scattered ones (more coins at once than the packet's candidate list holds).
+TEST(CoinCamera, PacketsDeformExactlyLikeSingleRays) {
+  const CamCase s = setups()[3];
+  Rng rng(5, 2);
+  std::vector<Coin> coins;
+  constexpr CoinFalloff kFalloffs[] = {CoinFalloff::Smooth, CoinFalloff::Quadratic,
+                                       CoinFalloff::Gaussian};
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 dir = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
+    coins.push_back(coin_at(Vec3{1, 2, 3} + dir * (2 + 3 * rng.uniform()),
+                            0.05 + 0.1 * rng.uniform(), kAffects[i % 3], 0.02 + 0.1 * rng.uniform(),
+                            0.5 + rng.uniform(), kFalloffs[(i / 3) % 3]));
+  }
+  const VirtualCamera plain(s.parts()), cam = with_coins(s, coins);
+  const CoinField& field = cam.coins();
+  int reached_lanes = 0, packets_reached = 0;
+  for (int packet = 0; packet < 400; ++packet) {
+    const bool scattered = packet % 4 == 3;
+    const double u0 = rng.uniform(), v0 = rng.uniform();
+    double u[kCameraBatch], v[kCameraBatch];
+    CameraRayBatch batch;
+    for (int k = 0; k < kCameraBatch; ++k) {
+      u[k] = scattered ? rng.uniform() : std::min(1.0, u0 + (k % 4) * 0.002);
+      v[k] = scattered ? rng.uniform() : std::min(1.0, v0 + (k / 4) * 0.002);
+      batch.set(k, plain.generate_pinhole({u[k], v[k]}));
+    }
+    const CameraRayBatch before = batch;
+    bool reached[kCameraBatch], any = false;
+    field.apply_batch(u, v, kCameraBatch, &batch, reached);
+    for (int k = 0; k < kCameraBatch; ++k) {
+      std::ostringstream where;
+      where.precision(17);
+      where << "packet " << packet << " lane " << k << " at (" << u[k] << ", " << v[k] << ")";
+      const std::string at = where.str();
+      ASSERT_EQ(reached[k], field.reaches({u[k], v[k]})) << at;
+      any |= reached[k];
+      reached_lanes += reached[k];
+      std::optional<CameraRay> one = before.ray(k);
+      if (before.valid[k] && !field.apply({u[k], v[k]}, &*one)) one.reset();
+      const std::optional<CameraRay> got =
+          batch.valid[k] ? std::optional(batch.ray(k)) : std::nullopt;
+      ASSERT_TRUE(bit_identical(got, before.valid[k] ? one : std::nullopt)) << at;
+      if (!reached[k]) {
+        ASSERT_TRUE(
+            bit_identical(got, before.valid[k] ? std::optional(before.ray(k)) : std::nullopt))
+            << at << " (not reached, must be untouched)";
+      }
+    }
+    packets_reached += any;
+    if (any) {
+      ASSERT_TRUE(field.may_reach(u, v, kCameraBatch)) << "packet " << packet;
+    }
+  }
+  // The cases above really happen.
+  EXPECT_GT(packets_reached, 100);
+  EXPECT_GT(reached_lanes, 1000);
 }
 
 TEST(CoinOverlay, MarksCentersAndRadii) {
