@@ -248,17 +248,21 @@ ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const double* u, con
 // ray goes through here, batched or not, so the bits agree.
 using Rig = AffineRig;
 
-template <bool kPointOrg>
+// kIdentity: the rig is the identity (camera space, or functions given in world space), whose
+// products would only add zeros.
+template <bool kPointOrg, bool kIdentity>
 [[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceBatch& __restrict org,
                                                const DirBatch& __restrict b, int n,
                                                CameraRayBatch* __restrict out) {
   const Rig rig = t;  // a local copy: stores to `out` cannot alias it
   const auto& m = rig.m;
-  const auto vec = [&](const Vec3& a) {
+  const auto vec = [&](const Vec3& a) __attribute__((always_inline)) {
+    if (kIdentity) return a;
     return Vec3{m[0][0] * a.x + m[0][1] * a.y + m[0][2] * a.z,
                 m[1][0] * a.x + m[1][1] * a.y + m[1][2] * a.z,
                 m[2][0] * a.x + m[2][1] * a.y + m[2][2] * a.z};
   };
+
   constexpr int N = kCameraBatch;
   alignas(64) double lens[N], finite[N];
   if (!kPointOrg)
@@ -273,18 +277,18 @@ template <bool kPointOrg>
   for (int i = 0; i < n; ++i) {
     const double px = kPointOrg ? p0.x : org.p[0][i], py = kPointOrg ? p0.y : org.p[1][i],
                  pz = kPointOrg ? p0.z : org.p[2][i];
-    const double ox = m[0][0] * px + m[0][1] * py + m[0][2] * pz + m[0][3];
-    const double oy = m[1][0] * px + m[1][1] * py + m[1][2] * pz + m[1][3];
-    const double oz = m[2][0] * px + m[2][1] * py + m[2][2] * pz + m[2][3];
-    const double dx = m[0][0] * b.d[0][i] + m[0][1] * b.d[1][i] + m[0][2] * b.d[2][i];
-    const double dy = m[1][0] * b.d[0][i] + m[1][1] * b.d[1][i] + m[1][2] * b.d[2][i];
-    const double dz = m[2][0] * b.d[0][i] + m[2][1] * b.d[1][i] + m[2][2] * b.d[2][i];
-    const double ux = m[0][0] * b.du[0][i] + m[0][1] * b.du[1][i] + m[0][2] * b.du[2][i];
-    const double uy = m[1][0] * b.du[0][i] + m[1][1] * b.du[1][i] + m[1][2] * b.du[2][i];
-    const double uz = m[2][0] * b.du[0][i] + m[2][1] * b.du[1][i] + m[2][2] * b.du[2][i];
-    const double vx = m[0][0] * b.dv[0][i] + m[0][1] * b.dv[1][i] + m[0][2] * b.dv[2][i];
-    const double vy = m[1][0] * b.dv[0][i] + m[1][1] * b.dv[1][i] + m[1][2] * b.dv[2][i];
-    const double vz = m[2][0] * b.dv[0][i] + m[2][1] * b.dv[1][i] + m[2][2] * b.dv[2][i];
+    const bool I = kIdentity;
+    const double ox = I ? px : m[0][0] * px + m[0][1] * py + m[0][2] * pz + m[0][3];
+    const double oy = I ? py : m[1][0] * px + m[1][1] * py + m[1][2] * pz + m[1][3];
+    const double oz = I ? pz : m[2][0] * px + m[2][1] * py + m[2][2] * pz + m[2][3];
+    const double* d[3] = {b.d[0], b.d[1], b.d[2]};
+    const double *du[3] = {b.du[0], b.du[1], b.du[2]}, *dv[3] = {b.dv[0], b.dv[1], b.dv[2]};
+    const auto row = [&](int r, const double* const* a) __attribute__((always_inline)) {
+      return I ? a[r][i] : m[r][0] * a[0][i] + m[r][1] * a[1][i] + m[r][2] * a[2][i];
+    };
+    const double dx = row(0, d), dy = row(1, d), dz = row(2, d);
+    const double ux = row(0, du), uy = row(1, du), uz = row(2, du);
+    const double vx = row(0, dv), vy = row(1, dv), vz = row(2, dv);
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
     const double inv = 1 / len;
     // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
@@ -311,16 +315,27 @@ template <bool kPointOrg>
     out->valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org.ok[i]);
 }
 
-ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, const SurfaceBatch& org, const DirBatch& b,
-                                           int n, CameraRayBatch* out) {
+template <bool kPointOrg>
+[[gnu::always_inline]] inline void finish_rays_any_rig(const Rig& t, bool identity,
+                                                       const SurfaceBatch& org, const DirBatch& b,
+                                                       int n, CameraRayBatch* out) {
   with_trip_count<kCameraBatch>(
-      n, [&](auto m) __attribute__((always_inline)) { finish_rays<true>(t, org, b, m, out); });
+      n, [&](auto m) __attribute__((always_inline)) {
+        if (identity)
+          finish_rays<kPointOrg, true>(t, org, b, m, out);
+        else
+          finish_rays<kPointOrg, false>(t, org, b, m, out);
+      });
 }
 
-ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, const SurfaceBatch& org, const DirBatch& b,
-                                         int n, CameraRayBatch* out) {
-  with_trip_count<kCameraBatch>(
-      n, [&](auto m) __attribute__((always_inline)) { finish_rays<false>(t, org, b, m, out); });
+ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, bool identity, const SurfaceBatch& org,
+                                           const DirBatch& b, int n, CameraRayBatch* out) {
+  finish_rays_any_rig<true>(t, identity, org, b, n, out);
+}
+
+ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, bool identity, const SurfaceBatch& org,
+                                         const DirBatch& b, int n, CameraRayBatch* out) {
+  finish_rays_any_rig<false>(t, identity, org, b, n, out);
 }
 
 }  // namespace
@@ -339,10 +354,11 @@ const SurfaceBatch& VirtualCamera::eval_functions(const double* u, const double*
 void VirtualCamera::finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
                            CameraRayBatch* out) const {
   const Rig& rig = camera_space ? camera34_ : rig34_;
+  const bool identity = camera_space || rig_identity_;
   if (point_org_)
-    finish_point_org(rig, org, dir, n, out);
+    finish_point_org(rig, identity, org, dir, n, out);
   else
-    finish_any_org(rig, org, dir, n, out);
+    finish_any_org(rig, identity, org, dir, n, out);
 }
 
 void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
