@@ -13,6 +13,7 @@
 
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -50,31 +51,80 @@ struct TileGeometry {
   }
 };
 
-class TileOrg final : public OrgFunctionLoop<TileOrg> {
+// A batch's tiles: origin (x, y; z is 0) and the position inside the tile, one lane at a time
+// (integer tile indices and the eye table do not vectorize), as eval computes them.
+struct TileLanes {
+  static constexpr int N = kCameraBatch;
+  double ox[N], oy[N], s[N], t[N];
+};
+void tile_lanes(const TileGeometry& g, const double* u, const double* v, int n, TileLanes* out) {
+  for (int i = 0; i < n; ++i) {
+    const TileCoord t = tile_of({u[i], v[i]}, g.cols, g.rows);
+    const Vec3 o = g.origin(t.col, t.row);
+    out->ox[i] = o.x, out->oy[i] = o.y, out->s[i] = t.st.x, out->t[i] = t.st.y;
+  }
+}
+
+ANAMORPH_SIMD_CLONES void tile_orgs(const TileLanes& l, int n, SurfaceBatch* out) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        for (int i = 0; i < m; ++i) {
+          out->p[0][i] = l.ox[i], out->p[1][i] = l.oy[i], out->p[2][i] = 0;
+          for (int c = 0; c < 3; ++c)
+            out->dpdu[c][i] = out->dpdv[c][i] = out->n[c][i] = out->dndu[c][i] = out->dndv[c][i] =
+                out->dpduu[c][i] = out->dpduv[c][i] = out->dpdvv[c][i] = 0;
+          out->ok[i] = true;
+        }
+      });
+}
+
+// TileGeometry::direction for a batch (the tile's own origin, not the sample's, which coins may
+// have moved).
+ANAMORPH_SIMD_CLONES void tile_dirs(const TileGeometry& geo, const TileLanes& l, int n,
+                                    DirBatch* out) {
+  const bool lf = geo.light_field;
+  const Vec2 h = lf ? geo.half_window : geo.half_field;
+  const double z = lf ? -geo.focus : -1.0, cols = geo.cols, rows = geo.rows;
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        for (int i = 0; i < m; ++i) {
+          const double x = (2 * l.s[i] - 1) * h.x, y = (1 - 2 * l.t[i]) * h.y;
+          out->d[0][i] = lf ? x - l.ox[i] : x, out->d[1][i] = lf ? y - l.oy[i] : y;
+          out->d[2][i] = lf ? z - 0.0 : z;
+          out->du[0][i] = 2 * h.x * cols, out->du[1][i] = 0 * cols, out->du[2][i] = 0 * cols;
+          out->dv[0][i] = 0 * rows, out->dv[1][i] = -2 * h.y * rows, out->dv[2][i] = 0 * rows;
+          out->ok[i] = true;
+        }
+      });
+}
+
+class TileOrg final : public OrgFunction {
  public:
   explicit TileOrg(const TileGeometry& g) : g_(g) {}
   bool eval(Vec2 uv, SurfaceSample* out) const override {
-    const TileCoord t = tile_of(uv, g_.cols, g_.rows);
-    clear(out);
-    out->p = g_.origin(t.col, t.row);
-    return true;
+    return eval_as_batch_of_one(*this, uv, out);
+  }
+  void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
+    TileLanes l;
+    tile_lanes(g_, u, v, n, &l);
+    tile_orgs(l, n, out);
   }
 
  private:
   TileGeometry g_;
 };
 
-class TileDir final : public DirFunctionLoop<TileDir> {
+class TileDir final : public DirFunction {
  public:
   explicit TileDir(const TileGeometry& g) : g_(g) {}
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
-    const TileCoord t = tile_of(uv, g_.cols, g_.rows);
-    Vec3 ds, dt;
-    // The tile's own origin (not the sample's, which coins may have moved).
-    out->d = g_.direction(g_.origin(t.col, t.row), t.st, &ds, &dt);
-    out->dd_du = ds * double(g_.cols);
-    out->dd_dv = dt * double(g_.rows);
-    return true;
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    return eval_as_batch_of_one(*this, uv, org, out);
+  }
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
+                  DirBatch* out) const override {
+    TileLanes l;
+    tile_lanes(g_, u, v, n, &l);
+    tile_dirs(g_, l, n, out);
   }
 
  private:
