@@ -166,9 +166,11 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
   }
   if (linear_ && dof_.aperture_radius == 0) {
     if (coins_.reaches(cs.uv)) {
-      auto r = linear_coin_ray(cs.uv);
-      if (r) to_world(&*r);
-      return r;
+      // The packet path with one sample, so that single rays and packets agree.
+      CameraRayBatch b;
+      linear_coin_rays(&cs.uv.x, &cs.uv.y, 1, &b);
+      if (!b.valid[0]) return std::nullopt;
+      return b.ray(0);
     }
     const double u = cs.uv.x, v = cs.uv.y;
     const Vec3 d = d0_ + d_u_ * u + d_v_ * v;
@@ -382,11 +384,19 @@ void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch*
       coin_rays(u, v, n, out);
     return;
   }
+  if (coins_.empty())
+    linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, u, v, n, out);
+  else
+    linear_coin_rays(u, v, n, out);
+}
+
+void VirtualCamera::linear_coin_rays(const double* u, const double* v, int n,
+                                     CameraRayBatch* out) const {
   linear_rays(LinearField{o0_, o_u_, o_v_, d0_, d_u_, d_v_}, u, v, n, out);
-  // Samples under a coin: an affine field's closed form, one at a time.
-  if (!coins_.empty())
-    for (int i = 0; i < n; ++i)
-      if (coins_.reaches(s[i].uv)) out->set(i, generate(s[i]));
+  if (!coins_.may_reach(u, v, n)) return;
+  CameraRayBatch plain;
+  linear_rays(LinearField{co0_, co_u_, co_v_, cd0_, cd_u_, cd_v_}, u, v, n, &plain);
+  deform_by_coins(u, v, n, &plain, out);
 }
 
 void VirtualCamera::coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const {
@@ -397,15 +407,20 @@ void VirtualCamera::coin_rays(const double* u, const double* v, int n, CameraRay
   const SurfaceBatch& org = eval_functions(u, v, n, &org_storage, &dir);
   finish(org, dir, /*camera_space=*/false, n, out);
   if (!coins_.may_reach(u, v, n)) return;
-  bool reached[kCameraBatch];
   CameraRayBatch plain;
   finish(org, dir, /*camera_space=*/true, n, &plain);
-  coins_.apply_batch(u, v, n, &plain, reached);
+  deform_by_coins(u, v, n, &plain, out);
+}
+
+void VirtualCamera::deform_by_coins(const double* u, const double* v, int n, CameraRayBatch* plain,
+                                    CameraRayBatch* out) const {
+  bool reached[kCameraBatch];
+  coins_.apply_batch(u, v, n, plain, reached);
   for (int k = 0; k < n; ++k) {
     if (!reached[k]) continue;
-    CameraRay r = plain.ray(k);
-    if (plain.valid[k]) to_world(&r);
-    out->set(k, plain.valid[k] ? std::optional(r) : std::nullopt);
+    CameraRay r = plain->ray(k);
+    if (plain->valid[k]) to_world(&r);
+    out->set(k, plain->valid[k] ? std::optional(r) : std::nullopt);
   }
 }
 

@@ -94,6 +94,14 @@ class VirtualCamera final : public Camera {
   // camera space, then per ray the coins and the rig. generate() runs it with n = 1, so single
   // rays and packets agree.
   void coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
+  // An affine field's rays with coins: the closed form for all samples, and for the samples a
+  // coin reaches the camera-space closed form deformed and taken through the rig (generate()
+  // runs it with n = 1).
+  void linear_coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
+  // The lanes of `out` that coins reach, from `plain` (the same rays in camera space; deformed
+  // in place).
+  void deform_by_coins(const double* u, const double* v, int n, CameraRayBatch* plain,
+                       CameraRayBatch* out) const;
   // The org and dir functions for a batch; returns the origin samples (`org` or, for a point
   // origin, the precomputed lanes).
   const SurfaceBatch& eval_functions(const double* u, const double* v, int n, SurfaceBatch* org,
