@@ -287,6 +287,18 @@ struct CoinSums {
   double D[3][N], Du[3][N], Dv[3][N], C[3][N], Cu[3][N], Cv[3][N];
   double Wo[N], W[N], Wu[N], Wv[N], Sa[N];
   double moved[N], bent[N];  // masks: some coin moved the origin / bent the direction
+
+  // Zeroes the lanes in use: all of them (4.4 KB) for a packet, element by element for a single
+  // ray (zeroing loops of variable length become a library call each).
+  void clear(int n) {
+    if (n > 1) {
+      *this = CoinSums{};
+      return;
+    }
+    for (auto* a : {&D, &Du, &Dv, &C, &Cu, &Cv})
+      for (auto& c : *a) c[0] = 0;
+    for (double* a : {Wo, W, Wu, Wv, Sa, moved, bent}) a[0] = 0;
+  }
 };
 
 // One site's contribution to every lane; lanes outside its radius add nothing (selects, with the
@@ -489,7 +501,7 @@ void CoinField::apply_batch(const double* u, const double* v, int n, CameraRayBa
   }
   std::sort(cand, cand + m);
   CoinSums s;
-  std::fill_n(&s.D[0][0], sizeof(CoinSums) / sizeof(double), 0.0);
+  s.clear(n);
   for (int j = 0; j < m; ++j) {
     const uint32_t k = cand[j];
     const CoinSite& c = sites_[k];
