@@ -60,15 +60,32 @@ Film::Film(int width, int height, std::vector<Aov> aovs)
 
 void Film::add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample) {
   Pixel& p = px(x, y);
-  p.rgb[0] += L.x;
-  p.rgb[1] += L.y;
-  p.rgb[2] += L.z;
-  p.alpha += alpha;
   const double l = luminance(L);
-  p.lum2 += l * l;
-  p.n++;
-  p.spp++;
+  if (first_sample) {
+    // The first sample of a render overwrites the pixel, as a viewer overwrites its frame
+    // buffer: the film need not be cleared between renders, and the old values are not read.
+    p = Pixel{{L.x, L.y, L.z}, alpha, l * l, 1, 0, 1};
+    clear_aovs(x, y);
+  } else {
+    p.rgb[0] += L.x;
+    p.rgb[1] += L.y;
+    p.rgb[2] += L.z;
+    p.alpha += alpha;
+    p.lum2 += l * l;
+    p.n++;
+    p.spp++;
+  }
   add_aovs(x, y, a, first_sample);
+}
+
+void Film::reset(int x, int y) {
+  px(x, y) = Pixel{};
+  clear_aovs(x, y);
+}
+
+void Film::clear_aovs(int x, int y) {
+  if (aov_floats_ > 0)
+    std::fill_n(aov_.begin() + long((size_t(y) * w_ + x) * aov_floats_), aov_floats_, 0.0);
 }
 
 void Film::clear() {
@@ -88,8 +105,7 @@ void Film::set(int x, int y, const Color& L, double alpha, uint32_t spp, const A
   p.alpha = alpha;
   p.n = 1;
   p.spp = spp;
-  if (aov_floats_ > 0)
-    std::fill_n(aov_.begin() + long((size_t(y) * w_ + x) * aov_floats_), aov_floats_, 0.0);
+  clear_aovs(x, y);
   add_aovs(x, y, a, true);
 }
 

@@ -41,8 +41,11 @@ class Film {
   int height() const { return h_; }
   const std::vector<Aov>& aovs() const { return aovs_; }
 
-  // One camera sample: radiance, coverage (0 for "no ray") and AOV values.
+  // One camera sample: radiance, coverage (0 for "no ray") and AOV values. The first sample of a
+  // render (first_sample) replaces whatever the pixel held.
   void add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample);
+  // The pixel back to no samples (a first sample that was dropped).
+  void reset(int x, int y);
   // Back to no samples (keeps the memory).
   void clear();
   // A pixel finished elsewhere (adaptive subdivision): its value and how many samples it took.
@@ -81,6 +84,7 @@ class Film {
     }
   };
   void add_aovs(int x, int y, const AovSample& a, bool first_sample);
+  void clear_aovs(int x, int y);
   Pixel& px(int x, int y) { return pixels_[size_t(y) * w_ + x]; }
   const Pixel& px(int x, int y) const { return pixels_[size_t(y) * w_ + x]; }
   int w_, h_;

@@ -425,7 +425,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                                  st.rays, res, fp_scale);
                       if (!is_finite(res.L)) {
                         st.nan(lx[k], ly[k], int(s));
-                        continue;  // dropped
+                        if (s == 0) film.reset(lx[k], ly[k]);  // no sample yet
+                        continue;                              // dropped
                       }
                       film.add(lx[k], ly[k], res.L, res.alpha, res.aov, s == 0);
                     }
