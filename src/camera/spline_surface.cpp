@@ -28,20 +28,23 @@ struct BasisCache {
 thread_local BasisCache t_bases;
 
 // Rows in power form (SplineSurface::row_poly) by surface, parameter t and s-span: the packets
-// along a tile row (8 for the default 32-pixel tiles) repeat their four rows.
+// along a tile row (8 for the default 32-pixel tiles) repeat their four rows, and the next tile
+// of a row of tiles repeats all of them.
 struct CachedRow {
   uint64_t owner = 0, key = 0;
   int span = -1;
   double c[3][4][4];
 };
-constexpr size_t kRowSlots = 64;
+constexpr int kRowBits = 8;  // 256 rows, 100 KB per thread
+constexpr size_t kRowSlots = size_t(1) << kRowBits;
 thread_local CachedRow t_rows[kRowSlots];
 
-size_t cache_slot(uint64_t key, uint64_t owner) {
+// A slot among 2^bits from a hash of the key and the owner.
+size_t cache_slot(uint64_t key, uint64_t owner, int bits = 6) {
   uint64_t h = key ^ (owner * 0x9E3779B97F4A7C15ull);
   h ^= h >> 31;
   h *= 0xBF58476D1CE4E5B9ull;
-  return size_t(h >> 58);  // the top 6 bits: kCacheSlots = 64
+  return size_t(h >> (64 - bits));  // the top bits
 }
 
 }  // namespace
@@ -295,7 +298,7 @@ void SplineSurface::polynomial_rows(const double* ss, const double* ts, int n,
     int b = a + 1;
     while (b < n && ts[b] == ts[a] && span[b] == span[a]) ++b;
     const uint64_t key = std::bit_cast<uint64_t>(ts[a]);
-    CachedRow& c = t_rows[cache_slot(key + uint64_t(span[a]), id_) % kRowSlots];
+    CachedRow& c = t_rows[cache_slot(key + uint64_t(span[a]), id_, kRowBits)];
     if (!(c.owner == id_ && c.key == key && c.span == span[a])) {
       Basis1 bv;
       cached_basis(false, ts[a], &bv);
