@@ -408,7 +408,10 @@ void VirtualCamera::coin_rays(const double* u, const double* v, int n, CameraRay
   finish(org, dir, /*camera_space=*/false, n, out);
   if (!coins_.may_reach(u, v, n)) return;
   CameraRayBatch plain;
-  finish(org, dir, /*camera_space=*/true, n, &plain);
+  if (rig_identity_)
+    plain = *out;  // the same finishing pass (the identity's products are skipped either way)
+  else
+    finish(org, dir, /*camera_space=*/true, n, &plain);
   deform_by_coins(u, v, n, &plain, out);
 }
 
