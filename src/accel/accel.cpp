@@ -305,26 +305,32 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
     dpdu = f.s;
     dpdv = f.t;
   }
-  Vec3 ns = ngo;
-  if (!m->normals.empty())
+  const bool smooth = !m->normals.empty();
+  Vec3 ns;
+  if (smooth)
     ns = Vec3(m->normals[idx[0]]) * w + Vec3(m->normals[idx[1]]) * double(bu) +
          Vec3(m->normals[idx[2]]) * double(bv);
   h->p_object = po;
   h->n_object = normalize(ngo);
   if (xf) {
     po = xf->point(po);
-    ngo = xf->normal(ngo);
-    ns = xf->normal(ns);
+    h->ng = normalize(xf->normal(ngo));
+    if (smooth) ns = xf->normal(ns);
     dpdu = xf->vector(dpdu);
     dpdv = xf->vector(dpdv);
     h->object_from_world = &rec.object_from_world;
   } else {
+    h->ng = h->n_object;
     h->object_from_world = nullptr;
   }
   h->p = po;
-  h->ng = normalize(ngo);
-  ns = length(ns) > 0 ? normalize(ns) : h->ng;
-  h->ns = dot(ns, h->ng) < 0 ? -ns : ns;
+  // Without vertex normals the shading normal is the geometric one (normalized once).
+  if (smooth) {
+    ns = length(ns) > 0 ? normalize(ns) : h->ng;
+    h->ns = dot(ns, h->ng) < 0 ? -ns : ns;
+  } else {
+    h->ns = h->ng;
+  }
   h->dpdu = dpdu;
   h->dpdv = dpdv;
   h->material = m->material;
