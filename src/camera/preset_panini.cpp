@@ -11,6 +11,7 @@
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -35,31 +36,56 @@ const ParamSpec kParams[] = {
      "Panini's d: 0 = perspective, 1 = the standard Panini, larger = more compression.", 0, kInf},
 };
 
-// cos(lon) of image abscissa x.
-double panini_cos_lon(double x, double d) {
-  const double k = x * x / ((d + 1) * (d + 1));
-  const double disc = k * k * d * d - (k + 1) * (k * d * d - 1);
-  return (-k * d + std::sqrt(std::max(disc, 0.0))) / (k + 1);
+struct PaniniGeometry {
+  Vec2 half;
+  double d;
+};
+
+// The directions of a batch: cos(lon) of the image abscissa x is the larger root of
+// (k + 1) c^2 + 2 k d c + k d^2 - 1 = 0; no ray where d + cos(lon) <= 0.
+[[gnu::always_inline]] inline void panini_kernel(const PaniniGeometry& geo,
+                                                 const double* __restrict u,
+                                                 const double* __restrict v, int n,
+                                                 DirBatch* __restrict out) {
+  const PaniniGeometry g = geo;
+  const double d = g.d, d1 = d + 1;
+  alignas(64) double dc[kCameraBatch];
+  for (int i = 0; i < n; ++i) {
+    const double x = (2 * u[i] - 1) * g.half.x, y = (1 - 2 * v[i]) * g.half.y;
+    const double k = x * x / (d1 * d1);
+    const double disc = k * k * d * d - (k + 1) * (k * d * d - 1);
+    const double c = (-k * d + std::sqrt(disc < 0.0 ? 0.0 : disc)) / (k + 1);
+    const double sin_lon = x * (d + c) / d1;
+    // z = (d+1) c / (d+c); dz/dx = -d sin(lon) / (d cos(lon) + 1).
+    dc[i] = d + c;
+    out->d[0][i] = x, out->d[1][i] = y, out->d[2][i] = -d1 * c / (d + c);
+    out->du[0][i] = 1 * (2 * g.half.x), out->du[1][i] = 0 * (2 * g.half.x);
+    out->du[2][i] = d * sin_lon / (d * c + 1) * (2 * g.half.x);
+    out->dv[0][i] = 0 * (-2 * g.half.y), out->dv[1][i] = 1 * (-2 * g.half.y);
+    out->dv[2][i] = 0 * (-2 * g.half.y);
+  }
+  for (int i = 0; i < n; ++i) out->ok[i] = dc[i] > 0;
 }
 
-class PaniniDir final : public DirFunctionLoop<PaniniDir> {
+ANAMORPH_SIMD_CLONES void panini_dirs(const PaniniGeometry& g, const double* u, const double* v,
+                                      int n, DirBatch* out) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) { panini_kernel(g, u, v, m, out); });
+}
+
+class PaniniDir final : public DirFunction {
  public:
-  PaniniDir(Vec2 half, double d) : half_(half), d_(d) {}
-  bool eval(Vec2 uv, const SurfaceSample&, DirSample* out) const override {
-    const double x = (2 * uv.x - 1) * half_.x, y = (1 - 2 * uv.y) * half_.y;
-    const double c = panini_cos_lon(x, d_);
-    if (!(d_ + c > 0)) return false;
-    const double sin_lon = x * (d_ + c) / (d_ + 1);
-    // z = (d+1) c / (d+c); dz/dx = -d sin(lon) / (d cos(lon) + 1).
-    out->d = {x, y, -(d_ + 1) * c / (d_ + c)};
-    out->dd_du = Vec3{1, 0, d_ * sin_lon / (d_ * c + 1)} * (2 * half_.x);
-    out->dd_dv = Vec3{0, 1, 0} * (-2 * half_.y);
-    return true;
+  PaniniDir(Vec2 half, double d) : g_{half, d} {}
+  bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
+    return eval_as_batch_of_one(*this, uv, org, out);
+  }
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
+                  DirBatch* out) const override {
+    panini_dirs(g_, u, v, n, out);
   }
 
  private:
-  Vec2 half_;
-  double d_;
+  PaniniGeometry g_;
 };
 
 VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
