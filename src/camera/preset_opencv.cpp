@@ -184,48 +184,52 @@ struct NewtonLanes {
     for (int i = 0; i < n; ++i) {
       const double fx = S.dx[i] - S.tx[i], fy = S.dy[i] - S.ty[i];
       const double e = std::abs(fx) + std::abs(fy);
-      const bool live = S.act[i] != 0;
-      const bool conv = live & (e < 1e-14 * (1 + std::abs(S.tx[i]) + std::abs(S.ty[i])));
+      // (Masks as 0/1 doubles combined by products: GCC turned the bool version into branches.)
+      const double live = S.act[i];
+      const double tol = 1e-14 * (1 + std::abs(S.tx[i]) + std::abs(S.ty[i]));
+      const double conv = live * (e < tol ? 1.0 : 0.0);
       const double det = S.jxx[i] * S.jyy[i] - S.jyx[i] * S.jxy[i];
-      const bool good = (S.px[i] * S.px[i] + S.py[i] * S.py[i] <= rmax2) & (det > 0);
-      S.ok[i] = conv ? (good ? 1.0 : 0.0) : S.ok[i];
-      const bool step = live & !conv & (std::abs(det) > 1e-300);
-      const double idet = 1 / (step ? det : 1.0);
+      const double good =
+          (S.px[i] * S.px[i] + S.py[i] * S.py[i] <= rmax2 ? 1.0 : 0.0) * (det > 0 ? 1.0 : 0.0);
+      S.ok[i] = conv != 0 ? good : S.ok[i];
+      const double step = (live - conv) * (std::abs(det) > 1e-300 ? 1.0 : 0.0);
+      const double idet = 1 / (step != 0 ? det : 1.0);
       S.sx[i] = (S.jyy[i] * fx - S.jyx[i] * fy) * idet;
       S.sy[i] = (-S.jxy[i] * fx + S.jxx[i] * fy) * idet;
       S.err[i] = e, S.t[i] = 1, S.acc[i] = 0;
-      S.act[i] = step ? 1.0 : 0.0;
+      S.act[i] = step;
     }
     if (!any_set(S.act, n)) break;
     // Halve steps that do not reduce the residual (folds, large distortion).
     for (int k = 0; k < 20; ++k) {
       for (int i = 0; i < n; ++i) {
-        const bool search = (S.act[i] != 0) & (S.acc[i] == 0);
+        const double search = S.act[i] * (1 - S.acc[i]);
         D.distort_lane(S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i], &S.qdy[i],
                        &S.qjxx[i], &S.qjxy[i], &S.qjyx[i], &S.qjyy[i]);
-        const bool lower = std::abs(S.qdx[i] - S.tx[i]) + std::abs(S.qdy[i] - S.ty[i]) < S.err[i];
-        const bool take = search & lower;
-        S.dx[i] = take ? S.qdx[i] : S.dx[i], S.dy[i] = take ? S.qdy[i] : S.dy[i];
-        S.jxx[i] = take ? S.qjxx[i] : S.jxx[i], S.jxy[i] = take ? S.qjxy[i] : S.jxy[i];
-        S.jyx[i] = take ? S.qjyx[i] : S.jyx[i], S.jyy[i] = take ? S.qjyy[i] : S.jyy[i];
-        S.acc[i] = take ? 1.0 : S.acc[i];
-        S.t[i] = search & !lower ? S.t[i] * 0.5 : S.t[i];
-        S.pend[i] = search & !lower ? 1.0 : 0.0;
+        const double lower =
+            std::abs(S.qdx[i] - S.tx[i]) + std::abs(S.qdy[i] - S.ty[i]) < S.err[i] ? 1.0 : 0.0;
+        const double take = search * lower, halve = search - take;
+        S.dx[i] = take != 0 ? S.qdx[i] : S.dx[i], S.dy[i] = take != 0 ? S.qdy[i] : S.dy[i];
+        S.jxx[i] = take != 0 ? S.qjxx[i] : S.jxx[i], S.jxy[i] = take != 0 ? S.qjxy[i] : S.jxy[i];
+        S.jyx[i] = take != 0 ? S.qjyx[i] : S.jyx[i], S.jyy[i] = take != 0 ? S.qjyy[i] : S.jyy[i];
+        S.acc[i] = take != 0 ? 1.0 : S.acc[i];
+        S.t[i] = halve != 0 ? S.t[i] * 0.5 : S.t[i];
+        S.pend[i] = halve;
       }
       if (!any_set(S.pend, n)) break;
     }
     for (int i = 0; i < n; ++i) {
-      const bool live = S.act[i] != 0;
+      const double live = S.act[i];
       const double nx = S.px[i] - S.sx[i] * S.t[i], ny = S.py[i] - S.sy[i] * S.t[i];
-      S.px[i] = live ? nx : S.px[i], S.py[i] = live ? ny : S.py[i];
-      const bool finite = (nx * 0 == 0) & (ny * 0 == 0);
-      S.act[i] = live & finite ? 1.0 : 0.0;
-      S.pend[i] = live & finite & (S.acc[i] == 0) ? 1.0 : 0.0;
+      S.px[i] = live != 0 ? nx : S.px[i], S.py[i] = live != 0 ? ny : S.py[i];
+      const double finite = nx * 0 + ny * 0 == 0 ? 1.0 : 0.0;
+      S.act[i] = live * finite;
+      S.pend[i] = live * finite * (1 - S.acc[i]);
     }
     if (!any_set(S.pend, n)) continue;  // (rare: a line search that ran out of halvings)
     for (int i = 0; i < n; ++i) {
       // The smallest step, taken unchecked: distort where it landed.
-      const bool redo = (S.act[i] != 0) & (S.acc[i] == 0);
+      const bool redo = S.act[i] * (1 - S.acc[i]) != 0;
       D.distort_lane(S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
                      &S.qjyy[i]);
       S.dx[i] = redo ? S.qdx[i] : S.dx[i], S.dy[i] = redo ? S.qdy[i] : S.dy[i];
