@@ -1,7 +1,7 @@
 // Origin/direction function cost per ray at 1920x1080 (one sample per pixel center): a bicubic
-// B-spline org with dir = normal, evaluated one sample at a time (eval) and per 64x64 tile
-// (eval_grid, which shares basis functions along rows and columns), plus a NURBS and a sphere
-// for comparison.
+// B-spline org with dir = normal, evaluated one sample at a time (eval) and in the renderer's
+// 4x4 packets (eval_batch, which shares each row's curve among the packets along it), plus a
+// NURBS and a sphere for comparison.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
