@@ -119,7 +119,9 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
   };
 
   // Pixel corners (cx, cy) in [x0, x1] x [y0, y1], in 4x4 blocks aligned to the image: camera
-  // batches and ray packets, and the same lanes in every tile that needs the block.
+  // batches and ray packets, and the same lanes in every tile that needs the block. Lanes of
+  // another tile's corners are masked off (a tile's last column and row of corners start a block
+  // of their own: without the mask a 32-pixel tile shaded 81 blocks, 1296 corners, for 1089).
   if (corners)
     for (int by = y0 / 4 * 4; by <= y1; by += 4)
       for (int bx = x0 / 4 * 4; bx <= x1; bx += 4) {
@@ -130,15 +132,14 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
         for (int k = 0; k < kCameraBatch; ++k) {
           const int cx = bx + (k & 3), cy = by + (k >> 2);
           const uint64_t gx = uint64_t(cx) * L, gy = uint64_t(cy) * L;
-          use[k] = cx <= w_ && cy <= h_;
+          use[k] = cx <= w_ && cy <= h_ && cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1;
           uv[k] = use[k] ? Vec2{gx * su, gy * sv} : Vec2{0.5, 0.5};
           keys[k] = mix64(gy * row + gx);
         }
         (*corners)(uv, keys, use, out, rays);
         for (int k = 0; k < kCameraBatch; ++k) {
           const int cx = bx + (k & 3), cy = by + (k >> 2);
-          if (cx < x0 || cx > x1 || cy < y0 || cy > y1) continue;  // another tile's corner
-          store(ws.points[size_t(cy - y0) * L * nx + size_t(cx - x0) * L], out[k]);
+          if (use[k]) store(ws.points[size_t(cy - y0) * L * nx + size_t(cx - x0) * L], out[k]);
         }
       }
   uint32_t stamp = 0;
