@@ -108,14 +108,20 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
                                const EvalCorners* corners) const {
   const int L = steps_;
   const int nx = (x1 - x0) * L + 1, ny = (y1 - y0) * L + 1;
-  ws.points.assign(size_t(nx) * ny, AdaptiveWorkspace::Point{});
+  if (ws.points.size() < size_t(nx) * ny) ws.points.resize(size_t(nx) * ny);
+  if (++ws.tile == 0) {  // the counter wrapped: forget everything once
+    std::fill(ws.points.begin(), ws.points.end(), AdaptiveWorkspace::Point{});
+    ws.tile = 1, ws.stamp = 0;
+  }
+  const uint32_t tile = ws.tile;
   const double su = 1.0 / (double(w_) * L), sv = 1.0 / (double(h_) * L);
   const uint64_t row = uint64_t(w_) * L + 1;
-  const auto store = [](AdaptiveWorkspace::Point& p, const SampleResult& r) {
+  const auto store = [tile](AdaptiveWorkspace::Point& p, const SampleResult& r) {
     p.nan = !is_finite(r.L);
     p.L = p.nan ? Color{} : r.L;
     p.alpha = float(r.alpha);
-    p.done = true;
+    p.tile = tile;
+    p.stamp = 0;  // counted by no pixel yet (stamps start at 1)
   };
 
   // Pixel corners (cx, cy) in [x0, x1] x [y0, y1], in 4x4 blocks aligned to the image: camera
@@ -142,13 +148,13 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
           if (use[k]) store(ws.points[size_t(cy - y0) * L * nx + size_t(cx - x0) * L], out[k]);
         }
       }
-  uint32_t stamp = 0;
+  uint32_t& stamp = ws.stamp;
   PixelResult acc;
 
   // Lattice point (lx, ly) relative to the tile; evaluated once, counted once per pixel.
   auto point = [&](int lx, int ly) -> const AdaptiveWorkspace::Point& {
     AdaptiveWorkspace::Point& p = ws.points[size_t(ly) * nx + lx];
-    if (!p.done) {
+    if (p.tile != tile) {
       const uint64_t gx = uint64_t(x0) * L + lx, gy = uint64_t(y0) * L + ly;
       // The coarsest level whose lattice holds this point (0 = pixel corners).
       auto level = [&](uint64_t g) {
@@ -212,7 +218,7 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
 
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
-      ++stamp;
+      if (++stamp == 0) ++stamp;  // 0 marks points no pixel counted yet
       acc = PixelResult{};
       Color premul;
       double alpha;

@@ -45,10 +45,13 @@ struct AdaptiveWorkspace {
     Color L;
     float alpha = 0;
     uint32_t stamp = 0;  // pixel that last counted this point
-    bool done = false;
+    uint32_t tile = 0;   // the tile that evaluated it: points of earlier tiles are stale
     bool nan = false;
   };
+  // A tile's lattice, reused without clearing (a tile touches few of its points: clearing the
+  // whole lattice moved 0.7 MB per tile at depth 2, 2.6 MB at depth 3).
   std::vector<Point> points;
+  uint32_t tile = 0, stamp = 0;  // counters across tiles, so stale values never match
 };
 
 class AdaptiveGrid {
