@@ -14,7 +14,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <memory>
+#include <stdexcept>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -119,15 +121,44 @@ std::array<float, 256> srgb8_thresholds() {
   return t;
 }
 
+// The code of a float in [2^-13, 1) from its bits: buckets of the exponent and the top 8
+// mantissa bits hold at most one threshold each (the steepest part of the curve, at 2^-13,
+// climbs 0.002 codes per bucket; the widest buckets, just below 1, 0.3 codes), so the code at a
+// bucket's start plus one comparison is exact. Below 2^-13 every code is 0 (t[1] is 1.5e-4).
+struct Srgb8Table {
+  static constexpr uint32_t kLowBits = 0x39000000u;  // 2^-13
+  static constexpr int kShift = 15;                  // keep 8 of the 23 mantissa bits
+  static constexpr size_t kBuckets = (0x3f800000u - kLowBits) >> kShift;
+  std::array<float, 257> t;  // thresholds, t[256] = infinity
+  std::array<uint8_t, kBuckets> start;
+
+  Srgb8Table() {
+    const std::array<float, 256> th = srgb8_thresholds();
+    std::copy(th.begin(), th.end(), t.begin());
+    t[256] = std::numeric_limits<float>::infinity();
+    if (!(t[1] >= std::bit_cast<float>(kLowBits)))
+      throw std::logic_error("sRGB table: code 1 starts below 2^-13");
+    int code = 0;
+    for (size_t b = 0; b < kBuckets; ++b) {
+      const float first = std::bit_cast<float>(kLowBits + (uint32_t(b) << kShift));
+      const float last = std::bit_cast<float>(kLowBits + (uint32_t(b + 1) << kShift) - 1);
+      while (first >= t[size_t(code) + 1]) ++code;
+      start[b] = uint8_t(code);
+      if (code < 255 && last >= t[size_t(code) + 2])
+        throw std::logic_error("sRGB table: two code boundaries in one bucket");
+    }
+  }
+};
+
 }  // namespace
 
 unsigned char linear_to_srgb8(float v) {
-  static const std::array<float, 256> t = srgb8_thresholds();
-  if (!(v > 0)) return 0;
-  int code = 0;
-  for (int step = 128; step > 0; step >>= 1)
-    if (code + step <= 255 && v >= t[size_t(code + step)]) code += step;
-  return static_cast<unsigned char>(code);
+  static const Srgb8Table T;
+  if (!(v >= std::bit_cast<float>(Srgb8Table::kLowBits))) return 0;  // NaN, negative, tiny
+  if (v >= 1.0f) return 255;
+  const uint32_t b = (std::bit_cast<uint32_t>(v) - Srgb8Table::kLowBits) >> Srgb8Table::kShift;
+  const int code = T.start[b];
+  return static_cast<unsigned char>(code + (v >= T.t[size_t(code) + 1] ? 1 : 0));
 }
 
 float srgb_to_linear(float v) {
