@@ -203,7 +203,7 @@ LocalGeom SplineSurface::combine(const Basis1& bu, const Columns& q) const {
   return rational_ ? combine_impl<true>(bu, q) : combine_impl<false>(bu, q);
 }
 
-void SplineSurface::row_poly(const Basis1& bv, int span_u, RowPoly* r) const {
+void SplineSurface::row_poly(const Basis1& bv, int span_u, RowPoly& c) const {
   Columns q;
   columns(bv, span_u - p_, q);
   const double* m = &to_power_[16 * size_t(span_u)];
@@ -212,7 +212,7 @@ void SplineSurface::row_poly(const Basis1& bv, int span_u, RowPoly* r) const {
       for (int x = 0; x < 4; ++x) {
         double acc = 0;
         for (int l = 0; l <= p_; ++l) acc += m[4 * l + e] * q.c[l][o][x];
-        r->c[o][e][x] = acc;
+        c[o][e][x] = acc;
       }
 }
 
@@ -301,10 +301,8 @@ void SplineSurface::polynomial_rows(const double* ss, const double* ts, int n,
     CachedRow& c = t_rows[cache_slot(key + uint64_t(span[a]), id_, kRowBits)];
     if (!(c.owner == id_ && c.key == key && c.span == span[a])) {
       Basis1 bv;
-      cached_basis(false, ts[a], &bv);
-      RowPoly r;
-      row_poly(bv, span[a], &r);
-      std::copy(&r.c[0][0][0], &r.c[0][0][0] + 48, &c.c[0][0][0]);
+      basis_v(ts[a], &bv);  // (the row cache stands in for the basis cache here)
+      row_poly(bv, span[a], c.c);
       c.owner = id_, c.key = key, c.span = span[a];
     }
     row_lanes_clones(c.c, rational_, h + a, a, b - a, out);

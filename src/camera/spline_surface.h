@@ -110,12 +110,10 @@ class SplineSurface {
   template <bool Rational>
   LocalGeom combine_impl(const Basis1& bu, const Columns& q) const;
 
-  // Power form of a row: coef[o][e][x] is the h^e coefficient of the o-th t-derivative of A,
+  // Power form of a row: c[o][e][x] is the h^e coefficient of the o-th t-derivative of A,
   // h = s - (start of the s-span). Runs of lanes with one row and span share it.
-  struct RowPoly {
-    double c[3][4][4];
-  };
-  void row_poly(const Basis1& bv, int span_u, RowPoly* r) const;
+  using RowPoly = double[3][4][4];
+  void row_poly(const Basis1& bv, int span_u, RowPoly& c) const;
   void polynomial_rows(const double* ss, const double* ts, int n, LocalGeomBatch* out) const;
 
   int nu_, nv_, p_, q_;
