@@ -246,13 +246,19 @@ Accel::~Accel() {
 }
 
 void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
-                     float bv, Hit* h) const {
+                     float bv, Hit* h, bool surface) const {
   h->t = t;
   const unsigned top_id = inst != RTC_INVALID_GEOMETRY_ID ? inst : geom;
   const Record& rec = *records_[top_id];
   h->object_id = top_id;
   h->mesh = inst != RTC_INVALID_GEOMETRY_ID ? geom : 0;
   h->prim = prim;
+  if (!surface) {
+    h->material = rec.kind == Record::Kind::Shape      ? rec.shape->material
+                  : rec.kind == Record::Kind::FlatMesh ? rec.mesh->material
+                                                       : rec.proto->meshes[geom].material;
+    return;
+  }
   if (rec.kind == Record::Kind::Shape) {
     const AnalyticShape& s = *rec.shape;
     // Recompute in double from the object-space ray for an exact surface point.
@@ -375,28 +381,18 @@ bool Accel::occluded(const Ray& r) const {
   return ray.tfar < 0;
 }
 
-template <int N, class RayHitN, class F>
-static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RTCScene scene,
-                             F&& fill,
+// One packet: `load(rh)` writes the lanes' origins and directions, the rest is set here.
+template <int N, class RayHitN, class Load, class F>
+static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Load&& load, F&& fill,
                              void (*trace)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) RayHitN rh;
   alignas(64) int v[N];
+  load(rh);
   for (int i = 0; i < N; ++i) {
     v[i] = valid[i] ? -1 : 0;
-    const Ray& r = rays[i];
-    rh.ray.org_x[i] = float(r.o.x);
-    rh.ray.org_y[i] = float(r.o.y);
-    rh.ray.org_z[i] = float(r.o.z);
-    rh.ray.dir_x[i] = float(r.d.x);
-    rh.ray.dir_y[i] = float(r.d.y);
-    rh.ray.dir_z[i] = float(r.d.z);
-    rh.ray.tnear[i] = float(r.tmin);
-    rh.ray.tfar[i] = r.tmax >= double(std::numeric_limits<float>::max())
-                         ? std::numeric_limits<float>::infinity()
-                         : float(r.tmax);
     rh.ray.time[i] = 0;
     rh.ray.mask[i] = 0xFFFFFFFF;
     rh.ray.id[i] = unsigned(i);
@@ -415,9 +411,46 @@ static void intersect_packet(const Ray* rays, const bool* valid, bool* found, RT
 
 void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
   intersect_packet<16, RTCRayHit16>(
-      rays, valid, found, top_,
+      valid, found, top_,
+      [&](RTCRayHit16& rh) {
+        for (int i = 0; i < 16; ++i) {
+          const Ray& r = rays[i];
+          rh.ray.org_x[i] = float(r.o.x);
+          rh.ray.org_y[i] = float(r.o.y);
+          rh.ray.org_z[i] = float(r.o.z);
+          rh.ray.dir_x[i] = float(r.d.x);
+          rh.ray.dir_y[i] = float(r.d.y);
+          rh.ray.dir_z[i] = float(r.d.z);
+          rh.ray.tnear[i] = float(r.tmin);
+          rh.ray.tfar[i] = r.tmax >= double(std::numeric_limits<float>::max())
+                               ? std::numeric_limits<float>::infinity()
+                               : float(r.tmax);
+        }
+      },
       [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
         fill_hit(rays[i], t, g, p, in, u, v, &hits[i]);
+      },
+      rtcIntersect16);
+}
+
+void Accel::intersect16(const double (&org)[3][16], const double (&dir)[3][16], const bool* valid,
+                        Hit* hits, bool* found, bool surface) const {
+  intersect_packet<16, RTCRayHit16>(
+      valid, found, top_,
+      [&](RTCRayHit16& rh) {
+        // Component by component: conversions the compiler turns into vector instructions.
+        for (int i = 0; i < 16; ++i) rh.ray.org_x[i] = float(org[0][i]);
+        for (int i = 0; i < 16; ++i) rh.ray.org_y[i] = float(org[1][i]);
+        for (int i = 0; i < 16; ++i) rh.ray.org_z[i] = float(org[2][i]);
+        for (int i = 0; i < 16; ++i) rh.ray.dir_x[i] = float(dir[0][i]);
+        for (int i = 0; i < 16; ++i) rh.ray.dir_y[i] = float(dir[1][i]);
+        for (int i = 0; i < 16; ++i) rh.ray.dir_z[i] = float(dir[2][i]);
+        for (int i = 0; i < 16; ++i) rh.ray.tnear[i] = 0.0f;
+        for (int i = 0; i < 16; ++i) rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+      },
+      [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
+        const Ray r{{org[0][i], org[1][i], org[2][i]}, {dir[0][i], dir[1][i], dir[2][i]}, 0, kInf};
+        fill_hit(r, t, g, p, in, u, v, &hits[i], surface);
       },
       rtcIntersect16);
 }

@@ -52,6 +52,12 @@ class Accel {
   bool occluded(const Ray& r) const;
   // Intersects 16 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
   void intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
+  // The same for rays from t = 0 to infinity given as structure of arrays (org[c][i] is
+  // component c of lane i), as camera batches hold them: no Ray per lane on the way in. Without
+  // `surface`, a hit has only t, its ids and its material (renders of depth, ids or untextured
+  // albedo need nothing else).
+  void intersect16(const double (&org)[3][16], const double (&dir)[3][16], const bool* valid,
+                   Hit* hits, bool* found, bool surface = true) const;
   Bounds3 bounds() const { return bounds_; }
   const AccelStats& stats() const { return stats_; }
   uint32_t object_count() const { return uint32_t(records_.size()); }
@@ -69,7 +75,7 @@ class Accel {
 
  private:
   void fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
-                float bv, Hit* hit) const;
+                float bv, Hit* hit, bool surface = true) const;
   struct MaskStore;
 
   RTCDevice device_ = nullptr;

@@ -58,26 +58,6 @@ Film::Film(int width, int height, std::vector<Aov> aovs)
   clear();
 }
 
-void Film::add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample) {
-  Pixel& p = px(x, y);
-  const double l = luminance(L);
-  if (first_sample) {
-    // The first sample of a render overwrites the pixel, as a viewer overwrites its frame
-    // buffer: the film need not be cleared between renders, and the old values are not read.
-    p = Pixel{{L.x, L.y, L.z}, alpha, l * l, 1, 0, 1};
-    clear_aovs(x, y);
-  } else {
-    p.rgb[0] += L.x;
-    p.rgb[1] += L.y;
-    p.rgb[2] += L.z;
-    p.alpha += alpha;
-    p.lum2 += l * l;
-    p.n++;
-    p.spp++;
-  }
-  add_aovs(x, y, a, first_sample);
-}
-
 void Film::reset(int x, int y) {
   px(x, y) = Pixel{};
   clear_aovs(x, y);

@@ -43,7 +43,28 @@ class Film {
 
   // One camera sample: radiance, coverage (0 for "no ray") and AOV values. The first sample of a
   // render (first_sample) replaces whatever the pixel held.
-  void add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample);
+  // Inline: one call per camera sample, and most renders have no AOV layers.
+  void add(int x, int y, const Color& L, double alpha, const AovSample& a, bool first_sample) {
+    Pixel& p = px(x, y);
+    const double l = luminance(L);
+    if (first_sample) {
+      // The first sample of a render overwrites the pixel, as a viewer overwrites its frame
+      // buffer: the film need not be cleared between renders, and the old values are not read.
+      p = Pixel{{L.x, L.y, L.z}, alpha, l * l, 1, 0, 1};
+    } else {
+      p.rgb[0] += L.x;
+      p.rgb[1] += L.y;
+      p.rgb[2] += L.z;
+      p.alpha += alpha;
+      p.lum2 += l * l;
+      p.n++;
+      p.spp++;
+    }
+    if (aov_floats_ > 0) {
+      if (first_sample) clear_aovs(x, y);
+      add_aovs(x, y, a, first_sample);
+    }
+  }
   // The pixel back to no samples (a first sample that was dropped).
   void reset(int x, int y);
   // Back to no samples (keeps the memory).

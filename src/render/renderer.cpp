@@ -77,7 +77,11 @@ struct Renderer::Job {
   std::unique_ptr<Integrator> integrator;
   SamplerKind sampler;
   bool gaussian;
-  bool want_aovs;
+  bool want_aovs;  // AOV values: for the film's layers or an AOV integrator
+  bool film_aovs;  // the film has AOV layers
+  // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
+  // or albedo without textures when there are no AOV layers.
+  bool hit_surface;
   int W, H;
   double du, dv;  // one pixel, in image units (ray differentials)
   // Uniform sampling: each sample's share of a pixel, as a footprint scale (1/sqrt(spp)).
@@ -92,6 +96,7 @@ struct Renderer::Job {
         sampler(sampler_kind(rs.sampler)),
         gaussian(rs.filter == "gaussian"),
         want_aovs(aovs || mode != Mode::Radiance),
+        film_aovs(aovs),
         W(film.width()),
         H(film.height()) {
     // A sample filters textures over its share of the pixel: 1/sqrt(spp) of it with uniform
@@ -104,6 +109,9 @@ struct Renderer::Job {
       textured.push_back(m.base_color.kind != Texture::Kind::Constant || m.has_normal_map ||
                          m.metallic_roughness.kind != Texture::Kind::Constant ||
                          m.emission.kind != Texture::Kind::Constant);
+    const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
+    hit_surface = film_aovs || !(mode == Mode::Depth || mode == Mode::Id ||
+                                 (mode == Mode::Albedo && !any_texture));
   }
 
   // The share of a pixel one of n samples stands for, as a footprint scale (never below 1/8
@@ -113,10 +121,12 @@ struct Renderer::Job {
   }
 
   // Completes a camera sample whose first hit is known. `footprint` is the sample's share of a
-  // pixel as a scale of the pixel's footprint.
-  // Writes into `out` (reused by the caller: building a fresh result per sample meant zeroing
-  // ~150 bytes per ray, a visible cost for primary-ray renders).
-  void finish(const Ray& ray, const CameraRay& cam, const Hit* hit, Rng& rng, uint64_t& rays,
+  // pixel as a scale of the pixel's footprint; `cam_ray()` gives the camera ray with its
+  // differentials (asked for only where a footprint is needed: primary packets hold their rays as
+  // arrays). Writes into `out` (reused by the caller: building a fresh result per sample meant
+  // zeroing ~150 bytes per ray, a visible cost for primary-ray renders).
+  template <class CamRay>
+  void finish(const Ray& ray, const CamRay& cam_ray, const Hit* hit, Rng& rng, uint64_t& rays,
               SampleResult& out, double footprint = 1) const {
     out.alpha = 1;
     out.aov.hit = false;
@@ -124,17 +134,22 @@ struct Renderer::Job {
     // Footprints only matter where something is filtered: textures, or rays that go on (their
     // ray cones carry it to textures further along).
     if (hit && (mode == Mode::Radiance || textured[hit->material]))
-      fp = footprint_at(cam, du * footprint, dv * footprint, *hit);
+      fp = footprint_at(cam_ray(), du * footprint, dv * footprint, *hit);
     if (want_aovs && hit) {
+      // Every field for AOV layers; otherwise only the one the AOV integrator shows.
+      const bool all = film_aovs;
       const Material& m = r.scene_.materials[hit->material];
       out.aov.hit = true;
-      out.aov.albedo =
-          textured[hit->material] ? m.base_color.eval(texcoord_at(*hit, fp)) : m.base_color.value;
-      out.aov.normal = dot(hit->ns, cam.dir) > 0 ? -hit->ns : hit->ns;
-      out.aov.position = hit->p;
-      out.aov.depth = hit->t;  // distance along the camera ray from its origin (dir is unit)
-      out.aov.id = hit->object_id;
-      out.aov.uv = hit->uv;
+      if (all || mode == Mode::Albedo)
+        out.aov.albedo =
+            textured[hit->material] ? m.base_color.eval(texcoord_at(*hit, fp)) : m.base_color.value;
+      if (all || mode == Mode::Normal)
+        out.aov.normal = dot(hit->ns, ray.d) > 0 ? -hit->ns : hit->ns;
+      if (all || mode == Mode::Position) out.aov.position = hit->p;
+      // Distance along the camera ray from its origin (dir is unit).
+      if (all || mode == Mode::Depth) out.aov.depth = hit->t;
+      if (all || mode == Mode::Id) out.aov.id = hit->object_id;
+      if (all || mode == Mode::Uv) out.aov.uv = hit->uv;
     }
     out.L = mode == Mode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays)
                                    : aov_beauty(mode, out.aov);
@@ -160,7 +175,8 @@ struct Renderer::Job {
     ++rays;
     const bool found = r.accel_->intersect(ray, &h);
     SampleResult out;
-    finish(ray, *cam, found ? &h : nullptr, rng, rays, out, footprint);
+    finish(
+        ray, [&] { return *cam; }, found ? &h : nullptr, rng, rays, out, footprint);
     return out;
   }
 
@@ -177,21 +193,19 @@ struct Renderer::Job {
     }
     CameraRayBatch cam;
     r.scene_.camera->generate_batch(cs, N, &cam);
-    Ray ray[N];
     bool valid[N], found[N];
     Hit hits[N];
-    for (int k = 0; k < N; ++k) {
-      valid[k] = use[k] && cam.valid[k];
-      if (valid[k]) ray[k] = Ray{cam.origin(k), cam.direction(k), 0, kInf};
-    }
-    r.accel_->intersect16(ray, valid, hits, found);
+    for (int k = 0; k < N; ++k) valid[k] = use[k] && cam.valid[k];
+    r.accel_->intersect16(cam.org, cam.dir, valid, hits, found);
     for (int k = 0; k < N; ++k) {
       if (!valid[k]) {
         out[k] = SampleResult{};  // no ray (or not wanted): transparent
         continue;
       }
       ++rays;
-      finish(ray[k], cam.ray(k), found[k] ? &hits[k] : nullptr, rng[k], rays, out[k]);
+      finish(
+          Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
+          found[k] ? &hits[k] : nullptr, rng[k], rays, out[k]);
     }
   }
 };
@@ -338,6 +352,10 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   // numbers come from the pixel's scrambled Sobol' points (any prefix of a pixel's samples is
   // well stratified, which noise-driven sampling needs: a pixel may stop after any pass).
   const bool qmc = needs_rng && job.sampler == SamplerKind::Stratified;
+  // Without random numbers (pixel centers) every sample sits at this offset in its pixel.
+  const Vec2 fixed_offset = job.gaussian
+                                ? gaussian_offset({0.5, 0.5}, rs.filter_radius) + Vec2{0.5, 0.5}
+                                : Vec2{0.5, 0.5};
   constexpr int kQmcDims = 24;
   const uint64_t work_total = uint64_t(W) * H * spp;
 
@@ -363,7 +381,6 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               // the whole tile: constructing them per packet (zeroing about 6 KB) cost a third of
               // the time of primary-ray renders.
               constexpr int kPacket = kCameraBatch;
-              Ray rays[kPacket];
               CameraRayBatch cam;
               bool valid[kPacket], found[kPacket], use[kPacket];
               Hit hits[kPacket];
@@ -374,45 +391,62 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               for (uint32_t s = s_begin; s < s_end; ++s) {
                 for (int y = t.y0; y < t.y1; y += 4)
                   for (int x = t.x0; x < t.x1; x += 4) {
-                    for (int k = 0; k < kPacket; ++k) {
-                      lx[k] = x + (k & 3);
-                      ly[k] = y + (k >> 2);
-                      valid[k] = false;
-                      use[k] = lx[k] < t.x1 && ly[k] < t.y1 &&
-                               (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
-                      if (!use[k]) continue;
-                      // AOV images of pinhole cameras at pixel centers use no random numbers at
-                      // all.
-                      if (needs_rng) {
-                        rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
+                    if (!needs_rng) {
+                      // Every sample at the same spot of its pixel: u per column, v per row.
+                      double uc[4], vr[4];
+                      bool col[4], row[4];
+                      for (int i = 0; i < 4; ++i) {
+                        uc[i] = std::clamp((x + i + fixed_offset.x) / W, 0.0, 1.0);
+                        vr[i] = std::clamp((y + i + fixed_offset.y) / H, 0.0, 1.0);
+                        col[i] = x + i < t.x1;
+                        row[i] = y + i < t.y1;
+                      }
+                      for (int k = 0; k < kPacket; ++k) {
+                        lx[k] = x + (k & 3);
+                        ly[k] = y + (k >> 2);
+                        use[k] = col[k & 3] && row[k >> 2] &&
+                                 (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
+                        samples[k] = CameraSample{};
+                        if (use[k]) samples[k].uv = {uc[k & 3], vr[k >> 2]};
+                      }
+                    } else {
+                      for (int k = 0; k < kPacket; ++k) {
+                        lx[k] = x + (k & 3);
+                        ly[k] = y + (k >> 2);
+                        use[k] = lx[k] < t.x1 && ly[k] < t.y1 &&
+                                 (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
+                        if (!use[k]) continue;
+                        // AOV images of pinhole cameras at pixel centers use no random numbers at
+                        // all.
+                        if (needs_rng) {
+                          rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
+                          if (qmc)
+                            rng[k].qmc(s,
+                                       mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed),
+                                       kQmcDims);
+                        }
+                        Vec2 off;
                         if (qmc)
-                          rng[k].qmc(s, mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed),
-                                     kQmcDims);
+                          rng[k].uniform2(off.x, off.y);
+                        else
+                          off = pixel_offset(job.sampler, rng[k]);
+                        if (job.gaussian)
+                          off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
+                        CameraSample& cs = samples[k];
+                        cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0),
+                                 std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
+                        if (lens_time) {
+                          rng[k].uniform2(cs.lens.x, cs.lens.y);
+                          cs.time = rng[k].uniform();
+                        }
                       }
-                      Vec2 off;
-                      if (qmc)
-                        rng[k].uniform2(off.x, off.y);
-                      else
-                        off = pixel_offset(job.sampler, rng[k]);
-                      if (job.gaussian)
-                        off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
-                      CameraSample& cs = samples[k];
-                      cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0),
-                               std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
-                      if (lens_time) {
-                        rng[k].uniform2(cs.lens.x, cs.lens.y);
-                        cs.time = rng[k].uniform();
-                      }
+                      // Unused lanes get a harmless sample; their rays are masked out below.
+                      for (int k = 0; k < kPacket; ++k)
+                        if (!use[k]) samples[k] = CameraSample{};
                     }
-                    // Unused lanes get a harmless sample; their rays are masked out below.
-                    for (int k = 0; k < kPacket; ++k)
-                      if (!use[k]) samples[k] = CameraSample{};
                     scene_.camera->generate_batch(samples, kPacket, &cam);
-                    for (int k = 0; k < kPacket; ++k) {
-                      valid[k] = cam.valid[k] && use[k];
-                      if (valid[k]) rays[k] = Ray{cam.origin(k), cam.direction(k), 0, kInf};
-                    }
-                    accel_->intersect16(rays, valid, hits, found);
+                    for (int k = 0; k < kPacket; ++k) valid[k] = cam.valid[k] && use[k];
+                    accel_->intersect16(cam.org, cam.dir, valid, hits, found, job.hit_surface);
                     for (int k = 0; k < kPacket; ++k) {
                       if (!use[k]) continue;
                       st.samples++;
@@ -421,8 +455,9 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                         continue;
                       }
                       st.rays++;
-                      job.finish(rays[k], cam.ray(k), found[k] ? &hits[k] : nullptr, rng[k],
-                                 st.rays, res, fp_scale);
+                      job.finish(
+                          Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
+                          found[k] ? &hits[k] : nullptr, rng[k], st.rays, res, fp_scale);
                       if (!is_finite(res.L)) {
                         st.nan(lx[k], ly[k], int(s));
                         if (s == 0) film.reset(lx[k], ly[k]);  // no sample yet

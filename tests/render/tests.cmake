@@ -5,4 +5,5 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/texture_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/adaptive_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/metrics_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/packet_test.cpp
 )
