@@ -32,73 +32,81 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
   if (!rs.aa_distortion || depth_ == 0) return;
   // Footprints at a characteristic distance: the scene's size (origins and directions both count).
   const double D = bounds.empty() ? 1.0 : std::max(1e-6, 0.5 * length(bounds.diagonal()));
-  const size_t n = size_t(w_) * h_;
-  std::vector<double> s(n, 0.0);
-  std::vector<uint8_t> valid(n, 0), jump_right(n, 0), jump_down(n, 0);
-  // Bands of rows in parallel, pixel centers in camera batches (the same rays as one at a time).
-  // A band walks its rows keeping the current and the next one for the jump test, so no
-  // image-sized arrays of points and derivatives are needed (at 1080p those were 150 MB of page
-  // faults).
   struct Center {
     Vec3 pos, pu, pv;
     double s = 0;
     bool valid = false;
   };
-  const auto centers = [&](int y, std::vector<Center>& row) {
+  // The pixel centers (xs[k], y), k < n, in camera batches (the same rays as one at a time).
+  const auto centers = [&](const int* xs, int y, int n, Center* out) {
     CameraSample cs[kCameraBatch];
     CameraRayBatch b;
-    for (int x0 = 0; x0 < w_; x0 += kCameraBatch) {
-      const int m = std::min(kCameraBatch, w_ - x0);
-      for (int k = 0; k < m; ++k) cs[k].uv = {(x0 + k + 0.5) / w_, (y + 0.5) / h_};
+    for (int k0 = 0; k0 < n; k0 += kCameraBatch) {
+      const int m = std::min(kCameraBatch, n - k0);
+      for (int k = 0; k < m; ++k) cs[k].uv = {(xs[k0 + k] + 0.5) / w_, (y + 0.5) / h_};
       cam.generate_batch(cs, m, &b);
       for (int k = 0; k < m; ++k) {
-        Center& c = row[size_t(x0 + k)];
+        Center& c = out[k0 + k];
         c.valid = b.valid[k];
         if (!c.valid) continue;
-        const CameraRay r = b.ray(k);
-        c.pos = r.org + r.dir * D;
-        c.pu = (r.dorg_du + r.ddir_du * D) / double(w_);
-        c.pv = (r.dorg_dv + r.ddir_dv * D) / double(h_);
+        const Vec3 o = b.origin(k), d = b.direction(k);
+        c.pos = o + d * D;
+        c.pu =
+            (CameraRayBatch::at(b.dorg_du, k) + CameraRayBatch::at(b.ddir_du, k) * D) / double(w_);
+        c.pv =
+            (CameraRayBatch::at(b.dorg_dv, k) + CameraRayBatch::at(b.ddir_dv, k) * D) / double(h_);
         c.s = footprint(c.pu, c.pv);
       }
     }
   };
+  // The median footprint, from every 8th pixel of every 8th row (a fixed sample of the image:
+  // the median of all pixels cost a sort of a million values and image-sized arrays).
+  std::vector<double> vals;
+  {
+    std::vector<int> xs;
+    for (int x = std::min(4, w_ - 1); x < w_; x += 8) xs.push_back(x);
+    const int rows = (h_ - std::min(4, h_ - 1) + 7) / 8;
+    std::vector<std::vector<double>> per_row(static_cast<size_t>(rows));
+    tbb::parallel_for(0, rows, [&](int r) {
+      std::vector<Center> c(xs.size());
+      centers(xs.data(), std::min(4, h_ - 1) + 8 * r, int(xs.size()), c.data());
+      for (const Center& ci : c)
+        if (ci.valid && ci.s > 0) per_row[size_t(r)].push_back(ci.s);
+    });
+    for (const auto& r : per_row) vals.insert(vals.end(), r.begin(), r.end());
+  }
+  if (vals.empty()) return;
+  std::nth_element(vals.begin(), vals.begin() + long(vals.size() / 2), vals.end());
+  const double median = vals[vals.size() / 2];
   // Jumps: a neighbour far from where the differentials predict it (seams of piecewise cameras,
   // discontinuous free-form surfaces) means the pixels in between need every level.
   const auto jump = [](const Center& a, const Center& b, const Vec3& predicted) {
     return a.valid && b.valid && length(b.pos - a.pos - predicted) > 2 * std::max(a.s, b.s);
   };
-  tbb::parallel_for(tbb::blocked_range<int>(0, h_, 16), [&](const tbb::blocked_range<int>& band) {
-    std::vector<Center> row(static_cast<size_t>(w_)), next(static_cast<size_t>(w_));
-    centers(band.begin(), row);
-    for (int y = band.begin(); y != band.end(); ++y) {
-      if (y + 1 < h_) centers(y + 1, next);
+  // Bands of rows in parallel; a band walks its rows keeping the rows above and below (the one
+  // above its first row is evaluated again), so nothing image-sized but the result is stored.
+  std::vector<int> all(static_cast<size_t>(w_));
+  for (int x = 0; x < w_; ++x) all[size_t(x)] = x;
+  tbb::parallel_for(tbb::blocked_range<int>(0, h_, 32), [&](const tbb::blocked_range<int>& band) {
+    std::vector<Center> above(static_cast<size_t>(w_)), row(above.size()), below(above.size());
+    const int y0 = band.begin();
+    if (y0 > 0) centers(all.data(), y0 - 1, w_, above.data());
+    centers(all.data(), y0, w_, row.data());
+    for (int y = y0; y != band.end(); ++y) {
+      if (y + 1 < h_) centers(all.data(), y + 1, w_, below.data());
       for (int x = 0; x < w_; ++x) {
-        const size_t i = size_t(y) * w_ + x;
         const Center& c = row[size_t(x)];
-        s[i] = c.s;
-        valid[i] = c.valid;
-        if (x + 1 < w_) jump_right[i] = jump(c, row[size_t(x) + 1], c.pu);
-        if (y + 1 < h_) jump_down[i] = jump(c, next[size_t(x)], c.pv);
+        uint8_t f = 0;
+        if (c.valid && c.s > 0)
+          f = uint8_t(std::clamp(int(std::floor(std::log2(c.s / median) + 0.5)), 0, depth_));
+        const bool jumps = (x + 1 < w_ && jump(c, row[size_t(x) + 1], c.pu)) ||
+                           (x > 0 && jump(row[size_t(x) - 1], c, row[size_t(x) - 1].pu)) ||
+                           (y + 1 < h_ && jump(c, below[size_t(x)], c.pv)) ||
+                           (y > 0 && jump(above[size_t(x)], c, above[size_t(x)].pv));
+        forced_[size_t(y) * w_ + x] = jumps ? uint8_t(depth_) : f;
       }
-      row.swap(next);
-    }
-  });
-  std::vector<double> vals;
-  for (size_t i = 0; i < n; ++i)
-    if (valid[i] && s[i] > 0) vals.push_back(s[i]);
-  if (vals.empty()) return;
-  std::nth_element(vals.begin(), vals.begin() + long(vals.size() / 2), vals.end());
-  const double median = vals[vals.size() / 2];
-  tbb::parallel_for(0, h_, [&](int y) {
-    for (int x = 0; x < w_; ++x) {
-      const size_t i = size_t(y) * w_ + x;
-      if (valid[i] && s[i] > 0)
-        forced_[i] =
-            uint8_t(std::clamp(int(std::floor(std::log2(s[i] / median) + 0.5)), 0, depth_));
-      if (jump_right[i] || jump_down[i] || (x > 0 && jump_right[i - 1]) ||
-          (y > 0 && jump_down[i - size_t(w_)]))
-        forced_[i] = uint8_t(depth_);
+      above.swap(row);
+      row.swap(below);
     }
   });
 }

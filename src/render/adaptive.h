@@ -8,8 +8,8 @@
 // the coarsest level it belongs to (pixel corners over a pixel, midpoints over half a pixel...),
 // a function of its position alone, so shared points agree. Distortion-driven: before rendering,
 // the camera's ray differentials give each pixel's footprint; pixels larger than the image's median
-// footprint (and pixels where the ray field jumps) start split, so stretched regions get more
-// samples before any contrast is seen.
+// footprint (estimated from every 8th pixel of every 8th row), and pixels where the ray field
+// jumps, start split, so stretched regions get more samples before any contrast is seen.
 //
 // Path (noise-driven): after each pass, a pixel stops once the standard error of its mean, over
 // its 3x3 neighbourhood, is below noise_threshold * sqrt(mean luminance + 1e-4).
