@@ -112,8 +112,8 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
 }
 
 void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
-                               const Eval& eval, const Emit& emit, uint64_t& rays,
-                               const EvalCorners* corners) const {
+                               const EvalBatch& eval, const Emit& emit, uint64_t& rays,
+                               uint64_t& samples) const {
   const int L = steps_;
   const int nx = (x1 - x0) * L + 1, ny = (y1 - y0) * L + 1;
   if (ws.points.size() < size_t(nx) * ny) ws.points.resize(size_t(nx) * ny);
@@ -131,55 +131,37 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
     p.tile = tile;
     p.stamp = 0;  // counted by no pixel yet (stamps start at 1)
   };
+  const auto at = [&](int lx, int ly) -> AdaptiveWorkspace::Point& {
+    return ws.points[size_t(ly) * nx + lx];
+  };
 
   // Pixel corners (cx, cy) in [x0, x1] x [y0, y1], in 4x4 blocks aligned to the image: camera
   // batches and ray packets, and the same lanes in every tile that needs the block. Lanes of
   // another tile's corners are masked off (a tile's last column and row of corners start a block
   // of their own: without the mask a 32-pixel tile shaded 81 blocks, 1296 corners, for 1089).
-  if (corners)
-    for (int by = y0 / 4 * 4; by <= y1; by += 4)
-      for (int bx = x0 / 4 * 4; bx <= x1; bx += 4) {
-        Vec2 uv[kCameraBatch];
-        uint64_t keys[kCameraBatch];
-        bool use[kCameraBatch];
-        SampleResult out[kCameraBatch];
-        for (int k = 0; k < kCameraBatch; ++k) {
-          const int cx = bx + (k & 3), cy = by + (k >> 2);
-          const uint64_t gx = uint64_t(cx) * L, gy = uint64_t(cy) * L;
-          use[k] = cx <= w_ && cy <= h_ && cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1;
-          uv[k] = use[k] ? Vec2{gx * su, gy * sv} : Vec2{0.5, 0.5};
-          keys[k] = mix64(gy * row + gx);
-        }
-        (*corners)(uv, keys, use, out, rays);
-        for (int k = 0; k < kCameraBatch; ++k) {
-          const int cx = bx + (k & 3), cy = by + (k >> 2);
-          if (use[k]) store(ws.points[size_t(cy - y0) * L * nx + size_t(cx - x0) * L], out[k]);
-        }
+  Vec2 uv[kCameraBatch];
+  uint64_t keys[kCameraBatch];
+  double fps[kCameraBatch];
+  bool use[kCameraBatch];
+  SampleResult out[kCameraBatch];
+  for (int by = y0 / 4 * 4; by <= y1; by += 4)
+    for (int bx = x0 / 4 * 4; bx <= x1; bx += 4) {
+      for (int k = 0; k < kCameraBatch; ++k) {
+        const int cx = bx + (k & 3), cy = by + (k >> 2);
+        const uint64_t gx = uint64_t(cx) * L, gy = uint64_t(cy) * L;
+        use[k] = cx <= w_ && cy <= h_ && cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1;
+        uv[k] = use[k] ? Vec2{gx * su, gy * sv} : Vec2{0.5, 0.5};
+        keys[k] = mix64(gy * row + gx);
+        fps[k] = 1;
+        samples += use[k];
       }
-  uint32_t& stamp = ws.stamp;
-  PixelResult acc;
+      eval(uv, keys, fps, use, out, rays);
+      for (int k = 0; k < kCameraBatch; ++k) {
+        const int cx = bx + (k & 3), cy = by + (k >> 2);
+        if (use[k]) store(at((cx - x0) * L, (cy - y0) * L), out[k]);
+      }
+    }
 
-  // Lattice point (lx, ly) relative to the tile; evaluated once, counted once per pixel.
-  auto point = [&](int lx, int ly) -> const AdaptiveWorkspace::Point& {
-    AdaptiveWorkspace::Point& p = ws.points[size_t(ly) * nx + lx];
-    if (p.tile != tile) {
-      const uint64_t gx = uint64_t(x0) * L + lx, gy = uint64_t(y0) * L + ly;
-      // The coarsest level whose lattice holds this point (0 = pixel corners).
-      auto level = [&](uint64_t g) {
-        int k = depth_;
-        while (k > 0 && g % 2 == 0) g /= 2, --k;
-        return k;
-      };
-      const double footprint = 1.0 / double(1 << std::max(level(gx), level(gy)));
-      store(p, eval({gx * su, gy * sv}, mix64(gy * row + gx), footprint, rays));
-    }
-    if (p.stamp != stamp) {
-      p.stamp = stamp;
-      acc.samples++;
-      acc.nans += p.nan;
-    }
-    return p;
-  };
   auto contrast = [&](const AdaptiveWorkspace::Point* c[4]) {
     double worst = 0;
     for (int k = 0; k < 3; ++k) {
@@ -195,13 +177,87 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       alo = std::min(alo, double(c[i]->alpha)), ahi = std::max(ahi, double(c[i]->alpha));
     return std::max(worst, ahi - alo);
   };
+  const auto splits = [&](int lx, int ly, int size, int forced) {
+    if (size <= 1) return false;
+    if (forced > 0) return true;
+    const AdaptiveWorkspace::Point* c[4] = {&at(lx, ly), &at(lx + size, ly), &at(lx, ly + size),
+                                            &at(lx + size, ly + size)};
+    return contrast(c) > threshold_;
+  };
+  // The coarsest level whose lattice holds a lattice coordinate (0 = pixel corners).
+  const auto level_of = [&](uint64_t g) {
+    int k = depth_;
+    while (k > 0 && g % 2 == 0) g /= 2, --k;
+    return k;
+  };
+
+  // Level by level: the squares that split ask for their edge midpoints and center; those are
+  // evaluated in batches before the next level looks at them.
+  ws.level.clear();
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x)
+      ws.level.push_back({(x - x0) * L, (y - y0) * L, L, forced_depth(x, y)});
+  while (!ws.level.empty()) {
+    ws.next_level.clear();
+    ws.pending.clear();
+    const auto request = [&](int lx, int ly) {
+      AdaptiveWorkspace::Point& p = at(lx, ly);
+      if (p.tile == tile) return;  // evaluated, or already asked for
+      p.tile = tile;
+      ws.pending.push_back(uint32_t(ly) * uint32_t(nx) + uint32_t(lx));
+    };
+    for (const AdaptiveWorkspace::Square& q : ws.level) {
+      if (!splits(q.lx, q.ly, q.size, q.forced)) continue;
+      const int h = q.size / 2;
+      request(q.lx + h, q.ly);
+      request(q.lx, q.ly + h);
+      request(q.lx + h, q.ly + h);
+      request(q.lx + q.size, q.ly + h);
+      request(q.lx + h, q.ly + q.size);
+      for (int k = 0; k < 4; ++k)
+        ws.next_level.push_back({q.lx + (k & 1) * h, q.ly + (k >> 1) * h, h, q.forced - 1});
+    }
+    for (size_t b = 0; b < ws.pending.size(); b += kCameraBatch) {
+      const int m = int(std::min<size_t>(kCameraBatch, ws.pending.size() - b));
+      for (int k = 0; k < kCameraBatch; ++k) {
+        use[k] = k < m;
+        if (!use[k]) {
+          uv[k] = {0.5, 0.5}, keys[k] = 0, fps[k] = 1;
+          continue;
+        }
+        const uint32_t i = ws.pending[b + size_t(k)];
+        const uint64_t gx = uint64_t(x0) * L + i % uint32_t(nx),
+                       gy = uint64_t(y0) * L + i / uint32_t(nx);
+        uv[k] = {gx * su, gy * sv};
+        keys[k] = mix64(gy * row + gx);
+        fps[k] = 1.0 / double(1 << std::max(level_of(gx), level_of(gy)));
+      }
+      eval(uv, keys, fps, use, out, rays);
+      for (int k = 0; k < m; ++k) store(ws.points[ws.pending[b + size_t(k)]], out[k]);
+      samples += uint64_t(m);
+    }
+    ws.level.swap(ws.next_level);
+  }
+
+  // Every point is known now: each pixel's mean over its squares, splitting as above.
+  uint32_t& stamp = ws.stamp;
+  PixelResult acc;
+  const auto point = [&](int lx, int ly) -> const AdaptiveWorkspace::Point& {
+    AdaptiveWorkspace::Point& p = at(lx, ly);
+    if (p.stamp != stamp) {
+      p.stamp = stamp;
+      acc.samples++;
+      acc.nans += p.nan;
+    }
+    return p;
+  };
   // Mean of a square of side `size` lattice steps; returns colour and alpha.
   // Recursive through its own parameter (a std::function cost ~6% of an adaptive render).
   const auto square = [&](const auto& self, int lx, int ly, int size, int forced, Color& col,
                           double& alpha) -> void {
     const AdaptiveWorkspace::Point* c[4] = {&point(lx, ly), &point(lx + size, ly),
                                             &point(lx, ly + size), &point(lx + size, ly + size)};
-    if (size > 1 && (forced > 0 || contrast(c) > threshold_)) {
+    if (splits(lx, ly, size, forced)) {
       const int h = size / 2;
       Color sum;
       double asum = 0;

@@ -52,6 +52,12 @@ struct AdaptiveWorkspace {
   // whole lattice moved 0.7 MB per tile at depth 2, 2.6 MB at depth 3).
   std::vector<Point> points;
   uint32_t tile = 0, stamp = 0;  // counters across tiles, so stale values never match
+  // Level-by-level refinement: the squares of one level and the next, the points to evaluate.
+  struct Square {
+    int lx, ly, size, forced;
+  };
+  std::vector<Square> level, next_level;
+  std::vector<uint32_t> pending;  // lattice indices
 };
 
 class AdaptiveGrid {
@@ -62,17 +68,18 @@ class AdaptiveGrid {
   // Levels every pixel is split to before contrast is looked at (the distortion map).
   int forced_depth(int x, int y) const { return forced_[size_t(y) * w_ + x]; }
 
-  // `footprint`: the lattice spacing the sample stands for, in pixels (textures filter over it).
-  using Eval = std::function<SampleResult(Vec2 uv, uint64_t key, double footprint, uint64_t& rays)>;
-  // kCameraBatch pixel corners at once (footprint 1); lanes with use[i] false are not wanted.
-  // Gives each corner exactly what Eval would, up to how the batch traces its camera rays.
-  using EvalCorners = std::function<void(const Vec2* uv, const uint64_t* keys, const bool* use,
-                                         SampleResult* out, uint64_t& rays)>;
+  // Lattice points in batches of kCameraBatch (camera batches and ray packets): uv, the key their
+  // random numbers come from, and the lattice spacing each stands for, in pixels (textures filter
+  // over it). Lanes with use[i] false are not wanted. A lane's result must depend on that lane
+  // alone, not on which other points share its batch.
+  using EvalBatch =
+      std::function<void(const Vec2* uv, const uint64_t* keys, const double* footprints,
+                         const bool* use, SampleResult* out, uint64_t& rays)>;
   using Emit = std::function<void(int x, int y, const PixelResult&)>;
-  // With `corners`, every pixel corner of the tile is evaluated first, in 4x4 blocks aligned to
-  // the image (so a corner shared by two tiles comes from the same block, with the same bits).
-  void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const Eval& eval,
-                   const Emit& emit, uint64_t& rays, const EvalCorners* corners = nullptr) const;
+  // Pixel corners first, in 4x4 blocks aligned to the image; then level by level, every point the
+  // squares split at that level need, in batches. `samples` counts the points evaluated.
+  void render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws, const EvalBatch& eval,
+                   const Emit& emit, uint64_t& rays, uint64_t& samples) const;
 
  private:
   int w_, h_, depth_, steps_;  // steps_ = 2^depth_ lattice steps per pixel

@@ -180,10 +180,11 @@ struct Renderer::Job {
     return out;
   }
 
-  // kCameraBatch pixel corners (footprint 1) as sample_at gives them, the camera rays generated
-  // as a batch and traced as one packet.
-  void corner_samples(const Vec2* uv, const uint64_t* keys, const bool* use, SampleResult* out,
-                      uint64_t& rays) const {
+  // kCameraBatch lattice points of adaptive sampling as sample_at gives them (each lane's random
+  // numbers from its key, its footprint as given), the camera rays generated as a batch and
+  // traced as one packet.
+  void lattice_samples(const Vec2* uv, const uint64_t* keys, const double* footprints,
+                       const bool* use, SampleResult* out, uint64_t& rays) const {
     constexpr int N = kCameraBatch;
     CameraSample cs[N];
     Rng rng[N];
@@ -205,7 +206,7 @@ struct Renderer::Job {
       ++rays;
       finish(
           Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
-          found[k] ? &hits[k] : nullptr, rng[k], rays, out[k]);
+          found[k] ? &hits[k] : nullptr, rng[k], rays, out[k], footprints[k]);
     }
   }
 };
@@ -294,17 +295,11 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               const Tile& t = tiles[ti];
               TileStats& st = tile_stats[ti];
               AdaptiveWorkspace& ws = spaces.local();
-              auto eval = [&](Vec2 uv, uint64_t key, double footprint, uint64_t& rays) {
-                st.samples++;  // each lattice point once per tile, however many pixels share it
-                Rng rng(key, rs.seed);
-                return job.sample_at(uv, rng, rays, footprint);
+              const AdaptiveGrid::EvalBatch eval = [&](const Vec2* uv, const uint64_t* keys,
+                                                       const double* footprints, const bool* use,
+                                                       SampleResult* out, uint64_t& rays) {
+                job.lattice_samples(uv, keys, footprints, use, out, rays);
               };
-              // Every pixel corner of the tile, counted here once (the blocks also trace corners
-              // of neighbouring tiles, which those count).
-              st.samples += uint64_t(t.x1 - t.x0 + 1) * uint64_t(t.y1 - t.y0 + 1);
-              const AdaptiveGrid::EvalCorners eval_corners =
-                  [&](const Vec2* uv, const uint64_t* keys, const bool* use, SampleResult* out,
-                      uint64_t& rays) { job.corner_samples(uv, keys, use, out, rays); };
               grid.render_tile(
                   t.x0, t.y0, t.x1, t.y1, ws, eval,
                   [&](int x, int y, const PixelResult& p) {
@@ -316,7 +311,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
                     if (p.nans) st.nan(x, y, 0);
                     film.set(x, y, p.L, p.alpha, p.samples, a);
                   },
-                  st.rays, &eval_corners);
+                  st.rays, st.samples);
               report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
             }
           },
