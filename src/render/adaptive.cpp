@@ -162,20 +162,19 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       }
     }
 
-  auto contrast = [&](const AdaptiveWorkspace::Point* c[4]) {
-    double worst = 0;
-    for (int k = 0; k < 3; ++k) {
-      double lo = kInf, hi = -kInf;
-      for (int i = 0; i < 4; ++i) {
-        const double v = std::min(1.0, c[i]->L[k]);  // compare as displayed
-        lo = std::min(lo, v), hi = std::max(hi, v);
-      }
-      worst = std::max(worst, hi - lo);
-    }
-    double alo = 1, ahi = 0;
-    for (int i = 0; i < 4; ++i)
-      alo = std::min(alo, double(c[i]->alpha)), ahi = std::max(ahi, double(c[i]->alpha));
-    return std::max(worst, ahi - alo);
+  // The largest spread of a channel (compared as displayed, clamped at 1) or of coverage.
+  const auto contrast = [](const AdaptiveWorkspace::Point* c[4]) {
+    const auto spread = [](double a, double b, double d, double e) {
+      const double lo = std::min(std::min(a, b), std::min(d, e));
+      const double hi = std::max(std::max(a, b), std::max(d, e));
+      return hi - lo;
+    };
+    const auto ch = [&](double Color::*m) {
+      return spread(std::min(1.0, c[0]->L.*m), std::min(1.0, c[1]->L.*m), std::min(1.0, c[2]->L.*m),
+                    std::min(1.0, c[3]->L.*m));
+    };
+    const double worst = std::max(std::max(ch(&Color::x), ch(&Color::y)), ch(&Color::z));
+    return std::max(worst, spread(c[0]->alpha, c[1]->alpha, c[2]->alpha, c[3]->alpha));
   };
   const auto splits = [&](int lx, int ly, int size, int forced) {
     if (size <= 1) return false;
@@ -197,6 +196,9 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x)
       ws.level.push_back({(x - x0) * L, (y - y0) * L, L, forced_depth(x, y)});
+  // Whether each pixel splits at all, kept for the final pass (most pixels do not).
+  ws.pixel_splits.assign(ws.level.size(), 0);
+  bool first = true;
   while (!ws.level.empty()) {
     ws.next_level.clear();
     ws.pending.clear();
@@ -206,8 +208,10 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       p.tile = tile;
       ws.pending.push_back(uint32_t(ly) * uint32_t(nx) + uint32_t(lx));
     };
-    for (const AdaptiveWorkspace::Square& q : ws.level) {
+    for (size_t qi = 0; qi < ws.level.size(); ++qi) {
+      const AdaptiveWorkspace::Square& q = ws.level[qi];
       if (!splits(q.lx, q.ly, q.size, q.forced)) continue;
+      if (first) ws.pixel_splits[qi] = 1;
       const int h = q.size / 2;
       request(q.lx + h, q.ly);
       request(q.lx, q.ly + h);
@@ -237,6 +241,7 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       samples += uint64_t(m);
     }
     ws.level.swap(ws.next_level);
+    first = false;
   }
 
   // Every point is known now: each pixel's mean over its squares, splitting as above.
@@ -253,18 +258,19 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
   };
   // Mean of a square of side `size` lattice steps; returns colour and alpha.
   // Recursive through its own parameter (a std::function cost ~6% of an adaptive render).
-  const auto square = [&](const auto& self, int lx, int ly, int size, int forced, Color& col,
-                          double& alpha) -> void {
+  // `split`: whether it splits, if known (-1: decide here).
+  const auto square = [&](const auto& self, int lx, int ly, int size, int forced, int split,
+                          Color& col, double& alpha) -> void {
     const AdaptiveWorkspace::Point* c[4] = {&point(lx, ly), &point(lx + size, ly),
                                             &point(lx, ly + size), &point(lx + size, ly + size)};
-    if (splits(lx, ly, size, forced)) {
+    if (split < 0 ? splits(lx, ly, size, forced) : split > 0) {
       const int h = size / 2;
       Color sum;
       double asum = 0;
       for (int k = 0; k < 4; ++k) {
         Color cc;
         double aa;
-        self(self, lx + (k & 1) * h, ly + (k >> 1) * h, h, forced - 1, cc, aa);
+        self(self, lx + (k & 1) * h, ly + (k >> 1) * h, h, forced - 1, -1, cc, aa);
         sum += cc;
         asum += aa;
       }
@@ -286,7 +292,8 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       acc = PixelResult{};
       Color premul;
       double alpha;
-      square(square, (x - x0) * L, (y - y0) * L, L, forced_depth(x, y), premul, alpha);
+      square(square, (x - x0) * L, (y - y0) * L, L, forced_depth(x, y),
+             ws.pixel_splits[size_t(y - y0) * (x1 - x0) + (x - x0)], premul, alpha);
       acc.alpha = alpha;
       acc.L = premul;  // the film's sums are coverage-weighted colour
       emit(x, y, acc);

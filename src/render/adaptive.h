@@ -57,7 +57,8 @@ struct AdaptiveWorkspace {
     int lx, ly, size, forced;
   };
   std::vector<Square> level, next_level;
-  std::vector<uint32_t> pending;  // lattice indices
+  std::vector<uint32_t> pending;      // lattice indices
+  std::vector<uint8_t> pixel_splits;  // per pixel of the tile: its square splits
 };
 
 class AdaptiveGrid {
