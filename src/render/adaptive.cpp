@@ -19,6 +19,18 @@ double footprint(const Vec3& a, const Vec3& b) {
   return std::sqrt(0.5 * (tr + std::sqrt(std::max(0.0, tr * tr - 4 * det))));
 }
 
+// The ray field at the lanes of a camera batch: position at distance D, its derivatives per
+// pixel step, the footprint.
+void corner_geometry(const CameraRayBatch& b, int k, double D, int w, int h,
+                     AdaptiveWorkspace::Corner* c) {
+  c->valid = b.valid[k];
+  if (!c->valid) return;
+  c->pos = b.origin(k) + b.direction(k) * D;
+  c->pu = (CameraRayBatch::at(b.dorg_du, k) + CameraRayBatch::at(b.ddir_du, k) * D) / double(w);
+  c->pv = (CameraRayBatch::at(b.dorg_dv, k) + CameraRayBatch::at(b.ddir_dv, k) * D) / double(h);
+  c->s = footprint(c->pu, c->pv);
+}
+
 }  // namespace
 
 AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const RenderSettings& rs,
@@ -27,88 +39,67 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
       h_(height),
       depth_(rs.aa_depth),
       steps_(1 << rs.aa_depth),
-      threshold_(rs.aa_threshold),
-      forced_(size_t(width) * height, 0) {
+      threshold_(rs.aa_threshold) {
   if (!rs.aa_distortion || depth_ == 0) return;
   // Footprints at a characteristic distance: the scene's size (origins and directions both count).
-  const double D = bounds.empty() ? 1.0 : std::max(1e-6, 0.5 * length(bounds.diagonal()));
-  struct Center {
-    Vec3 pos, pu, pv;
-    double s = 0;
-    bool valid = false;
-  };
-  // The pixel centers (xs[k], y), k < n, in camera batches (the same rays as one at a time).
-  const auto centers = [&](const int* xs, int y, int n, Center* out) {
+  distance_ = bounds.empty() ? 1.0 : std::max(1e-6, 0.5 * length(bounds.diagonal()));
+  // The median corner footprint, from every 8th corner of every 8th row of corners (a fixed
+  // sample of the image, so the same for any tiling or thread count).
+  std::vector<int> xs;
+  for (int x = std::min(4, w_); x <= w_; x += 8) xs.push_back(x);
+  std::vector<int> ys;
+  for (int y = std::min(4, h_); y <= h_; y += 8) ys.push_back(y);
+  std::vector<std::vector<double>> per_row(ys.size());
+  tbb::parallel_for(0, int(ys.size()), [&](int r) {
     CameraSample cs[kCameraBatch];
     CameraRayBatch b;
-    for (int k0 = 0; k0 < n; k0 += kCameraBatch) {
-      const int m = std::min(kCameraBatch, n - k0);
-      for (int k = 0; k < m; ++k) cs[k].uv = {(xs[k0 + k] + 0.5) / w_, (y + 0.5) / h_};
+    AdaptiveWorkspace::Corner c;
+    for (size_t k0 = 0; k0 < xs.size(); k0 += kCameraBatch) {
+      const int m = int(std::min<size_t>(kCameraBatch, xs.size() - k0));
+      for (int k = 0; k < m; ++k)
+        cs[k].uv = {double(xs[k0 + size_t(k)]) / w_, double(ys[size_t(r)]) / h_};
       cam.generate_batch(cs, m, &b);
       for (int k = 0; k < m; ++k) {
-        Center& c = out[k0 + k];
-        c.valid = b.valid[k];
-        if (!c.valid) continue;
-        const Vec3 o = b.origin(k), d = b.direction(k);
-        c.pos = o + d * D;
-        c.pu =
-            (CameraRayBatch::at(b.dorg_du, k) + CameraRayBatch::at(b.ddir_du, k) * D) / double(w_);
-        c.pv =
-            (CameraRayBatch::at(b.dorg_dv, k) + CameraRayBatch::at(b.ddir_dv, k) * D) / double(h_);
-        c.s = footprint(c.pu, c.pv);
+        corner_geometry(b, k, distance_, w_, h_, &c);
+        if (c.valid && c.s > 0) per_row[size_t(r)].push_back(c.s);
       }
-    }
-  };
-  // The median footprint, from every 8th pixel of every 8th row (a fixed sample of the image:
-  // the median of all pixels cost a sort of a million values and image-sized arrays).
-  std::vector<double> vals;
-  {
-    std::vector<int> xs;
-    for (int x = std::min(4, w_ - 1); x < w_; x += 8) xs.push_back(x);
-    const int rows = (h_ - std::min(4, h_ - 1) + 7) / 8;
-    std::vector<std::vector<double>> per_row(static_cast<size_t>(rows));
-    tbb::parallel_for(0, rows, [&](int r) {
-      std::vector<Center> c(xs.size());
-      centers(xs.data(), std::min(4, h_ - 1) + 8 * r, int(xs.size()), c.data());
-      for (const Center& ci : c)
-        if (ci.valid && ci.s > 0) per_row[size_t(r)].push_back(ci.s);
-    });
-    for (const auto& r : per_row) vals.insert(vals.end(), r.begin(), r.end());
-  }
-  if (vals.empty()) return;
-  std::nth_element(vals.begin(), vals.begin() + long(vals.size() / 2), vals.end());
-  const double median = vals[vals.size() / 2];
-  // Jumps: a neighbour far from where the differentials predict it (seams of piecewise cameras,
-  // discontinuous free-form surfaces) means the pixels in between need every level.
-  const auto jump = [](const Center& a, const Center& b, const Vec3& predicted) {
-    return a.valid && b.valid && length(b.pos - a.pos - predicted) > 2 * std::max(a.s, b.s);
-  };
-  // Bands of rows in parallel; a band walks its rows keeping the rows above and below (the one
-  // above its first row is evaluated again), so nothing image-sized but the result is stored.
-  std::vector<int> all(static_cast<size_t>(w_));
-  for (int x = 0; x < w_; ++x) all[size_t(x)] = x;
-  tbb::parallel_for(tbb::blocked_range<int>(0, h_, 32), [&](const tbb::blocked_range<int>& band) {
-    std::vector<Center> above(static_cast<size_t>(w_)), row(above.size()), below(above.size());
-    const int y0 = band.begin();
-    if (y0 > 0) centers(all.data(), y0 - 1, w_, above.data());
-    centers(all.data(), y0, w_, row.data());
-    for (int y = y0; y != band.end(); ++y) {
-      if (y + 1 < h_) centers(all.data(), y + 1, w_, below.data());
-      for (int x = 0; x < w_; ++x) {
-        const Center& c = row[size_t(x)];
-        uint8_t f = 0;
-        if (c.valid && c.s > 0)
-          f = uint8_t(std::clamp(int(std::floor(std::log2(c.s / median) + 0.5)), 0, depth_));
-        const bool jumps = (x + 1 < w_ && jump(c, row[size_t(x) + 1], c.pu)) ||
-                           (x > 0 && jump(row[size_t(x) - 1], c, row[size_t(x) - 1].pu)) ||
-                           (y + 1 < h_ && jump(c, below[size_t(x)], c.pv)) ||
-                           (y > 0 && jump(above[size_t(x)], c, above[size_t(x)].pv));
-        forced_[size_t(y) * w_ + x] = jumps ? uint8_t(depth_) : f;
-      }
-      above.swap(row);
-      row.swap(below);
     }
   });
+  std::vector<double> vals;
+  for (const auto& r : per_row) vals.insert(vals.end(), r.begin(), r.end());
+  if (vals.empty()) return;
+  std::nth_element(vals.begin(), vals.begin() + long(vals.size() / 2), vals.end());
+  median_ = vals[vals.size() / 2];
+  distortion_ = true;
+}
+
+void AdaptiveGrid::distortion_map(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws) const {
+  const int tw = x1 - x0, cw = tw + 1;
+  ws.forced.assign(size_t(tw) * (y1 - y0), 0);
+  if (!distortion_) return;
+  // A neighbour far from where the differentials predict it (seams of piecewise cameras,
+  // discontinuous free-form surfaces) means the pixels along that edge need every level.
+  const auto jump = [](const AdaptiveWorkspace::Corner& a, const AdaptiveWorkspace::Corner& b,
+                       const Vec3& predicted) {
+    return a.valid && b.valid && length(b.pos - a.pos - predicted) > 2 * std::max(a.s, b.s);
+  };
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const auto& c00 = ws.corners[size_t(y - y0) * cw + (x - x0)];
+      const auto& c10 = (&c00)[1];
+      const auto& c01 = (&c00)[cw];
+      const auto& c11 = (&c00)[cw + 1];
+      uint8_t& f = ws.forced[size_t(y - y0) * tw + (x - x0)];
+      if (jump(c00, c10, c00.pu) || jump(c01, c11, c01.pu) || jump(c00, c01, c00.pv) ||
+          jump(c10, c11, c10.pv)) {
+        f = uint8_t(depth_);
+        continue;
+      }
+      double s = 0;
+      for (const auto* c : {&c00, &c10, &c01, &c11})
+        if (c->valid) s = std::max(s, c->s);
+      if (s > 0) f = uint8_t(std::clamp(int(std::floor(std::log2(s / median_) + 0.5)), 0, depth_));
+    }
 }
 
 void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
@@ -144,6 +135,8 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
   double fps[kCameraBatch];
   bool use[kCameraBatch];
   SampleResult out[kCameraBatch];
+  CameraRayBatch cam;
+  if (distortion_) ws.corners.resize(size_t(x1 - x0 + 1) * (y1 - y0 + 1));
   for (int by = y0 / 4 * 4; by <= y1; by += 4)
     for (int bx = x0 / 4 * 4; bx <= x1; bx += 4) {
       for (int k = 0; k < kCameraBatch; ++k) {
@@ -155,12 +148,20 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
         fps[k] = 1;
         samples += use[k];
       }
-      eval(uv, keys, fps, use, out, rays);
+      eval(uv, keys, fps, use, out, rays, distortion_ ? &cam : nullptr);
       for (int k = 0; k < kCameraBatch; ++k) {
         const int cx = bx + (k & 3), cy = by + (k >> 2);
-        if (use[k]) store(at((cx - x0) * L, (cy - y0) * L), out[k]);
+        if (!use[k]) continue;
+        store(at((cx - x0) * L, (cy - y0) * L), out[k]);
+        if (distortion_)
+          corner_geometry(cam, k, distance_, w_, h_,
+                          &ws.corners[size_t(cy - y0) * (x1 - x0 + 1) + (cx - x0)]);
       }
     }
+  distortion_map(x0, y0, x1, y1, ws);
+  const auto forced_depth = [&](int x, int y) {
+    return int(ws.forced[size_t(y - y0) * (x1 - x0) + (x - x0)]);
+  };
 
   // The largest spread of a channel (compared as displayed, clamped at 1) or of coverage.
   const auto contrast = [](const AdaptiveWorkspace::Point* c[4]) {
@@ -236,7 +237,7 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
         keys[k] = mix64(gy * row + gx);
         fps[k] = 1.0 / double(1 << std::max(level_of(gx), level_of(gy)));
       }
-      eval(uv, keys, fps, use, out, rays);
+      eval(uv, keys, fps, use, out, rays, nullptr);
       for (int k = 0; k < m; ++k) store(ws.points[ws.pending[b + size_t(k)]], out[k]);
       samples += uint64_t(m);
     }

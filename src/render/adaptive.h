@@ -6,10 +6,11 @@
 // position, with neighbouring tiles: no seams). A square whose four corners differ by more than
 // aa_threshold is split in four, recursively. A lattice point filters textures over the spacing of
 // the coarsest level it belongs to (pixel corners over a pixel, midpoints over half a pixel...),
-// a function of its position alone, so shared points agree. Distortion-driven: before rendering,
-// the camera's ray differentials give each pixel's footprint; pixels larger than the image's median
-// footprint (estimated from every 8th pixel of every 8th row), and pixels where the ray field
-// jumps, start split, so stretched regions get more samples before any contrast is seen.
+// a function of its position alone, so shared points agree. Distortion-driven: the pixel corners'
+// ray differentials give each pixel's footprint (the largest of its corners'); pixels larger than
+// the image's median footprint (estimated before rendering from every 8th corner of every 8th
+// row), and pixels along whose edges the ray field jumps, start split, so stretched regions get
+// more samples before any contrast is seen.
 //
 // Path (noise-driven): after each pass, a pixel stops once the standard error of its mean, over
 // its 3x3 neighbourhood, is below noise_threshold * sqrt(mean luminance + 1e-4).
@@ -59,6 +60,14 @@ struct AdaptiveWorkspace {
   std::vector<Square> level, next_level;
   std::vector<uint32_t> pending;      // lattice indices
   std::vector<uint8_t> pixel_splits;  // per pixel of the tile: its square splits
+  // The distortion map: each pixel corner's ray field at distance D, each pixel's forced levels.
+  struct Corner {
+    Vec3 pos, pu, pv;  // org + D dir, and its derivatives per pixel step
+    double s = 0;      // footprint
+    bool valid = false;
+  };
+  std::vector<Corner> corners;
+  std::vector<uint8_t> forced;
 };
 
 class AdaptiveGrid {
@@ -66,16 +75,15 @@ class AdaptiveGrid {
   AdaptiveGrid(const Camera& cam, int width, int height, const RenderSettings& rs,
                const Bounds3& scene_bounds);
 
-  // Levels every pixel is split to before contrast is looked at (the distortion map).
-  int forced_depth(int x, int y) const { return forced_[size_t(y) * w_ + x]; }
-
   // Lattice points in batches of kCameraBatch (camera batches and ray packets): uv, the key their
   // random numbers come from, and the lattice spacing each stands for, in pixels (textures filter
   // over it). Lanes with use[i] false are not wanted. A lane's result must depend on that lane
   // alone, not on which other points share its batch.
+  // With `cam` not null, the batch's camera rays are left there (the corners' differentials give
+  // the distortion map).
   using EvalBatch =
       std::function<void(const Vec2* uv, const uint64_t* keys, const double* footprints,
-                         const bool* use, SampleResult* out, uint64_t& rays)>;
+                         const bool* use, SampleResult* out, uint64_t& rays, CameraRayBatch* cam)>;
   using Emit = std::function<void(int x, int y, const PixelResult&)>;
   // Pixel corners first, in 4x4 blocks aligned to the image; then level by level, every point the
   // squares split at that level need, in batches. `samples` counts the points evaluated.
@@ -83,9 +91,13 @@ class AdaptiveGrid {
                    const Emit& emit, uint64_t& rays, uint64_t& samples) const;
 
  private:
+  // Levels each pixel of the tile is split to before contrast is looked at, from its corners.
+  void distortion_map(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws) const;
+
   int w_, h_, depth_, steps_;  // steps_ = 2^depth_ lattice steps per pixel
   double threshold_;
-  std::vector<uint8_t> forced_;
+  bool distortion_ = false;
+  double distance_ = 1, median_ = 0;  // D, and the median corner footprint
 };
 
 // Noise-driven sampling: recomputes which pixels still need samples; returns how many do.

@@ -184,7 +184,8 @@ struct Renderer::Job {
   // numbers from its key, its footprint as given), the camera rays generated as a batch and
   // traced as one packet.
   void lattice_samples(const Vec2* uv, const uint64_t* keys, const double* footprints,
-                       const bool* use, SampleResult* out, uint64_t& rays) const {
+                       const bool* use, SampleResult* out, uint64_t& rays,
+                       CameraRayBatch* keep) const {
     constexpr int N = kCameraBatch;
     CameraSample cs[N];
     Rng rng[N];
@@ -192,7 +193,8 @@ struct Renderer::Job {
       rng[k] = Rng(keys[k], rs.seed);
       cs[k] = camera_sample(uv[k], rng[k]);
     }
-    CameraRayBatch cam;
+    CameraRayBatch local;
+    CameraRayBatch& cam = keep ? *keep : local;
     r.scene_.camera->generate_batch(cs, N, &cam);
     bool valid[N], found[N];
     Hit hits[N];
@@ -295,11 +297,11 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               const Tile& t = tiles[ti];
               TileStats& st = tile_stats[ti];
               AdaptiveWorkspace& ws = spaces.local();
-              const AdaptiveGrid::EvalBatch eval = [&](const Vec2* uv, const uint64_t* keys,
-                                                       const double* footprints, const bool* use,
-                                                       SampleResult* out, uint64_t& rays) {
-                job.lattice_samples(uv, keys, footprints, use, out, rays);
-              };
+              const AdaptiveGrid::EvalBatch eval =
+                  [&](const Vec2* uv, const uint64_t* keys, const double* footprints,
+                      const bool* use, SampleResult* out, uint64_t& rays, CameraRayBatch* cam) {
+                    job.lattice_samples(uv, keys, footprints, use, out, rays, cam);
+                  };
               grid.render_tile(
                   t.x0, t.y0, t.x1, t.y1, ws, eval,
                   [&](int x, int y, const PixelResult& p) {

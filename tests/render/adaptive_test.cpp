@@ -104,6 +104,32 @@ TEST(Adaptive, FisheyeRimGetsMoreSamplesThanItsCenter) {
   EXPECT_GT(rim, center) << "rim pixels of an orthographic fisheye are stretched";
 }
 
+TEST(Adaptive, SeamsOfPiecewiseCamerasStartAtFullDepth) {
+  // A 3x2 cubemap of 32-pixel faces: where two faces meet, neighbouring corners' rays are far from
+  // where the differentials predict them, so a pixel at each seam gets every level (5 x 5 lattice
+  // points at depth 2) before any contrast is seen. Equal content (a constant sky) everywhere.
+  const std::string scene =
+      "[image]\nwidth = 96\nheight = 64\n[render]\nantialias = \"adaptive\"\naa_depth = 2\n"
+      "[camera]\npreset = \"cubemap\"\nlayout = \"3x2\"\n"
+      "[environment]\ncolor = 0.5\n";
+  const auto r = test::render_text(scene);
+  for (int y : {3, 20, 40, 60}) {
+    for (int seam : {32, 64}) {
+      uint32_t most = 0;
+      for (int x = seam - 2; x < seam + 2; ++x) most = std::max(most, spp(r, x, y));
+      EXPECT_EQ(most, 25u) << "vertical seam at x = " << seam << ", row " << y;
+    }
+    EXPECT_EQ(spp(r, 16, y == 3 ? 16 : y), 4u) << "inside a face, row " << y;
+  }
+  // (Faces 2 and 5, +y above -z, meet along their common cube edge: the ray field is continuous
+  // there, and that seam rightly needs nothing.)
+  for (int x : {5, 50}) {
+    uint32_t most = 0;
+    for (int y = 30; y < 34; ++y) most = std::max(most, spp(r, x, y));
+    EXPECT_EQ(most, 25u) << "horizontal seam at y = 32, column " << x;
+  }
+}
+
 }  // namespace anamorph
 
 namespace anamorph {
