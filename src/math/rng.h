@@ -23,8 +23,7 @@ inline uint64_t mix64(uint64_t k) {
 // decorrelates the pairs from each other.
 namespace qmc {
 inline uint32_t reverse_bits(uint32_t x) {
-  x = (x << 16) | (x >> 16);
-  x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
+  x = __builtin_bswap32(x);  // bytes reversed: one instruction for the first two of five swaps
   x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
   x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
   x = ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);

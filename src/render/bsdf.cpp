@@ -141,16 +141,18 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
     // cos^n lobe around the mirror direction.
     const double cos_a = std::pow(u.x, 1 / (phong_exponent + 1));
     const double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
-    const double phi = 2 * kPi * u.y;
+    double sp, cp;
+    sincos_poly(2 * kPi * u.y, &sp, &cp);
     const Frame rf = Frame::from_normal({-wo.x, -wo.y, wo.z});
-    wi = rf.to_world({sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a});
+    wi = rf.to_world({sin_a * cp, sin_a * sp, cos_a});
   } else {
     // GGX distribution of normals.
     const double a2 = ggx_alpha * ggx_alpha;
     const double cos_h = std::sqrt((1 - u.x) / (1 + (a2 - 1) * u.x));
     const double sin_h = std::sqrt(std::max(0.0, 1 - cos_h * cos_h));
-    const double phi = 2 * kPi * u.y;
-    const Vec3 h{sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
+    double sp, cp;
+    sincos_poly(2 * kPi * u.y, &sp, &cp);
+    const Vec3 h{sin_h * cp, sin_h * sp, cos_h};
     wi = h * (2 * dot(wo, h)) - wo;
   }
   if (wi.z <= 0) return false;
