@@ -158,6 +158,14 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
   if (wi.z <= 0) return false;
   out->wi = frame.to_world(wi);
   out->delta = false;
+  if (w.total == w.diffuse) {
+    // Lambert alone (most surfaces): pdf and eval without going back to the local frame.
+    out->pdf = cosine_hemisphere_pdf(wi.z);
+    if (!(out->pdf > 0)) return false;
+    out->f = dot(out->wi, ng) > 0 ? diffuse * kInvPi : Color{};
+    out->weight = out->f * (wi.z / out->pdf);
+    return true;
+  }
   out->pdf = pdf(wo_w, out->wi);
   if (!(out->pdf > 0)) return false;
   out->f = eval(wo_w, out->wi);
