@@ -149,12 +149,21 @@ int render_frame(const RenderArgs& a, const std::vector<std::string>& extra,
     return kFailure;
   }
 
-  OutputImage img = film.output();
-  img.metadata["anamorph.version"] = ANAMORPH_VERSION;
-  img.metadata["anamorph.command"] = command_line();
-  img.metadata["anamorph.scene"] = scene.path;
-  img.metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
-  if (!scene.animated.empty()) img.metadata["anamorph.frame"] = fmt::format("{}", frame);
+  std::map<std::string, std::string> metadata;
+  metadata["anamorph.version"] = ANAMORPH_VERSION;
+  metadata["anamorph.command"] = command_line();
+  metadata["anamorph.scene"] = scene.path;
+  metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
+  if (!scene.animated.empty()) metadata["anamorph.frame"] = fmt::format("{}", frame);
+  const bool png = lower_extension(out) == ".png";
+  OutputImage img;
+  if (png && aovs.empty() && !a.coins_overlay) {
+    // The beauty alone: straight from the film to 8 bits, no float layer in between.
+    write_png(out, Rgba8Image{film.width(), film.height(), film.output_rgba8(), metadata});
+  } else {
+    img = film.output();
+    img.metadata = metadata;
+  }
   if (a.coins_overlay) {
     img.layers.push_back(coins_layer(scene));
     fs::path marked = out;
@@ -162,8 +171,8 @@ int render_frame(const RenderArgs& a, const std::vector<std::string>& extra,
     write_png(marked, with_overlay(img, img.layers.back()));
     if (!a.quiet) fmt::print("coin overlay written to {}\n", marked.string());
   }
-  if (lower_extension(out) == ".png") {
-    write_png(out, img);
+  if (png) {
+    if (!img.layers.empty()) write_png(out, img);
     if (img.layers.size() > 1) {
       fs::path exr = out;
       exr.replace_extension(".exr");

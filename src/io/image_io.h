@@ -37,9 +37,20 @@ struct OutputImage {
   std::map<std::string, std::string> metadata;  // e.g. "anamorph.camera", "anamorph.command"
 };
 
+// An 8-bit RGBA image as a PNG holds it: sRGB-encoded colour, straight linear alpha.
+struct Rgba8Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgba;              // width * height * 4
+  std::map<std::string, std::string> metadata;  // as OutputImage
+};
+// One RGBA pixel (straight colour, linear) as a PNG stores it.
+void encode_rgba8(const float* rgba, unsigned char* out);
+
 // Chooses the format by extension (.png, .exr). PNG writes only layers[0].
 void write_image(const std::filesystem::path& file, const OutputImage& img);
 void write_png(const std::filesystem::path& file, const OutputImage& img);
+// The same file from pixels already in 8 bits (a render's beauty without a float layer first).
+void write_png(const std::filesystem::path& file, const Rgba8Image& img);
 void write_exr(const std::filesystem::path& file, const OutputImage& img);
 
 // Read back metadata (PNG tEXt / EXR string attributes), for tests and `anamorph info`.

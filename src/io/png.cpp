@@ -232,6 +232,11 @@ std::string inflate(const unsigned char* p, size_t n, const fs::path& file) {
 
 }  // namespace
 
+void encode_rgba8(const float* rgba, unsigned char* out) {
+  for (int c = 0; c < 3; ++c) out[c] = linear_to_srgb8(rgba[c]);
+  out[3] = io_detail::unit_to_byte(rgba[3]);
+}
+
 void write_png(const fs::path& file, const OutputImage& img) {
   io_detail::check_output(img, file);
   const ImageLayer& beauty = img.layers[0];
@@ -243,17 +248,29 @@ void write_png(const fs::path& file, const OutputImage& img) {
   // Straight (un-premultiplied) colour, as the film stores it and PNG expects. Colour is
   // sRGB-encoded; alpha is linear coverage and is not. Rows in parallel: at 1080p the encoding
   // is a visible part of a quick render.
-  const size_t pixels = size_t(img.width) * size_t(img.height);
-  std::vector<unsigned char> rgba(pixels * 4);
+  Rgba8Image out;
+  out.width = img.width;
+  out.height = img.height;
+  out.metadata = img.metadata;
+  out.rgba.resize(size_t(img.width) * size_t(img.height) * 4);
   tbb::parallel_for(0, img.height, [&](int y) {
     for (size_t i = size_t(y) * size_t(img.width); i < size_t(y + 1) * size_t(img.width); ++i) {
       const float* src = &beauty.data[i * nc];
-      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = linear_to_srgb8(src[c]);
-      rgba[i * 4 + 3] = nc == 4 ? io_detail::unit_to_byte(src[3]) : 255;
+      const float px[4] = {src[0], src[1], src[2], nc == 4 ? src[3] : 1.0f};
+      encode_rgba8(px, &out.rgba[i * 4]);
     }
   });
+  write_png(file, out);
+}
+
+void write_png(const fs::path& file, const Rgba8Image& img) {
+  if (img.width <= 0 || img.height <= 0)
+    fail("cannot write image", file, fmt::format("invalid size {}x{}", img.width, img.height));
+  if (img.rgba.size() != size_t(img.width) * size_t(img.height) * 4)
+    fail("cannot write image", file,
+         fmt::format("{} bytes for a {}x{} RGBA image", img.rgba.size(), img.width, img.height));
   std::string ihdr, idat;
-  if (!encode_png(rgba.data(), img.width, img.height, &ihdr, &idat))
+  if (!encode_png(img.rgba.data(), img.width, img.height, &ihdr, &idat))
     fail("cannot write PNG", file, "PNG encoding failed");
   std::vector<unsigned char> png(io_detail::kPngSignature, io_detail::kPngSignature + 8);
   const auto append = [&png](const std::vector<unsigned char>& c) {

@@ -143,6 +143,27 @@ double Film::alpha(int x, int y) const {
   return p.n ? p.alpha / p.n : 0.0;
 }
 
+void Film::beauty_rgba(const Pixel& p, float* out) {
+  const double n = p.n ? double(p.n) : 1.0;
+  const double a = p.alpha / n;
+  // Straight (un-premultiplied) colour: no-ray samples are transparent, not black.
+  const double inv = p.alpha > 0 ? 1.0 / p.alpha : 0.0;
+  for (int c = 0; c < 3; ++c) out[c] = float(p.rgb[c] * inv);
+  out[3] = float(a);
+}
+
+std::vector<unsigned char> Film::output_rgba8() const {
+  std::vector<unsigned char> out(pixels_.size() * 4);
+  tbb::parallel_for(0, h_, [&](int y) {
+    for (size_t i = size_t(y) * size_t(w_); i < size_t(y + 1) * size_t(w_); ++i) {
+      float px[4];
+      beauty_rgba(pixels_[i], px);
+      encode_rgba8(px, &out[i * 4]);
+    }
+  });
+  return out;
+}
+
 OutputImage Film::output() const {
   OutputImage out;
   out.width = w_;
@@ -156,15 +177,7 @@ OutputImage Film::output() const {
       for (size_t i = size_t(y) * size_t(w_); i < size_t(y + 1) * size_t(w_); ++i) per_pixel(i);
     });
   };
-  rows([&](size_t i) {
-    const Pixel& p = pixels_[i];
-    const double n = p.n ? double(p.n) : 1.0;
-    const double a = p.alpha / n;
-    // Straight (un-premultiplied) colour: no-ray samples are transparent, not black.
-    const double inv = p.alpha > 0 ? 1.0 / p.alpha : 0.0;
-    for (int c = 0; c < 3; ++c) beauty.data[i * 4 + c] = float(p.rgb[c] * inv);
-    beauty.data[i * 4 + 3] = float(a);
-  });
+  rows([&](size_t i) { beauty_rgba(pixels_[i], &beauty.data[i * 4]); });
   out.layers.push_back(std::move(beauty));
   size_t off = 0;
   for (Aov k : aovs_) {

@@ -10,6 +10,7 @@
 
 #include "io/image_io.h"
 #include "io/io_test_util.h"
+#include "render/film.h"
 
 namespace anamorph {
 
@@ -207,6 +208,35 @@ TEST_F(Png, UnsupportedExtensionListsSupportedOnes) {
   EXPECT_NE(msg.find(".png"), std::string::npos) << msg;
   EXPECT_NE(msg.find(".exr"), std::string::npos) << msg;
   EXPECT_TRUE(test::dir_entries(dir()).empty());
+}
+
+// A render's beauty written from 8-bit pixels (Film::output_rgba8, what `anamorph render` does for
+// a PNG without AOV layers) is the same file, byte for byte, as through the float output layer:
+// several samples per pixel, values above 1, partial coverage and pixels without a ray.
+TEST_F(Png, FilmStraightTo8BitsEqualsTheFloatLayerPath) {
+  Film film(37, 23, {});
+  for (int y = 0; y < 23; ++y)
+    for (int x = 0; x < 37; ++x)
+      for (int s = 0; s < 1 + (x + y) % 3; ++s) {
+        const bool ray = (x * 7 + y * 3 + s) % 5 != 0;
+        const Color L{0.03 * x, 0.05 * y, 1.7 * std::sin(0.3 * (x + s))};
+        film.add(x, y, ray ? L : Color{}, ray ? 1.0 : 0.0, AovSample{}, s == 0);
+      }
+  OutputImage img = film.output();
+  img.metadata = kMetadata;
+  write_png(dir() / "float.png", img);
+  write_png(dir() / "bytes.png", Rgba8Image{37, 23, film.output_rgba8(), kMetadata});
+  const auto a = test::file_bytes(dir() / "float.png"), b = test::file_bytes(dir() / "bytes.png");
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_TRUE(a == b) << "the two PNG files differ";
+  // Partial coverage made it into the file (the test covers what it claims).
+  const Image back = read_image(dir() / "bytes.png", /*srgb=*/false);
+  int partial = 0;
+  for (int i = 0; i < back.width * back.height; ++i) {
+    const float alpha = back.pixels[size_t(i) * size_t(back.channels) + 3];
+    partial += alpha > 0.01f && alpha < 0.99f;
+  }
+  EXPECT_GT(partial, 0) << "no pixel with partial coverage";
 }
 
 }  // namespace anamorph
