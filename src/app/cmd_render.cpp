@@ -185,7 +185,7 @@ int render_frame(const RenderArgs& a, const std::vector<std::string>& extra,
   if (!a.quiet) {
     const double per_pixel =
         double(st.samples) / (double(scene.render.width) * scene.render.height);
-    const std::string sampling = scene.render.antialias == "adaptive"
+    const std::string sampling = scene.render.antialias != "uniform"
                                      ? fmt::format("adaptive, {:.2f} samples/pixel", per_pixel)
                                      : fmt::format("{} spp", scene.render.spp);
     fmt::print(

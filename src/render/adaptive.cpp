@@ -301,23 +301,27 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
     }
 }
 
-size_t update_active(const Film& film, double threshold, std::vector<uint8_t>* active) {
+size_t update_active(const Film& film, const StopRule& rule, std::vector<uint8_t>* active) {
   const int W = film.width(), H = film.height();
-  std::vector<uint8_t> noisy(size_t(W) * H, 0);
+  // Each pixel's error estimate in units of its threshold.
+  std::vector<double> excess(size_t(W) * H);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const double mean = luminance(film.pixel(x, y));
-      noisy[size_t(y) * W + x] =
-          film.standard_error(x, y) > threshold * std::sqrt(std::max(0.0, mean) + 1e-4);
+      const double n = std::max<uint32_t>(1, film.samples(x, y));
+      const double e = rule.n_power == 0 ? film.standard_error(x, y)
+                                         : film.standard_error(x, y) * std::pow(n, -rule.n_power);
+      excess[size_t(y) * W + x] = e / (rule.threshold * std::sqrt(std::max(0.0, mean) + 1e-4));
     }
   size_t n = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      uint8_t a = 0;
+      uint8_t a = excess[size_t(y) * W + x] > 1;
       for (int dy = -1; dy <= 1 && !a; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          if (xx >= 0 && yy >= 0 && xx < W && yy < H && noisy[size_t(yy) * W + xx]) {
+          if (xx >= 0 && yy >= 0 && xx < W && yy < H &&
+              excess[size_t(yy) * W + xx] > rule.neighbour_factor) {
             a = 1;
             break;
           }

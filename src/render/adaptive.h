@@ -12,8 +12,8 @@
 // row), and pixels along whose edges the ray field jumps, start split, so stretched regions get
 // more samples before any contrast is seen.
 //
-// Path (noise-driven): after each pass, a pixel stops once the standard error of its mean, over
-// its 3x3 neighbourhood, is below noise_threshold * sqrt(mean luminance + 1e-4).
+// Per pixel ("pixel", path's adaptive sampling): passes of min_spp, then doubling; after each, a
+// pixel stops once its error estimate and its neighbours' are small (StopRule).
 #pragma once
 
 #include <cstdint>
@@ -100,7 +100,26 @@ class AdaptiveGrid {
   double distance_ = 1, median_ = 0;  // D, and the median corner footprint
 };
 
-// Noise-driven sampling: recomputes which pixels still need samples; returns how many do.
-size_t update_active(const Film& film, double noise_threshold, std::vector<uint8_t>* active);
+// When a pixel of per-pixel adaptive sampling stops. With s the standard deviation of its
+// samples' luminance, n their number and m their mean, a pixel is done when
+//   s * n^-(0.5 + n_power) <= threshold * sqrt(m + 1e-4)
+// and so is every neighbour in its 3x3 neighbourhood, each against neighbour_factor * threshold.
+// Noisy integrands (path): n_power 0, the standard error of the mean, the same relative noise in
+// every pixel, as Cycles does. Deterministic ones (whitted): the error of an Owen-scrambled
+// Sobol' estimate of a pixel holding edges falls like s * n^-3/4, and the image's squared error
+// for a given number of samples is least when every pixel stops where its error's decrease per
+// added sample, about e^2 / n, is the same: e / sqrt(n) = s * n^-5/4 (n_power 0.75). Its first
+// passes have two samples, which may both miss a pixel's detail, so neighbours keep a pixel
+// going, but only when they are clearly (4x) above the threshold.
+struct StopRule {
+  double threshold = 0.01;
+  double n_power = 0;
+  double neighbour_factor = 1;
+  static StopRule noisy(double t) { return {t, 0, 1}; }
+  static StopRule deterministic(double t) { return {t, 0.75, 4}; }
+};
+
+// Per-pixel adaptive sampling: recomputes which pixels still need samples; returns how many do.
+size_t update_active(const Film& film, const StopRule& rule, std::vector<uint8_t>* active);
 
 }  // namespace anamorph

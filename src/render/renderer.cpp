@@ -253,9 +253,13 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const RenderContext ctx{scene_, *accel_, *lights_, rs.max_depth};
   const Job job(*this, ctx, film, !opt.aovs.empty());
   const int W = film.width(), H = film.height();
-  const bool adaptive = rs.antialias == "adaptive";
-  const bool corners = adaptive && job.mode == Mode::Radiance && rs.integrator == "whitted";
-  const bool noise_driven = adaptive && !corners && job.mode == Mode::Radiance;
+  const bool corners = rs.antialias == "lattice" && job.mode == Mode::Radiance;
+  const bool noise_driven = rs.antialias == "pixel" && job.mode == Mode::Radiance;
+  // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
+  // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
+  const StopRule stop_rule = rs.integrator == "whitted"
+                                 ? StopRule::deterministic(rs.noise_threshold)
+                                 : StopRule::noisy(rs.noise_threshold);
 
   std::vector<Tile> tiles;
   const int ts = rs.tile_size;
@@ -479,7 +483,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     s_begin = s_end;
     if (noise_driven) {
       if (rs.time_limit > 0 && seconds_since(t0) > rs.time_limit) break;
-      if (update_active(film, rs.noise_threshold, &active) == 0) break;
+      if (update_active(film, stop_rule, &active) == 0) break;
     }
   }
   stats.seconds = seconds_since(t0);

@@ -24,17 +24,19 @@ struct RenderSettings {
   std::string filter = "box";  // box | gaussian
   double filter_radius = 1.5;  // gaussian: radius in pixels (box: pixel area)
   int tile_size = 32;
-  // Antialiasing. "uniform": spp samples per pixel. "adaptive": for whitted, the paper's
-  // contrast-driven corner subdivision seeded by the camera's distortion; for path, noise-driven
-  // sampling between min_spp and max_spp.
-  std::string antialias = "adaptive";
-  double aa_threshold = 0.1;      // contrast that splits a square (whitted adaptive)
-  int aa_depth = 3;               // maximum subdivision levels per pixel (whitted adaptive)
-  bool aa_distortion = true;      // stretched pixels start subdivided (whitted adaptive)
-  int min_spp = 8;                // path adaptive
-  int max_spp = 1024;             // path adaptive
-  double noise_threshold = 0.01;  // path adaptive: relative standard error that stops a pixel
-  double time_limit = 0;          // path adaptive: seconds, 0 = none (breaks determinism)
+  // Antialiasing, resolved at load to one of: "uniform" (spp samples per pixel); "lattice" (the
+  // paper's contrast-driven corner subdivision seeded by the camera's distortion, whitted only);
+  // "pixel" (per-pixel progressive sampling between min_spp and max_spp that stops each pixel
+  // once its estimated error is small). The scene file's "adaptive" means lattice for whitted,
+  // pixel for the other integrators.
+  std::string antialias = "lattice";
+  double aa_threshold = 0.1;      // contrast that splits a square (lattice)
+  int aa_depth = 3;               // maximum subdivision levels per pixel (lattice)
+  bool aa_distortion = true;      // stretched pixels start subdivided (lattice)
+  int min_spp = 8;                // pixel: first pass (whitted's default is 2)
+  int max_spp = 1024;             // pixel
+  double noise_threshold = 0.01;  // pixel: estimated relative error that stops a pixel
+  double time_limit = 0;          // pixel: seconds, 0 = none (breaks determinism)
 };
 
 struct Scene {

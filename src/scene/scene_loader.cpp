@@ -23,7 +23,7 @@ const std::string_view kIntegrators[] = {"whitted", "path",     "albedo", "norma
                                          "depth",   "position", "id",     "uv"};
 const std::string_view kSamplers[] = {"center", "stratified", "random"};
 const std::string_view kFilters[] = {"box", "gaussian"};
-const std::string_view kAntialias[] = {"uniform", "adaptive"};
+const std::string_view kAntialias[] = {"uniform", "adaptive", "lattice", "pixel"};
 const std::string_view kObjectTypes[] = {"mesh", "sphere", "plane", "box", "cylinder", "disk"};
 const std::string_view kLightTypes[] = {"point", "spot", "directional", "quad", "sphere"};
 const std::string_view kMaterialTypes[] = {"whitted", "metallic_roughness"};
@@ -535,10 +535,17 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     rs.antialias = r.string("antialias",
                             whitted && !r.has("sampler") && !r.has("spp") ? "adaptive" : "uniform",
                             kAntialias);
+    if (rs.antialias == "adaptive") rs.antialias = whitted ? "lattice" : "pixel";
+    // The lattice compares single samples: path tracing's noise would split every square.
+    if (rs.antialias == "lattice" && rs.integrator == "path")
+      r.fail("antialias",
+             "\"lattice\" needs a noise-free integrator (whitted or an AOV); use \"pixel\" or "
+             "\"adaptive\" with path tracing");
     rs.aa_threshold = r.number("aa_threshold", rs.aa_threshold, 0, kInf);
     rs.aa_depth = int(r.integer("aa_depth", rs.aa_depth, 0, 6));
     rs.aa_distortion = r.boolean("aa_distortion", rs.aa_distortion);
-    rs.min_spp = int(r.integer("min_spp", rs.min_spp, 1, 1 << 20));
+    // Whitted's samples differ only where the pixel holds detail: two find most of it.
+    rs.min_spp = int(r.integer("min_spp", whitted ? 2 : rs.min_spp, 1, 1 << 20));
     rs.max_spp = int(r.integer("max_spp", r.has("spp") ? rs.spp : rs.max_spp, rs.min_spp, 1 << 20));
     rs.noise_threshold = r.number("noise_threshold", rs.noise_threshold, 0, kInf);
     rs.time_limit = r.number("time_limit", rs.time_limit, 0, kInf);

@@ -1,9 +1,12 @@
 // Adaptive antialiasing: where samples go, and that adaptivity keeps images deterministic.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
+#include "render/adaptive.h"
+#include "scene/toml_reader.h"
 #include "render_util.h"
 
 namespace anamorph {
@@ -167,6 +170,86 @@ TEST(Adaptive, NoiseDrivenTexturesAreFilteredOverTheSamplesTaken) {
                          << " samples/pixel; uniform 32 spp: " << e_uni;
   EXPECT_LT(e_ada, 1.5 * e_uni) << "adaptive RMSE " << e_ada << " at " << spp
                                 << " samples/pixel; uniform 32 spp: " << e_uni;
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Adaptive, SchemesResolvedAtLoad) {
+  // "adaptive" is the integrator's scheme: the corner lattice for whitted, per pixel for path.
+  EXPECT_EQ(test::render_text(kEdge).scene.render.antialias, "lattice");
+  EXPECT_EQ(
+      load_scene_from_string(kEdge, "t.toml", {"render.integrator=\"path\""}).render.antialias,
+      "pixel");
+  EXPECT_EQ(load_scene_from_string(kEdge, "t.toml", {"render.antialias=\"pixel\""}).render.min_spp,
+            2)
+      << "whitted's per-pixel sampling starts at two samples";
+  try {
+    load_scene_from_string(kEdge, "t.toml",
+                           {"render.integrator=\"path\"", "render.antialias=\"lattice\""});
+    FAIL() << "the lattice compares single samples: path tracing must be refused";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("antialias"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Adaptive, PerPixelWhittedSpendsSamplesOnTheSilhouetteOnly) {
+  const auto r = test::render_text(
+      kEdge, {"render.antialias=\"pixel\"", "render.max_spp=64", "render.noise_threshold=0.01"});
+  EXPECT_EQ(spp(r, 0, 0), 2u) << "flat black corner: min_spp";
+  EXPECT_EQ(spp(r, 20, 15), 2u) << "flat white middle of the sphere: min_spp";
+  uint32_t most = 0;
+  int partial = 0;
+  for (int x = 0; x < 40; ++x) {
+    most = std::max(most, spp(r, x, 15));
+    const double v = r.film->pixel(x, 15).x;
+    partial += v > 0.02 && v < 0.98;
+  }
+  EXPECT_EQ(most, 64u) << "a silhouette pixel of the middle row should reach max_spp";
+  EXPECT_GE(partial, 2) << "silhouette pixels lie between black and white";
+  // Fewer samples than uniform sampling at max_spp by far: the sphere's disc and the sky are flat.
+  const double per_pixel = double(r.stats.samples) / (40 * 30);
+  EXPECT_LT(per_pixel, 20.0) << per_pixel << " samples/pixel";
+  // Deterministic: tiles and threads do not change a bit or a sample count.
+  const auto other = test::render_text(kEdge,
+                                       {"render.antialias=\"pixel\"", "render.max_spp=64",
+                                        "render.noise_threshold=0.01", "render.tile_size=4"},
+                                       1);
+  const auto a = r.film->output().layers[0].data, b = other.film->output().layers[0].data;
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(float)));
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) ASSERT_EQ(spp(r, x, y), spp(other, x, y)) << x << "," << y;
+}
+
+TEST(Adaptive, StopRuleFollowsItsFormula) {
+  // One pixel with n samples alternating between luminance 0 and 1 (mean 1/2, sample standard
+  // deviation s = sqrt(n / (4 (n - 1)))), the rest black (no variance). The pixel is done when
+  // s * n^-(1/2 + n_power) <= threshold * sqrt(1/2 + 1e-4).
+  const int n = 16;
+  Film film(5, 5, {});
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x)
+      for (int i = 0; i < n; ++i) {
+        const double l = (x == 2 && y == 2) ? (i & 1) : 0.0;
+        film.add(x, y, {l, l, l}, 1, {}, i == 0);
+      }
+  const double s = std::sqrt(n / (4.0 * (n - 1))), m = std::sqrt(0.5 + 1e-4);
+  for (const StopRule base : {StopRule::noisy(1), StopRule::deterministic(1)}) {
+    const double at = s * std::pow(double(n), -(0.5 + base.n_power)) / m;  // threshold at the edge
+    std::vector<uint8_t> active(25);
+    StopRule rule = base;
+    rule.threshold = at * 1.01;
+    EXPECT_EQ(update_active(film, rule, &active), 0u) << "n_power " << base.n_power;
+    rule.threshold = at * 0.99;
+    const size_t busy = update_active(film, rule, &active);
+    EXPECT_TRUE(active[12]) << "n_power " << base.n_power;
+    // The neighbours follow only where the pixel is neighbour_factor times over its threshold.
+    EXPECT_EQ(busy, base.neighbour_factor > 1 ? 1u : 9u) << "n_power " << base.n_power;
+    rule.threshold = at / base.neighbour_factor * 0.99;
+    EXPECT_EQ(update_active(film, rule, &active), 9u) << "n_power " << base.n_power;
+  }
 }
 
 }  // namespace anamorph
