@@ -73,7 +73,7 @@ class Film {
   void set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a);
   // Camera samples that went into a pixel (the `spp` AOV).
   uint32_t samples(int x, int y) const { return px(x, y).spp; }
-  // Standard error of the pixel's mean luminance (noise-driven adaptive sampling).
+  // Standard error of the pixel's mean luminance (per-pixel adaptive sampling).
   double standard_error(int x, int y) const;
 
   // Averages: beauty as RGBA (straight alpha), AOV layers as their channels.

@@ -101,7 +101,7 @@ struct Renderer::Job {
         H(film.height()) {
     // A sample filters textures over its share of the pixel: 1/sqrt(spp) of it with uniform
     // sampling; adaptive subdivision passes the lattice spacing each sample stands for, and
-    // noise-driven sampling the share given by the samples the pixel has once the pass ends.
+    // per-pixel adaptive sampling the share given by the samples the pixel has once the pass ends.
     uniform_scale = footprint_scale(rs.spp);
     du = 1.0 / W;
     dv = 1.0 / H;
@@ -254,7 +254,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const Job job(*this, ctx, film, !opt.aovs.empty());
   const int W = film.width(), H = film.height();
   const bool corners = rs.antialias == "lattice" && job.mode == Mode::Radiance;
-  const bool noise_driven = rs.antialias == "pixel" && job.mode == Mode::Radiance;
+  const bool per_pixel = rs.antialias == "pixel" && job.mode == Mode::Radiance;
   // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
   // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
   const StopRule stop_rule = rs.integrator == "whitted"
@@ -330,12 +330,12 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     return stats;
   }
 
-  // Sample passes: progressive 1, 1, 2, 4, ... samples per pixel; with noise-driven sampling the
-  // same schedule from min_spp on, skipping pixels whose neighbourhood has converged.
-  const auto spp = uint32_t(noise_driven ? rs.max_spp : rs.spp);
+  // Sample passes: progressive 1, 1, 2, 4, ... samples per pixel; with per-pixel adaptive sampling
+  // the same schedule from min_spp on, skipping pixels whose neighbourhood has converged.
+  const auto spp = uint32_t(per_pixel ? rs.max_spp : rs.spp);
   std::vector<uint32_t> pass_end;
-  if (opt.progressive || noise_driven) {
-    uint32_t done = 0, step = noise_driven ? uint32_t(rs.min_spp) : 1;
+  if (opt.progressive || per_pixel) {
+    uint32_t done = 0, step = per_pixel ? uint32_t(rs.min_spp) : 1;
     while (done < spp) {
       done = std::min(spp, done + step);
       pass_end.push_back(done);
@@ -344,14 +344,14 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   } else {
     pass_end.push_back(spp);
   }
-  // Which pixels still take samples (noise-driven sampling only; empty means all of them).
-  std::vector<uint8_t> active(noise_driven ? size_t(W) * H : 0, 1);
+  // Which pixels still take samples (per-pixel adaptive sampling only; empty means all of them).
+  std::vector<uint8_t> active(per_pixel ? size_t(W) * H : 0, 1);
   const bool lens_time = scene_.camera->uses_lens_or_time();
   const bool needs_rng =
       lens_time || job.mode == Mode::Radiance || job.sampler != SamplerKind::Center;
   // Stratified sampling: pixel position, lens, time and the first three bounces' light and BSDF
   // numbers come from the pixel's scrambled Sobol' points (any prefix of a pixel's samples is
-  // well stratified, which noise-driven sampling needs: a pixel may stop after any pass).
+  // well stratified, which per-pixel adaptive sampling needs: a pixel may stop after any pass).
   const bool qmc = needs_rng && job.sampler == SamplerKind::Stratified;
   // Without random numbers (pixel centers) every sample sits at this offset in its pixel.
   const Vec2 fixed_offset = job.gaussian
@@ -363,12 +363,12 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   uint32_t s_begin = 0;
   for (size_t pass = 0; pass < pass_end.size(); ++pass) {
     const uint32_t s_end = pass_end[pass];
-    // Texture footprints: with noise-driven sampling a pixel that takes this pass's samples ends
-    // with at least s_end of them, and each sample stands for that share of the pixel (a function
-    // of the sample index alone, so tiles and threads agree). Earlier, wider samples blur a
-    // little; the old fixed 1/sqrt(render.spp) (spp = 1 unless given) blurred every sample
-    // over the whole pixel.
-    const double fp_scale = noise_driven ? Job::footprint_scale(s_end) : job.uniform_scale;
+    // Texture footprints: with per-pixel adaptive sampling a pixel that takes this pass's samples
+    // ends with at least s_end of them, and each sample stands for that share of the pixel (a
+    // function of the sample index alone, so tiles and threads agree). Earlier, wider samples blur
+    // a little; the old fixed 1/sqrt(render.spp) (spp = 1 unless given) blurred every sample over
+    // the whole pixel.
+    const double fp_scale = per_pixel ? Job::footprint_scale(s_end) : job.uniform_scale;
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
       tbb::parallel_for(
@@ -481,7 +481,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     }
     if (opt.on_pass) opt.on_pass(film, int(pass));
     s_begin = s_end;
-    if (noise_driven) {
+    if (per_pixel) {
       if (rs.time_limit > 0 && seconds_since(t0) > rs.time_limit) break;
       if (update_active(film, stop_rule, &active) == 0) break;
     }
