@@ -6,8 +6,8 @@
 #include <string>
 
 #include "render/adaptive.h"
-#include "scene/toml_reader.h"
 #include "render_util.h"
+#include "scene/toml_reader.h"
 
 namespace anamorph {
 
