@@ -309,8 +309,7 @@ size_t update_active(const Film& film, const StopRule& rule, std::vector<uint8_t
     for (int x = 0; x < W; ++x) {
       const double mean = luminance(film.pixel(x, y));
       const double n = std::max<uint32_t>(1, film.samples(x, y));
-      const double e = rule.n_power == 0 ? film.standard_error(x, y)
-                                         : film.standard_error(x, y) * std::pow(n, -rule.n_power);
+      const double e = film.standard_error(x, y) * std::pow(n, -rule.n_power);  // n^-0 is 1
       excess[size_t(y) * W + x] = e / (rule.threshold * std::sqrt(std::max(0.0, mean) + 1e-4));
     }
   size_t n = 0;

@@ -539,8 +539,8 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     // The lattice compares single samples: path tracing's noise would split every square.
     if (rs.antialias == "lattice" && rs.integrator == "path")
       r.fail("antialias",
-             "\"lattice\" needs a noise-free integrator (whitted or an AOV); use \"pixel\" or "
-             "\"adaptive\" with path tracing");
+             "\"lattice\" compares single samples, and path tracing's noise would split every "
+             "square: use \"pixel\" (or \"adaptive\") with path tracing");
     rs.aa_threshold = r.number("aa_threshold", rs.aa_threshold, 0, kInf);
     rs.aa_depth = int(r.integer("aa_depth", rs.aa_depth, 0, 6));
     rs.aa_distortion = r.boolean("aa_distortion", rs.aa_distortion);
