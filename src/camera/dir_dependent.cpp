@@ -28,6 +28,7 @@ class NormalDir final : public DirFunction {
       }
     for (int i = 0; i < n; ++i) out->ok[i] = true;
   }
+  bool unit_length() const override { return true; }  // the unit normal (zero: no ray)
 
  private:
   double s_;

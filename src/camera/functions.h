@@ -110,6 +110,12 @@ class DirFunction {
   // functions whose math vectorizes override it.
   virtual void eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
                           DirBatch* out) const;
+
+  // True when every direction this function returns is of unit length and dd_du, dd_dv are the
+  // derivatives of that unit vector (so they are perpendicular to it): the camera then skips
+  // normalizing (a square root and a division per ray, most of a cheap camera's cost) whenever
+  // its rig keeps lengths. A zero direction still means no ray.
+  virtual bool unit_length() const { return false; }
 };
 
 // Batches as a loop over eval. With F a final class the calls are direct (no virtual dispatch

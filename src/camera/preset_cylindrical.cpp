@@ -118,6 +118,11 @@ class LatLongDir final : public DirFunction {
                   DirBatch* out) const override {
     latlong_dirs(g_, u, v, n, out);
   }
+  // (cos(lat), sin(lat)) for the sphere and lambert, (1, 0) for the horizontal rays; the
+  // cylinders' (1, y) are not.
+  bool unit_length() const override {
+    return g_.map == LatMap::kLatitude || g_.map == LatMap::kSine || g_.map == LatMap::kHorizontal;
+  }
 
  private:
   LatLongGeometry g_;

@@ -248,6 +248,8 @@ class FisheyeDir final : public DirFunction {
     else
       fisheye_dirs(g_, u, v, n, out);
   }
+  // The unit sphere around the eye (fisheye, mirror_ball), not a dome seen off its center.
+  bool unit_length() const override { return g_.radius == 1 && g_.eye == Vec3{}; }
 
  private:
   FisheyeGeometry g_;

@@ -174,6 +174,7 @@ class OdsDir final : public DirFunction {
                   DirBatch* out) const override {
     ods_dirs(g_, u, v, n, out);
   }
+  bool unit_length() const override { return true; }  // a point of the unit sphere
 
  private:
   OdsGeometry g_;

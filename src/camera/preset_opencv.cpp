@@ -410,6 +410,7 @@ class FisheyeCvDir final : public DirFunction {
                   DirBatch* out) const override {
     kb_dirs(d_, k_, top_, u, v, n, out);
   }
+  bool unit_length() const override { return true; }  // (sin t a / rho, sin t b / rho, -cos t)
 
  private:
   Intrinsics k_;

@@ -24,6 +24,17 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       rig34_.m[r][c] = world_from_camera_.matrix().m[size_t(r)][size_t(c)];
       camera34_.m[r][c] = r == c ? 1.0 : 0.0;
     }
+  // Rigs built from look_at are orthonormal to a few units in the last place; a scale makes
+  // the finish normalize again.
+  double worst = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double dot_ab = 0;
+      for (int r = 0; r < 3; ++r) dot_ab += rig34_.m[r][a] * rig34_.m[r][b];
+      worst = std::max(worst, std::abs(dot_ab - (a == b ? 1.0 : 0.0)));
+    }
+  rig_rotation_ = rig_affine_ && worst < 1e-15;
+  unit_dirs_ = dir_->unit_length();
   detect_linear_field();
   detect_point_origin();
   if (!parts.coins.empty()) {
@@ -251,8 +262,10 @@ ANAMORPH_SIMD_CLONES void linear_rays(const LinearField& f, const double* u, con
 using Rig = AffineRig;
 
 // kIdentity: the rig is the identity (camera space, or functions given in world space), whose
-// products would only add zeros.
-template <bool kPointOrg, bool kIdentity>
+// products would only add zeros. kUnit: the directions are unit vectors with perpendicular
+// derivatives (DirFunction::unit_length) and the rig keeps lengths, so normalizing would only
+// round them again.
+template <bool kPointOrg, bool kIdentity, bool kUnit>
 [[gnu::always_inline]] inline void finish_rays(const Rig& t, const SurfaceBatch& __restrict org,
                                                const DirBatch& __restrict b, int n,
                                                CameraRayBatch* __restrict out) {
@@ -291,21 +304,29 @@ template <bool kPointOrg, bool kIdentity>
     const double dx = row(0, d), dy = row(1, d), dz = row(2, d);
     const double ux = row(0, du), uy = row(1, du), uz = row(2, du);
     const double vx = row(0, dv), vy = row(1, dv), vz = row(2, dv);
-    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const double inv = 1 / len;
-    // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
-    // x * 0 == 0 holds exactly for finite x.
-    lens[i] = len;
-    finite[i] = len * 0 + (ox + oy + oz) * 0;
-    const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
     out->org[0][i] = ox, out->org[1][i] = oy, out->org[2][i] = oz;
-    out->dir[0][i] = nx, out->dir[1][i] = ny, out->dir[2][i] = nz;
     if (kPointOrg) {
       out->dorg_du[0][i] = point_du.x, out->dorg_du[1][i] = point_du.y;
       out->dorg_du[2][i] = point_du.z;
       out->dorg_dv[0][i] = point_dv.x, out->dorg_dv[1][i] = point_dv.y;
       out->dorg_dv[2][i] = point_dv.z;
     }
+    // A zero-length or non-finite direction, or a non-finite origin, means no ray (never NaN);
+    // x * 0 == 0 holds exactly for finite x.
+    if (kUnit) {
+      lens[i] = dx * dx + dy * dy + dz * dz;  // 1, or 0 for a function's zero vector
+      finite[i] = (dx + dy + dz) * 0 + (ox + oy + oz) * 0;
+      out->dir[0][i] = dx, out->dir[1][i] = dy, out->dir[2][i] = dz;
+      out->ddir_du[0][i] = ux, out->ddir_du[1][i] = uy, out->ddir_du[2][i] = uz;
+      out->ddir_dv[0][i] = vx, out->ddir_dv[1][i] = vy, out->ddir_dv[2][i] = vz;
+      continue;
+    }
+    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double inv = 1 / len;
+    lens[i] = len;
+    finite[i] = len * 0 + (ox + oy + oz) * 0;
+    const double nx = dx * inv, ny = dy * inv, nz = dz * inv;
+    out->dir[0][i] = nx, out->dir[1][i] = ny, out->dir[2][i] = nz;
     // d(d/|d|) = (dd - n (n . dd)) / |d|
     const double pu = nx * ux + ny * uy + nz * uz, pv = nx * vx + ny * vy + nz * vz;
     out->ddir_du[0][i] = (ux - nx * pu) * inv, out->ddir_du[1][i] = (uy - ny * pu) * inv,
@@ -313,31 +334,45 @@ template <bool kPointOrg, bool kIdentity>
     out->ddir_dv[0][i] = (vx - nx * pv) * inv, out->ddir_dv[1][i] = (vy - ny * pv) * inv,
     out->ddir_dv[2][i] = (vz - nz * pv) * inv;
   }
-  for (int i = 0; i < n; ++i)
-    out->valid[i] = (lens[i] > 0) & (finite[i] == 0) & b.ok[i] & (kPointOrg || org.ok[i]);
+  // Two loops: comparisons of doubles and ANDs of bools each vectorize, mixed they stay scalar.
+  for (int i = 0; i < n; ++i) out->valid[i] = (lens[i] > 0) & (finite[i] == 0);
+  for (int i = 0; i < n; ++i) out->valid[i] = out->valid[i] & b.ok[i] & (kPointOrg || org.ok[i]);
 }
 
+// How finish_rays is instantiated for a camera: with or without a rig to apply, with or without
+// normalization.
+struct FinishMode {
+  bool identity, unit;
+};
+
 template <bool kPointOrg>
-[[gnu::always_inline]] inline void finish_rays_any_rig(const Rig& t, bool identity,
+[[gnu::always_inline]] inline void finish_rays_any_rig(const Rig& t, FinishMode mode,
                                                        const SurfaceBatch& org, const DirBatch& b,
                                                        int n, CameraRayBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
-        if (identity)
-          finish_rays<kPointOrg, true>(t, org, b, m, out);
-        else
-          finish_rays<kPointOrg, false>(t, org, b, m, out);
+        if (mode.identity) {
+          if (mode.unit)
+            finish_rays<kPointOrg, true, true>(t, org, b, m, out);
+          else
+            finish_rays<kPointOrg, true, false>(t, org, b, m, out);
+        } else {
+          if (mode.unit)
+            finish_rays<kPointOrg, false, true>(t, org, b, m, out);
+          else
+            finish_rays<kPointOrg, false, false>(t, org, b, m, out);
+        }
       });
 }
 
-ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, bool identity, const SurfaceBatch& org,
+ANAMORPH_SIMD_CLONES void finish_point_org(const Rig& t, FinishMode mode, const SurfaceBatch& org,
                                            const DirBatch& b, int n, CameraRayBatch* out) {
-  finish_rays_any_rig<true>(t, identity, org, b, n, out);
+  finish_rays_any_rig<true>(t, mode, org, b, n, out);
 }
 
-ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, bool identity, const SurfaceBatch& org,
+ANAMORPH_SIMD_CLONES void finish_any_org(const Rig& t, FinishMode mode, const SurfaceBatch& org,
                                          const DirBatch& b, int n, CameraRayBatch* out) {
-  finish_rays_any_rig<false>(t, identity, org, b, n, out);
+  finish_rays_any_rig<false>(t, mode, org, b, n, out);
 }
 
 }  // namespace
@@ -356,11 +391,12 @@ const SurfaceBatch& VirtualCamera::eval_functions(const double* u, const double*
 void VirtualCamera::finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
                            CameraRayBatch* out) const {
   const Rig& rig = camera_space ? camera34_ : rig34_;
-  const bool identity = camera_space || rig_identity_;
+  const FinishMode mode{camera_space || rig_identity_,
+                        unit_dirs_ && (camera_space || rig_identity_ || rig_rotation_)};
   if (point_org_)
-    finish_point_org(rig, identity, org, dir, n, out);
+    finish_point_org(rig, mode, org, dir, n, out);
   else
-    finish_any_org(rig, identity, org, dir, n, out);
+    finish_any_org(rig, mode, org, dir, n, out);
 }
 
 void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,

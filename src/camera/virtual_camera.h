@@ -120,6 +120,8 @@ class VirtualCamera final : public Camera {
   Transform world_from_camera_;
   bool rig_identity_;
   bool rig_affine_;                 // no projective row: plain_rays applies it as 3x4
+  bool rig_rotation_ = false;       // its 3x3 part is orthonormal (keeps lengths)
+  bool unit_dirs_ = false;          // dir_->unit_length(): the finish need not normalize
   AffineRig rig34_{}, camera34_{};  // that 3x4, and the identity (camera space)
   bool point_org_ = false;  // org is one point (most presets): evaluated once, in every lane
   std::unique_ptr<SurfaceBatch> point_batch_;

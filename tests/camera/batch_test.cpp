@@ -2,9 +2,12 @@
 // preset, a free-form camera with dependent directions, and coins.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "camera/presets.h"
+#include "camera/virtual_camera.h"
 #include "math/rng.h"
 #include "preset_test_util.h"
 #include "scene/scene_loader.h"
@@ -82,6 +85,53 @@ TEST(CameraBatch, FreeFormNormalAndCoinsSameBitsAsOneByOne) {
       "radius = 0.2\nstrength = 0.8\n",
       "fisheye_coin.toml");
   expect_batch_equals_single(*fisheye_coin.camera, "fisheye + coin");
+}
+
+// Direction functions that claim unit length (the finish then skips normalizing) must return
+// unit vectors with perpendicular derivatives; and a rig that scales must still get unit rays.
+TEST(CameraBatch, UnitLengthClaimsHoldAndScaledRigsStillNormalize) {
+  const std::pair<const char*, const char*> claims[] = {
+      {"fisheye", "fov = 220"},
+      {"mirror_ball", ""},
+      {"equirectangular", ""},
+      {"lambert_equal_area", ""},
+      {"ods", "pole_merge = [60, 80]"},
+      {"opencv_fisheye", "fx = 300\nfy = 300\nk1 = 0.05"},
+      {"cylindrical", "projection = \"orthographic\""}};
+  Rng rng(9, 10);
+  for (const auto& [name, toml] : claims) {
+    VirtualCameraParts parts = make_preset(name, toml, {640, 480});
+    ASSERT_TRUE(parts.dir->unit_length()) << name;
+    int checked = 0;
+    for (int k = 0; k < 400; ++k) {
+      const Vec2 uv{rng.uniform(), rng.uniform()};
+      SurfaceSample o;
+      DirSample d;
+      if (!parts.org->eval(uv, &o) || !parts.dir->eval(uv, o, &d)) continue;
+      ++checked;
+      EXPECT_NEAR(length(d.d), 1, 4e-16) << name << " at " << test::str(uv);
+      const double scale = 1 + length(d.dd_du) + length(d.dd_dv);
+      EXPECT_LT(std::abs(dot(d.d, d.dd_du)) + std::abs(dot(d.d, d.dd_dv)), 1e-13 * scale)
+          << name << " at " << test::str(uv) << " d " << test::str(d.d) << " dd_du "
+          << test::str(d.dd_du) << " dd_dv " << test::str(d.dd_dv);
+    }
+    EXPECT_GT(checked, 100) << name;
+    // The same function under a rig that scales by 3: the finish must normalize again.
+    parts.world_from_camera = Transform::scale({3, 3, 3}) * parts.world_from_camera;
+    const VirtualCamera cam(std::move(parts));
+    CameraSample s[16];
+    for (auto& x : s) x.uv = {rng.uniform(), rng.uniform()};
+    CameraRayBatch b;
+    cam.generate_batch(s, 16, &b);
+    for (int i = 0; i < 16; ++i) {
+      if (!b.valid[i]) continue;
+      EXPECT_NEAR(length(b.direction(i)), 1, 1e-15)
+          << name << " scaled rig at " << test::str(s[i].uv);
+    }
+  }
+  // And a direction function that is not unit (the cylinder) does not claim it.
+  EXPECT_FALSE(make_preset("cylindrical", "", {640, 480}).dir->unit_length());
+  EXPECT_FALSE(make_preset("dome", "eye_offset = [0, 0.2, 0]", {640, 480}).dir->unit_length());
 }
 
 }  // namespace anamorph
