@@ -3,6 +3,7 @@
 // (when ../shared is present). docs/performance.md quotes the ratio.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -10,6 +11,7 @@
 
 #include "accel/accel.h"
 #include "camera/presets.h"
+#include "math/simd.h"
 #include "scene/scene_loader.h"
 
 namespace anamorph {
@@ -104,6 +106,62 @@ static void BM_BSplineNormal(benchmark::State& state) {
     generate_all(state, *s.camera);
 }
 BENCHMARK(BM_BSplineNormal)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// What any camera pays before its own math: a packet kernel that writes the renderer's full ray
+// (origin, unit direction and four derivative vectors: 18 doubles per ray) with no camera in it
+// (kNormalize 0: the values are copies of u and v), or that also normalizes its direction (one
+// square root and one division per ray, as every camera whose directions are not unit does).
+template <int kNormalize>
+[[gnu::always_inline]] inline void floor_kernel(const double* __restrict u,
+                                                const double* __restrict v,
+                                                CameraRayBatch* __restrict o) {
+  // (Values computed from u and v, constants that are no byte pattern: GCC would otherwise turn
+  // whole loops into memset and memcpy calls, which is not what a camera kernel does.)
+  for (int i = 0; i < kCameraBatch; ++i) {
+    double a = u[i] + 0.5, b = v[i] + 0.5, c = -1;
+    if (kNormalize) {
+      const double inv = 1 / std::sqrt(a * a + b * b + 1);
+      a *= inv, b *= inv, c *= inv;
+    }
+    o->org[0][i] = 1, o->org[1][i] = 2, o->org[2][i] = 3;
+    o->dir[0][i] = a, o->dir[1][i] = b, o->dir[2][i] = c;
+    o->dorg_du[0][i] = 0.5, o->dorg_du[1][i] = 1.5, o->dorg_du[2][i] = 2.5;
+    o->dorg_dv[0][i] = 0.5, o->dorg_dv[1][i] = 1.5, o->dorg_dv[2][i] = 2.5;
+    o->ddir_du[0][i] = b, o->ddir_du[1][i] = a, o->ddir_du[2][i] = c;
+    o->ddir_dv[0][i] = c, o->ddir_dv[1][i] = b, o->ddir_dv[2][i] = a;
+  }
+  for (int i = 0; i < kCameraBatch; ++i) o->valid[i] = u[i] >= 0;
+}
+ANAMORPH_SIMD_CLONES void write_rays(const double* u, const double* v, CameraRayBatch* o) {
+  floor_kernel<0>(u, v, o);
+}
+ANAMORPH_SIMD_CLONES void write_normalized_rays(const double* u, const double* v,
+                                                CameraRayBatch* o) {
+  floor_kernel<1>(u, v, o);
+}
+
+// state.range(0): 0 = writing the rays only, 1 = with one normalization per ray.
+static void BM_OutputFloor(benchmark::State& state) {
+  std::vector<double> us(kW), vs(kH);
+  for (int x = 0; x < kW; ++x) us[size_t(x)] = (x + 0.5) / kW;
+  for (int y = 0; y < kH; ++y) vs[size_t(y)] = (y + 0.5) / kH;
+  double u[kCameraBatch], v[kCameraBatch];
+  CameraRayBatch out;
+  for (auto _ : state)
+    for (int y = 0; y < kH; y += 4)
+      for (int x = 0; x < kW; x += 4) {
+        for (int k = 0; k < 16; ++k)
+          u[k] = us[size_t(x + (k & 3))], v[k] = vs[size_t(y + (k >> 2))];
+        if (state.range(0))
+          write_normalized_rays(u, v, &out);
+        else
+          write_rays(u, v, &out);
+        benchmark::DoNotOptimize(&out);
+        benchmark::ClobberMemory();
+      }
+  state.SetItemsProcessed(state.iterations() * kW * kH);
+}
+BENCHMARK(BM_OutputFloor)->ArgName("normalize")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // The denominator: tracing 1920x1080 primary rays through the bunny, 4x4 packets, one thread.
 static void BM_TraceBunny1080p(benchmark::State& state) {
