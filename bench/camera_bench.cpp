@@ -140,28 +140,59 @@ ANAMORPH_SIMD_CLONES void write_normalized_rays(const double* u, const double* v
   floor_kernel<1>(u, v, o);
 }
 
-// state.range(0): 0 = writing the rays only, 1 = with one normalization per ray.
+// The same rays in single precision (what a float ray format would cost; the renderer's rays are
+// doubles).
+struct FloatRayBatch {
+  float org[3][kCameraBatch], dir[3][kCameraBatch];
+  float dorg_du[3][kCameraBatch], dorg_dv[3][kCameraBatch];
+  float ddir_du[3][kCameraBatch], ddir_dv[3][kCameraBatch];
+  bool valid[kCameraBatch];
+};
+ANAMORPH_SIMD_CLONES void write_float_rays(const double* u, const double* v, FloatRayBatch* o) {
+  for (int i = 0; i < kCameraBatch; ++i) {
+    const float a = float(u[i]) + 0.5f, b = float(v[i]) + 0.5f, c = -1;
+    o->org[0][i] = 1, o->org[1][i] = 2, o->org[2][i] = 3;
+    o->dir[0][i] = a, o->dir[1][i] = b, o->dir[2][i] = c;
+    o->dorg_du[0][i] = 0.5, o->dorg_du[1][i] = 1.5, o->dorg_du[2][i] = 2.5;
+    o->dorg_dv[0][i] = 0.5, o->dorg_dv[1][i] = 1.5, o->dorg_dv[2][i] = 2.5;
+    o->ddir_du[0][i] = b, o->ddir_du[1][i] = a, o->ddir_du[2][i] = c;
+    o->ddir_dv[0][i] = c, o->ddir_dv[1][i] = b, o->ddir_dv[2][i] = a;
+  }
+  for (int i = 0; i < kCameraBatch; ++i) o->valid[i] = u[i] >= 0;
+}
+
+// state.range(0): 0 = writing the rays only, 1 = with one normalization per ray, 2 = writing
+// them in single precision.
 static void BM_OutputFloor(benchmark::State& state) {
   std::vector<double> us(kW), vs(kH);
   for (int x = 0; x < kW; ++x) us[size_t(x)] = (x + 0.5) / kW;
   for (int y = 0; y < kH; ++y) vs[size_t(y)] = (y + 0.5) / kH;
   double u[kCameraBatch], v[kCameraBatch];
   CameraRayBatch out;
+  FloatRayBatch out_float;
   for (auto _ : state)
     for (int y = 0; y < kH; y += 4)
       for (int x = 0; x < kW; x += 4) {
         for (int k = 0; k < 16; ++k)
           u[k] = us[size_t(x + (k & 3))], v[k] = vs[size_t(y + (k >> 2))];
-        if (state.range(0))
+        if (state.range(0) == 2)
+          write_float_rays(u, v, &out_float);
+        else if (state.range(0) == 1)
           write_normalized_rays(u, v, &out);
         else
           write_rays(u, v, &out);
         benchmark::DoNotOptimize(&out);
+        benchmark::DoNotOptimize(&out_float);
         benchmark::ClobberMemory();
       }
   state.SetItemsProcessed(state.iterations() * kW * kH);
 }
-BENCHMARK(BM_OutputFloor)->ArgName("normalize")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OutputFloor)
+    ->ArgName("variant")
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond);
 
 // The denominator: tracing 1920x1080 primary rays through the bunny, 4x4 packets, one thread.
 static void BM_TraceBunny1080p(benchmark::State& state) {
