@@ -107,20 +107,29 @@ static void BM_BSplineNormal(benchmark::State& state) {
 }
 BENCHMARK(BM_BSplineNormal)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The same rays in single precision (what a float ray format would cost; the renderer's rays are
+// doubles).
+struct FloatRayBatch {
+  float org[3][kCameraBatch], dir[3][kCameraBatch];
+  float dorg_du[3][kCameraBatch], dorg_dv[3][kCameraBatch];
+  float ddir_du[3][kCameraBatch], ddir_dv[3][kCameraBatch];
+  bool valid[kCameraBatch];
+};
+
 // What any camera pays before its own math: a packet kernel that writes the renderer's full ray
-// (origin, unit direction and four derivative vectors: 18 doubles per ray) with no camera in it
-// (kNormalize 0: the values are copies of u and v), or that also normalizes its direction (one
-// square root and one division per ray, as every camera whose directions are not unit does).
-template <int kNormalize>
+// (origin, unit direction and four derivative vectors: 18 doubles per ray, or floats with
+// FloatRayBatch) with no camera in it (kNormalize 0: the values are copies of u and v), or that
+// also normalizes its direction (one square root and one division per ray, as every camera
+// whose directions are not unit does).
+template <class T, int kNormalize, class Batch>
 [[gnu::always_inline]] inline void floor_kernel(const double* __restrict u,
-                                                const double* __restrict v,
-                                                CameraRayBatch* __restrict o) {
+                                                const double* __restrict v, Batch* __restrict o) {
   // (Values computed from u and v, constants that are no byte pattern: GCC would otherwise turn
   // whole loops into memset and memcpy calls, which is not what a camera kernel does.)
   for (int i = 0; i < kCameraBatch; ++i) {
-    double a = u[i] + 0.5, b = v[i] + 0.5, c = -1;
+    T a = T(u[i]) + T(0.5), b = T(v[i]) + T(0.5), c = -1;
     if (kNormalize) {
-      const double inv = 1 / std::sqrt(a * a + b * b + 1);
+      const T inv = 1 / std::sqrt(a * a + b * b + 1);
       a *= inv, b *= inv, c *= inv;
     }
     o->org[0][i] = 1, o->org[1][i] = 2, o->org[2][i] = 3;
@@ -133,32 +142,14 @@ template <int kNormalize>
   for (int i = 0; i < kCameraBatch; ++i) o->valid[i] = u[i] >= 0;
 }
 ANAMORPH_SIMD_CLONES void write_rays(const double* u, const double* v, CameraRayBatch* o) {
-  floor_kernel<0>(u, v, o);
+  floor_kernel<double, 0>(u, v, o);
 }
 ANAMORPH_SIMD_CLONES void write_normalized_rays(const double* u, const double* v,
                                                 CameraRayBatch* o) {
-  floor_kernel<1>(u, v, o);
+  floor_kernel<double, 1>(u, v, o);
 }
-
-// The same rays in single precision (what a float ray format would cost; the renderer's rays are
-// doubles).
-struct FloatRayBatch {
-  float org[3][kCameraBatch], dir[3][kCameraBatch];
-  float dorg_du[3][kCameraBatch], dorg_dv[3][kCameraBatch];
-  float ddir_du[3][kCameraBatch], ddir_dv[3][kCameraBatch];
-  bool valid[kCameraBatch];
-};
 ANAMORPH_SIMD_CLONES void write_float_rays(const double* u, const double* v, FloatRayBatch* o) {
-  for (int i = 0; i < kCameraBatch; ++i) {
-    const float a = float(u[i]) + 0.5f, b = float(v[i]) + 0.5f, c = -1;
-    o->org[0][i] = 1, o->org[1][i] = 2, o->org[2][i] = 3;
-    o->dir[0][i] = a, o->dir[1][i] = b, o->dir[2][i] = c;
-    o->dorg_du[0][i] = 0.5, o->dorg_du[1][i] = 1.5, o->dorg_du[2][i] = 2.5;
-    o->dorg_dv[0][i] = 0.5, o->dorg_dv[1][i] = 1.5, o->dorg_dv[2][i] = 2.5;
-    o->ddir_du[0][i] = b, o->ddir_du[1][i] = a, o->ddir_du[2][i] = c;
-    o->ddir_dv[0][i] = c, o->ddir_dv[1][i] = b, o->ddir_dv[2][i] = a;
-  }
-  for (int i = 0; i < kCameraBatch; ++i) o->valid[i] = u[i] >= 0;
+  floor_kernel<float, 0>(u, v, o);
 }
 
 // state.range(0): 0 = writing the rays only, 1 = with one normalization per ray, 2 = writing
