@@ -250,9 +250,9 @@ struct NewtonLanes {
   for (int i = 0; i < n; ++i) {
     const double idet = 1 / (S.jxx[i] * S.jyy[i] - S.jyx[i] * S.jxy[i]);
     out->d[0][i] = S.px[i], out->d[1][i] = -S.py[i], out->d[2][i] = -1;
-    out->du[0][i] = S.jyy[i] * idet * su, out->du[1][i] = -(-S.jxy[i] * idet * su);
+    out->du[0][i] = S.jyy[i] * idet * su, out->du[1][i] = S.jxy[i] * idet * su;
     out->du[2][i] = 0;
-    out->dv[0][i] = -S.jyx[i] * idet * sv, out->dv[1][i] = -(S.jxx[i] * idet * sv);
+    out->dv[0][i] = -S.jyx[i] * idet * sv, out->dv[1][i] = -S.jxx[i] * idet * sv;
     out->dv[2][i] = 0;
   }
   for (int i = 0; i < n; ++i) out->ok[i] = S.ok[i] != 0;
@@ -267,8 +267,8 @@ ANAMORPH_SIMD_CLONES void pinhole_dirs(const Intrinsics& in, const BrownConrady&
         NewtonLanes S;
         const Intrinsics K = in;
         for (int i = 0; i < m; ++i) {
-          S.tx[i] = (u[i] * K.w - 0.5 - K.cx) / K.fx;  // Intrinsics::distorted
-          S.ty[i] = (v[i] * K.h - 0.5 - K.cy) / K.fy;
+          const Vec2 t = K.distorted({u[i], v[i]});
+          S.tx[i] = t.x, S.ty[i] = t.y;
         }
         undistort_kernel(D, S, m);
         pinhole_kernel(K, S, m, out);

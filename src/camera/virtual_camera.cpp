@@ -391,8 +391,9 @@ const SurfaceBatch& VirtualCamera::eval_functions(const double* u, const double*
 void VirtualCamera::finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
                            CameraRayBatch* out) const {
   const Rig& rig = camera_space ? camera34_ : rig34_;
+  // (The identity is a rotation too.)
   const FinishMode mode{camera_space || rig_identity_,
-                        unit_dirs_ && (camera_space || rig_identity_ || rig_rotation_)};
+                        unit_dirs_ && (camera_space || rig_rotation_)};
   if (point_org_)
     finish_point_org(rig, mode, org, dir, n, out);
   else

@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "camera/presets.h"
 #include "camera/virtual_camera.h"
@@ -98,9 +100,16 @@ TEST(CameraBatch, UnitLengthClaimsHoldAndScaledRigsStillNormalize) {
       {"ods", "pole_merge = [60, 80]"},
       {"opencv_fisheye", "fx = 300\nfy = 300\nk1 = 0.05"},
       {"cylindrical", "projection = \"orthographic\""}};
+  // The presets above, and the dependent normal direction on a sphere of radius 2.
+  std::vector<std::pair<std::string, VirtualCameraParts>> cases;
+  for (const auto& [name, toml] : claims)
+    cases.emplace_back(name, make_preset(name, toml, {640, 480}));
+  VirtualCameraParts normal;
+  normal.org = make_org("sphere", "radius = 2");
+  normal.dir = make_dir("normal");
+  cases.emplace_back("sphere + normal", std::move(normal));
   Rng rng(9, 10);
-  for (const auto& [name, toml] : claims) {
-    VirtualCameraParts parts = make_preset(name, toml, {640, 480});
+  for (auto& [name, parts] : cases) {
     ASSERT_TRUE(parts.dir->unit_length()) << name;
     int checked = 0;
     for (int k = 0; k < 400; ++k) {
