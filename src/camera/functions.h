@@ -95,6 +95,14 @@ class OrgFunction {
   // n <= kCameraBatch samples at (u[i], v[i]): lane i and ok[i] as eval would give them, bit for
   // bit (a lane without ray all zero). The default loops over eval.
   virtual void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const;
+  // The same with only p, dpdu, dpdv and ok filled in (bit for bit as eval_batch), the other
+  // fields unspecified: what the camera asks for when its direction function reads no more of
+  // the origin (DirFunction::reads_org_beyond_first_order), since writing the normal and second
+  // derivatives costs more stores than the ray itself. The default is eval_batch.
+  virtual void eval_batch_first_order(const double* u, const double* v, int n,
+                                      SurfaceBatch* out) const {
+    eval_batch(u, v, n, out);
+  }
 };
 
 class DirFunction {
@@ -116,6 +124,11 @@ class DirFunction {
   // normalizing (a square root and a division per ray, most of a cheap camera's cost) whenever
   // its rig keeps lengths. A zero direction still means no ray.
   virtual bool unit_length() const { return false; }
+
+  // Whether eval reads more of its origin sample than p, dpdu and dpdv (the normal, its
+  // derivatives or the second derivatives, as the dependent directions do). When false the
+  // camera gets its origins from OrgFunction::eval_batch_first_order.
+  virtual bool reads_org_beyond_first_order() const { return true; }
 };
 
 // Batches as a loop over eval. With F a final class the calls are direct (no virtual dispatch

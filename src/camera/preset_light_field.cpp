@@ -51,50 +51,94 @@ struct TileGeometry {
   }
 };
 
-// A batch's tiles: origin (x, y; z is 0) and the position inside the tile, one lane at a time
-// (integer tile indices and the eye table do not vectorize), as eval computes them.
+// A batch's tiles: the position inside the tile and (kOrigin) the tile's origin (x, y; z is 0),
+// as eval computes them. tile_of's floor, clamped, written so that the loops vectorize (one
+// lane at a time this was most of the camera's time); the eye table is read by a gather.
 struct TileLanes {
   static constexpr int N = kCameraBatch;
   double ox[N], oy[N], s[N], t[N];
 };
-void tile_lanes(const TileGeometry& g, const double* u, const double* v, int n, TileLanes* out) {
+template <bool kOrigin>
+[[gnu::always_inline]] inline void tile_lanes(const TileGeometry& g, const double* __restrict u,
+                                              const double* __restrict v, int n,
+                                              TileLanes* __restrict out) {
+  const int cols = g.cols, rows = g.rows;
+  const double last_col = cols - 1, last_row = rows - 1;
+  alignas(64) double fx[kCameraBatch], fy[kCameraBatch];
   for (int i = 0; i < n; ++i) {
-    const TileCoord t = tile_of({u[i], v[i]}, g.cols, g.rows);
-    const Vec3 o = g.origin(t.col, t.row);
-    out->ox[i] = o.x, out->oy[i] = o.y, out->s[i] = t.st.x, out->t[i] = t.st.y;
+    const double x = u[i] * cols, y = v[i] * rows;
+    // Clamped first, truncation equals floor. Comparisons, not std::max: a NaN position lands
+    // in tile 0 (and is rejected by the callers' checks), infinities in the edge tiles. (Selects
+    // and conversions in one loop leave GCC with branches.)
+    const double cx = x > 0 ? x : 0.0, cy = y > 0 ? y : 0.0;
+    fx[i] = cx < last_col ? cx : last_col, fy[i] = cy < last_row ? cy : last_row;
+  }
+  int col[kCameraBatch], row[kCameraBatch];
+  for (int i = 0; i < n; ++i) {
+    col[i] = int(fx[i]), row[i] = int(fy[i]);
+    out->s[i] = u[i] * cols - col[i], out->t[i] = v[i] * rows - row[i];
+  }
+  if (!kOrigin) return;
+  if (g.light_field) {
+    const double* __restrict eye = g.eye_x.data();
+    for (int i = 0; i < n; ++i)
+      out->ox[i] = eye[(rows - 1 - row[i]) * cols + col[i]], out->oy[i] = 0;
+  } else {
+    for (int i = 0; i < n; ++i) {
+      out->ox[i] = (col[i] + 0.5 - 0.5 * cols) * g.pitch.x;
+      out->oy[i] = (0.5 * rows - row[i] - 0.5) * g.pitch.y;
+    }
   }
 }
 
-ANAMORPH_SIMD_CLONES void tile_orgs(const TileLanes& l, int n, SurfaceBatch* out) {
+// kFirstOrder: only what the finishing pass reads (OrgFunction::eval_batch_first_order); the
+// normal and second-derivative fields are zero otherwise.
+template <bool kFirstOrder>
+[[gnu::always_inline]] inline void tile_orgs(const TileGeometry& g, const double* u,
+                                             const double* v, int n, SurfaceBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
+        TileLanes l;
+        tile_lanes<true>(g, u, v, m, &l);
         for (int i = 0; i < m; ++i) {
           out->p[0][i] = l.ox[i], out->p[1][i] = l.oy[i], out->p[2][i] = 0;
-          for (int c = 0; c < 3; ++c)
-            out->dpdu[c][i] = out->dpdv[c][i] = out->n[c][i] = out->dndu[c][i] = out->dndv[c][i] =
-                out->dpduu[c][i] = out->dpduv[c][i] = out->dpdvv[c][i] = 0;
-          out->ok[i] = true;
+          for (int c = 0; c < 3; ++c) out->dpdu[c][i] = out->dpdv[c][i] = 0;
+          if (!kFirstOrder)
+            for (int c = 0; c < 3; ++c)
+              out->n[c][i] = out->dndu[c][i] = out->dndv[c][i] = out->dpduu[c][i] =
+                  out->dpduv[c][i] = out->dpdvv[c][i] = 0;
         }
+        for (int i = 0; i < m; ++i) out->ok[i] = true;
       });
 }
+ANAMORPH_SIMD_CLONES void tile_orgs_all(const TileGeometry& g, const double* u, const double* v,
+                                        int n, SurfaceBatch* out) {
+  tile_orgs<false>(g, u, v, n, out);
+}
+ANAMORPH_SIMD_CLONES void tile_orgs_first_order(const TileGeometry& g, const double* u,
+                                                const double* v, int n, SurfaceBatch* out) {
+  tile_orgs<true>(g, u, v, n, out);
+}
 
-// TileGeometry::direction for a batch (the tile's own origin, not the sample's, which coins may
-// have moved).
-ANAMORPH_SIMD_CLONES void tile_dirs(const TileGeometry& geo, const TileLanes& l, int n,
-                                    DirBatch* out) {
+// TileGeometry::direction for a batch, with the tile origins the origin function gave (before
+// coins, which deform the finished rays).
+ANAMORPH_SIMD_CLONES void tile_dirs(const TileGeometry& geo, const double* u, const double* v,
+                                    int n, const SurfaceBatch& org, DirBatch* out) {
   const bool lf = geo.light_field;
   const Vec2 h = lf ? geo.half_window : geo.half_field;
   const double z = lf ? -geo.focus : -1.0, cols = geo.cols, rows = geo.rows;
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
+        TileLanes l;
+        tile_lanes<false>(geo, u, v, m, &l);
         for (int i = 0; i < m; ++i) {
           const double x = (2 * l.s[i] - 1) * h.x, y = (1 - 2 * l.t[i]) * h.y;
-          out->d[0][i] = lf ? x - l.ox[i] : x, out->d[1][i] = lf ? y - l.oy[i] : y;
-          out->d[2][i] = lf ? z - 0.0 : z;
+          out->d[0][i] = lf ? x - org.p[0][i] : x, out->d[1][i] = lf ? y - org.p[1][i] : y;
+          out->d[2][i] = lf ? z - org.p[2][i] : z;
           out->du[0][i] = 2 * h.x * cols, out->du[1][i] = 0 * cols, out->du[2][i] = 0 * cols;
           out->dv[0][i] = 0 * rows, out->dv[1][i] = -2 * h.y * rows, out->dv[2][i] = 0 * rows;
-          out->ok[i] = true;
         }
+        for (int i = 0; i < m; ++i) out->ok[i] = true;
       });
 }
 
@@ -105,9 +149,11 @@ class TileOrg final : public OrgFunction {
     return eval_as_batch_of_one(*this, uv, out);
   }
   void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
-    TileLanes l;
-    tile_lanes(g_, u, v, n, &l);
-    tile_orgs(l, n, out);
+    tile_orgs_all(g_, u, v, n, out);
+  }
+  void eval_batch_first_order(const double* u, const double* v, int n,
+                              SurfaceBatch* out) const override {
+    tile_orgs_first_order(g_, u, v, n, out);
   }
 
  private:
@@ -120,12 +166,11 @@ class TileDir final : public DirFunction {
   bool eval(Vec2 uv, const SurfaceSample& org, DirSample* out) const override {
     return eval_as_batch_of_one(*this, uv, org, out);
   }
-  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch&,
+  void eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
                   DirBatch* out) const override {
-    TileLanes l;
-    tile_lanes(g_, u, v, n, &l);
-    tile_dirs(g_, l, n, out);
+    tile_dirs(g_, u, v, n, org, out);
   }
+  bool reads_org_beyond_first_order() const override { return false; }  // only p
 
  private:
   TileGeometry g_;

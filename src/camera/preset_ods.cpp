@@ -79,7 +79,8 @@ template <bool sbs>
   return l;
 }
 
-template <bool sbs>
+// kFirstOrder: p, dpdu, dpdv and ok only (OrgFunction::eval_batch_first_order).
+template <bool sbs, bool kFirstOrder>
 [[gnu::always_inline]] inline void ods_org_kernel(const OdsGeometry& geo,
                                                   const double* __restrict u,
                                                   const double* __restrict v, int n,
@@ -101,6 +102,7 @@ template <bool sbs>
     out->p[0][i] = c * r, out->p[1][i] = 0, out->p[2][i] = s * r;
     out->dpdu[0][i] = -s * ru, out->dpdu[1][i] = 0, out->dpdu[2][i] = c * ru;
     out->dpdv[0][i] = c * Rv[i], out->dpdv[1][i] = 0, out->dpdv[2][i] = s * Rv[i];
+    if (kFirstOrder) continue;
     const double ruu = -R[i] * lu[i] * lu[i], ruv = Rv[i] * lu[i];
     out->dpduu[0][i] = c * ruu, out->dpduu[1][i] = 0, out->dpduu[2][i] = s * ruu;
     out->dpduv[0][i] = -s * ruv, out->dpduv[1][i] = 0, out->dpduv[2][i] = c * ruv;
@@ -110,15 +112,24 @@ template <bool sbs>
   for (int i = 0; i < n; ++i) out->ok[i] = true;
 }
 
-ANAMORPH_SIMD_CLONES void ods_orgs(const OdsGeometry& g, const double* u, const double* v, int n,
-                                   SurfaceBatch* out) {
+template <bool kFirstOrder>
+[[gnu::always_inline]] inline void ods_orgs(const OdsGeometry& g, const double* u, const double* v,
+                                            int n, SurfaceBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         if (g.side_by_side)
-          ods_org_kernel<true>(g, u, v, m, out);
+          ods_org_kernel<true, kFirstOrder>(g, u, v, m, out);
         else
-          ods_org_kernel<false>(g, u, v, m, out);
+          ods_org_kernel<false, kFirstOrder>(g, u, v, m, out);
       });
+}
+ANAMORPH_SIMD_CLONES void ods_orgs_all(const OdsGeometry& g, const double* u, const double* v,
+                                       int n, SurfaceBatch* out) {
+  ods_orgs<false>(g, u, v, n, out);
+}
+ANAMORPH_SIMD_CLONES void ods_orgs_first_order(const OdsGeometry& g, const double* u,
+                                               const double* v, int n, SurfaceBatch* out) {
+  ods_orgs<true>(g, u, v, n, out);
 }
 
 template <bool sbs>
@@ -157,7 +168,11 @@ class OdsOrg final : public OrgFunction {
     return eval_as_batch_of_one(*this, uv, out);
   }
   void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
-    ods_orgs(g_, u, v, n, out);
+    ods_orgs_all(g_, u, v, n, out);
+  }
+  void eval_batch_first_order(const double* u, const double* v, int n,
+                              SurfaceBatch* out) const override {
+    ods_orgs_first_order(g_, u, v, n, out);
   }
 
  private:
@@ -175,6 +190,7 @@ class OdsDir final : public DirFunction {
     ods_dirs(g_, u, v, n, out);
   }
   bool unit_length() const override { return true; }  // a point of the unit sphere
+  bool reads_org_beyond_first_order() const override { return false; }  // reads none of it
 
  private:
   OdsGeometry g_;

@@ -35,6 +35,7 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
     }
   rig_rotation_ = rig_affine_ && worst < 1e-15;
   unit_dirs_ = dir_->unit_length();
+  org_first_order_ = !dir_->reads_org_beyond_first_order();
   detect_linear_field();
   detect_point_origin();
   if (!parts.coins.empty()) {
@@ -383,7 +384,10 @@ const SurfaceBatch& VirtualCamera::eval_functions(const double* u, const double*
     dir_->eval_batch(u, v, n, *point_batch_, dir);
     return *point_batch_;
   }
-  org_->eval_batch(u, v, n, org);
+  if (org_first_order_)
+    org_->eval_batch_first_order(u, v, n, org);
+  else
+    org_->eval_batch(u, v, n, org);
   dir_->eval_batch(u, v, n, *org, dir);
   return *org;
 }

@@ -122,6 +122,7 @@ class VirtualCamera final : public Camera {
   bool rig_affine_;                 // no projective row: plain_rays applies it as 3x4
   bool rig_rotation_ = false;       // its 3x3 part is orthonormal (keeps lengths)
   bool unit_dirs_ = false;          // dir_->unit_length(): the finish need not normalize
+  bool org_first_order_ = false;    // dir_ reads only p, dpdu, dpdv of its origin samples
   AffineRig rig34_{}, camera34_{};  // that 3x4, and the identity (camera space)
   bool point_org_ = false;  // org is one point (most presets): evaluated once, in every lane
   std::unique_ptr<SurfaceBatch> point_batch_;

@@ -2,6 +2,7 @@
 // preset, a free-form camera with dependent directions, and coins.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -141,6 +142,48 @@ TEST(CameraBatch, UnitLengthClaimsHoldAndScaledRigsStillNormalize) {
   // And a direction function that is not unit (the cylinder) does not claim it.
   EXPECT_FALSE(make_preset("cylindrical", "", {640, 480}).dir->unit_length());
   EXPECT_FALSE(make_preset("dome", "eye_offset = [0, 0.2, 0]", {640, 480}).dir->unit_length());
+}
+
+// Directions that say they read only p, dpdu, dpdv of their origins get the first-order origin
+// batch: its fields are eval_batch's bit for bit, and the directions are the same bits when every
+// other field of the origin batch is NaN.
+TEST(CameraBatch, FirstOrderOriginsAreEnoughForDirectionsThatSaySo) {
+  int claiming = 0;
+  for (const auto& c : test::preset_cases()) {
+    const VirtualCameraParts parts = make_preset(c.preset, c.toml, c.img);
+    if (parts.dir->reads_org_beyond_first_order()) continue;
+    ++claiming;
+    Rng rng(11, 12);
+    double u[16], v[16];
+    for (int i = 0; i < 16; ++i) u[i] = rng.uniform(), v[i] = rng.uniform();
+    u[0] = 0, v[0] = 0, u[1] = 1, v[1] = 1;
+    SurfaceBatch full, first;
+    parts.org->eval_batch(u, v, 16, &full);
+    for (auto* a : {&first.n, &first.dndu, &first.dndv, &first.dpduu, &first.dpduv, &first.dpdvv})
+      for (auto& row : *a) std::fill(std::begin(row), std::end(row), std::nan(""));
+    parts.org->eval_batch_first_order(u, v, 16, &first);
+    DirBatch d_full, d_first;
+    parts.dir->eval_batch(u, v, 16, full, &d_full);
+    parts.dir->eval_batch(u, v, 16, first, &d_first);
+    for (int i = 0; i < 16; ++i) {
+      const std::string at = c.label() + " at " + test::str(Vec2{u[i], v[i]});
+      ASSERT_EQ(full.ok[i], first.ok[i]) << at;
+      ASSERT_EQ(d_full.ok[i], d_first.ok[i]) << at;
+      for (const auto& [a, b] : {std::pair{&full.p, &first.p}, std::pair{&full.dpdu, &first.dpdu},
+                                 std::pair{&full.dpdv, &first.dpdv}})
+        EXPECT_TRUE(SurfaceBatch::at(*a, i) == SurfaceBatch::at(*b, i))
+            << at << ": " << test::str(SurfaceBatch::at(*a, i)) << " vs "
+            << test::str(SurfaceBatch::at(*b, i));
+      if (!d_full.ok[i]) continue;
+      const DirSample x = d_full.lane(i), y = d_first.lane(i);
+      EXPECT_EQ(0, std::memcmp(&x, &y, sizeof x))
+          << at << ": direction " << test::str(x.d) << " vs " << test::str(y.d);
+    }
+  }
+  EXPECT_GE(claiming, 3) << "light_field, integral and ods claim it";
+  // Dependent directions read the normal and second derivatives.
+  EXPECT_TRUE(make_dir("normal")->reads_org_beyond_first_order());
+  EXPECT_TRUE(make_dir("tangent_u")->reads_org_beyond_first_order());
 }
 
 }  // namespace anamorph
