@@ -483,7 +483,9 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     s_begin = s_end;
     if (per_pixel) {
       if (rs.time_limit > 0 && seconds_since(t0) > rs.time_limit) break;
-      if (update_active(film, stop_rule, &active) == 0) break;
+      size_t still_active = 0;
+      arena.execute([&] { still_active = update_active(film, stop_rule, &active); });
+      if (still_active == 0) break;
     }
   }
   stats.seconds = seconds_since(t0);
