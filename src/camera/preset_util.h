@@ -73,7 +73,7 @@ struct TileCoord {
   int col = 0, row = 0;  // row 0 = the top row of the image
   Vec2 st;               // position inside the tile, [0,1]^2, t downward
 };
-// Inline: cameras call it per ray, twice (origin and direction).
+// Inline: the cubemap calls it per ray (the light-field tiles have a vectorized copy of it).
 inline TileCoord tile_of(Vec2 uv, int cols, int rows) {
   TileCoord t;
   const double x = uv.x * cols, y = uv.y * rows;
