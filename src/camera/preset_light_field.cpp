@@ -94,8 +94,8 @@ template <bool kOrigin>
 // kFirstOrder: only what the finishing pass reads (OrgFunction::eval_batch_first_order); the
 // normal and second-derivative fields are zero otherwise.
 template <bool kFirstOrder>
-[[gnu::always_inline]] inline void tile_orgs(const TileGeometry& g, const double* u,
-                                             const double* v, int n, SurfaceBatch* out) {
+[[gnu::always_inline]] inline void tile_org_kernel(const TileGeometry& g, const double* u,
+                                                   const double* v, int n, SurfaceBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         TileLanes l;
@@ -111,13 +111,12 @@ template <bool kFirstOrder>
         for (int i = 0; i < m; ++i) out->ok[i] = true;
       });
 }
-ANAMORPH_SIMD_CLONES void tile_orgs_all(const TileGeometry& g, const double* u, const double* v,
-                                        int n, SurfaceBatch* out) {
-  tile_orgs<false>(g, u, v, n, out);
-}
-ANAMORPH_SIMD_CLONES void tile_orgs_first_order(const TileGeometry& g, const double* u,
-                                                const double* v, int n, SurfaceBatch* out) {
-  tile_orgs<true>(g, u, v, n, out);
+ANAMORPH_SIMD_CLONES void tile_orgs(const TileGeometry& g, bool first_order, const double* u,
+                                    const double* v, int n, SurfaceBatch* out) {
+  if (first_order)
+    tile_org_kernel<true>(g, u, v, n, out);
+  else
+    tile_org_kernel<false>(g, u, v, n, out);
 }
 
 // TileGeometry::direction for a batch, with the tile origins the origin function gave (before
@@ -149,11 +148,11 @@ class TileOrg final : public OrgFunction {
     return eval_as_batch_of_one(*this, uv, out);
   }
   void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
-    tile_orgs_all(g_, u, v, n, out);
+    tile_orgs(g_, false, u, v, n, out);
   }
   void eval_batch_first_order(const double* u, const double* v, int n,
                               SurfaceBatch* out) const override {
-    tile_orgs_first_order(g_, u, v, n, out);
+    tile_orgs(g_, true, u, v, n, out);
   }
 
  private:

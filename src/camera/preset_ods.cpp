@@ -113,8 +113,8 @@ template <bool sbs, bool kFirstOrder>
 }
 
 template <bool kFirstOrder>
-[[gnu::always_inline]] inline void ods_orgs(const OdsGeometry& g, const double* u, const double* v,
-                                            int n, SurfaceBatch* out) {
+[[gnu::always_inline]] inline void ods_orgs_any_layout(const OdsGeometry& g, const double* u,
+                                                       const double* v, int n, SurfaceBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         if (g.side_by_side)
@@ -123,13 +123,12 @@ template <bool kFirstOrder>
           ods_org_kernel<false, kFirstOrder>(g, u, v, m, out);
       });
 }
-ANAMORPH_SIMD_CLONES void ods_orgs_all(const OdsGeometry& g, const double* u, const double* v,
-                                       int n, SurfaceBatch* out) {
-  ods_orgs<false>(g, u, v, n, out);
-}
-ANAMORPH_SIMD_CLONES void ods_orgs_first_order(const OdsGeometry& g, const double* u,
-                                               const double* v, int n, SurfaceBatch* out) {
-  ods_orgs<true>(g, u, v, n, out);
+ANAMORPH_SIMD_CLONES void ods_orgs(const OdsGeometry& g, bool first_order, const double* u,
+                                   const double* v, int n, SurfaceBatch* out) {
+  if (first_order)
+    ods_orgs_any_layout<true>(g, u, v, n, out);
+  else
+    ods_orgs_any_layout<false>(g, u, v, n, out);
 }
 
 template <bool sbs>
@@ -168,11 +167,11 @@ class OdsOrg final : public OrgFunction {
     return eval_as_batch_of_one(*this, uv, out);
   }
   void eval_batch(const double* u, const double* v, int n, SurfaceBatch* out) const override {
-    ods_orgs_all(g_, u, v, n, out);
+    ods_orgs(g_, false, u, v, n, out);
   }
   void eval_batch_first_order(const double* u, const double* v, int n,
                               SurfaceBatch* out) const override {
-    ods_orgs_first_order(g_, u, v, n, out);
+    ods_orgs(g_, true, u, v, n, out);
   }
 
  private:
