@@ -5,10 +5,26 @@
 #include <cmath>
 
 #include "camera/org_common.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
 namespace {
+
+// The normal fields of an origin batch as directions, scaled by s (1 or -1): compiled for several
+// ISAs (math/simd.h), as the baseline build would copy them 16 bytes at a time.
+ANAMORPH_SIMD_CLONES void scaled_normals(const SurfaceBatch& o, double s, int n, DirBatch* out) {
+  with_trip_count<kCameraBatch>(
+      n, [&](auto m) __attribute__((always_inline)) {
+        for (int c = 0; c < 3; ++c)
+          for (int i = 0; i < m; ++i) {
+            out->d[c][i] = o.n[c][i] * s;
+            out->du[c][i] = o.dndu[c][i] * s;
+            out->dv[c][i] = o.dndv[c][i] * s;
+          }
+        for (int i = 0; i < m; ++i) out->ok[i] = true;
+      });
+}
 
 class NormalDir final : public DirFunction {
  public:
@@ -19,14 +35,7 @@ class NormalDir final : public DirFunction {
   }
   void eval_batch(const double*, const double*, int n, const SurfaceBatch& o,
                   DirBatch* out) const override {
-    const double s = s_;
-    for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < n; ++i) {
-        out->d[c][i] = o.n[c][i] * s;
-        out->du[c][i] = o.dndu[c][i] * s;
-        out->dv[c][i] = o.dndv[c][i] * s;
-      }
-    for (int i = 0; i < n; ++i) out->ok[i] = true;
+    scaled_normals(o, s_, n, out);
   }
   bool unit_length() const override { return true; }  // the unit normal (zero: no ray)
 
