@@ -158,14 +158,16 @@ static void BM_OutputFloor(benchmark::State& state) {
   std::vector<double> us(kW), vs(kH);
   for (int x = 0; x < kW; ++x) us[size_t(x)] = (x + 0.5) / kW;
   for (int y = 0; y < kH; ++y) vs[size_t(y)] = (y + 0.5) / kH;
-  double u[kCameraBatch], v[kCameraBatch];
+  CameraSample s[kCameraBatch];
+  alignas(64) double u[kCameraBatch], v[kCameraBatch];
   CameraRayBatch out;
   FloatRayBatch out_float;
   for (auto _ : state)
     for (int y = 0; y < kH; y += 4)
       for (int x = 0; x < kW; x += 4) {
-        for (int k = 0; k < 16; ++k)
-          u[k] = us[size_t(x + (k & 3))], v[k] = vs[size_t(y + (k >> 2))];
+        // Handed over as generate_packets and VirtualCamera::generate_batch do.
+        for (int k = 0; k < 16; ++k) s[k].uv = {us[size_t(x + (k & 3))], vs[size_t(y + (k >> 2))]};
+        split_sample_positions(s, kCameraBatch, u, v);
         if (state.range(0) == 2)
           write_float_rays(u, v, &out_float);
         else if (state.range(0) == 1)

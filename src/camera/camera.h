@@ -54,6 +54,10 @@ struct CameraRayBatch {
   }
 };
 
+// The positions of n <= kCameraBatch samples as two arrays u[i] = s[i].uv.x, v[i] = s[i].uv.y,
+// for batch kernels.
+void split_sample_positions(const CameraSample* s, int n, double* u, double* v);
+
 class Camera {
  public:
   virtual ~Camera() = default;

@@ -1,4 +1,5 @@
 list(APPEND ANAMORPH_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/virtual_camera.cpp
 )
 include(${CMAKE_CURRENT_LIST_DIR}/functions.cmake)  # origin and direction functions
