@@ -10,11 +10,13 @@
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 
 #include "app/common.h"
 #include "camera/coins.h"
 #include "io/image_io.h"
 #include "render/renderer.h"
+#include "scene/scene_loader.h"
 
 namespace anamorph::app {
 
@@ -123,11 +125,9 @@ OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
   return o;
 }
 
-int render_frame(const RenderArgs& a, const std::vector<std::string>& extra,
+int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
                  const std::vector<Aov>& aovs, double frame, const fs::path& out,
                  const std::string& prefix) {
-  const Scene scene = load(a.scene, extra, frame);
-  const Renderer renderer(scene);
   Film film(scene.render.width, scene.render.height, aovs);
   RenderOptions opt;
   opt.threads = a.threads.value_or(0);
@@ -241,7 +241,9 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --video needs --frames A:B\n");
       return kBadInput;
     }
-    return render_frame(args, extra, aovs, 0, out, "");
+    const Scene scene = load(args.scene, extra, 0);
+    const Renderer renderer(scene);
+    return render_frame(args, scene, renderer, aovs, 0, out, "");
   }
 
   // A sequence: frames A..B inclusive, written through a printf pattern.
@@ -269,9 +271,21 @@ int run(const RenderArgs& a) {
                "or drop --video; the frames alone need nothing else)\n");
     return kBadInput;
   }
+  // When the keys change only camera, image or render settings, the frames share the first
+  // one's geometry, lights and acceleration structure: only the view is read again.
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Renderer> renderer;
   for (int f = first; f <= last; ++f) {
+    if (scene && animates_view_only(*scene)) {
+      load_view_into(args.scene, extra, f, *scene);
+    } else {
+      renderer.reset();  // (it refers to the scene)
+      scene = std::make_unique<Scene>(load(args.scene, extra, f));
+      renderer = std::make_unique<Renderer>(*scene);
+    }
     const std::string file = fmt::sprintf(out, f);
-    const int rc = render_frame(args, extra, aovs, f, file, fmt::format("frame {} ", f));
+    const int rc =
+        render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f));
     if (rc != kOk) return rc;
   }
   if (!a.video.empty()) {

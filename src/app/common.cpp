@@ -52,6 +52,18 @@ Scene load(const SceneOptions& o, const std::vector<std::string>& extra, double 
   return s;
 }
 
+void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra, double frame,
+                    Scene& loaded) {
+  std::vector<std::string> ov = o.overrides();
+  ov.insert(ov.end(), extra.begin(), extra.end());
+  Scene v = load_view(o.scene, ov, frame, loaded);
+  for (const auto& w : v.warnings) fmt::print(stderr, "warning: {}\n", w);
+  loaded.render = v.render;
+  loaded.camera = std::move(v.camera);
+  loaded.camera_toml = std::move(v.camera_toml);
+  loaded.frame = frame;
+}
+
 int run_guarded(const std::function<int()>& body) {
   try {
     return body();

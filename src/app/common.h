@@ -27,6 +27,11 @@ struct SceneOptions {
 Scene load(const SceneOptions& o, const std::vector<std::string>& extra_overrides = {},
            double frame = 0);
 
+// The next frame of a scene whose animation changes only the view (animates_view_only): its
+// camera and settings moved into `loaded` (loaded from the same options), warnings printed.
+void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
+                    double frame, Scene& loaded);
+
 // Runs a command body and turns exceptions into messages and exit codes.
 int run_guarded(const std::function<int()>& body);
 

@@ -7,6 +7,7 @@
 
 #include "camera/camera.h"
 #include "scene/light.h"
+#include "scene/loaders.h"
 #include "scene/material.h"
 #include "scene/mesh.h"
 #include "scene/shape.h"
@@ -52,9 +53,10 @@ struct Scene {
   std::vector<Light> lights;
   Environment environment;
   std::vector<std::string> warnings;
-  double frame = 0;                    // the animation frame this scene was built for
-  std::vector<std::string> animated;   // keys with [[animate]] entries
-  double first_key = 0, last_key = 0;  // frame range covered by the keys
+  double frame = 0;                        // the animation frame this scene was built for
+  std::vector<std::string> animated;       // keys with [[animate]] entries
+  double first_key = 0, last_key = 0;      // frame range covered by the keys
+  std::vector<ModelCamera> model_cameras;  // cameras found in loaded models (`gltf_camera`)
 
   size_t triangle_count() const;  // unique (prototype) triangles
   size_t instanced_triangle_count() const;

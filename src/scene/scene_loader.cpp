@@ -489,8 +489,34 @@ toml::table at_frame(const toml::table& original, const std::vector<std::string>
   return root;
 }
 
+// Materials, objects, lights and the environment of a scene.
+void read_world(Context& c, TableReader& top) {
+  Scene& s = *c.scene;
+  // Material 0 is the default for objects without one.
+  Material def;
+  def.name = "default";
+  s.materials.push_back(def);
+  for_each_table(top, "material", [&](TableReader& r, int) {
+    Material m = read_material(c, r);
+    if (c.material_ids.count(m.name))
+      r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
+    c.material_ids[m.name] = uint32_t(s.materials.size());
+    s.materials.push_back(std::move(m));
+  });
+  for_each_table(top, "object", [&](TableReader& r, int i) { read_object(c, r, i); });
+  for_each_table(top, "light", [&](TableReader& r, int i) { read_light(r, s, i); });
+  if (const toml::node* n = top.node("environment")) {
+    if (!n->is_table()) top.fail("environment", "expected a table");
+    TableReader r(*n->as_table(), "environment");
+    read_environment(c, r, s);
+  }
+  s.model_cameras = c.model_cameras;
+}
+
+// `view_from`: read only image, render and camera, with the model cameras of this scene
+// (load_view).
 Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides,
-                  double frame) {
+                  double frame, const Scene* view_from = nullptr) {
   // Kept for the shutter's extra camera builds. Copies lose their source positions, so the main
   // build works on `root` itself, whose errors point into the files.
   const toml::table original = root;
@@ -552,23 +578,13 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     r.finish();
   }
 
-  // Material 0 is the default for objects without one.
-  Material def;
-  def.name = "default";
-  s.materials.push_back(def);
-  for_each_table(top, "material", [&](TableReader& r, int) {
-    Material m = read_material(c, r);
-    if (c.material_ids.count(m.name))
-      r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
-    c.material_ids[m.name] = uint32_t(s.materials.size());
-    s.materials.push_back(std::move(m));
-  });
-  for_each_table(top, "object", [&](TableReader& r, int i) { read_object(c, r, i); });
-  for_each_table(top, "light", [&](TableReader& r, int i) { read_light(r, s, i); });
-  if (const toml::node* n = top.node("environment")) {
-    if (!n->is_table()) top.fail("environment", "expected a table");
-    TableReader r(*n->as_table(), "environment");
-    read_environment(c, r, s);
+  if (view_from) {
+    // (Marked as read: they were validated when view_from was loaded, and nothing in them is
+    // animated.)
+    for (const char* key : {"material", "object", "light", "environment"}) top.node(key);
+    c.model_cameras = view_from->model_cameras;
+  } else {
+    read_world(c, top);
   }
 
   const toml::node* cn = top.node("camera");
@@ -610,6 +626,18 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
 Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides, double frame) {
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
   return build_scene(load_with_includes(file, 0), file, overrides, frame);
+}
+
+bool animates_view_only(const Scene& s) {
+  return std::all_of(s.animated.begin(), s.animated.end(), [](const std::string& k) {
+    return k.rfind("camera.", 0) == 0 || k.rfind("image.", 0) == 0 || k.rfind("render.", 0) == 0;
+  });
+}
+
+Scene load_view(const fs::path& file, const std::vector<std::string>& overrides, double frame,
+                const Scene& loaded) {
+  if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
+  return build_scene(load_with_includes(file, 0), file, overrides, frame, &loaded);
 }
 
 Scene load_scene_from_string(const std::string& text, const fs::path& name,

@@ -20,4 +20,16 @@ Scene load_scene(const std::filesystem::path& file, const std::vector<std::strin
 Scene load_scene_from_string(const std::string& text, const std::filesystem::path& name,
                              const std::vector<std::string>& overrides = {}, double frame = 0);
 
+// Whether every [[animate]] key of `s` lies under camera, image or render: then the frames
+// differ only in what load_view reads, and one renderer (geometry, lights, acceleration
+// structure) serves them all.
+bool animates_view_only(const Scene& s);
+
+// The frame `frame` of `file` for such an animation: only [image], [render] and [camera] are read
+// (the other tables are neither loaded nor validated again), a model camera (`gltf_camera`) comes
+// from `loaded`, a scene loaded from the same file and overrides. The result has no geometry,
+// materials, lights or environment: its camera and settings go with `loaded`'s.
+Scene load_view(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                double frame, const Scene& loaded);
+
 }  // namespace anamorph

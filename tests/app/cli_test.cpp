@@ -221,6 +221,50 @@ TEST(Cli, RobustnessModels) {
 
 namespace anamorph {
 
+// Frames of a sequence equal still renders with the frame's values set, pixel for pixel, both
+// when the keys change only the view (the frames share one renderer: load_view) and when they
+// move geometry (each frame loads the scene).
+TEST(Cli, FramesEqualStillRendersWithTheirValues) {
+  const fs::path d = temp_dir("frames_still");
+  const std::string view_keys =
+      "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 40], [2, 70]]\n"
+      "[[animate]]\nkey = \"camera.look_from\"\nkeys = [[0, [0, 1, 4]], [2, [1, 1, 4]]]\n"
+      "[[animate]]\nkey = \"image.width\"\nkeys = [[0, 24], [2, 32]]\ninterpolation = \"step\"\n";
+  const std::string object_key =
+      "[[animate]]\nkey = \"object.0.center\"\nkeys = [[0, [0, 0, 0]], [2, [0.5, 0, 0]]]\n";
+  // The values at frames 0, 1, 2 as --set arguments.
+  const char* view_sets[3] = {
+      "--set camera.fov=40 --set 'camera.look_from=[0,1,4]' --set image.width=24",
+      "--set camera.fov=55 --set 'camera.look_from=[0.5,1,4]' --set image.width=24",
+      "--set camera.fov=70 --set 'camera.look_from=[1,1,4]' --set image.width=32"};
+  const char* object_sets[3] = {"--set 'object.0.center=[0,0,0]'",
+                                "--set 'object.0.center=[0.25,0,0]'",
+                                "--set 'object.0.center=[0.5,0,0]'"};
+  const std::string still = write(d / "still.toml", kSmall);
+  for (const bool with_object : {false, true}) {
+    const std::string name = with_object ? "moving" : "view";
+    const std::string scene = write(
+        d / (name + ".toml"), std::string(kSmall) + view_keys + (with_object ? object_key : ""));
+    const Result r =
+        run("render " + scene + " -q --frames 0:2 -o " + (d / (name + "_%d.png")).string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    for (int f = 0; f < 3; ++f) {
+      const fs::path frame = d / (name + "_" + std::to_string(f) + ".png");
+      const fs::path ref = d / (name + "_still_" + std::to_string(f) + ".png");
+      const Result s = run("render " + still + " -q " + view_sets[f] + " " +
+                           (with_object ? object_sets[f] : "") + " -o " + ref.string());
+      ASSERT_EQ(s.code, 0) << s.out;
+      const Image a = read_image(frame, false), b = read_image(ref, false);
+      ASSERT_EQ(a.width, b.width) << name << " frame " << f;
+      ASSERT_EQ(a.height, b.height) << name << " frame " << f;
+      size_t differ = 0;
+      for (size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
+      EXPECT_EQ(differ, 0u) << name << " frame " << f << ": values differing from the still";
+    }
+  }
+  fs::remove_all(d);
+}
+
 TEST(Cli, FramesRenderASequenceAndVideoNeedsFfmpeg) {
   const fs::path d = temp_dir("frames");
   const std::string scene =
