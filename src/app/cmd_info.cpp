@@ -41,7 +41,7 @@ int run(const SceneOptions& o) {
   const Scene s = load(o);
   const Accel accel(s);
   fmt::print("scene       {}\n", s.path);
-  const std::string sampling = s.render.antialias != "uniform"
+  const std::string sampling = s.render.adaptive()
                                    ? fmt::format("adaptive antialiasing ({})", s.render.antialias)
                                    : fmt::format("{} spp ({})", s.render.spp, s.render.sampler);
   fmt::print("image       {}x{}, {}, integrator {}, max_depth {}\n", s.render.width,

@@ -185,7 +185,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
   if (!a.quiet) {
     const double per_pixel =
         double(st.samples) / (double(scene.render.width) * scene.render.height);
-    const std::string sampling = scene.render.antialias != "uniform"
+    const std::string sampling = scene.render.adaptive()
                                      ? fmt::format("adaptive, {:.2f} samples/pixel", per_pixel)
                                      : fmt::format("{} spp", scene.render.spp);
     fmt::print(

@@ -253,8 +253,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const RenderContext ctx{scene_, *accel_, *lights_, rs.max_depth};
   const Job job(*this, ctx, film, !opt.aovs.empty());
   const int W = film.width(), H = film.height();
-  const bool corners = rs.antialias == "lattice" && job.mode == Mode::Radiance;
-  const bool per_pixel = rs.antialias == "pixel" && job.mode == Mode::Radiance;
+  const bool corners = rs.adaptive() && rs.antialias == "lattice";
+  const bool per_pixel = rs.adaptive() && rs.antialias == "pixel";
   // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
   // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
   const StopRule stop_rule = rs.integrator == "whitted"

@@ -38,6 +38,12 @@ struct RenderSettings {
   int max_spp = 1024;             // pixel
   double noise_threshold = 0.01;  // pixel: estimated relative error that stops a pixel
   double time_limit = 0;          // pixel: seconds, 0 = none (breaks determinism)
+
+  // Whether the samples per pixel vary: an adaptive scheme with a radiance integrator (the AOV
+  // integrators take `spp` samples under any scheme).
+  bool adaptive() const {
+    return antialias != "uniform" && (integrator == "whitted" || integrator == "path");
+  }
 };
 
 struct Scene {

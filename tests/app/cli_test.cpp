@@ -221,6 +221,25 @@ TEST(Cli, RobustnessModels) {
 
 namespace anamorph {
 
+// The summary line names the sampling that happened: the AOV integrators take render.spp samples
+// under an adaptive scheme too.
+TEST(Cli, SummarySaysAdaptiveOnlyWhenSamplesVaried) {
+  const fs::path d = temp_dir("summary");
+  const std::string scene =
+      write(d / "s.toml", std::string(kSmall) + "[render]\nantialias = \"adaptive\"\n");
+  const Result w = run("render " + scene + " -o " + (d / "w.png").string());
+  ASSERT_EQ(w.code, 0) << w.out;
+  EXPECT_CONTAINS(w.out, "adaptive, ");
+  const Result a = run("render " + scene + " --integrator depth -o " + (d / "a.png").string());
+  ASSERT_EQ(a.code, 0) << a.out;
+  EXPECT_CONTAINS(a.out, "1 spp, depth");
+  EXPECT_EQ(a.out.find("adaptive"), std::string::npos) << a.out;
+  const Result i = run("info " + scene + " --set render.integrator=depth");
+  ASSERT_EQ(i.code, 0) << i.out;
+  EXPECT_CONTAINS(i.out, "1 spp");
+  fs::remove_all(d);
+}
+
 // Frames of a sequence equal still renders with the frame's values set, pixel for pixel, both
 // when the keys change only the view (the frames share one renderer: load_view) and when they
 // move geometry (each frame loads the scene).
