@@ -27,7 +27,9 @@ bool visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint
 
 class Whitted final : public Integrator {
  public:
-  using Integrator::Integrator;
+  explicit Whitted(const RenderContext& ctx) : Integrator(ctx) {
+    for (const Material& m : ctx.scene.materials) see_through_ |= m.transmission > 0;
+  }
 
   Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
                  uint64_t& rays) const override {
@@ -54,8 +56,10 @@ class Whitted final : public Integrator {
         LightSample ls;
         if (!lights.sample(li, h->p, {rng.uniform(), rng.uniform()}, &ls) || !(ls.pdf > 0)) return;
         const Color f = b.eval(wo, ls.wi);
-        if (max_component(f) <= 0 || !visible(ctx_, *h, ls, rays)) return;
-        L += f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) / (ls.pdf * pmf));
+        if (max_component(f) <= 0) return;
+        const double T = see_through_ ? transmittance(*h, ls, rays) : visible(ctx_, *h, ls, rays);
+        if (!(T > 0)) return;
+        L += f * ls.L * (T * std::abs(dot(ls.wi, b.frame.n)) / (ls.pdf * pmf));
       };
       for (uint32_t li : lights.delta_lights()) add(li, 1.0);
       if (lights.has_area()) {
@@ -84,6 +88,31 @@ class Whitted final : public Integrator {
     return L;
   }
 
+  // The light reaching h from ls through transparent surfaces, as Whitted's paper and POV-Ray
+  // shade them: each surface the shadow ray crosses scales it by its material's transmission,
+  // without bending it (no caustics); an opaque surface blocks it. (The path tracer's shadow
+  // rays stop at glass: its paths through glass find the light themselves.)
+  double transmittance(const Hit& h, const LightSample& ls, uint64_t& rays) const {
+    const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
+    Vec3 o = h.p + n * offset_scale(h.p);
+    double T = 1;
+    for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
+      // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
+      const double to_light =
+          std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
+      if (!(to_light > 0)) return T;
+      Hit x;
+      ++rays;
+      if (!ctx_.accel.intersect(Ray{o, ls.wi, 0, to_light}, &x)) return T;
+      T *= ctx_.scene.materials[x.material].transmission;
+      if (!(T > 0)) return 0;
+      const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
+      o = x.p + nx * offset_scale(x.p);
+    }
+    return 0;  // (more surfaces than that: taken as opaque)
+  }
+  static constexpr int kMaxCrossings = 32;
+
   Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth,
                uint64_t& rays) const {
     const Ray r = spawn(h, d);
@@ -93,6 +122,8 @@ class Whitted final : public Integrator {
     return trace(r, found ? &next : nullptr, found ? propagate(fp, next) : Footprint{}, rng,
                  depth + 1, rays);
   }
+
+  bool see_through_ = false;  // some material transmits: shadow rays may pass surfaces
 };
 
 // ---- Path tracing ----------------------------------------------------------------------------

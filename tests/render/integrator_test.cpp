@@ -104,6 +104,31 @@ TEST(Whitted, ShadowBlocksTheLight) {
   EXPECT_EQ(shadowed.film->pixel(0, 0).x, 0.0);
 }
 
+TEST(Whitted, ShadowRaysPassTransparentSurfacesScaledByTheirTransmission) {
+  // A sphere on the segment from the point light to the seen floor point: the shadow ray crosses
+  // its surface twice, so a transmission t lets t^2 of the light through (Whitted 1980, POV-Ray).
+  const std::string scene =
+      "[image]\nwidth = 1\nheight = 1\n[render]\nsampler = \"center\"\n"
+      "[camera]\nlook_from = [2, 5, 0]\nlook_at = [2, 0, 0]\nup = [0, 0, -1]\nfov = 1\n"
+      "[[material]]\nname = \"floor\"\ncolor = 0.5\n"
+      "[[material]]\nname = \"glass\"\ntransmission = 0.5\n"
+      "[[object]]\ntype = \"plane\"\nmaterial = \"floor\"\n"
+      "[[object]]\ntype = \"sphere\"\ncenter = [1, 1, 0]\nradius = 0.2\nmaterial = \"glass\"\n"
+      "[[light]]\ntype = \"point\"\nposition = [0, 2, 0]\nintensity = 8\n";
+  const double lit = test::render_text(scene, {"object.1.center=[-5, 1, 0]"}).film->pixel(0, 0).x;
+  ASSERT_GT(lit, 0.01);
+  for (const double t : {0.0, 0.5, 1.0}) {
+    const auto r = test::render_text(scene, {"material.1.transmission=" + std::to_string(t)});
+    EXPECT_NEAR(r.film->pixel(0, 0).x / lit, t * t, 1e-9) << "transmission " << t;
+  }
+  // Two such spheres on the segment: t^4.
+  const auto two =
+      test::render_text(scene +
+                        "[[object]]\ntype = \"sphere\"\ncenter = [1.5, 0.5, 0]\nradius = 0.1\n"
+                        "material = \"glass\"\n");
+  EXPECT_NEAR(two.film->pixel(0, 0).x / lit, 0.0625, 1e-9);
+}
+
 TEST(Aov, DepthIsDistanceAlongTheRay) {
   const auto r = test::render_text(
       "[image]\nwidth = 3\nheight = 3\n[render]\nintegrator = \"depth\"\nsampler = \"center\"\n"
