@@ -1,5 +1,6 @@
 // The one list of camera function types (adding a function = one line in kOrg / kDir), plus what
 // is derived from the parameter tables: validation, construction from TOML text, Markdown docs.
+#include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "camera/org_revolution.h"
 #include "camera/org_spline.h"
 #include "camera/org_superquadric.h"
+#include "camera/param_toml.h"
 
 namespace anamorph {
 
@@ -57,8 +59,9 @@ std::string fmt_number(double x) {
 // "[0, inf)", "(0, 1]", or "" when unbounded.
 std::string range_text(const ParamSpec& s) {
   if (s.min == -kInf && s.max == kInf) return {};
-  return std::string(s.min_exclusive || s.min == -kInf ? "(" : "[") + fmt_number(s.min) + ", " +
-         fmt_number(s.max) + (s.max_exclusive || s.max == kInf ? ")" : "]");
+  // (fmt, not string concatenation: GCC 12 warns falsely about the latter here, -Wrestrict.)
+  return fmt::format("{}{}, {}{}", s.min_exclusive || s.min == -kInf ? "(" : "[", fmt_number(s.min),
+                     fmt_number(s.max), s.max_exclusive || s.max == kInf ? ")" : "]");
 }
 
 // Variant alternative index of each ParamType (the order of ParamValue).
@@ -117,98 +120,35 @@ std::string spec_names(std::span<const ParamSpec> specs) {
 
 ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::table& t);
 
-double toml_number(const ParamSpec& s, const toml::node& n) {
-  if (auto i = n.value_exact<int64_t>()) return double(*i);
-  if (auto d = n.value_exact<double>()) return *d;
-  throw ParamError(std::string(s.name), std::string(s.name) + ": expected a number");
-}
-
-const toml::array& toml_array(const ParamSpec& s, const toml::node& n) {
-  if (const toml::array* a = n.as_array()) return *a;
-  throw ParamError(std::string(s.name), std::string(s.name) + ": expected an array");
-}
-
-Vec3 toml_vec(const ParamSpec& s, const toml::node& n, size_t dim) {
-  const toml::array& a = toml_array(s, n);
-  if (a.size() != dim)
-    throw ParamError(std::string(s.name),
-                     std::string(s.name) + ": expected " + std::to_string(dim) + " numbers");
-  Vec3 v;
-  for (size_t i = 0; i < dim; ++i) v[int(i)] = toml_number(s, *a.get(i));
-  return v;
-}
-
+// (The scene parser's conversion, param_toml.h, with errors as ParamError and no positions.)
 ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
-  const std::string key(s.name);
-  switch (s.type) {
-    case ParamType::Number:
-      return toml_number(s, n);
-    case ParamType::Integer:
-      if (auto i = n.value_exact<int64_t>()) return *i;
-      throw ParamError(key, key + ": expected an integer");
-    case ParamType::Bool:
-      if (auto b = n.value_exact<bool>()) return *b;
-      throw ParamError(key, key + ": expected true or false");
-    case ParamType::String:
-      if (auto str = n.value_exact<std::string>()) return *str;
-      throw ParamError(key, key + ": expected a string");
-    case ParamType::Vec2: {
-      const Vec3 v = toml_vec(s, n, 2);
-      return Vec2{v.x, v.y};
-    }
-    case ParamType::Vec3:
-      return toml_vec(s, n, 3);
-    case ParamType::NumberList: {
-      std::vector<double> out;
-      for (const auto& e : toml_array(s, n)) out.push_back(toml_number(s, e));
-      return out;
-    }
-    case ParamType::Vec3List: {
-      std::vector<Vec3> out;
-      for (const auto& e : toml_array(s, n)) out.push_back(toml_vec(s, e, 3));
-      return out;
-    }
-    case ParamType::Vec3Grid: {
-      std::vector<std::vector<Vec3>> out;
-      for (const auto& row : toml_array(s, n)) {
-        out.emplace_back();
-        for (const auto& e : toml_array(s, row)) out.back().push_back(toml_vec(s, e, 3));
-      }
-      return out;
-    }
-    case ParamType::NumberGrid: {
-      std::vector<std::vector<double>> out;
-      for (const auto& row : toml_array(s, n)) {
-        out.emplace_back();
-        for (const auto& e : toml_array(s, row)) out.back().push_back(toml_number(s, e));
-      }
-      return out;
-    }
-    case ParamType::StringMap: {
-      const toml::table* t = n.as_table();
-      if (!t) throw ParamError(key, key + ": expected a table { name = number, ... }");
-      std::map<std::string, double> out;
-      for (const auto& [k, x] : *t) out[std::string(k.str())] = toml_number(s, x);
-      return out;
-    }
-    case ParamType::Function: {
-      const toml::table* t = n.as_table();
-      if (!t) throw ParamError(key, key + ": expected a table { type = \"...\", ... }");
-      const auto type = (*t)["type"].value<std::string>();
-      if (!type) throw ParamError(key, key + ": the table needs type = \"...\"");
-      const OrgFunctionInfo* info = find_org_function(*type);
-      if (!info)
-        throw ParamError(
-            key, key + ": unknown type '" + *type + "' (valid: " + names_of(org_functions()) + ")");
-      toml::table rest = *t;
-      rest.erase("type");
-      auto nf = std::make_shared<NestedFunction>();
-      nf->type = *type;
+  ParamTomlHooks h;
+  h.fail = [](const toml::node&, std::string_view key, const std::string& msg) {
+    throw ParamError(std::string(key), fmt::format("{}: {}", key, msg));
+  };
+  h.nested = [](const toml::table& t, std::string_view k) {
+    const std::string key(k);
+    const auto type = t["type"].value<std::string>();
+    if (!type) throw ParamError(key, key + ": the table needs type = \"...\"");
+    const OrgFunctionInfo* info = find_org_function(*type);
+    if (!info)
+      throw ParamError(
+          key, key + ": unknown type '" + *type + "' (valid: " + names_of(org_functions()) + ")");
+    toml::table rest = t;
+    rest.erase("type");
+    auto nf = std::make_shared<NestedFunction>();
+    nf->type = *type;
+    try {
       nf->values = values_from_table(info->params, rest);
-      return std::shared_ptr<const NestedFunction>(nf);
+    } catch (const ParamError& e) {  // named from the outer table: "surface.radius"
+      const std::string_view what = e.what();
+      const bool keyed = what.starts_with(e.key + ":");
+      throw ParamError(fmt::format("{}.{}", key, e.key),
+                       keyed ? fmt::format("{}.{}", key, what) : fmt::format("{}: {}", key, what));
     }
-  }
-  throw ParamError(key, "internal: unsupported parameter type");
+    return std::shared_ptr<const NestedFunction>(nf);
+  };
+  return param_from_toml(s, n, h);
 }
 
 ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::table& t) {

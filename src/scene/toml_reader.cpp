@@ -39,28 +39,6 @@ SourceLoc loc_of(const toml::key& k) {
   return l;
 }
 
-static size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-std::string suggest(std::string_view word, std::span<const std::string> candidates) {
-  std::string best;
-  size_t best_d = std::max<size_t>(2, word.size() / 3) + 1;
-  for (const auto& c : candidates) {
-    const size_t d = edit_distance(word, c);
-    if (d < best_d) best_d = d, best = c;
-  }
-  return best;
-}
-
 TableReader::TableReader(const toml::table& t, std::string path) : t_(t), path_(std::move(path)) {}
 
 std::string TableReader::full_key(std::string_view key) const {
@@ -86,50 +64,17 @@ void TableReader::fail_at(const toml::node& n, std::string_view key, const std::
   throw SceneError(loc_of(n), full_key(key), msg);
 }
 
-static std::string type_name(const toml::node& n) {
-  switch (n.type()) {
-    case toml::node_type::table:
-      return "a table";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a number";
-    case toml::node_type::boolean:
-      return "a boolean";
-    default:
-      return "a date/time";
-  }
-}
-
-static std::optional<double> as_number(const toml::node& n) {
-  if (auto v = n.value<double>()) return *v;
-  return std::nullopt;
-}
-
 static void check_range(const TableReader& r, const toml::node& n, std::string_view key, double v,
-                        double lo, double hi, bool lo_ex = false, bool hi_ex = false) {
-  if (!std::isfinite(v)) r.fail_at(n, key, fmt::format("must be a finite number, got {}", v));
-  const bool below = lo_ex ? !(v > lo) : !(v >= lo);
-  const bool above = hi_ex ? !(v < hi) : !(v <= hi);
-  if (below || above) {
-    std::string range = fmt::format("{}{}, {}{}", lo_ex ? "(" : "[", lo, hi, hi_ex ? ")" : "]");
-    if (std::isinf(hi))
-      range = fmt::format("{} {}", lo_ex ? ">" : ">=", lo);
-    else if (std::isinf(lo))
-      range = fmt::format("{} {}", hi_ex ? "<" : "<=", hi);
-    r.fail_at(n, key, fmt::format("value {} is out of range (must be {})", v, range));
-  }
+                        double lo, double hi) {
+  const std::string e = range_error(v, lo, hi);
+  if (!e.empty()) r.fail_at(n, key, e);
 }
 
 double TableReader::number(std::string_view key, double def, double lo, double hi) {
   const toml::node* n = node(key);
   if (!n) return def;
-  auto v = as_number(*n);
-  if (!v) fail(key, "expected a number, got " + type_name(*n));
+  auto v = toml_number(*n);
+  if (!v) fail(key, "expected a number, got " + toml_type_name(*n));
   check_range(*this, *n, key, *v, lo, hi);
   return *v;
 }
@@ -140,19 +85,11 @@ double TableReader::required_number(std::string_view key, double lo, double hi) 
 }
 
 // Integers, and floats with an integral value (animated keys interpolate as floats).
-static std::optional<int64_t> as_integer(const toml::node& n) {
-  if (n.is_integer()) return n.value<int64_t>();
-  if (auto d = n.value<double>();
-      d && std::isfinite(*d) && *d == std::round(*d) && std::abs(*d) < 9e15)
-    return int64_t(*d);
-  return std::nullopt;
-}
-
 int64_t TableReader::integer(std::string_view key, int64_t def, int64_t lo, int64_t hi) {
   const toml::node* n = node(key);
   if (!n) return def;
-  auto v = as_integer(*n);
-  if (!v) fail(key, "expected an integer, got " + type_name(*n));
+  auto v = toml_integer(*n);
+  if (!v) fail(key, "expected an integer, got " + toml_type_name(*n));
   check_range(*this, *n, key, double(*v), double(lo), double(hi));
   return *v;
 }
@@ -160,22 +97,15 @@ int64_t TableReader::integer(std::string_view key, int64_t def, int64_t lo, int6
 bool TableReader::boolean(std::string_view key, bool def) {
   const toml::node* n = node(key);
   if (!n) return def;
-  if (!n->is_boolean()) fail(key, "expected true or false, got " + type_name(*n));
+  if (!n->is_boolean()) fail(key, "expected true or false, got " + toml_type_name(*n));
   return *n->value<bool>();
-}
-
-static std::string join_choices(std::span<const std::string_view> c) {
-  std::string s;
-  for (size_t i = 0; i < c.size(); ++i)
-    s += (i ? ", " : "") + std::string("\"") + std::string(c[i]) + "\"";
-  return s;
 }
 
 std::string TableReader::string(std::string_view key, std::string def,
                                 std::span<const std::string_view> choices) {
   const toml::node* n = node(key);
   if (!n) return def;
-  if (!n->is_string()) fail(key, "expected a string, got " + type_name(*n));
+  if (!n->is_string()) fail(key, "expected a string, got " + toml_type_name(*n));
   std::string v = *n->value<std::string>();
   if (!choices.empty() && std::find(choices.begin(), choices.end(), v) == choices.end()) {
     std::vector<std::string> cs(choices.begin(), choices.end());
@@ -192,7 +122,7 @@ static std::optional<Vec3> as_vec3(const toml::node& n) {
   if (!a || a->size() != 3) return std::nullopt;
   Vec3 v;
   for (int i = 0; i < 3; ++i) {
-    auto x = as_number(*a->get(size_t(i)));
+    auto x = toml_number(*a->get(size_t(i)));
     if (!x) return std::nullopt;
     v[i] = *x;
   }
@@ -208,7 +138,7 @@ std::optional<Vec3> TableReader::optional_vec3(std::string_view key) {
   const toml::node* n = node(key);
   if (!n) return std::nullopt;
   auto v = as_vec3(*n);
-  if (!v) fail(key, "expected an array of 3 numbers [x, y, z], got " + type_name(*n));
+  if (!v) fail(key, "expected an array of 3 numbers [x, y, z], got " + toml_type_name(*n));
   check_finite_vec(*this, *n, key, *v);
   return v;
 }
@@ -218,12 +148,12 @@ Vec3 TableReader::vec3(std::string_view key, Vec3 def) { return optional_vec3(ke
 Color TableReader::color(std::string_view key, Color def) {
   const toml::node* n = node(key);
   if (!n) return def;
-  if (auto x = as_number(*n)) {
+  if (auto x = toml_number(*n)) {
     check_range(*this, *n, key, *x, 0, kInf);
     return Color(*x);
   }
   auto v = as_vec3(*n);
-  if (!v) fail(key, "expected a colour [r, g, b] or a number, got " + type_name(*n));
+  if (!v) fail(key, "expected a colour [r, g, b] or a number, got " + toml_type_name(*n));
   for (int i = 0; i < 3; ++i) check_range(*this, *n, key, (*v)[i], 0, kInf);
   return *v;
 }
@@ -243,7 +173,7 @@ Transform TableReader::transform(std::string_view key) {
     if (!a || a->size() != 16) r.fail("matrix", "expected 16 numbers (row-major 4x4)");
     Mat4 mat;
     for (int i = 0; i < 16; ++i) {
-      auto x = as_number(*a->get(size_t(i)));
+      auto x = toml_number(*a->get(size_t(i)));
       if (!x || !std::isfinite(*x)) r.fail("matrix", "expected 16 finite numbers");
       mat.m[i / 4][i % 4] = *x;
     }
@@ -256,7 +186,7 @@ Transform TableReader::transform(std::string_view key) {
   Transform s, rot, tr;
   if (const toml::node* sn = r.node("scale")) {
     Vec3 sv;
-    if (auto x = as_number(*sn))
+    if (auto x = toml_number(*sn))
       sv = Vec3(*x);
     else if (auto v = as_vec3(*sn))
       sv = *v;
@@ -272,7 +202,7 @@ Transform TableReader::transform(std::string_view key) {
       if (a.size() != 4) r.fail("rotate", "expected [degrees, axis_x, axis_y, axis_z]");
       double v[4];
       for (int i = 0; i < 4; ++i) {
-        auto x = as_number(*a.get(size_t(i)));
+        auto x = toml_number(*a.get(size_t(i)));
         if (!x || !std::isfinite(*x)) r.fail("rotate", "expected 4 finite numbers");
         v[i] = *x;
       }
@@ -301,123 +231,33 @@ static toml::table parse_default(std::string_view text) {
 }
 
 ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::node& n) {
-  const std::string_view key = spec.name;
-  auto num = [&](const toml::node& x) {
-    auto v = as_number(x);
-    if (!v) r.fail_at(x, key, "expected a number, got " + type_name(x));
-    check_range(r, x, key, *v, spec.min, spec.max, spec.min_exclusive, spec.max_exclusive);
-    return *v;
+  ParamTomlHooks h;
+  h.fail = [&](const toml::node& at, std::string_view key, const std::string& msg) {
+    r.fail_at(at, key, msg);
   };
-  auto vec = [&](const toml::node& x, size_t dim) {
-    const toml::array* a = x.as_array();
-    if (!a || a->size() != dim)
-      r.fail_at(x, key, fmt::format("expected an array of {} numbers, got {}", dim, type_name(x)));
-    Vec3 v;
-    for (size_t i = 0; i < dim; ++i) v[int(i)] = num(*a->get(i));
-    return v;
+  h.file = [&](const toml::node& at, std::string_view key, const std::string& v) {
+    // File parameters are relative to the file that names them, like every path in a scene.
+    std::filesystem::path p = v;
+    const SourceLoc l = loc_of(at);
+    if (p.is_relative() && !l.file.empty()) p = std::filesystem::path(l.file).parent_path() / p;
+    if (!std::filesystem::exists(p))
+      r.fail_at(at, key, fmt::format("file not found: {}", p.string()));
+    return p.string();
   };
-  auto list = [&](const toml::node& x) -> const toml::array& {
-    const toml::array* a = x.as_array();
-    if (!a) r.fail_at(x, key, "expected an array, got " + type_name(x));
-    return *a;
+  h.nested = [&](const toml::table& t, std::string_view key) {
+    TableReader sub(t, r.full_key(key));
+    std::vector<std::string> names;
+    for (const auto& f : org_functions()) names.emplace_back(f.name);
+    std::vector<std::string_view> views(names.begin(), names.end());
+    const std::string type = sub.string("type", "", views);
+    if (type.empty()) sub.fail("type", "is required (one of: " + join_choices(views) + ")");
+    auto nf = std::make_shared<NestedFunction>();
+    nf->type = type;
+    nf->values = sub.params(find_org_function(type)->params);
+    sub.finish();
+    return std::shared_ptr<const NestedFunction>(nf);
   };
-  switch (spec.type) {
-    case ParamType::Number:
-      return num(n);
-    case ParamType::Integer: {
-      const auto iv = as_integer(n);
-      if (!iv) r.fail_at(n, key, "expected an integer, got " + type_name(n));
-      const auto v = *iv;
-      check_range(r, n, key, double(v), spec.min, spec.max, spec.min_exclusive, spec.max_exclusive);
-      return v;
-    }
-    case ParamType::Bool:
-      if (!n.is_boolean()) r.fail_at(n, key, "expected true or false, got " + type_name(n));
-      return *n.value<bool>();
-    case ParamType::String: {
-      if (!n.is_string()) r.fail_at(n, key, "expected a string, got " + type_name(n));
-      std::string v = *n.value<std::string>();
-      if (!spec.choices.empty() &&
-          std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
-        std::vector<std::string> cs(spec.choices.begin(), spec.choices.end());
-        const std::string s = suggest(v, cs);
-        r.fail_at(n, key,
-                  fmt::format("unknown value \"{}\"{} (valid: {})", v,
-                              s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
-                              join_choices(spec.choices)));
-      }
-      if (key == "file") {
-        // File parameters are relative to the file that names them, like every path in a scene.
-        std::filesystem::path p = v;
-        const SourceLoc l = loc_of(n);
-        if (p.is_relative() && !l.file.empty()) p = std::filesystem::path(l.file).parent_path() / p;
-        if (!std::filesystem::exists(p))
-          r.fail_at(n, key, fmt::format("file not found: {}", p.string()));
-        return p.string();
-      }
-      return v;
-    }
-    case ParamType::Vec2: {
-      const Vec3 v = vec(n, 2);
-      return Vec2{v.x, v.y};
-    }
-    case ParamType::Vec3:
-      return vec(n, 3);
-    case ParamType::NumberList: {
-      std::vector<double> out;
-      for (const auto& e : list(n)) out.push_back(num(e));
-      return out;
-    }
-    case ParamType::Vec3List: {
-      std::vector<Vec3> out;
-      for (const auto& e : list(n)) out.push_back(vec(e, 3));
-      return out;
-    }
-    case ParamType::Vec3Grid: {
-      std::vector<std::vector<Vec3>> out;
-      for (const auto& row : list(n)) {
-        out.emplace_back();
-        for (const auto& e : list(row)) out.back().push_back(vec(e, 3));
-      }
-      return out;
-    }
-    case ParamType::NumberGrid: {
-      std::vector<std::vector<double>> out;
-      for (const auto& row : list(n)) {
-        out.emplace_back();
-        for (const auto& e : list(row)) out.back().push_back(num(e));
-      }
-      return out;
-    }
-    case ParamType::StringMap: {
-      const toml::table* t = n.as_table();
-      if (!t) r.fail_at(n, key, "expected a table { name = number, ... }");
-      std::map<std::string, double> out;
-      for (const auto& [k, v] : *t) {
-        auto x = as_number(v);
-        if (!x || !std::isfinite(*x))
-          r.fail_at(v, key, fmt::format("constant '{}' must be a finite number", k.str()));
-        out[std::string(k.str())] = *x;
-      }
-      return out;
-    }
-    case ParamType::Function: {
-      const toml::table* t = n.as_table();
-      if (!t) r.fail_at(n, key, "expected a table { type = \"...\", ... }");
-      TableReader sub(*t, r.full_key(key));
-      std::vector<std::string> names;
-      for (const auto& f : org_functions()) names.emplace_back(f.name);
-      std::vector<std::string_view> views(names.begin(), names.end());
-      const std::string type = sub.string("type", "", views);
-      if (type.empty()) sub.fail("type", "is required (one of: " + join_choices(views) + ")");
-      auto nf = std::make_shared<NestedFunction>();
-      nf->type = type;
-      nf->values = sub.params(find_org_function(type)->params);
-      sub.finish();
-      return std::shared_ptr<const NestedFunction>(nf);
-    }
-  }
-  r.fail_at(n, key, "unsupported parameter type");
+  return param_from_toml(spec, n, h);
 }
 
 ParamValues TableReader::params(std::span<const ParamSpec> specs) {

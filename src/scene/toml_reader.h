@@ -12,6 +12,7 @@
 
 #include <toml++/toml.h>
 
+#include "camera/param_toml.h"
 #include "camera/params.h"
 #include "math/transform.h"
 #include "math/vec.h"
@@ -33,9 +34,6 @@ class SceneError : public std::runtime_error {
 
 SourceLoc loc_of(const toml::node& n);
 SourceLoc loc_of(const toml::key& k);
-
-// The closest candidate by edit distance, or "" when nothing is close.
-std::string suggest(std::string_view word, std::span<const std::string> candidates);
 
 class TableReader {
  public:

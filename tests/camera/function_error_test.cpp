@@ -5,6 +5,8 @@
 #include <string>
 
 #include "camera/functions.h"
+#include "scene/scene_loader.h"
+#include "scene/toml_reader.h"
 
 namespace anamorph {
 namespace {
@@ -86,6 +88,8 @@ const Bad kBad[] = {
     {"dir", "from_surface", "surface = { type = \"sphere\", radius = -1 }", "surface.radius",
      "nested error"},
     {"dir", "from_surface", "surface = { type = \"sphear\" }", "surface", "unknown nested type"},
+    {"dir", "from_surface", "surface = { type = \"sphere\", radiuss = 1 }", "surface.radiuss",
+     "unknown nested key"},
     {"dir", "deviated_normal", "angle = 200", "angle", "angle above 180"},
     {"dir", "normal", "flip = 1", "flip", "wrong type"},
     {"dir", "expression", "x = \"nx\"\ny = \"ny\"\nz = \"nz + t\"", "z", "unknown variable"},
@@ -145,4 +149,33 @@ TEST(FunctionErrors, ProgrammaticValuesAreCheckedLikeParsedOnes) {
 }
 
 }  // namespace
+// The registry (make_org from TOML text) and the scene parser convert values with the same code
+// (param_toml.h), so a bad value gets the same words from both; the scene adds where it is.
+TEST(ParamConversion, RegistryAndSceneParserSayTheSame) {
+  const std::string bad[] = {"radius = \"big\"", "radius = -1", "u_range = [0, 1, 2]"};
+  for (const std::string& b : bad) {
+    std::string registry, scene;
+    try {
+      make_org("sphere", b);
+    } catch (const ParamError& e) {
+      registry = e.what();
+    }
+    try {
+      load_scene_from_string(
+          "[camera]\ndir = { type = \"normal\" }\n[camera.org]\ntype = "
+          "\"sphere\"\n" +
+              b + "\n",
+          "t.toml");
+    } catch (const SceneError& e) {
+      scene = e.what();
+    }
+    ASSERT_FALSE(registry.empty()) << b;
+    ASSERT_FALSE(scene.empty()) << b;
+    // registry: "radius: <message>"; scene: "t.toml:L:C: camera.org.radius: <message>".
+    const std::string message = registry.substr(registry.find(": ") + 2);
+    EXPECT_TRUE(scene.ends_with(": " + message))
+        << b << "\nregistry: " << registry << "\nscene:    " << scene;
+  }
+}
+
 }  // namespace anamorph

@@ -1,0 +1,201 @@
+#include "camera/param_toml.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace anamorph {
+
+std::optional<double> toml_number(const toml::node& n) {
+  if (auto v = n.value<double>()) return *v;
+  return std::nullopt;
+}
+
+std::optional<int64_t> toml_integer(const toml::node& n) {
+  if (n.is_integer()) return n.value<int64_t>();
+  if (auto d = n.value<double>();
+      d && std::isfinite(*d) && *d == std::round(*d) && std::abs(*d) < 9e15)
+    return int64_t(*d);
+  return std::nullopt;
+}
+
+std::string toml_type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    default:
+      return "a date/time";
+  }
+}
+
+std::string range_error(double v, double lo, double hi, bool lo_ex, bool hi_ex) {
+  if (!std::isfinite(v)) return fmt::format("must be a finite number, got {}", v);
+  const bool below = lo_ex ? !(v > lo) : !(v >= lo);
+  const bool above = hi_ex ? !(v < hi) : !(v <= hi);
+  if (!below && !above) return "";
+  std::string range = fmt::format("{}{}, {}{}", lo_ex ? "(" : "[", lo, hi, hi_ex ? ")" : "]");
+  if (std::isinf(hi))
+    range = fmt::format("{} {}", lo_ex ? ">" : ">=", lo);
+  else if (std::isinf(lo))
+    range = fmt::format("{} {}", hi_ex ? "<" : "<=", hi);
+  return fmt::format("value {} is out of range (must be {})", v, range);
+}
+
+namespace {
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+}  // namespace
+
+std::string suggest(std::string_view word, std::span<const std::string> candidates) {
+  std::string best;
+  size_t best_d = std::max<size_t>(2, word.size() / 3) + 1;
+  for (const auto& c : candidates) {
+    const size_t d = edit_distance(word, c);
+    if (d < best_d) best_d = d, best = c;
+  }
+  return best;
+}
+
+std::string join_choices(std::span<const std::string_view> c) {
+  std::string s;
+  for (size_t i = 0; i < c.size(); ++i)
+    s += (i ? ", " : "") + std::string("\"") + std::string(c[i]) + "\"";
+  return s;
+}
+
+ParamValue param_from_toml(const ParamSpec& spec, const toml::node& n, const ParamTomlHooks& h) {
+  const std::string_view key = spec.name;
+  const auto fail = [&](const toml::node& at, const std::string& msg) {
+    h.fail(at, key, msg);
+    std::abort();  // (fail hooks throw)
+  };
+  const auto in_range = [&](const toml::node& at, double v) {
+    const std::string e =
+        range_error(v, spec.min, spec.max, spec.min_exclusive, spec.max_exclusive);
+    if (!e.empty()) fail(at, e);
+  };
+  const auto num = [&](const toml::node& x) {
+    const auto v = toml_number(x);
+    if (!v) fail(x, "expected a number, got " + toml_type_name(x));
+    in_range(x, *v);
+    return *v;
+  };
+  const auto vec = [&](const toml::node& x, size_t dim) {
+    const toml::array* a = x.as_array();
+    if (!a || a->size() != dim)
+      fail(x, fmt::format("expected an array of {} numbers, got {}", dim, toml_type_name(x)));
+    Vec3 v;
+    for (size_t i = 0; i < dim; ++i) v[int(i)] = num(*a->get(i));
+    return v;
+  };
+  const auto list = [&](const toml::node& x) -> const toml::array& {
+    const toml::array* a = x.as_array();
+    if (!a) fail(x, "expected an array, got " + toml_type_name(x));
+    return *a;
+  };
+  switch (spec.type) {
+    case ParamType::Number:
+      return num(n);
+    case ParamType::Integer: {
+      const auto v = toml_integer(n);
+      if (!v) fail(n, "expected an integer, got " + toml_type_name(n));
+      in_range(n, double(*v));
+      return *v;
+    }
+    case ParamType::Bool:
+      if (!n.is_boolean()) fail(n, "expected true or false, got " + toml_type_name(n));
+      return *n.value<bool>();
+    case ParamType::String: {
+      if (!n.is_string()) fail(n, "expected a string, got " + toml_type_name(n));
+      std::string v = *n.value<std::string>();
+      if (!spec.choices.empty() &&
+          std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
+        std::vector<std::string> cs(spec.choices.begin(), spec.choices.end());
+        const std::string s = suggest(v, cs);
+        fail(n, fmt::format("unknown value \"{}\"{} (valid: {})", v,
+                            s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
+                            join_choices(spec.choices)));
+      }
+      if (key == "file" && h.file) return h.file(n, key, v);
+      return v;
+    }
+    case ParamType::Vec2: {
+      const Vec3 v = vec(n, 2);
+      return Vec2{v.x, v.y};
+    }
+    case ParamType::Vec3:
+      return vec(n, 3);
+    case ParamType::NumberList: {
+      std::vector<double> out;
+      for (const auto& e : list(n)) out.push_back(num(e));
+      return out;
+    }
+    case ParamType::Vec3List: {
+      std::vector<Vec3> out;
+      for (const auto& e : list(n)) out.push_back(vec(e, 3));
+      return out;
+    }
+    case ParamType::Vec3Grid: {
+      std::vector<std::vector<Vec3>> out;
+      for (const auto& row : list(n)) {
+        out.emplace_back();
+        for (const auto& e : list(row)) out.back().push_back(vec(e, 3));
+      }
+      return out;
+    }
+    case ParamType::NumberGrid: {
+      std::vector<std::vector<double>> out;
+      for (const auto& row : list(n)) {
+        out.emplace_back();
+        for (const auto& e : list(row)) out.back().push_back(num(e));
+      }
+      return out;
+    }
+    case ParamType::StringMap: {
+      const toml::table* t = n.as_table();
+      if (!t) fail(n, "expected a table { name = number, ... }");
+      std::map<std::string, double> out;
+      for (const auto& [k, v] : *t) {
+        const auto x = toml_number(v);
+        if (!x || !std::isfinite(*x))
+          fail(v, fmt::format("constant '{}' must be a finite number", k.str()));
+        out[std::string(k.str())] = *x;
+      }
+      return out;
+    }
+    case ParamType::Function: {
+      const toml::table* t = n.as_table();
+      if (!t) fail(n, "expected a table { type = \"...\", ... }");
+      return h.nested(*t, key);
+    }
+  }
+  fail(n, "unsupported parameter type");
+  return {};
+}
+
+}  // namespace anamorph
