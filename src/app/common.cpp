@@ -44,20 +44,29 @@ std::vector<std::string> SceneOptions::overrides() const {
   return o;
 }
 
-Scene load(const SceneOptions& o, const std::vector<std::string>& extra, double frame) {
+namespace {
+
+// The options' overrides, then the command's own; the loaded scene's warnings printed.
+std::vector<std::string> with_extra(const SceneOptions& o, const std::vector<std::string>& extra) {
   std::vector<std::string> ov = o.overrides();
   ov.insert(ov.end(), extra.begin(), extra.end());
-  Scene s = load_scene(o.scene, ov, frame);
+  return ov;
+}
+
+Scene warned(Scene s) {
   for (const auto& w : s.warnings) fmt::print(stderr, "warning: {}\n", w);
   return s;
 }
 
+}  // namespace
+
+Scene load(const SceneOptions& o, const std::vector<std::string>& extra, double frame) {
+  return warned(load_scene(o.scene, with_extra(o, extra), frame));
+}
+
 void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra, double frame,
                     Scene& loaded) {
-  std::vector<std::string> ov = o.overrides();
-  ov.insert(ov.end(), extra.begin(), extra.end());
-  Scene v = load_view(o.scene, ov, frame, loaded);
-  for (const auto& w : v.warnings) fmt::print(stderr, "warning: {}\n", w);
+  Scene v = warned(load_view(o.scene, with_extra(o, extra), frame, loaded));
   loaded.render = v.render;
   loaded.camera = std::move(v.camera);
   loaded.camera_toml = std::move(v.camera_toml);

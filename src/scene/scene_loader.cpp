@@ -173,7 +173,6 @@ struct Context {
   fs::path dir;  // relative paths resolve against the scene file's directory
   Scene* scene;
   std::map<std::string, uint32_t> material_ids;
-  std::vector<ModelCamera> model_cameras;
 };
 
 fs::path resolve(const Context& c, TableReader& r, std::string_view key) {
@@ -316,7 +315,7 @@ void read_object(Context& c, TableReader& r, int index) {
     }
     for (auto& cam : m.cameras) {
       cam.world_from_camera = xf * cam.world_from_camera;
-      c.model_cameras.push_back(cam);
+      c.scene->model_cameras.push_back(cam);
     }
     for (auto& w : m.warnings) s.warnings.push_back(w);
     r.finish();
@@ -510,7 +509,6 @@ void read_world(Context& c, TableReader& top) {
     TableReader r(*n->as_table(), "environment");
     read_environment(c, r, s);
   }
-  s.model_cameras = c.model_cameras;
 }
 
 // `view_from`: read only image, render and camera, with the model cameras of this scene
@@ -582,7 +580,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     // (Marked as read: they were validated when view_from was loaded, and nothing in them is
     // animated.)
     for (const char* key : {"material", "object", "light", "environment"}) top.node(key);
-    c.model_cameras = view_from->model_cameras;
+    s.model_cameras = view_from->model_cameras;
   } else {
     read_world(c, top);
   }
@@ -596,7 +594,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
       std::any_of(overrides.begin(), overrides.end(),
                   [](const std::string& o) { return o.rfind("camera.preset=", 0) == 0; });
   ShutterSpec shutter;
-  s.camera = read_camera(cr, {s.render.width, s.render.height}, c.model_cameras, preset_overridden,
+  s.camera = read_camera(cr, {s.render.width, s.render.height}, s.model_cameras, preset_overridden,
                          &s.warnings, &shutter);
   s.camera_toml = to_toml_text(ct);
   if (shutter.close > shutter.open || shutter.open != 0) {
@@ -606,7 +604,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
       const toml::node* n2 = r2.get("camera");
       TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
       ShutterSpec unused;
-      return read_camera(cr2, {s.render.width, s.render.height}, c.model_cameras, preset_overridden,
+      return read_camera(cr2, {s.render.width, s.render.height}, s.model_cameras, preset_overridden,
                          nullptr, &unused);
     };
     if (shutter.open != 0) s.camera = camera_at(shutter.open);
