@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "camera/camera.h"
 #include "camera/virtual_camera.h"
@@ -245,8 +246,17 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
 
   // Overlapping coins add up (the paper's sum); where two strong ones both act fully, their
   // weights can sum above 1 and pull a point past them. Overlapping disks share a cell.
+  // Only coins stronger than 1 minus the cell's strongest of their sign can form such a pair, so
+  // thousands of coincident weak coins cost one pass per cell, not a pass per pair.
   for (size_t c = 0; c + 1 < cell_start_.size(); ++c) {
-    for (uint32_t a = cell_start_[c]; a < cell_start_[c + 1]; ++a)
+    double strongest[2] = {0, 0};  // of the negative, positive coins
+    for (uint32_t a = cell_start_[c]; a < cell_start_[c + 1]; ++a) {
+      const double m = sites_[cell_items_[a]].strength;
+      strongest[m > 0] = std::max(strongest[m > 0], std::abs(m));
+    }
+    for (uint32_t a = cell_start_[c]; a < cell_start_[c + 1]; ++a) {
+      const double m = sites_[cell_items_[a]].strength;
+      if (!(std::abs(m) + strongest[m > 0] > 1)) continue;
       for (uint32_t b = a + 1; b < cell_start_[c + 1]; ++b) {
         const CoinSite &s = sites_[cell_items_[a]], &t = sites_[cell_items_[b]];
         if (length(s.uv - t.uv) < s.radius + t.radius &&
@@ -259,6 +269,7 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
           return;
         }
       }
+    }
   }
 }
 
@@ -469,46 +480,49 @@ void CoinField::apply_batch(const double* u, const double* v, int n, CameraRayBa
                             bool* reached) const {
   for (int i = 0; i < n; ++i) reached[i] = false;
   if (sites_.empty()) return;
-  // The sites of the lanes' grid cells, in increasing order (as each cell lists them), so every
-  // lane adds its coins in the same order whatever its neighbours are.
+  // The sites that reach some lane, in increasing order, at most kMaxSites per pass: each pass
+  // takes the smallest indices above the previous pass's last one. Every lane thus adds its coins
+  // in one global order (the same bits whatever its neighbours are), with no allocation and no
+  // limit on how many coins reach a sample.
   constexpr int kMaxSites = 64;
   uint32_t cand[kMaxSites];
-  int m = 0;
-  bool overflow = false;
-  for (int i = 0; i < n; ++i)
-    for_cell({u[i], v[i]}, [&](uint32_t k) {
-      const Disk& d = disks_[k];
-      const double qu = u[i] - d.u, qv = v[i] - d.v;
-      if (!((qu * qu + qv * qv) * d.inv_r2 < 1)) return;
-      reached[i] = true;
-      if (std::find(cand, cand + m, k) != cand + m) return;
-      if (m == kMaxSites) {
-        overflow = true;
-        return;
-      }
-      cand[m++] = k;
-    });
-  if (m == 0) return;
-  if (overflow) {
-    // More coins at once than the list holds: lane by lane.
-    for (int i = 0; i < n; ++i)
-      if (reached[i]) {
-        CameraRay r = rays->ray(i);
-        const bool ok = apply({u[i], v[i]}, &r);
-        rays->set(i, ok ? std::optional(r) : std::nullopt);
-      }
-    return;
-  }
-  std::sort(cand, cand + m);
   CoinSums s;
-  s.clear(n);
-  for (int j = 0; j < m; ++j) {
-    const uint32_t k = cand[j];
-    const CoinSite& c = sites_[k];
-    const SiteLanes lane{disks_[k].u, disks_[k].v, disks_[k].inv_r2, inv_lc2_[k],
-                         c.strength,  c.stiffness, c.p_camera};
-    add_site_lanes(lane, c.falloff, c.affects, u, v, *rays, n, &s);
+  bool any = false;
+  int64_t after = -1;
+  for (;;) {
+    int m = 0;
+    bool more = false;
+    for (int i = 0; i < n; ++i)
+      for_cell({u[i], v[i]}, [&](uint32_t k) {
+        const Disk& d = disks_[k];
+        const double qu = u[i] - d.u, qv = v[i] - d.v;
+        if (!((qu * qu + qv * qv) * d.inv_r2 < 1)) return;
+        reached[i] = true;
+        if (int64_t(k) <= after) return;
+        uint32_t* at = std::lower_bound(cand, cand + m, k);
+        if (at != cand + m && *at == k) return;
+        if (m == kMaxSites) {
+          more = true;  // the largest one waits for the next pass
+          if (at == cand + m) return;
+          --m;
+        }
+        std::copy_backward(at, cand + m, cand + m + 1);
+        *at = k;
+        ++m;
+      });
+    if (m == 0) break;
+    if (!any) s.clear(n), any = true;
+    for (int j = 0; j < m; ++j) {
+      const uint32_t k = cand[j];
+      const CoinSite& c = sites_[k];
+      const SiteLanes lane{disks_[k].u, disks_[k].v, disks_[k].inv_r2, inv_lc2_[k],
+                           c.strength,  c.stiffness, c.p_camera};
+      add_site_lanes(lane, c.falloff, c.affects, u, v, *rays, n, &s);
+    }
+    if (!more) break;
+    after = cand[m - 1];
   }
+  if (!any) return;
   double ok[kCameraBatch];
   deform_lanes(s, n, rays, ok);
   for (int i = 0; i < n; ++i) rays->valid[i] = rays->valid[i] & (ok[i] != 0);

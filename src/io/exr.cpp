@@ -111,7 +111,9 @@ void write_exr(const fs::path& file, const OutputImage& img) {
          fmt::format("{} metadata entries, at most {} are supported", img.metadata.size(),
                      TINYEXR_MAX_CUSTOM_ATTRIBUTES));
   std::vector<EXRAttribute> attributes;
-  for (const auto& [key, value] : img.metadata) {
+  for (const auto& entry : img.metadata) {
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const std::string &key = entry.first, &value = entry.second;
     const bool reserved =
         std::any_of(std::begin(kReservedAttributes), std::end(kReservedAttributes),
                     [&](const char* r) { return key == r; });
@@ -160,8 +162,12 @@ io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,
   for (int c = 0; c < h.num_channels; ++c)
     if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
       h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  check_read_size(file, int64_t(h.data_window.max_x) - h.data_window.min_x + 1,
+                  int64_t(h.data_window.max_y) - h.data_window.min_y + 1);
   InitEXRImage(&exr.image);
   const char* err = nullptr;
+  // Not freed on failure: tinyexr 1.0's DecodeEXRImage frees the image itself on a failed chunk
+  // but leaves the pointers set, so FreeEXRImage here would free them twice.
   if (LoadEXRImageFromMemory(&exr.image, &h, b.data(), b.size(), &err) != TINYEXR_SUCCESS)
     fail("cannot read EXR", file, take_error(err, "invalid image data"));
   exr.has_image = true;

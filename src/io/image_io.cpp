@@ -34,6 +34,15 @@ void fail(std::string_view what, const fs::path& file, std::string_view reason) 
   throw ImageIoError(fmt::format("{} '{}': {}", what, file.string(), reason));
 }
 
+void check_read_size(const fs::path& file, int64_t width, int64_t height) {
+  if (width <= 0 || height <= 0)
+    fail("cannot read image", file, fmt::format("invalid size {} x {}", width, height));
+  if (uint64_t(width) * uint64_t(height) > kMaxReadPixels)
+    fail("cannot read image", file,
+         fmt::format("{} x {} pixels is more than the {} million pixels anamorph reads", width,
+                     height, kMaxReadPixels / 1000000));
+}
+
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
   auto sys_fail = [&](int e) {
     fail("cannot read image", file, std::generic_category().message(e));
@@ -229,6 +238,8 @@ Image read_image(const fs::path& file, bool srgb) {
       img.pixels[i] = linearize && i % 4 != 3 ? srgb_to_linear(v) : v;  // alpha is linear
     }
   };
+  if (!stbi_info_from_memory(data, len, &w, &h, &n)) stb_fail();
+  io_detail::check_read_size(file, w, h);
   // Asking stb for 4 components expands grey to RGB and adds opaque alpha.
   if (stbi_is_hdr_from_memory(data, len)) {
     std::unique_ptr<float, StbFree> p(stbi_loadf_from_memory(data, len, &w, &h, &n, 4));

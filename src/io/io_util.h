@@ -20,6 +20,12 @@ namespace anamorph::io_detail {
 // The whole file; throws ImageIoError naming the file (and strerror) when it cannot be read.
 std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
 
+// The largest image read, in pixels: 2^27, e.g. a 16384 x 8192 planet map (2 GiB as linear float
+// RGBA before its mip levels). A few bytes of compressed data can claim far more; the size is
+// checked from the header before any pixel is decoded.
+inline constexpr uint64_t kMaxReadPixels = uint64_t(1) << 27;
+void check_read_size(const std::filesystem::path& file, int64_t width, int64_t height);
+
 inline constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 bool is_png(const std::vector<unsigned char>& bytes);
 

@@ -31,17 +31,21 @@
 // with that node's transform; a mesh referenced by several nodes is built once as a prototype of
 // its own and placed by one instance per reference.
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <optional>
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 
 #include <fmt/format.h>
 
+#include "scene/isolated.h"
 #include "scene/load_common.h"
 #include "scene/load_mesh_repair.h"
+#include "scene/load_validate.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
@@ -76,8 +80,9 @@ Wrap to_wrap(aiTextureMapMode m) {
 
 class AssimpBuilder {
  public:
-  AssimpBuilder(const aiScene& s, const fs::path& file)
+  AssimpBuilder(const aiScene& s, const fs::path& file, std::vector<std::string> mesh_names)
       : s_(s),
+        mesh_names_(std::move(mesh_names)),
         dir_(file.parent_path()),
         file_(file.string()),
         is_obj_(lowercase_extension(file) == ".obj"),
@@ -177,7 +182,8 @@ class AssimpBuilder {
       return std::nullopt;
     }
     TriangleMesh tm;
-    tm.name = am.mName.length > 0 ? am.mName.C_Str() : fmt::format("{} mesh {}", stem_, index);
+    const std::string& name = index < mesh_names_.size() ? mesh_names_[index] : "";
+    tm.name = !name.empty() ? name : fmt::format("{} mesh {}", stem_, index);
     tm.positions.resize(am.mNumVertices);
     for (unsigned v = 0; v < am.mNumVertices; ++v)
       tm.positions[v] = {am.mVertices[v].x, am.mVertices[v].y, am.mVertices[v].z};
@@ -300,6 +306,7 @@ class AssimpBuilder {
   }
 
   const aiScene& s_;
+  std::vector<std::string> mesh_names_;  // (assbin does not keep them)
   fs::path dir_;
   std::string file_;
   bool is_obj_;
@@ -314,17 +321,73 @@ class AssimpBuilder {
 
 }  // namespace
 
-LoadedModel load_with_assimp(const fs::path& file) {
-  require_readable(file);
+namespace {
+
+// In the isolated child: assimp reads and post-processes the file, and the result goes back as
+// assimp's own binary dump (assbin), which the parent reads without any post-processing. The
+// dump drops mesh names, so they follow it: NUL-terminated, then their byte count (8 bytes).
+std::vector<unsigned char> read_in_child(const fs::path& file) {
   Assimp::Importer importer;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                          aiProcess_SortByPType | aiProcess_ValidateDataStructure;
   const aiScene* scene = importer.ReadFile(file.string(), flags);
-  if (!scene) throw LoadError(file.string() + ": " + importer.GetErrorString());
-  if (!scene->mRootNode || scene->mNumMeshes == 0)
-    throw LoadError(file.string() + ": contains no meshes");
+  if (!scene) {
+    // assimp catches its own allocation failures and reports them as text.
+    if (std::strstr(importer.GetErrorString(), "bad_alloc")) throw std::bad_alloc();
+    throw LoadError(importer.GetErrorString());
+  }
+  if (!scene->mRootNode || scene->mNumMeshes == 0) throw LoadError("contains no meshes");
+  Assimp::Exporter exporter;
+  const aiExportDataBlob* blob = exporter.ExportToBlob(scene, "assbin");
+  if (!blob)
+    throw LoadError(fmt::format("cannot hand the model over: {}", exporter.GetErrorString()));
+  const auto* data = static_cast<const unsigned char*>(blob->data);
+  std::vector<unsigned char> out(data, data + blob->size);
+  const size_t dump = out.size();
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
+    const char* name = scene->mMeshes[i]->mName.C_Str();
+    out.insert(out.end(), name, name + std::strlen(name) + 1);
+  }
+  const uint64_t names = out.size() - dump;
+  const auto* n = reinterpret_cast<const unsigned char*>(&names);
+  out.insert(out.end(), n, n + sizeof names);
+  return out;
+}
+
+// Splits the child's answer into the assbin dump and the mesh names.
+std::vector<std::string> split_mesh_names(std::vector<unsigned char>& answer) {
+  uint64_t names = 0;
+  if (answer.size() < sizeof names) throw LoadError("the loader's answer is cut short");
+  std::memcpy(&names, answer.data() + answer.size() - sizeof names, sizeof names);
+  if (names > answer.size() - sizeof names) throw LoadError("the loader's answer is damaged");
+  const size_t dump = answer.size() - sizeof names - names;
+  std::vector<std::string> out;
+  for (size_t at = dump; at < dump + names;) {
+    const auto* p = reinterpret_cast<const char*>(answer.data() + at);
+    out.emplace_back(p, strnlen(p, dump + names - at));
+    at += out.back().size() + 1;
+  }
+  answer.resize(dump);
+  return out;
+}
+
+}  // namespace
+
+LoadedModel load_with_assimp(const fs::path& file) {
+  require_readable(file);
+  std::error_code ec;
+  const uintmax_t size = fs::file_size(file, ec);
   try {
-    return AssimpBuilder(*scene, file).build();
+    if (lowercase_extension(file) == ".ply") check_ply_counts(file);
+    std::vector<unsigned char> answer = run_isolated(
+        "assimp", [&] { return read_in_child(file); }, loader_limits(ec ? 0 : size));
+    std::vector<std::string> mesh_names = split_mesh_names(answer);
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFileFromMemory(answer.data(), answer.size(), 0, "assbin");
+    if (!scene)
+      throw LoadError(
+          fmt::format("cannot read the loader's answer: {}", importer.GetErrorString()));
+    return AssimpBuilder(*scene, file, std::move(mesh_names)).build();
   } catch (const LoadError& e) {
     throw LoadError(file.string() + ": " + e.what());
   }

@@ -186,6 +186,7 @@ class GltfBuilder {
       for (size_t i = 0; i < m_.nodes.size(); ++i)
         if (!is_child[i]) roots.push_back(int(i));
     }
+    check_tree();
     for (int r : roots) visit(r, Mat4::identity(), 0);
     finish_warnings();
     out_.warnings = warnings_.take();
@@ -207,6 +208,25 @@ class GltfBuilder {
                                      e) == m_.extensionsRequired.end())
         warnings_.add(
             fmt::format("{}: glTF extension {} is not supported and is ignored", file_, e));
+  }
+
+  // glTF nodes form a tree: each node has at most one parent. A node shared by parents would be
+  // visited once per path, and a 1 KB file whose 32 levels each list the next node twice names
+  // 2^32 instances.
+  void check_tree() const {
+    std::vector<int> parent(m_.nodes.size(), -1);
+    for (size_t p = 0; p < m_.nodes.size(); ++p)
+      for (int c : m_.nodes[p].children) {
+        if (c < 0 || size_t(c) >= m_.nodes.size())
+          throw LoadError(
+              fmt::format("node {}: child {} does not exist ({} nodes)", p, c, m_.nodes.size()));
+        if (parent[size_t(c)] >= 0)
+          throw LoadError(fmt::format(
+              "node {} is a child of node {} and of node {}; glTF nodes form a tree (a node "
+              "has at most one parent)",
+              c, parent[size_t(c)], p));
+        parent[size_t(c)] = int(p);
+      }
   }
 
   void visit(int index, const Mat4& parent, size_t depth) {

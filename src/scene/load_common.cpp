@@ -1,5 +1,8 @@
 #include "scene/load_common.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cctype>
 #include <cerrno>
 #include <cstring>
@@ -23,11 +26,30 @@ void require_readable(const fs::path& file) {
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
   require_readable(file);
-  std::ifstream in(file, std::ios::binary);
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) throw LoadError("cannot read " + file.string() + ": " + std::strerror(errno));
+  // POSIX reads: a read error (EIO, a file that vanished) names its cause, where a stream
+  // iterator would stop silently or throw the library's own words.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw LoadError("cannot open " + file.string() + ": " + std::strerror(errno));
+  std::vector<unsigned char> bytes;
+  unsigned char buf[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int e = errno;
+      ::close(fd);
+      throw LoadError("cannot read " + file.string() + ": " + std::strerror(e));
+    }
+    if (n == 0) break;
+    bytes.insert(bytes.end(), buf, buf + n);
+  }
+  ::close(fd);
   return bytes;
+}
+
+std::string read_text_file(const fs::path& file) {
+  const std::vector<unsigned char> bytes = read_file_bytes(file);
+  return std::string(bytes.begin(), bytes.end());
 }
 
 std::string lowercase_extension(const fs::path& file) {

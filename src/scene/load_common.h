@@ -19,6 +19,7 @@ namespace anamorph {
 void require_readable(const std::filesystem::path& file);
 // The whole file; same error as require_readable.
 std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
+std::string read_text_file(const std::filesystem::path& file);
 // ".GLB" -> ".glb".
 std::string lowercase_extension(const std::filesystem::path& file);
 

@@ -71,8 +71,18 @@ const unsigned char* view_bytes(const tinygltf::Model& m, int view, size_t* size
   return data.data() + bv.byteOffset;
 }
 
+// All the bytes the file's buffers hold: an accessor without a bufferView (zeros, perhaps with
+// sparse substitutions) may not have more elements than would fit in them. Its count is
+// otherwise only a number: 400 bytes of JSON could ask for gigabytes of zeros.
+size_t buffer_bytes(const tinygltf::Model& m) {
+  size_t n = 0;
+  for (const auto& b : m.buffers) n += b.data.size();
+  return n;
+}
+
 // Calls f(element, component, value) for every component of every element, sparse substitutions
-// applied. Elements not covered by a bufferView are zero.
+// applied. Elements not covered by a bufferView are zero. Every count is checked against the
+// bytes present before f sees an element (callers allocate on the first call).
 template <class F>
 void for_each_component(const tinygltf::Model& m, int index, int want_components, F&& f) {
   const std::string what = fmt::format("accessor {}", index);
@@ -88,6 +98,11 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
     throw LoadError(fmt::format("{}: has {} components per element, expected {}", what, ncomp,
                                 want_components));
   const size_t elem = size_t(ncomp) * size_t(csize);
+  if (a.bufferView < 0 && a.count > buffer_bytes(m) / elem)
+    throw LoadError(
+        fmt::format("{}: {} elements without a bufferView are more than the file's buffers "
+                    "({} bytes) could hold",
+                    what, a.count, buffer_bytes(m)));
 
   if (a.bufferView >= 0) {
     size_t size = 0;
@@ -96,8 +111,9 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
     const int stride = a.ByteStride(m.bufferViews[size_t(a.bufferView)]);
     if (stride <= 0)
       throw LoadError(fmt::format("{}: invalid byteStride for its componentType", what));
-    if (a.count > 0 &&
-        (a.byteOffset > size || (a.count - 1) * size_t(stride) + elem > size - a.byteOffset))
+    // Divided, not multiplied: a forged count must not wrap the product around.
+    if (a.count > 0 && (a.byteOffset > size || size - a.byteOffset < elem ||
+                        a.count - 1 > (size - a.byteOffset - elem) / size_t(stride)))
       throw LoadError(
           fmt::format("{}: {} elements at offset {} with stride {} overrun "
                       "bufferView {} ({} bytes)",
@@ -145,9 +161,9 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
 
 std::vector<float> read_accessor_floats(const tinygltf::Model& m, int index, int components) {
   std::vector<float> out;
-  if (index >= 0 && size_t(index) < m.accessors.size())
-    out.resize(m.accessors[size_t(index)].count * size_t(components));
   for_each_component(m, index, components, [&](size_t i, int c, double v) {
+    // Sized at the first element, after for_each_component checked the count.
+    if (out.empty()) out.resize(m.accessors[size_t(index)].count * size_t(components));
     out[i * size_t(components) + size_t(c)] = float(v);
   });
   return out;
@@ -164,9 +180,10 @@ std::vector<uint32_t> read_accessor_indices(const tinygltf::Model& m, int index)
                       index, ct));
   }
   std::vector<uint32_t> out;
-  if (index >= 0 && size_t(index) < m.accessors.size())
-    out.resize(m.accessors[size_t(index)].count);
-  for_each_component(m, index, 1, [&](size_t i, int, double v) { out[i] = uint32_t(v); });
+  for_each_component(m, index, 1, [&](size_t i, int, double v) {
+    if (out.empty()) out.resize(m.accessors[size_t(index)].count);  // after the checks
+    out[i] = uint32_t(v);
+  });
   return out;
 }
 

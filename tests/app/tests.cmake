@@ -3,3 +3,7 @@ anamorph_add_test(test_cli
 )
 add_dependencies(test_cli anamorph)
 include(${CMAKE_CURRENT_LIST_DIR}/scenes_tests.cmake)
+anamorph_add_test(test_bad_input
+  ${CMAKE_CURRENT_LIST_DIR}/bad_input_test.cpp
+)
+add_dependencies(test_bad_input anamorph)

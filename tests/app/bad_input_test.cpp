@@ -1,0 +1,164 @@
+// Inputs that once crashed, hung or exhausted memory (tests/data/bad/README.md), run through the
+// command line as a user would: each must end within its time limit with exit code 2 (or 0 where
+// the input is valid), a message that says what is wrong, and no output file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "test_util.h"
+
+namespace anamorph {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;  // exit code; -1 when killed by `timeout` or a signal
+  std::string out;
+  double seconds;
+};
+
+// `timeout -s KILL` turns a hang into a failure instead of a stuck suite.
+Result run(const std::string& args, int limit_seconds = 60) {
+  const std::string cmd = "timeout -s KILL " + std::to_string(limit_seconds) + " " +
+                          test::binary().string() + " " + args + " 2>&1";
+  const auto t0 = std::chrono::steady_clock::now();
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  const int status = pclose(p);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const int code = WIFEXITED(status) && WEXITSTATUS(status) != 137 ? WEXITSTATUS(status) : -1;
+  return {code, out, s};
+}
+
+fs::path bad(const std::string& name) { return test::data_dir() / "bad" / name; }
+
+struct Scratch {
+  fs::path dir = fs::temp_directory_path() / ("anamorph_bad_" + std::to_string(getpid()));
+  Scratch() { fs::create_directories(dir); }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+};
+
+// A small scene that loads `model` as a mesh object.
+std::string mesh_scene(const Scratch& s, const fs::path& model) {
+  return s.write("mesh.toml",
+                 "[image]\nwidth = 8\nheight = 8\n[[object]]\ntype = \"mesh\"\nfile = \"" +
+                     model.string() + "\"\n");
+}
+
+#define EXPECT_CONTAINS(hay, needle) \
+  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
+
+}  // namespace
+
+TEST(BadInput, SixtyFiveCoincidentCoinsRenderAndGiveRays) {
+  Scratch s;
+  const fs::path out = s.dir / "coins.png";
+  const Result r = run("render " + bad("coins_65_coincident.toml").string() + " -o " +
+                       out.string() + " --spp 1");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(out));
+  const Result rays = run("rays " + bad("coins_65_coincident.toml").string() + " --width 8 " +
+                          "--height 8 -o " + (s.dir / "rays.csv").string());
+  EXPECT_EQ(rays.code, 0) << rays.out;
+}
+
+TEST(BadInput, PlyFaceWithoutCornersCrashesOnlyTheLoaderProcess) {
+  Scratch s;
+  const Result r = run("info " + mesh_scene(s, bad("ply_face_without_corners.ply")));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "ply_face_without_corners.ply: assimp crashed on it (signal 6 SIGABRT)");
+  EXPECT_CONTAINS(r.out, "mesh.toml:6:8: object[0].file");
+}
+
+TEST(BadInput, PlyHeaderWithoutEndIsRejectedAtOnce) {
+  Scratch s;
+  const Result r = run("info " + mesh_scene(s, bad("ply_header_without_end.ply")), 20);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "the PLY header has no end_header line");
+}
+
+TEST(BadInput, PlyCountsBeyondTheFileAreRejectedBeforeAllocating) {
+  Scratch s;
+  const Result r = run("info " + mesh_scene(s, bad("ply_two_billion_vertices.ply")));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "declares 2000000000 vertex elements, more than the file's 169 bytes");
+}
+
+TEST(BadInput, GltfNodeSharedByParentsIsRejected) {
+  Scratch s;
+  const Result r = run("info " + mesh_scene(s, bad("gltf_node_dag.gltf")));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "node 1 is a child of node 0 and of node 0");
+}
+
+TEST(BadInput, GltfAccessorCountWithoutBytesIsRejected) {
+  Scratch s;
+  const Result r = run("info " + mesh_scene(s, bad("gltf_accessor_count_without_data.gltf")));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "accessor 0: 400000000 elements without a bufferView");
+}
+
+TEST(BadInput, IncludeFanOutStopsWithAnError) {
+  const Result r = run("info " + bad("fanout_00.toml").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "more than 1000 files included in all");
+}
+
+TEST(BadInput, HugeTextureIsRefusedFromItsHeader) {
+  Scratch s;
+  const std::string scene =
+      s.write("tex.toml",
+              "[image]\nwidth = 8\nheight = 8\n[[material]]\nname = \"t\"\ncolor = { type = "
+              "\"image\", file = \"" +
+                  bad("png_16000_square_header.png").string() +
+                  "\" }\n[[object]]\ntype = \"sphere\"\nmaterial = \"t\"\n");
+  const Result r = run("info " + scene);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "16000 x 16000 pixels is more than the 134 million pixels");
+}
+
+TEST(BadInput, DirectoryAsSceneOrIncludeIsAnError) {
+  Scratch s;
+  fs::create_directories(s.dir / "sub");
+  const Result r = run("render " + (s.dir / "sub").string() + " -o " + (s.dir / "x.png").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "is a directory");
+  EXPECT_FALSE(fs::exists(s.dir / "x.png"));
+  const Result inc = run("info " + s.write("inc.toml", "include = \"sub\"\n"));
+  EXPECT_EQ(inc.code, 2) << inc.out;
+  EXPECT_CONTAINS(inc.out, "is a directory");
+}
+
+TEST(BadInput, UnreadableSceneSaysSoNotSyntaxError) {
+  if (geteuid() == 0) {
+    // root reads any file whatever its mode; /proc/self/mem opens but fails to read (EIO).
+    const Result r = run("info /proc/self/mem");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_CONTAINS(r.out, "cannot read /proc/self/mem: Input/output error");
+    EXPECT_EQ(r.out.find("syntax"), std::string::npos) << r.out;
+    return;
+  }
+  Scratch s;
+  const std::string scene = s.write("locked.toml", "[image]\n");
+  fs::permissions(scene, fs::perms::none);
+  const Result r = run("info " + scene);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "Permission denied");
+  EXPECT_EQ(r.out.find("syntax"), std::string::npos) << r.out;
+}
+
+}  // namespace anamorph
