@@ -38,9 +38,6 @@ struct RenderArgs {
   bool quiet = false;
 };
 
-std::atomic<bool> g_cancel{false};
-void on_sigint(int) { g_cancel = true; }
-
 void print_progress(const Progress& p, const std::string& prefix) {
   const int width = 30;
   const int filled = int(p.fraction * width);
@@ -132,7 +129,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
   RenderOptions opt;
   opt.threads = a.threads.value_or(0);
   opt.aovs = aovs;
-  opt.cancel = &g_cancel;
+  opt.cancel = &interrupt_flag();
   const bool bar = !a.quiet && isatty(STDERR_FILENO);
   auto last = std::chrono::steady_clock::now();
   if (bar)
@@ -142,10 +139,14 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
       last = now;
       print_progress(p, prefix);
     };
-  const RenderStats st = renderer.render(film, opt);
+  RenderStats st;
+  {
+    const RenderPhase phase;
+    st = renderer.render(film, opt);
+  }
   if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
   if (st.cancelled) {
-    fmt::print(stderr, "interrupted: nothing written\n");
+    fmt::print(stderr, "interrupted: {} not written\n", out.string());
     return kFailure;
   }
 
@@ -234,8 +235,6 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
     return kBadInput;
   }
-  std::signal(SIGINT, on_sigint);
-  std::signal(SIGTERM, on_sigint);
   if (a.frames.empty()) {
     if (!a.video.empty()) {
       fmt::print(stderr, "error: --video needs --frames A:B\n");
@@ -286,7 +285,12 @@ int run(const RenderArgs& a) {
     const std::string file = fmt::sprintf(out, f);
     const int rc =
         render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f));
-    if (rc != kOk) return rc;
+    if (rc != kOk) {
+      if (f > first)
+        fmt::print(stderr, "frames {}..{} were written; frame {} and later were not\n", first,
+                   f - 1, f);
+      return rc;
+    }
   }
   if (!a.video.empty()) {
     const pid_t pid = fork();

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <exception>
 
@@ -14,7 +17,28 @@ namespace anamorph::app {
 
 namespace {
 std::string g_command_line;
+std::atomic<bool> g_interrupted{false};
+std::atomic<bool> g_render_phase{false};
+
+void on_interrupt(int) {
+  if (g_render_phase.load() && !g_interrupted.exchange(true)) return;
+  // Async-signal-safe from here on: write(2) and _exit(2) only.
+  static const char kMsg[] = "\ninterrupted\n";
+  [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, kMsg, sizeof kMsg - 1);
+  _exit(kFailure);
 }
+}  // namespace
+
+void install_interrupt_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_interrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+const std::atomic<bool>& interrupt_flag() { return g_interrupted; }
+RenderPhase::RenderPhase() { g_render_phase = true; }
+RenderPhase::~RenderPhase() { g_render_phase = false; }
 
 void set_command_line(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) {

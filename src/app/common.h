@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -31,6 +32,20 @@ Scene load(const SceneOptions& o, const std::vector<std::string>& extra_override
 // camera and settings moved into `loaded` (loaded from the same options), warnings printed.
 void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
                     double frame, Scene& loaded);
+
+// SIGINT and SIGTERM. While a RenderPhase is alive the first one sets interrupt_flag() and the
+// renderer stops at its next packet (so a frame sequence can say what it wrote); at any other
+// time (loading, a loader child, writing), or on a second signal, the process prints
+// "interrupted" and exits with kFailure at once. Outputs are written to a temporary file and
+// renamed, so no partial file is left under the output's name.
+void install_interrupt_handlers();
+const std::atomic<bool>& interrupt_flag();
+struct RenderPhase {
+  RenderPhase();
+  ~RenderPhase();
+  RenderPhase(const RenderPhase&) = delete;
+  RenderPhase& operator=(const RenderPhase&) = delete;
+};
 
 // Runs a command body and turns exceptions into messages and exit codes.
 int run_guarded(const std::function<int()>& body);

@@ -8,6 +8,7 @@
 int main(int argc, char** argv) {
   using namespace anamorph::app;
   set_command_line(argc, argv);
+  install_interrupt_handlers();
   CLI::App app{"anamorph " ANAMORPH_VERSION
                " - a ray tracer built around a programmable distortion camera"};
   app.set_version_flag("--version", "anamorph " ANAMORPH_VERSION);

@@ -2,6 +2,7 @@
 // (possibly with packet tracing) and hands it over, so AOVs and integrators share one trace.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -18,6 +19,9 @@ struct RenderContext {
   const Accel& accel;
   const Lights& lights;
   int max_depth;
+  double bailout = 0;                         // Whitted's ray-weight cut-off (RenderSettings)
+  const std::atomic<bool>* cancel = nullptr;  // set: integrators stop tracing and return black
+  bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
 
 class Integrator {

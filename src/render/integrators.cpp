@@ -33,11 +33,12 @@ class Whitted final : public Integrator {
 
   Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
                  uint64_t& rays) const override {
-    return trace(ray, first, fp, rng, 0, rays);
+    return trace(ray, first, fp, rng, 0, 1.0, rays);
   }
 
  private:
-  Color trace(const Ray& ray, const Hit* h, const Footprint& fp, Rng& rng, int depth,
+  // `weight`: the largest component of the product of the coefficients that lead to this ray.
+  Color trace(const Ray& ray, const Hit* h, const Footprint& fp, Rng& rng, int depth, double weight,
               uint64_t& rays) const {
     const Lights& lights = ctx_.lights;
     const Vec3 dir = normalize(ray.d);
@@ -68,20 +69,27 @@ class Whitted final : public Integrator {
         if (pmf > 0) add(li, pmf);
       }
     }
-    if (depth >= ctx_.max_depth) return L;
+    // The tree ends at max_depth, where a branch's weight falls below the bailout (two facing
+    // mirrors and glass at depth 1000 would otherwise take minutes a pixel), or on cancel.
+    if (depth >= ctx_.max_depth || ctx_.cancelled()) return L;
 
     const Vec3 wr = b.frame.to_world(reflect(b.frame.to_local(wo), {0, 0, 1}));
-    if (max_component(b.mirror) > 0) L += b.mirror * follow(*h, wr, fp, rng, depth, rays);
+    const double mirror = max_component(b.mirror);
+    if (mirror > 0 && weight * mirror >= ctx_.bailout)
+      L += b.mirror * follow(*h, wr, fp, rng, depth, weight * mirror, rays);
     if (b.transmission > 0) {
       const double e = b.entering ? b.eta : 1 / b.eta;
       const double cos_i = dot(wo, b.frame.n);
       const double F = fresnel_dielectric(cos_i, e);
-      Color t = follow(*h, wr, fp, rng, depth, rays) * F;
-      if (F < 1) {
+      const double w = weight * b.transmission;
+      Color t;
+      if (w * F >= ctx_.bailout) t = follow(*h, wr, fp, rng, depth, w * F, rays) * F;
+      if (F < 1 && w * (1 - F) >= ctx_.bailout) {
         const double sin2_t = (1 - cos_i * cos_i) / (e * e);
         const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
         const Vec3 wt = normalize(-wo / e + b.frame.n * (cos_i / e - cos_t));
-        t += follow(*h, wt, fp, rng, depth, rays) * ((1 - F) / (e * e));
+        // (The 1 / e^2 radiance scaling cancels on leaving the medium: not part of the weight.)
+        t += follow(*h, wt, fp, rng, depth, w * (1 - F), rays) * ((1 - F) / (e * e));
       }
       L += t * b.transmission;
     }
@@ -113,14 +121,14 @@ class Whitted final : public Integrator {
   }
   static constexpr int kMaxCrossings = 32;
 
-  Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth,
+  Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth, double weight,
                uint64_t& rays) const {
     const Ray r = spawn(h, d);
     Hit next;
     ++rays;
     const bool found = ctx_.accel.intersect(r, &next);
     return trace(r, found ? &next : nullptr, found ? propagate(fp, next) : Footprint{}, rng,
-                 depth + 1, rays);
+                 depth + 1, weight, rays);
   }
 
   bool see_through_ = false;  // some material transmits: shadow rays may pass surfaces
@@ -160,7 +168,7 @@ class PathTracer final : public Integrator {
             prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, dir));
         L += beta * le * w;
       }
-      if (depth >= ctx_.max_depth) break;
+      if (depth >= ctx_.max_depth || ctx_.cancelled()) break;
       const Material& m = ctx_.scene.materials[hit.material];
       const Bsdf b = make_bsdf(m, hit, wo, texcoord_at(hit, fp), nullptr);
 

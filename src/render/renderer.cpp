@@ -250,7 +250,7 @@ void merge(RenderStats& stats, const std::vector<TileStats>& tiles) {
 RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const auto t0 = std::chrono::steady_clock::now();
   const RenderSettings& rs = scene_.render;
-  const RenderContext ctx{scene_, *accel_, *lights_, rs.max_depth};
+  const RenderContext ctx{scene_, *accel_, *lights_, rs.max_depth, rs.bailout, opt.cancel};
   const Job job(*this, ctx, film, !opt.aovs.empty());
   const int W = film.width(), H = film.height();
   const bool corners = rs.adaptive() && rs.antialias == "lattice";
@@ -389,9 +389,11 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
               CameraSample samples[kPacket];
               int lx[kPacket], ly[kPacket];
               SampleResult res;
-              for (uint32_t s = s_begin; s < s_end; ++s) {
-                for (int y = t.y0; y < t.y1; y += 4)
-                  for (int x = t.x0; x < t.x1; x += 4) {
+              // Cancellation is checked for every packet, so a tile of a million samples per pixel
+              // (or of deep ray trees) stops within one packet's time.
+              for (uint32_t s = s_begin; s < s_end && !cancelled(); ++s) {
+                for (int y = t.y0; y < t.y1 && !cancelled(); y += 4)
+                  for (int x = t.x0; x < t.x1 && !cancelled(); x += 4) {
                     if (!needs_rng) {
                       // Every sample at the same spot of its pixel: u per column, v per row.
                       double uc[4], vr[4];

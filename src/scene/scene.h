@@ -21,6 +21,9 @@ struct RenderSettings {
   int spp = 1;
   std::string sampler = "stratified";  // center | stratified | random
   int max_depth = 5;
+  // Whitted: a reflected or refracted ray is traced only while the product of the coefficients
+  // that lead to it is at least this (POV-Ray's adc_bailout, 1/255 by default).
+  double bailout = 1.0 / 255;
   uint64_t seed = 0;
   std::string filter = "box";  // box | gaussian
   double filter_radius = 1.5;  // gaussian: radius in pixels (box: pixel area)

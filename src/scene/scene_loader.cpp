@@ -574,6 +574,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     rs.spp = int(r.integer("spp", rs.spp, 1, 1 << 20));
     rs.sampler = r.string("sampler", rs.sampler, kSamplers);
     rs.max_depth = int(r.integer("max_depth", rs.max_depth, 0, 1000));
+    rs.bailout = r.number("bailout", rs.bailout, 0, 1);
     rs.seed = uint64_t(r.integer("seed", 0, 0, std::numeric_limits<int64_t>::max()));
     rs.filter = r.string("filter", rs.filter, kFilters);
     rs.filter_radius = r.number("filter_radius", rs.filter_radius, 0.5, 8);

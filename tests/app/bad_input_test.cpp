@@ -2,6 +2,8 @@
 // command line as a user would: each must end within its time limit with exit code 2 (or 0 where
 // the input is valid), a message that says what is wrong, and no output file.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "test_util.h"
 
@@ -57,6 +60,41 @@ std::string mesh_scene(const Scratch& s, const fs::path& model) {
   return s.write("mesh.toml",
                  "[image]\nwidth = 8\nheight = 8\n[[object]]\ntype = \"mesh\"\nfile = \"" +
                      model.string() + "\"\n");
+}
+
+// Starts the binary with `args`, sends `sig` after `delay`, and waits at most `limit` for it to
+// end (then SIGKILL: a hang fails the test instead of stalling the suite). Returns the exit code,
+// -1 when it did not exit by itself; stderr goes to `log`.
+int signal_after(const std::vector<std::string>& args, std::chrono::milliseconds delay, int sig,
+                 const fs::path& log, std::chrono::seconds limit = std::chrono::seconds(60)) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string bin = test::binary().string();
+    std::vector<char*> argv{const_cast<char*>(bin.c_str())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (!freopen(log.c_str(), "w", stderr)) _exit(126);
+    execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  std::this_thread::sleep_for(delay);
+  kill(pid, sig);
+  const auto end = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > end) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 #define EXPECT_CONTAINS(hay, needle) \
@@ -159,6 +197,35 @@ TEST(BadInput, UnreadableSceneSaysSoNotSyntaxError) {
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_CONTAINS(r.out, "Permission denied");
   EXPECT_EQ(r.out.find("syntax"), std::string::npos) << r.out;
+}
+
+// Termination signals end the process promptly in every phase. Loading: a scene path that is a
+// FIFO nobody writes blocks in open() forever; SIGTERM must still end the process.
+TEST(BadInput, SigtermEndsAProcessBlockedWhileLoading) {
+  Scratch s;
+  const fs::path fifo = s.dir / "scene.toml";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const int code =
+      signal_after({"info", fifo.string()}, std::chrono::milliseconds(300), SIGTERM, s.dir / "log");
+  EXPECT_EQ(code, 1) << slurp(s.dir / "log");
+  EXPECT_NE(slurp(s.dir / "log").find("interrupted"), std::string::npos) << slurp(s.dir / "log");
+}
+
+// Rendering: one tile of a million samples per pixel (the probe's --spp 1048576 took 14 s to
+// stop, checked between tiles only); it must stop within a packet and write nothing.
+TEST(BadInput, SigtermStopsARenderInsideATile) {
+  Scratch s;
+  const std::string scene = s.write(
+      "s.toml",
+      "[image]\nwidth = 32\nheight = 32\n[render]\nantialias = \"uniform\"\ntile_size = 1024\n"
+      "[camera]\nlook_from = [0, 1, 4]\nlook_at = [0, 0, 0]\n[[object]]\ntype = \"sphere\"\n");
+  const fs::path out = s.dir / "out.png";
+  const int code = signal_after({"render", scene, "-q", "-o", out.string(), "--spp", "1048576"},
+                                std::chrono::milliseconds(1000), SIGTERM, s.dir / "log");
+  const std::string log = slurp(s.dir / "log");
+  EXPECT_EQ(code, 1) << log;
+  EXPECT_NE(log.find("interrupted: " + out.string() + " not written"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace anamorph

@@ -1,7 +1,11 @@
 // Integrators against analytic values: the furnace, Whitted mirror / glass / diffuse by hand.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include <filesystem>
 
@@ -74,6 +78,62 @@ TEST(Whitted, GlassSphereAtNormalIncidence) {
   EXPECT_NEAR(r1.film->pixel(0, 0).x, F * 0.5, 1e-9);
   const auto r2 = test::render_text(scene, {"render.max_depth=2"});
   EXPECT_NEAR(r2.film->pixel(0, 0).x, (F + (1 - F) * (1 - F)) * 0.5, 1e-9);
+}
+
+// Glass inside a closed mirror, traced to depth 1000: without a cut-off the tree has 2^1000
+// branches (the probe's scene ignored SIGTERM for ten minutes). Each branch's weight is at most
+// its parent's (mirror reflectivity <= 1; transmission times F and times 1 - F sum to at most 1),
+// so at most 1 / bailout branches per depth survive: at most (depth + 1) / bailout traced rays.
+const std::string kGlassInMirror =
+    "[image]\nwidth = 1\nheight = 1\n[render]\nsampler = \"center\"\nmax_depth = 1000\n"
+    "[camera]\nlook_from = [0, 0, 0]\nlook_at = [0, 0.1, -1]\nfov = 10\n"
+    "[[material]]\nname = \"g\"\ncolor = 0\ntransmission = 1\nior = 1.5\n"
+    "[[material]]\nname = \"m\"\ncolor = 0\nreflectivity = 0.99\nemission = 0.01\n"
+    "[[object]]\ntype = \"sphere\"\nradius = 0.5\ncenter = [0, 0, -2]\nmaterial = \"g\"\n"
+    "[[object]]\ntype = \"sphere\"\nradius = 5\nmaterial = \"m\"\n";
+
+TEST(Whitted, BailoutBoundsTheRayTreeAtAnyDepth) {
+  for (const double bailout : {1.0 / 255, 0.01, 0.1}) {
+    const auto r = test::render_text(kGlassInMirror, {fmt::format("render.bailout={}", bailout)});
+    const double bound = 1001 / bailout;
+    EXPECT_LE(double(r.stats.rays), bound) << "bailout " << bailout;
+    EXPECT_GT(r.stats.rays, 10u) << "the tree is traced past the first hits";
+    EXPECT_TRUE(is_finite(r.film->pixel(0, 0)));
+  }
+  // Cut branches carry light that is never negative: a smaller cut-off traces more rays and
+  // finds more light, converging as it shrinks.
+  double last_L = 0;
+  uint64_t last_rays = 0;
+  for (const double bailout : {0.1, 0.01, 1.0 / 255, 1e-4, 1e-6}) {
+    const auto r = test::render_text(
+        kGlassInMirror, {fmt::format("render.bailout={}", bailout), "render.max_depth=30"});
+    const double L = r.film->pixel(0, 0).x;
+    EXPECT_GE(L, last_L) << "bailout " << bailout;
+    EXPECT_GE(r.stats.rays, last_rays) << "bailout " << bailout;
+    if (bailout == 1e-6) {
+      EXPECT_LT(L - last_L, 0.01 * L) << "within 1% by bailout 1e-4";
+    }
+    last_L = L, last_rays = r.stats.rays;
+  }
+}
+
+TEST(Whitted, CancelStopsInsideTheRayTree) {
+  // bailout 0 and depth 1000: the one pixel's tree has about 2^1000 branches, so this render
+  // only ends (and the test only passes) if the flag, set while the pixel is being traced,
+  // reaches the recursion.
+  const Scene scene = load_scene_from_string(kGlassInMirror, "t.toml", {"render.bailout=0"});
+  const Renderer renderer(scene);
+  Film film(1, 1, {});
+  std::atomic<bool> cancel{false};
+  RenderOptions opt;
+  opt.cancel = &cancel;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    cancel = true;
+  });
+  const RenderStats st = renderer.render(film, opt);
+  stopper.join();
+  EXPECT_TRUE(st.cancelled);
 }
 
 TEST(Whitted, DiffuseUnderPointLight) {
