@@ -28,21 +28,26 @@ int run_rays(const RaysArgs& a) {
   const Scene s = load(a.scene);
   const int W = s.render.width, H = s.render.height;
   if (ext == ".csv") {
-    std::ostringstream os;
-    os << "px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n";
-    for (int y = 0; y < H; ++y)
+    // Streamed a row at a time: a 30000 x 30000 table is 80 GB, never held in memory.
+    AtomicFile file(out);
+    std::string row = "px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n";
+    for (int y = 0; y < H; ++y) {
       for (int x = 0; x < W; ++x) {
         const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
         const auto r = s.camera->generate({uv});
         if (r)
-          os << fmt::format(
+          fmt::format_to(
+              std::back_inserter(row),
               "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n", x, y,
               uv.x, uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z);
         else
-          os << fmt::format("{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y, uv.x, uv.y);
+          fmt::format_to(std::back_inserter(row), "{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y,
+                         uv.x, uv.y);
       }
-    const std::string text = os.str();
-    write_file_atomic(out, text.data(), text.size());
+      file.write(row.data(), row.size());
+      row.clear();
+    }
+    file.commit();
     return kOk;
   }
   OutputImage img;

@@ -59,7 +59,27 @@ std::map<std::string, std::string> read_metadata(const std::filesystem::path& fi
 std::map<std::string, std::vector<float>> read_exr_channels(const std::filesystem::path& file,
                                                             int* width, int* height);
 
-// Writes `bytes` to `file` atomically (temporary file + fsync + rename). Throws ImageIoError.
+// A file written in pieces and made visible all at once: a temporary file beside the target,
+// renamed over it by commit(). Destroyed without commit(), the target is untouched and the
+// temporary removed. A symbolic link as the target is followed; an existing device, FIFO or
+// socket is written directly; temporaries left by killed processes are removed. Throws
+// ImageIoError naming the file.
+class AtomicFile {
+ public:
+  explicit AtomicFile(const std::filesystem::path& file);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  void write(const void* bytes, size_t size);
+  void commit();
+
+ private:
+  std::filesystem::path target_, dir_, tmp_;
+  int fd_ = -1;
+  bool direct_ = false, committed_ = false;
+};
+
+// Writes `bytes` to `file` through an AtomicFile. Throws ImageIoError.
 void write_file_atomic(const std::filesystem::path& file, const void* bytes, size_t size);
 
 // sRGB transfer functions.

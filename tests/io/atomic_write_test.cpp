@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <csignal>
+#include <fstream>
 
 #include "io/image_io.h"
 #include "io/io_test_util.h"
@@ -36,7 +39,7 @@ TEST_F(AtomicWrite, DirectoryInTheWayFailsCleanly) {
   std::filesystem::create_directory(path);
   const std::string msg = test::error_of([&] { write_file_atomic(path, "x", 1); });
   EXPECT_NE(msg.find(path.string()), std::string::npos) << msg;
-  EXPECT_NE(msg.find("rename"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("it is a directory"), std::string::npos) << msg;
   EXPECT_EQ(test::dir_entries(dir()), std::vector<std::string>{"out.png"});
   EXPECT_TRUE(std::filesystem::is_empty(path));
 }
@@ -89,6 +92,48 @@ TEST_F(AtomicWrite, UnsupportedExtensionKeepsTheOriginalFile) {
   EXPECT_EQ(test::file_bytes(path),
             (std::vector<unsigned char>{'p', 'r', 'e', 'c', 'i', 'o', 'u', 's'}));
   EXPECT_EQ(test::dir_entries(dir()), std::vector<std::string>{"render.tif"});
+}
+
+TEST_F(AtomicWrite, SymlinkIsFollowedAndKept) {
+  const auto real = dir() / "real.png", link = dir() / "link.png";
+  write_file_atomic(real, "old", 3);
+  std::filesystem::create_symlink("real.png", link);
+  write_file_atomic(link, "new", 3);
+  EXPECT_TRUE(std::filesystem::is_symlink(link)) << "the link must not be replaced by a file";
+  EXPECT_EQ(test::file_bytes(real), (std::vector<unsigned char>{'n', 'e', 'w'}));
+  EXPECT_EQ(test::dir_entries(dir()), (std::vector<std::string>{"link.png", "real.png"}));
+}
+
+TEST_F(AtomicWrite, DeviceIsWrittenNotReplaced) {
+  // /dev/null as the output (e.g. to time a render): written into, and still the device after.
+  write_file_atomic("/dev/null", "x", 1);
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
+}
+
+TEST_F(AtomicWrite, StaleTemporariesOfDeadProcessesAreRemoved) {
+  // A process that is gone (its PID reaped) and one that is alive (ours: our parent).
+  const pid_t dead = fork();
+  if (dead == 0) _exit(0);
+  int status;
+  waitpid(dead, &status, 0);
+  const auto path = dir() / "out.png";
+  const std::string stale = ".out.png.tmp-" + std::to_string(dead) + "-00000000deadbeef";
+  const std::string live = ".out.png.tmp-" + std::to_string(getppid()) + "-0000000012345678";
+  const std::string other = ".other.png.tmp-" + std::to_string(dead) + "-00000000deadbeef";
+  for (const std::string& name : {stale, live, other}) std::ofstream(dir() / name) << "partial";
+  write_file_atomic(path, "x", 1);
+  EXPECT_EQ(test::dir_entries(dir()), (std::vector<std::string>{other, live, "out.png"}));
+}
+
+TEST_F(AtomicWrite, AbandonedWriteLeavesTheTargetAndNoTemporary) {
+  const auto path = dir() / "out.csv";
+  write_file_atomic(path, "old", 3);
+  {
+    AtomicFile f(path);
+    f.write("half a ta", 9);
+  }  // an exception on the way would do the same
+  EXPECT_EQ(test::file_bytes(path), (std::vector<unsigned char>{'o', 'l', 'd'}));
+  EXPECT_EQ(test::dir_entries(dir()), std::vector<std::string>{"out.csv"});
 }
 
 }  // namespace anamorph
