@@ -256,11 +256,17 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
     return kBadInput;
   }
-  if (!has_frame_pattern(out)) {
+  std::string pattern_error;
+  try {
+    (void)fmt::sprintf(out, first);
+  } catch (const std::exception& e) {
+    pattern_error = e.what();
+  }
+  if (!has_frame_pattern(out) || !pattern_error.empty()) {
     fmt::print(stderr,
-               "error: -o {}: with --frames the output needs a frame-number pattern, e.g. "
-               "out/frame_%04d.png\n",
-               out);
+               "error: -o {}: with --frames the output needs one frame-number pattern and no "
+               "other % (write %% for a percent sign), e.g. out/frame_%04d.png{}\n",
+               out, pattern_error.empty() ? "" : " (" + pattern_error + ")");
     return kBadInput;
   }
   if (!a.video.empty() && !on_path("ffmpeg")) {

@@ -106,6 +106,9 @@ int run_guarded(const std::function<int()>& body) {
   } catch (const LoadError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
+  } catch (const ImageReadError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kBadInput;
   } catch (const ImageIoError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kFailure;

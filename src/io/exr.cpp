@@ -14,6 +14,7 @@ namespace anamorph {
 
 namespace fs = std::filesystem;
 using io_detail::fail;
+using io_detail::fail_read;
 
 namespace {
 
@@ -53,14 +54,14 @@ struct ParsedExr {
 
 void parse_header(ParsedExr& exr, const std::vector<unsigned char>& b, const fs::path& file) {
   if (ParseEXRVersionFromMemory(&exr.version, b.data(), b.size()) != TINYEXR_SUCCESS)
-    fail("cannot read EXR", file, "not a valid OpenEXR file");
+    fail_read("cannot read EXR", file, "not a valid OpenEXR file");
   if (exr.version.multipart || exr.version.non_image)
-    fail("cannot read EXR", file, "multi-part and deep EXR files are not supported");
+    fail_read("cannot read EXR", file, "multi-part and deep EXR files are not supported");
   InitEXRHeader(&exr.header);
   const char* err = nullptr;
   if (ParseEXRHeaderFromMemory(&exr.header, &exr.version, b.data(), b.size(), &err) !=
       TINYEXR_SUCCESS)
-    fail("cannot read EXR", file, take_error(err, "invalid header"));
+    fail_read("cannot read EXR", file, take_error(err, "invalid header"));
   exr.has_header = true;
 }
 
@@ -169,7 +170,7 @@ io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,
   // Not freed on failure: tinyexr 1.0's DecodeEXRImage frees the image itself on a failed chunk
   // but leaves the pointers set, so FreeEXRImage here would free them twice.
   if (LoadEXRImageFromMemory(&exr.image, &h, b.data(), b.size(), &err) != TINYEXR_SUCCESS)
-    fail("cannot read EXR", file, take_error(err, "invalid image data"));
+    fail_read("cannot read EXR", file, take_error(err, "invalid image data"));
   exr.has_image = true;
 
   ExrChannels out;

@@ -34,18 +34,22 @@ void fail(std::string_view what, const fs::path& file, std::string_view reason) 
   throw ImageIoError(fmt::format("{} '{}': {}", what, file.string(), reason));
 }
 
+void fail_read(std::string_view what, const fs::path& file, std::string_view reason) {
+  throw ImageReadError(fmt::format("{} '{}': {}", what, file.string(), reason));
+}
+
 void check_read_size(const fs::path& file, int64_t width, int64_t height) {
   if (width <= 0 || height <= 0)
-    fail("cannot read image", file, fmt::format("invalid size {} x {}", width, height));
+    fail_read("cannot read image", file, fmt::format("invalid size {} x {}", width, height));
   if (uint64_t(width) * uint64_t(height) > kMaxReadPixels)
-    fail("cannot read image", file,
-         fmt::format("{} x {} pixels is more than the {} million pixels anamorph reads", width,
-                     height, kMaxReadPixels / 1000000));
+    fail_read("cannot read image", file,
+              fmt::format("{} x {} pixels is more than the {} million pixels anamorph reads", width,
+                          height, kMaxReadPixels / 1000000));
 }
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
   auto sys_fail = [&](int e) {
-    fail("cannot read image", file, std::generic_category().message(e));
+    fail_read("cannot read image", file, std::generic_category().message(e));
   };
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) sys_fail(errno);
@@ -101,6 +105,7 @@ void check_output(const OutputImage& img, const fs::path& file) {
 }  // namespace io_detail
 
 using io_detail::fail;
+using io_detail::fail_read;
 
 float linear_to_srgb(float v) {
   const double x = v;
@@ -190,8 +195,8 @@ Image from_exr(io_detail::ExrChannels exr, const fs::path& file) {
     if (!y) {
       std::string names;
       for (const auto& [name, plane] : exr.channels) names += (names.empty() ? "" : ", ") + name;
-      fail("cannot read image", file,
-           fmt::format("no R, G, B or Y channels to show (channels: {})", names));
+      fail_read("cannot read image", file,
+                fmt::format("no R, G, B or Y channels to show (channels: {})", names));
     }
     rgb[0] = rgb[1] = rgb[2] = y;
   }
@@ -208,6 +213,47 @@ Image from_exr(io_detail::ExrChannels exr, const fs::path& file) {
   return img;
 }
 
+// The scanlines a Radiance HDR file holds (header, then new-style RLE or flat RGBE lines), or -1
+// when its layout is not recognised. stb_image reads past the end of a cut file as zeros, so a
+// truncated sky would load as a partly black one without this check.
+int hdr_scanlines_present(const std::vector<unsigned char>& b, int width, int height) {
+  size_t at = 0;
+  const auto line = [&] {
+    const size_t start = at;
+    while (at < b.size() && b[at] != '\n') ++at;
+    std::string l(b.begin() + long(start), b.begin() + long(at));
+    if (at < b.size()) ++at;
+    return l;
+  };
+  if (line().rfind("#?", 0) != 0) return -1;
+  while (at < b.size() && !line().empty()) {
+  }
+  if (line().find(" +X ") == std::string::npos) return -1;  // only the usual "-Y H +X W"
+  for (int y = 0; y < height; ++y) {
+    const bool rle = width >= 8 && width < 32768 && at + 4 <= b.size() && b[at] == 2 &&
+                     b[at + 1] == 2 && ((b[at + 2] << 8) | b[at + 3]) == width;
+    if (!rle) {
+      if (b.size() - at < size_t(width) * 4) return y;
+      at += size_t(width) * 4;
+      continue;
+    }
+    at += 4;
+    for (int c = 0; c < 4; ++c)
+      for (int x = 0; x < width;) {
+        if (at >= b.size()) return y;
+        const int n = b[at++];
+        const bool run = n > 128;
+        const int count = run ? n - 128 : n;
+        if (count == 0) return -1;  // not a layout we know: let stb judge
+        const size_t bytes = run ? 1 : size_t(count);
+        if (b.size() - at < bytes) return y;
+        at += bytes;
+        x += count;
+      }
+  }
+  return height;
+}
+
 struct StbFree {
   void operator()(void* p) const { stbi_image_free(p); }
 };
@@ -218,16 +264,16 @@ Image read_image(const fs::path& file, bool srgb) {
   const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
   if (io_detail::is_exr(bytes)) return from_exr(io_detail::load_exr(bytes, file), file);
 
-  if (bytes.size() > size_t(INT_MAX)) fail("cannot read image", file, "file too large");
+  if (bytes.size() > size_t(INT_MAX)) fail_read("cannot read image", file, "file too large");
   const auto* data = bytes.data();
   const int len = int(bytes.size());
   int w = 0, h = 0, n = 0;
   Image img;
   auto stb_fail = [&] {
     const char* why = stbi_failure_reason();
-    fail("cannot read image", file,
-         fmt::format("not a readable PNG, JPEG, BMP, TGA, HDR or EXR image ({})",
-                     why ? why : "unknown reason"));
+    fail_read("cannot read image", file,
+              fmt::format("not a readable PNG, JPEG, BMP, TGA, HDR or EXR image ({})",
+                          why ? why : "unknown reason"));
   };
   auto finish = [&](auto* pixels, float scale, bool linearize) {
     img.width = w;
@@ -242,6 +288,11 @@ Image read_image(const fs::path& file, bool srgb) {
   io_detail::check_read_size(file, w, h);
   // Asking stb for 4 components expands grey to RGB and adds opaque alpha.
   if (stbi_is_hdr_from_memory(data, len)) {
+    const int present = hdr_scanlines_present(bytes, w, h);
+    if (present >= 0 && present < h)
+      fail_read("cannot read image", file,
+                fmt::format("the HDR file is cut short: {} of its {} scanlines are present",
+                            present, h));
     std::unique_ptr<float, StbFree> p(stbi_loadf_from_memory(data, len, &w, &h, &n, 4));
     if (!p) stb_fail();
     finish(p.get(), 1.0f, false);
@@ -271,13 +322,13 @@ std::map<std::string, std::string> read_metadata(const fs::path& file) {
   const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
   if (io_detail::is_png(bytes)) return io_detail::png_metadata(bytes, file);
   if (io_detail::is_exr(bytes)) return io_detail::exr_metadata(bytes, file);
-  fail("cannot read metadata", file, "metadata can be read from PNG and EXR files only");
+  fail_read("cannot read metadata", file, "metadata can be read from PNG and EXR files only");
 }
 
 std::map<std::string, std::vector<float>> read_exr_channels(const fs::path& file, int* width,
                                                             int* height) {
   const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
-  if (!io_detail::is_exr(bytes)) fail("cannot read EXR", file, "not an OpenEXR file");
+  if (!io_detail::is_exr(bytes)) fail_read("cannot read EXR", file, "not an OpenEXR file");
   io_detail::ExrChannels exr = io_detail::load_exr(bytes, file);
   if (width) *width = exr.width;
   if (height) *height = exr.height;

@@ -18,6 +18,11 @@ namespace anamorph {
 struct ImageIoError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+// An image that cannot be read: missing, unreadable, corrupt, too large (bad input, exit 2);
+// other ImageIoErrors are failures to write (exit 1).
+struct ImageReadError : ImageIoError {
+  using ImageIoError::ImageIoError;
+};
 
 // 8-bit sources are treated as sRGB-encoded and linearized unless `srgb` is false (data maps
 // such as normal or metallic-roughness textures). Returns 4 channels (alpha 1 when absent).

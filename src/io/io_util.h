@@ -16,6 +16,9 @@ namespace anamorph::io_detail {
 // ImageIoError with the file named first: "<what> '<file>': <reason>".
 [[noreturn]] void fail(std::string_view what, const std::filesystem::path& file,
                        std::string_view reason);
+// The same as an ImageReadError: the input is at fault, not the machine.
+[[noreturn]] void fail_read(std::string_view what, const std::filesystem::path& file,
+                            std::string_view reason);
 
 // The whole file; throws ImageIoError naming the file (and strerror) when it cannot be read.
 std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);

@@ -22,6 +22,7 @@ namespace anamorph {
 
 namespace fs = std::filesystem;
 using io_detail::fail;
+using io_detail::fail_read;
 
 namespace {
 
@@ -226,7 +227,7 @@ std::string inflate(const unsigned char* p, size_t n, const fs::path& file) {
   int len = 0;
   std::unique_ptr<char, decltype(&std::free)> out(
       stbi_zlib_decode_malloc(reinterpret_cast<const char*>(p), int(n), &len), &std::free);
-  if (!out) fail("corrupt PNG", file, "cannot decompress a text chunk");
+  if (!out) fail_read("corrupt PNG", file, "cannot decompress a text chunk");
   return std::string(out.get(), size_t(len));
 }
 
@@ -286,7 +287,7 @@ void write_png(const fs::path& file, const Rgba8Image& img) {
 std::map<std::string, std::string> io_detail::png_metadata(const std::vector<unsigned char>& b,
                                                            const fs::path& file) {
   std::map<std::string, std::string> meta;
-  auto corrupt = [&](const std::string& why) { fail("corrupt PNG", file, why); };
+  auto corrupt = [&](const std::string& why) { fail_read("corrupt PNG", file, why); };
   for (size_t pos = 8; pos + 12 <= b.size();) {
     const uint32_t len = read_be32(&b[pos]);
     if (len > b.size() - pos - 12) corrupt("a chunk runs past the end of the file");

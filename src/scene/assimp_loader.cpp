@@ -32,6 +32,7 @@
 // its own and placed by one instance per reference.
 #include <algorithm>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <optional>
 
@@ -354,6 +355,14 @@ std::vector<unsigned char> read_in_child(const fs::path& file) {
   return out;
 }
 
+// Text formats end with a line break; one that ends inside a line was most likely cut short.
+bool ends_with_newline(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  if (!in || in.tellg() <= 0) return true;
+  in.seekg(-1, std::ios::end);
+  return in.get() == '\n';
+}
+
 // Splits the child's answer into the assbin dump and the mesh names.
 std::vector<std::string> split_mesh_names(std::vector<unsigned char>& answer) {
   uint64_t names = 0;
@@ -379,15 +388,24 @@ LoadedModel load_with_assimp(const fs::path& file) {
   const uintmax_t size = fs::file_size(file, ec);
   try {
     if (lowercase_extension(file) == ".ply") check_ply_counts(file);
-    std::vector<unsigned char> answer = run_isolated(
-        "assimp", [&] { return read_in_child(file); }, loader_limits(ec ? 0 : size));
+    std::vector<unsigned char> answer =
+        loaders_isolated()
+            ? run_isolated(
+                  "assimp", [&] { return read_in_child(file); }, loader_limits(ec ? 0 : size))
+            : read_in_child(file);
     std::vector<std::string> mesh_names = split_mesh_names(answer);
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFileFromMemory(answer.data(), answer.size(), 0, "assbin");
     if (!scene)
       throw LoadError(
           fmt::format("cannot read the loader's answer: {}", importer.GetErrorString()));
-    return AssimpBuilder(*scene, file, std::move(mesh_names)).build();
+    LoadedModel model = AssimpBuilder(*scene, file, std::move(mesh_names)).build();
+    if (lowercase_extension(file) == ".obj" && !ends_with_newline(file))
+      model.warnings.push_back(
+          fmt::format("{}: ends in the middle of a line (cut short?); the model is what could be "
+                      "read",
+                      file.string()));
+    return model;
   } catch (const LoadError& e) {
     throw LoadError(file.string() + ": " + e.what());
   }

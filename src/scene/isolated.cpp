@@ -61,8 +61,9 @@ bool write_all(int fd, const void* data, size_t n) {
                              const IsolationLimits& limits) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive the parent
   if (getppid() != parent) _exit(1);
-  signal(SIGINT, SIG_DFL);
-  signal(SIGTERM, SIG_DFL);
+  // Default actions: the parent's handlers (and a sanitizer's, which would turn a fault into an
+  // abort after a report) must not run here; the parent names the signal itself.
+  for (const int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) signal(sig, SIG_DFL);
   const rlim_t cpu = rlim_t(std::ceil(limits.seconds)) + 1;  // the parent's clock acts first
   const rlimit cpu_limit{cpu, cpu + 1};
   setrlimit(RLIMIT_CPU, &cpu_limit);
@@ -159,6 +160,11 @@ IsolationLimits loader_limits(uint64_t file_bytes) {
   l.memory_bytes = env_number("ANAMORPH_LOADER_MEMORY_MB", ((2ull << 30) + 64 * file_bytes) >> 20)
                    << 20;
   return l;
+}
+
+bool loaders_isolated() {
+  const char* v = std::getenv("ANAMORPH_LOADER_IN_PROCESS");
+  return !(v && std::string(v) == "1");
 }
 
 void set_load_cancel_flag(const std::atomic<bool>* flag) { g_cancel = flag; }

@@ -26,6 +26,10 @@ struct IsolationLimits {
 // them (for very large models, and for tests).
 IsolationLimits loader_limits(uint64_t file_bytes);
 
+// False when ANAMORPH_LOADER_IN_PROCESS=1: loaders then run in this process (for debugging a
+// loader under gdb, and to measure what the isolation costs).
+bool loaders_isolated();
+
 // The process-wide flag that a SIGINT/SIGTERM handler sets; run_isolated kills its child and
 // throws when it is set. Null (the default) means no cancellation.
 void set_load_cancel_flag(const std::atomic<bool>* flag);

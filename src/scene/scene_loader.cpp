@@ -32,6 +32,22 @@ const std::string_view kTextureTypes[] = {"checker", "grid", "image"};
 const std::string_view kSpaces[] = {"uv", "object", "world"};
 const std::string_view kWraps[] = {"repeat", "clamp", "mirror"};
 
+// A camera that gives no ray anywhere (a direction expression of 1/0, an origin surface that is
+// never defined) renders a transparent image without complaint: say so at load.
+void warn_if_no_rays(const Camera& cam, std::vector<std::string>* warnings) {
+  constexpr int n = 17;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      CameraSample cs;
+      cs.uv = {(i + 0.5) / n, (j + 0.5) / n};
+      if (cam.generate(cs)) return;
+    }
+  warnings->push_back(fmt::format(
+      "camera: gives no ray at any of {} image positions tried (origins or directions that are "
+      "never finite, or vanish); the image will be transparent",
+      n * n));
+}
+
 // ---- includes and overrides -------------------------------------------------------------------
 
 toml::table parse_toml_file(const fs::path& file) {
@@ -640,6 +656,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     static_cast<VirtualCamera&>(*s.camera).set_motion(
         static_cast<const VirtualCamera&>(*s.camera).rig(), shutter.shutter);
   }
+  warn_if_no_rays(*s.camera, &s.warnings);
   top.finish();
   return s;
 }

@@ -228,4 +228,42 @@ TEST(BadInput, SigtermStopsARenderInsideATile) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(BadInput, TruncatedObjWarns) {
+  Scratch s;
+  std::ifstream in(test::source_dir() / "examples" / "models" / "torus_knot.obj");
+  std::string obj((std::istreambuf_iterator<char>(in)), {});
+  // Cut inside the last face line: the model loads, and the warning says why it may look odd.
+  obj.resize(obj.rfind('\n') - 3);
+  const std::string model = s.write("cut.obj", obj);
+  const Result r = run("info " + mesh_scene(s, model));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "cut.obj: ends in the middle of a line (cut short?)");
+}
+
+TEST(BadInput, CameraWithoutRaysWarns) {
+  Scratch s;
+  const Result r = run("info " + s.write("noray.toml",
+                                         "[camera]\norg = { type = \"point\" }\n"
+                                         "dir = { type = \"expression\", x = \"1/0\", y = \"0\", "
+                                         "z = \"-1\" }\n"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "camera: gives no ray at any of 289 image positions tried");
+}
+
+TEST(BadInput, CorruptImageInCompareIsBadInput) {
+  const std::string corrupt = (test::data_dir() / "io" / "corrupt.png").string();
+  const Result r = run("compare " + corrupt + " " + corrupt);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "cannot read image");
+}
+
+TEST(BadInput, BadFramePatternIsBadInput) {
+  Scratch s;
+  const std::string scene = s.write("s.toml", "[image]\nwidth = 4\nheight = 4\n");
+  const Result r = run("render " + scene + " --frames 0:1 -o " + (s.dir / "x_%d_%s.png").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "needs one frame-number pattern and no other %");
+  EXPECT_FALSE(fs::exists(s.dir / "x_0_.png"));
+}
+
 }  // namespace anamorph

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "io/image_io.h"
 #include "io/io_test_util.h"
@@ -83,6 +84,52 @@ TEST(ReadImage, SharedGltfTexture) {
   EXPECT_EQ(img.height, 211);
   ASSERT_EQ(img.pixels.size(), size_t(211) * 211 * 4);
   for (float v : img.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+namespace {
+
+// A W x H Radiance file, every scanline new-style RLE (one run per channel) or flat RGBE.
+std::string hdr_file(int w, int h, bool rle) {
+  std::string s = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(h) + " +X " +
+                  std::to_string(w) + "\n";
+  const unsigned char rgbe[4] = {128, 64, 32, 129};  // (1, 0.5, 0.25)
+  for (int y = 0; y < h; ++y) {
+    if (rle) {
+      s += {char(2), char(2), char(w >> 8), char(w & 255)};
+      for (const unsigned char c : rgbe) s += {char(128 + w), char(c)};  // w <= 127
+    } else {
+      for (int x = 0; x < w; ++x) s.append(reinterpret_cast<const char*>(rgbe), 4);
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+// stb_image reads past the end of a cut HDR file as zeros (a partly black sky); the scanlines
+// present are counted first.
+TEST_F(ReadImageScratch, TruncatedHdrIsAnError) {
+  for (const bool rle : {true, false}) {
+    const std::string full = hdr_file(16, 12, rle);
+    const auto whole = dir() / "whole.hdr", cut = dir() / "cut.hdr";
+    std::ofstream(whole, std::ios::binary) << full;
+    const Image img = read_image(whole);
+    ASSERT_EQ(img.width, 16);
+    EXPECT_FLOAT_EQ(img.at(15, 11, 0), 1.0f) << "rle " << rle;
+    EXPECT_FLOAT_EQ(img.at(15, 11, 2), 0.25f) << "rle " << rle;
+    const size_t line = rle ? 4 + 4 * 2 : 16 * 4, header = full.size() - 12 * line;
+    const size_t keep = full.size() * 2 / 3, present = (keep - header) / line;
+    std::ofstream(cut, std::ios::binary) << full.substr(0, keep);
+    const std::string msg = test::error_of([&] { read_image(cut); });
+    EXPECT_NE(msg.find("the HDR file is cut short: " + std::to_string(present) +
+                       " of its 12 scanlines are present"),
+              std::string::npos)
+        << "rle " << rle << ": " << msg;
+  }
 }
 
 }  // namespace anamorph
