@@ -1,0 +1,35 @@
+// Running the anamorph binary from tests, as a user would from a shell.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include "test_util.h"
+
+namespace anamorph::test {
+
+struct CliResult {
+  int code;         // exit code; -1 when killed (by a signal, or by `timeout`)
+  std::string out;  // stdout and stderr together
+};
+
+// `anamorph ARGS`; with limit_seconds > 0, under `timeout -s KILL`, so a hang fails the test
+// instead of stalling the suite.
+inline CliResult run_cli(const std::string& args, int limit_seconds = 0) {
+  const std::string prefix =
+      limit_seconds > 0 ? "timeout -s KILL " + std::to_string(limit_seconds) + " " : "";
+  const std::string cmd = prefix + binary().string() + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  const int status = pclose(p);
+  const bool exited = WIFEXITED(status) && !(limit_seconds > 0 && WEXITSTATUS(status) == 137);
+  return {exited ? WEXITSTATUS(status) : -1, out};
+}
+
+}  // namespace anamorph::test
