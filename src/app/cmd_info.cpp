@@ -4,6 +4,7 @@
 #include "accel/accel.h"
 #include "app/common.h"
 #include "camera/coins.h"
+#include "scene/scene_schema.h"
 
 namespace anamorph::app {
 
@@ -41,11 +42,11 @@ int run(const SceneOptions& o) {
   const Scene s = load(o);
   const Accel accel(s);
   fmt::print("scene       {}\n", s.path);
-  const std::string sampling = s.render.adaptive()
-                                   ? fmt::format("adaptive antialiasing ({})", s.render.antialias)
-                                   : fmt::format("{} spp ({})", s.render.spp, s.render.sampler);
+  const std::string sampling =
+      s.render.adaptive() ? fmt::format("adaptive antialiasing ({})", name_of(s.render.antialias))
+                          : fmt::format("{} spp ({})", s.render.spp, name_of(s.render.sampler));
   fmt::print("image       {}x{}, {}, integrator {}, max_depth {}\n", s.render.width,
-             s.render.height, sampling, s.render.integrator, s.render.max_depth);
+             s.render.height, sampling, name_of(s.render.integrator), s.render.max_depth);
   fmt::print("camera      {}\n", s.camera->describe());
   const auto sites = coin_sites(*s.camera);
   if (!sites.empty()) {

@@ -17,6 +17,7 @@
 #include "io/image_io.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_schema.h"
 
 namespace anamorph::app {
 
@@ -192,8 +193,9 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     fmt::print(
         "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
         "dropped\n",
-        out.string(), scene.render.width, scene.render.height, sampling, scene.render.integrator,
-        st.seconds, st.mrays_per_second(), st.rays * 1e-6, st.nan_samples);
+        out.string(), scene.render.width, scene.render.height, sampling,
+        name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
+        st.nan_samples);
   }
   if (st.nan_samples > 0)
     fmt::print(stderr,

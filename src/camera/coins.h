@@ -29,9 +29,9 @@
 #include <vector>
 
 #include "camera/functions.h"
-#include "camera/params.h"
 #include "math/transform.h"
 #include "math/vec.h"
+#include "params/params.h"
 
 namespace anamorph {
 

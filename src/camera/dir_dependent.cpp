@@ -126,10 +126,19 @@ const ParamSpec kDeviatedParams[] = {
      .default_value = "0",
      .doc = "Angle between the ray and the normal, degrees.",
      .min = 0,
-     .max = 180},
-    {"azimuth", ParamType::Number, "0",
+     .max = 180,
+     .unit = "degrees"},
+    {"azimuth",
+     ParamType::Number,
+     "0",
      "Direction of the tilt around the normal, degrees: 0 toward increasing u (image right), 90 "
-     "toward decreasing v (image up), counterclockwise as seen in the image."},
+     "toward decreasing v (image up), counterclockwise as seen in the image.",
+     -kInf,
+     kInf,
+     {},
+     false,
+     false,
+     "degrees"},
     {"flip", ParamType::Bool, "false", "Deviate from the reversed normal instead."},
 };
 

@@ -12,6 +12,5 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/dir_basic.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_dependent.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_expression.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/param_toml.cpp
   ${CMAKE_CURRENT_LIST_DIR}/registry.cpp
 )

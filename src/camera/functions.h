@@ -16,8 +16,8 @@
 #include <string_view>
 
 #include "camera/camera.h"
-#include "camera/params.h"
 #include "math/vec.h"
+#include "params/params.h"
 
 namespace anamorph {
 

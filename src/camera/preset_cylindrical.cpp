@@ -209,8 +209,16 @@ void set_vertical(LatLongGeometry* g, const ParamValues& v, const ImageInfo& img
 const ParamSpec kEquirectParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
     ANAMORPH_LONGITUDE_PARAM,
-    {"latitude_range", ParamType::Vec2, "[-90, 90]",
-     "Latitudes in degrees at the bottom and top image edges (0 = the horizon).", -90, 90},
+    {"latitude_range",
+     ParamType::Vec2,
+     "[-90, 90]",
+     "Latitudes in degrees at the bottom and top image edges (0 = the horizon).",
+     -90,
+     90,
+     {},
+     false,
+     false,
+     "degrees"},
 };
 
 VirtualCameraParts create_equirect(const ParamValues& v, const ImageInfo& img) {
@@ -233,10 +241,17 @@ const ParamSpec kCylParams[] = {
      "\"central\": every ray from look_from through a cylinder around the up axis (y = tan(lat)); "
      "\"orthographic\": horizontal rays from origins moving up the axis (y = height).",
      -kInf, kInf, kCylProjections},
-    {"latitude_range", ParamType::Vec2, "none",
+    {"latitude_range",
+     ParamType::Vec2,
+     "none",
      "central: latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: "
      "square pixels on the horizon.",
-     -90, 90},
+     -90,
+     90,
+     {},
+     false,
+     false,
+     "degrees"},
     {"height",
      ParamType::Number,
      "none",
@@ -245,7 +260,9 @@ const ParamSpec kCylParams[] = {
      0,
      kInf,
      {},
-     true},
+     true,
+     false,
+     "scene units"},
 };
 
 VirtualCameraParts create_cylindrical(const ParamValues& v, const ImageInfo& img) {
@@ -274,10 +291,17 @@ VirtualCameraParts create_cylindrical(const ParamValues& v, const ImageInfo& img
 const ParamSpec kMercatorParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
     ANAMORPH_LONGITUDE_PARAM,
-    {"latitude_range", ParamType::Vec2, "none",
+    {"latitude_range",
+     ParamType::Vec2,
+     "none",
      "Latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: square "
      "pixels (the map is conformal), centered on the horizon.",
-     -90, 90},
+     -90,
+     90,
+     {},
+     false,
+     false,
+     "degrees"},
 };
 
 VirtualCameraParts create_mercator(const ParamValues& v, const ImageInfo& img) {
@@ -294,8 +318,16 @@ VirtualCameraParts create_mercator(const ParamValues& v, const ImageInfo& img) {
 const ParamSpec kLambertParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
     ANAMORPH_LONGITUDE_PARAM,
-    {"latitude_range", ParamType::Vec2, "[-90, 90]",
-     "Latitudes in degrees at the bottom and top image edges.", -90, 90},
+    {"latitude_range",
+     ParamType::Vec2,
+     "[-90, 90]",
+     "Latitudes in degrees at the bottom and top image edges.",
+     -90,
+     90,
+     {},
+     false,
+     false,
+     "degrees"},
 };
 
 VirtualCameraParts create_lambert(const ParamValues& v, const ImageInfo& img) {

@@ -239,7 +239,8 @@ const ParamSpec kLightFieldParams[] = {
      180,
      {},
      false,
-     true},
+     true,
+     "degrees"},
     {"fov",
      ParamType::Number,
      "14",
@@ -249,7 +250,8 @@ const ParamSpec kLightFieldParams[] = {
      180,
      {},
      true,
-     true},
+     true,
+     "degrees"},
 };
 
 VirtualCameraParts create_light_field(const ParamValues& v, const ImageInfo& img) {
@@ -288,7 +290,9 @@ const ParamSpec kIntegralParams[] = {
      0,
      kInf,
      {},
-     true},
+     true,
+     false,
+     "scene units"},
     {"lens_fov",
      ParamType::Number,
      "40",
@@ -297,7 +301,8 @@ const ParamSpec kIntegralParams[] = {
      180,
      {},
      true,
-     true},
+     true,
+     "degrees"},
 };
 
 VirtualCameraParts create_integral(const ParamValues& v, const ImageInfo& img) {

@@ -29,7 +29,8 @@ const ParamSpec kPushbroomParams[] = {
      180,
      {},
      true,
-     true},
+     true,
+     "degrees"},
     {"length",
      ParamType::Number,
      "none",
@@ -38,7 +39,9 @@ const ParamSpec kPushbroomParams[] = {
      0,
      kInf,
      {},
-     true},
+     true,
+     false,
+     "scene units"},
 };
 
 VirtualCameraParts create_pushbroom(const ParamValues& v, const ImageInfo& img) {
@@ -72,7 +75,8 @@ const ParamSpec kCrossedSlitsParams[] = {
      180,
      {},
      true,
-     true},
+     true,
+     "degrees"},
     {"slit_distance", ParamType::Number, "1",
      "Distance of the horizontal slit ahead of the vertical slit through look_from, in world "
      "units (negative: behind it; 0: a pinhole)."},

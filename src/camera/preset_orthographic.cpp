@@ -19,7 +19,9 @@ const ParamSpec kParams[] = {
      0,
      kInf,
      {},
-     true},
+     true,
+     false,
+     "scene units"},
 };
 
 VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {

@@ -25,7 +25,8 @@ const ParamSpec kParams[] = {
      360,
      {},
      true,
-     true},
+     true,
+     "degrees"},
     {"fov_axis", ParamType::String, "\"horizontal\"", "Which image extent `fov` spans.", -kInf,
      kInf, kFovAxes},
 };

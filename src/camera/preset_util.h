@@ -10,8 +10,8 @@
 #include <string_view>
 
 #include "camera/functions.h"
-#include "camera/params.h"
 #include "camera/presets.h"
+#include "params/params.h"
 
 namespace anamorph {
 

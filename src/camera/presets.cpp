@@ -7,6 +7,7 @@
 
 #include "camera/functions.h"
 #include "camera/preset_list.h"
+#include "params/param_docs.h"
 
 namespace anamorph {
 

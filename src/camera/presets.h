@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
-#include "camera/params.h"
 #include "camera/virtual_camera.h"
+#include "params/params.h"
 
 namespace anamorph {
 

@@ -20,7 +20,9 @@
 #include "camera/org_revolution.h"
 #include "camera/org_spline.h"
 #include "camera/org_superquadric.h"
-#include "camera/param_toml.h"
+#include "params/param_docs.h"
+#include "params/param_toml.h"
+#include "params/read_params.h"
 
 namespace anamorph {
 
@@ -46,22 +48,6 @@ std::string names_of(std::span<const Info> infos) {
   std::string s;
   for (const auto& i : infos) s += (s.empty() ? "" : ", ") + std::string(i.name);
   return s;
-}
-
-std::string fmt_number(double x) {
-  if (x == kInf) return "inf";
-  if (x == -kInf) return "-inf";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", x);
-  return buf;
-}
-
-// "[0, inf)", "(0, 1]", or "" when unbounded.
-std::string range_text(const ParamSpec& s) {
-  if (s.min == -kInf && s.max == kInf) return {};
-  // (fmt, not string concatenation: GCC 12 warns falsely about the latter here, -Wrestrict.)
-  return fmt::format("{}{}, {}{}", s.min_exclusive || s.min == -kInf ? "(" : "[", fmt_number(s.min),
-                     fmt_number(s.max), s.max_exclusive || s.max == kInf ? ")" : "]");
 }
 
 // Variant alternative index of each ParamType (the order of ParamValue).
@@ -90,7 +76,12 @@ size_t variant_index(ParamType t) {
     case ParamType::StringMap:
       return 10;
     case ParamType::Function:
+    case ParamType::Texture:  // (or 5, a colour)
       return 11;
+    case ParamType::Color:
+      return 5;
+    case ParamType::Transform:
+      return 12;
   }
   return size_t(-1);
 }
@@ -101,7 +92,7 @@ void check_number(const ParamSpec& s, double x) {
   const bool lo_ok = s.min_exclusive ? x > s.min : x >= s.min;
   const bool hi_ok = s.max_exclusive ? x < s.max : x <= s.max;
   if (!lo_ok || !hi_ok)
-    throw ParamError(key, key + " must be in " + range_text(s) + " (got " + fmt_number(x) + ")");
+    throw ParamError(key, key + " must be in " + range_text(s) + " (got " + format_number(x) + ")");
 }
 
 const ParamSpec* find_spec(std::span<const ParamSpec> specs, std::string_view name) {
@@ -120,14 +111,15 @@ std::string spec_names(std::span<const ParamSpec> specs) {
 
 ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::table& t);
 
-// (The scene parser's conversion, param_toml.h, with errors as ParamError and no positions.)
-ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
-  ParamTomlHooks h;
-  h.fail = [](const toml::node&, std::string_view key, const std::string& msg) {
+// The walker (read_params.h) with errors as ParamError and no positions: the same checks and
+// words as the scene parser.
+ParamWalk registry_walk() {
+  ParamWalk w;
+  w.hooks.fail = [](const toml::node&, std::string_view key, const std::string& msg) {
     throw ParamError(std::string(key), fmt::format("{}: {}", key, msg));
   };
-  h.nested = [](const toml::table& t, std::string_view k) {
-    const std::string key(k);
+  w.hooks.nested = [](const toml::table& t, const ParamSpec& spec) {
+    const std::string key(spec.name);
     const auto type = t["type"].value<std::string>();
     if (!type) throw ParamError(key, key + ": the table needs type = \"...\"");
     const OrgFunctionInfo* info = find_org_function(*type);
@@ -148,26 +140,22 @@ ParamValue toml_value(const ParamSpec& s, const toml::node& n) {
     }
     return std::shared_ptr<const NestedFunction>(nf);
   };
-  return param_from_toml(s, n, h);
+  return w;
 }
 
 ParamValues values_from_table(std::span<const ParamSpec> specs, const toml::table& t) {
-  ParamValues out;
-  for (const auto& [k, n] : t) {
-    const ParamSpec* s = find_spec(specs, k.str());
-    if (!s)
-      throw ParamError(std::string(k.str()), "unknown key '" + std::string(k.str()) +
-                                                 "' (valid: " + spec_names(specs) + ")");
-    out.set(std::string(s->name), toml_value(*s, n));
-  }
-  for (const auto& s : specs) {
-    if (out.has(s.name) || s.default_value == "none") continue;
-    if (s.default_value.empty())
-      throw ParamError(std::string(s.name), "missing required key '" + std::string(s.name) + "'");
-    const toml::table d = toml::parse("v = " + std::string(s.default_value));
-    out.set(std::string(s.name), toml_value(s, *d.get("v")));
-  }
-  return out;
+  ParamWalk w = registry_walk();
+  w.unknown_key = [specs](const toml::key& k, const std::string&) {
+    throw ParamError(std::string(k.str()), "unknown key '" + std::string(k.str()) +
+                                               "' (valid: " + spec_names(specs) + ")");
+  };
+  w.hooks.fail = [fail = w.hooks.fail](const toml::node& at, std::string_view key,
+                                       const std::string& msg) {
+    if (msg == "is required")
+      throw ParamError(std::string(key), "missing required key '" + std::string(key) + "'");
+    fail(at, key, msg);
+  };
+  return read_params(t, {specs}, w);
 }
 
 void markdown_section(std::ostringstream& os, std::string_view kind, std::string_view name,
@@ -181,75 +169,6 @@ void markdown_section(std::ostringstream& os, std::string_view kind, std::string
 }
 
 }  // namespace
-
-std::string params_markdown_table(std::span<const ParamSpec> params) {
-  const auto cell = [](std::string_view text) {
-    std::string r;
-    for (char c : text) {
-      if (c == '|')
-        r += "\\|";
-      else if (c == '\n')
-        r += ' ';
-      else
-        r += c;
-    }
-    return r;
-  };
-  std::ostringstream os;
-  os << "| name | type | default | range | meaning |\n|---|---|---|---|---|\n";
-  for (const auto& p : params) {
-    std::string def;
-    if (p.default_value.empty())
-      def = "*required*";
-    else if (p.default_value == "none")
-      def = "*optional*";
-    else
-      def.append("`").append(cell(p.default_value)).append("`");
-    std::string range = range_text(p);
-    if (!p.choices.empty()) {
-      range.clear();
-      for (auto c : p.choices) {
-        if (!range.empty()) range += ", ";
-        range += "`\"";
-        range += c;
-        range += "\"`";
-      }
-    }
-    os << "| `" << p.name << "` | " << to_string(p.type) << " | " << def << " | " << cell(range)
-       << " | " << cell(p.doc) << " |\n";
-  }
-  return os.str();
-}
-
-std::string_view to_string(ParamType t) {
-  switch (t) {
-    case ParamType::Number:
-      return "number";
-    case ParamType::Integer:
-      return "integer";
-    case ParamType::Bool:
-      return "bool";
-    case ParamType::String:
-      return "string";
-    case ParamType::Vec2:
-      return "[a, b]";
-    case ParamType::Vec3:
-      return "[x, y, z]";
-    case ParamType::NumberList:
-      return "number list";
-    case ParamType::Vec3List:
-      return "list of [x, y, z]";
-    case ParamType::Vec3Grid:
-      return "grid of [x, y, z]";
-    case ParamType::NumberGrid:
-      return "grid of numbers";
-    case ParamType::StringMap:
-      return "table name = number";
-    case ParamType::Function:
-      return "origin function";
-  }
-  return "?";
-}
 
 std::span<const OrgFunctionInfo> org_functions() {
   static const std::vector<OrgFunctionInfo> list = to_list(kOrg);
@@ -330,7 +249,12 @@ void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
         if (!std::get<std::shared_ptr<const NestedFunction>>(v))
           throw ParamError(key, key + " must not be empty");
         break;
+      case ParamType::Color:
+        for (int i = 0; i < 3; ++i) check_number(s, std::get<Vec3>(v)[i]);
+        break;
       case ParamType::Bool:
+      case ParamType::Texture:
+      case ParamType::Transform:
         break;
     }
   }

@@ -290,9 +290,9 @@ Image read_image(const fs::path& file, bool srgb) {
   if (stbi_is_hdr_from_memory(data, len)) {
     const int present = hdr_scanlines_present(bytes, w, h);
     if (present >= 0 && present < h)
-      fail_read("cannot read image", file,
-                fmt::format("the HDR file is cut short: {} of its {} scanlines are present",
-                            present, h));
+      fail_read(
+          "cannot read image", file,
+          fmt::format("the HDR file is cut short: {} of its {} scanlines are present", present, h));
     std::unique_ptr<float, StbFree> p(stbi_loadf_from_memory(data, len, &w, &h, &n, 4));
     if (!p) stb_fail();
     finish(p.get(), 1.0f, false);

@@ -40,6 +40,6 @@ class Integrator {
 };
 
 // "whitted" or "path"; AOV integrators are handled by the renderer.
-std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx);
+std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const RenderContext& ctx);
 
 }  // namespace anamorph

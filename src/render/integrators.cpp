@@ -225,8 +225,8 @@ Ray Integrator::spawn(const Hit& h, const Vec3& dir) {
   return Ray{h.p + n * offset_scale(h.p), dir, 0, kInf};
 }
 
-std::unique_ptr<Integrator> make_integrator(const std::string& name, const RenderContext& ctx) {
-  if (name == "path") return std::make_unique<PathTracer>(ctx);
+std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const RenderContext& ctx) {
+  if (kind == IntegratorKind::Path) return std::make_unique<PathTracer>(ctx);
   return std::make_unique<Whitted>(ctx);
 }
 

@@ -23,13 +23,24 @@ namespace {
 
 enum class Mode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };
 
-Mode mode_of(const std::string& integrator) {
-  if (integrator == "albedo") return Mode::Albedo;
-  if (integrator == "normal") return Mode::Normal;
-  if (integrator == "depth") return Mode::Depth;
-  if (integrator == "position") return Mode::Position;
-  if (integrator == "id") return Mode::Id;
-  if (integrator == "uv") return Mode::Uv;
+Mode mode_of(IntegratorKind integrator) {
+  switch (integrator) {
+    case IntegratorKind::Albedo:
+      return Mode::Albedo;
+    case IntegratorKind::Normal:
+      return Mode::Normal;
+    case IntegratorKind::Depth:
+      return Mode::Depth;
+    case IntegratorKind::Position:
+      return Mode::Position;
+    case IntegratorKind::Id:
+      return Mode::Id;
+    case IntegratorKind::Uv:
+      return Mode::Uv;
+    case IntegratorKind::Whitted:
+    case IntegratorKind::Path:
+      break;
+  }
   return Mode::Radiance;
 }
 
@@ -93,8 +104,8 @@ struct Renderer::Job {
         rs(rr.scene_.render),
         mode(mode_of(rs.integrator)),
         integrator(mode == Mode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
-        sampler(sampler_kind(rs.sampler)),
-        gaussian(rs.filter == "gaussian"),
+        sampler(rs.sampler),
+        gaussian(rs.filter == PixelFilter::Gaussian),
         want_aovs(aovs || mode != Mode::Radiance),
         film_aovs(aovs),
         W(film.width()),
@@ -253,11 +264,11 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const RenderContext ctx{scene_, *accel_, *lights_, rs.max_depth, rs.bailout, opt.cancel};
   const Job job(*this, ctx, film, !opt.aovs.empty());
   const int W = film.width(), H = film.height();
-  const bool corners = rs.adaptive() && rs.antialias == "lattice";
-  const bool per_pixel = rs.adaptive() && rs.antialias == "pixel";
+  const bool corners = rs.adaptive() && rs.antialias == Antialias::Lattice;
+  const bool per_pixel = rs.adaptive() && rs.antialias == Antialias::Pixel;
   // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
   // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
-  const StopRule stop_rule = rs.integrator == "whitted"
+  const StopRule stop_rule = rs.integrator == IntegratorKind::Whitted
                                  ? StopRule::deterministic(rs.noise_threshold)
                                  : StopRule::noisy(rs.noise_threshold);
 

@@ -11,15 +11,9 @@
 
 #include "math/rng.h"
 #include "math/vec.h"
+#include "scene/scene.h"
 
 namespace anamorph {
-
-enum class SamplerKind { Center, Stratified, Random };
-
-inline SamplerKind sampler_kind(const std::string& s) {
-  return s == "center" ? SamplerKind::Center
-                       : (s == "random" ? SamplerKind::Random : SamplerKind::Stratified);
-}
 
 // Offset of a sample inside the pixel, in [0,1)^2 (before filter warping), for the samplers
 // without a QMC stream.

@@ -5,11 +5,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/scene_schema.h"
+
 namespace anamorph {
 
 namespace {
 
-const std::string_view kInterpolations[] = {"linear", "smooth", "step"};
+// [[animate]]'s declared keys but `keys`, whose [frame, value] pairs are read below.
+std::vector<ParamSpec> walked_keys() {
+  std::vector<ParamSpec> specs;
+  for (const ParamSpec& s : animate_schema().common)
+    if (s.name != "keys") specs.push_back(s);
+  return specs;
+}
 
 // Flattens a number or nested array of numbers; false if anything else appears.
 bool flatten(const toml::node& n, std::vector<double>* out) {
@@ -42,16 +50,21 @@ std::vector<AnimatedKey> take_animation(toml::table& root) {
   std::vector<AnimatedKey> out;
   toml::node* n = root.get("animate");
   if (!n) return out;
-  TableReader top(root, "");
+  const TableReader top(root, "");
   if (!n->is_array_of_tables()) top.fail("animate", "expected [[animate]] entries");
   int idx = 0;
   for (const auto& e : *n->as_array()) {
-    TableReader r(*e.as_table(), fmt::format("animate[{}]", idx++));
+    const TableReader r(*e.as_table(), fmt::format("animate[{}]", idx++));
+    if (!r.has("key"))
+      r.fail("key", "is required: the dotted scene key to animate, e.g. \"camera.fov\"");
+    static const std::vector<ParamSpec> specs = walked_keys();
+    static constexpr std::string_view kKeys[] = {"keys"};
+    const ParamValues v = r.params({specs}, kKeys);
     AnimatedKey a;
-    a.key = r.string("key", "");
+    a.key = v.string("key");
     if (a.key.empty())
       r.fail("key", "is required: the dotted scene key to animate, e.g. \"camera.fov\"");
-    const std::string interp = r.string("interpolation", "linear", kInterpolations);
+    const std::string& interp = v.string("interpolation");
     a.interp = interp == "smooth"
                    ? AnimatedKey::Interp::Smooth
                    : (interp == "step" ? AnimatedKey::Interp::Step : AnimatedKey::Interp::Linear);
@@ -80,7 +93,6 @@ std::vector<AnimatedKey> take_animation(toml::table& root) {
       a.frames.push_back(f);
       a.values.push_back(std::move(vals));
     }
-    r.finish();
     out.push_back(std::move(a));
   }
   root.erase("animate");

@@ -9,19 +9,17 @@
 #include "camera/dir_basic.h"
 #include "camera/org_basic.h"
 #include "camera/virtual_camera.h"
+#include "scene/scene_schema.h"
 
 namespace anamorph {
 
 namespace {
 
-// Keys every camera form accepts.
-const char* const kCommonKeys[] = {"transform", "aperture_radius", "focus_distance",       "coin",
-                                   "shutter",   "rolling_shutter", "rolling_shutter_angle"};
 const std::string_view kRolling[] = {"none",          "top_to_bottom", "bottom_to_top",
                                      "left_to_right", "right_to_left", "angle"};
 
 template <class Info>
-auto create_checked(TableReader& r, const Info& info, const ParamValues& v) {
+auto create_checked(const TableReader& r, const Info& info, const ParamValues& v) {
   try {
     return info.create(v);
   } catch (const ParamError& e) {
@@ -29,36 +27,37 @@ auto create_checked(TableReader& r, const Info& info, const ParamValues& v) {
   }
 }
 
-std::unique_ptr<OrgFunction> read_org(TableReader& cam) {
-  const toml::node* n = cam.node("org");
-  if (!n || !n->is_table()) cam.fail("org", "expected a table { type = \"...\", ... }");
-  TableReader r(*n->as_table(), cam.full_key("org"));
+constexpr std::string_view kTypeKey[] = {"type"};
+
+template <class Info>
+const Info& function_of(const TableReader& r, std::span<const Info> infos,
+                        const Info* (*find)(std::string_view)) {
   std::vector<std::string_view> names;
-  for (const auto& f : org_functions()) names.push_back(f.name);
-  const std::string type = r.string("type", "", names);
-  if (type.empty()) r.fail("type", "is required");
-  const OrgFunctionInfo& info = *find_org_function(type);
-  const ParamValues v = r.params(info.params);
-  r.finish();
-  return create_checked(r, info, v);
+  for (const auto& f : infos) names.push_back(f.name);
+  return *find(r.selector({"type", ParamType::String, "", "", -kInf, kInf, names}));
 }
 
-std::unique_ptr<DirFunction> read_dir(TableReader& cam) {
-  const toml::node* n = cam.node("dir");
-  if (!n || !n->is_table()) cam.fail("dir", "expected a table { type = \"...\", ... }");
-  TableReader r(*n->as_table(), cam.full_key("dir"));
-  std::vector<std::string_view> names;
-  for (const auto& f : dir_functions()) names.push_back(f.name);
-  const std::string type = r.string("type", "", names);
-  if (type.empty()) r.fail("type", "is required");
-  const DirFunctionInfo& info = *find_dir_function(type);
-  const ParamValues v = r.params(info.params);
-  r.finish();
-  return create_checked(r, info, v);
+// camera.org or camera.dir: a table { type = "...", ... } with the type's declared keys.
+const toml::table& function_table(const TableReader& cam, std::string_view key) {
+  const toml::node* n = cam.node(key);
+  if (!n || !n->is_table()) cam.fail(key, "expected a table { type = \"...\", ... }");
+  return *n->as_table();
+}
+
+std::unique_ptr<OrgFunction> read_org(const TableReader& cam) {
+  const TableReader r(function_table(cam, "org"), cam.full_key("org"));
+  const OrgFunctionInfo& info = function_of(r, org_functions(), &find_org_function);
+  return create_checked(r, info, r.params({info.params}, kTypeKey));
+}
+
+std::unique_ptr<DirFunction> read_dir(const TableReader& cam) {
+  const TableReader r(function_table(cam, "dir"), cam.full_key("dir"));
+  const DirFunctionInfo& info = function_of(r, dir_functions(), &find_dir_function);
+  return create_checked(r, info, r.params({info.params}, kTypeKey));
 }
 
 // [[camera.coin]] entries (centers of interest, docs/coins.md); errors name camera.coin[i].key.
-std::vector<Coin> read_coins(TableReader& cam) {
+std::vector<Coin> read_coins(const TableReader& cam) {
   std::vector<Coin> coins;
   const toml::node* n = cam.node("coin");
   if (!n) return coins;
@@ -66,9 +65,8 @@ std::vector<Coin> read_coins(TableReader& cam) {
   if (!a || !a->is_array_of_tables())
     cam.fail("coin", "expected an array of tables ([[camera.coin]] entries)");
   for (size_t i = 0; i < a->size(); ++i) {
-    TableReader r(*a->get(i)->as_table(), cam.full_key(fmt::format("coin[{}]", i)));
-    const ParamValues v = r.params(coin_params());
-    r.finish();
+    const TableReader r(*a->get(i)->as_table(), cam.full_key(fmt::format("coin[{}]", i)));
+    const ParamValues v = r.params({coin_params()});
     try {
       coins.push_back(coin_from_params(v));
     } catch (const ParamError& e) {
@@ -97,14 +95,74 @@ VirtualCameraParts from_model_camera(const ModelCamera& m, ImageInfo img) {
 
 }  // namespace
 
-std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
+namespace {
+
+// The shutter keys: [open, close] in frames relative to the frame rendered (default:
+// instantaneous) and the rolling shutter's readout direction.
+void read_shutter(const TableReader& r, const ParamValues& v, ShutterSpec* shutter) {
+  const Vec2 oc = v.vec2("shutter");
+  if (oc.y < oc.x) r.fail("shutter", "expected finite [open, close] with close >= open");
+  shutter->open = oc.x;
+  shutter->close = oc.y;
+  const std::string& rolling = v.string("rolling_shutter");
+  shutter->shutter.rolling = rolling != "none";
+  const double angles[] = {0, 90, 270, 0, 180};
+  const size_t i =
+      size_t(std::find(std::begin(kRolling), std::end(kRolling), rolling) - std::begin(kRolling));
+  if (rolling != "angle" && v.has("rolling_shutter_angle"))
+    r.fail("rolling_shutter_angle", "only used with rolling_shutter = \"angle\"");
+  shutter->shutter.rolling_angle =
+      rolling == "angle" ? (v.has("rolling_shutter_angle") ? v.number("rolling_shutter_angle") : 90)
+                         : (i < 5 ? angles[i] : 90);
+}
+
+// A preset camera; keys of the file's preset that a preset chosen with --set does not have are
+// dropped with a warning (`preset_overridden`).
+VirtualCameraParts read_preset(const TableReader& r, ImageInfo img, bool preset_overridden,
+                               std::vector<std::string>* warnings, ParamValues* common) {
+  const std::string name = r.selector(camera_preset_spec());
+  const PresetInfo& info = *find_preset(name);
+  std::vector<std::string> dropped;
+  if (preset_overridden)
+    for (const auto& [k, v] : r.table()) {
+      const std::string_view key = k.str();
+      if (key == "preset" || key == "coin" ||
+          find_param({info.params, camera_common_params()}, key))
+        continue;
+      dropped.emplace_back(key);
+      if (warnings)
+        warnings->push_back(
+            fmt::format("camera.{}: ignored, preset \"{}\" has no such key", key, name));
+    }
+  // Two walks over the one table: the preset's keys (for its factory, which takes only its
+  // own) and the common ones, each accepting the other's.
+  std::vector<std::string_view> also{"preset", "coin"};
+  also.insert(also.end(), dropped.begin(), dropped.end());
+  std::vector<std::string_view> also_common = also, also_preset = also;
+  for (const ParamSpec& s : info.params) also_common.push_back(s.name);
+  for (const ParamSpec& s : camera_common_params()) also_preset.push_back(s.name);
+  *common = r.params({camera_common_params()}, also_common);
+  const ParamValues v = r.params({info.params}, also_preset);
+  try {
+    return info.create(v, img);
+  } catch (const ParamError& e) {
+    r.fail(e.key, e.what());
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Camera> read_camera(const TableReader& r, ImageInfo img,
                                     const std::vector<ModelCamera>& model_cameras,
                                     bool preset_overridden, std::vector<std::string>* warnings,
                                     ShutterSpec* shutter) {
   VirtualCameraParts parts;
+  ParamValues v;
   const bool composed = r.has("org") || r.has("dir");
   if (r.has("gltf_camera")) {
-    const auto idx = r.integer("gltf_camera", 0, 0, 1 << 20);
+    static constexpr std::string_view kAlso[] = {"coin"};
+    v = r.params({camera_common_params()}, kAlso);
+    const auto idx = v.integer("gltf_camera");
     if (model_cameras.empty()) r.fail("gltf_camera", "no loaded model contains a camera");
     if (size_t(idx) >= model_cameras.size())
       r.fail("gltf_camera", fmt::format("there are {} cameras in the loaded models (0..{})",
@@ -116,6 +174,8 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
     if (r.has("preset")) r.fail("preset", "give either a preset or org/dir functions, not both");
     if (!r.has("org")) r.fail("org", "is required when dir is given");
     if (!r.has("dir")) r.fail("dir", "is required when org is given");
+    static constexpr std::string_view kAlso[] = {"org", "dir", "coin"};
+    v = r.params({camera_common_params()}, kAlso);
     parts.org = read_org(r);
     parts.dir = read_dir(r);
     const auto type_of = [&](const char* k) {
@@ -127,65 +187,19 @@ std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
           "camera: org = point with dir = constant gives every pixel the same ray (a uniform "
           "image)");
   } else {
-    std::vector<std::string_view> names;
-    for (const auto& p : camera_presets()) names.push_back(p.name);
-    const std::string name = r.string("preset", "perspective", names);
-    const PresetInfo& info = *find_preset(name);
-    if (preset_overridden) {
-      // Keys that belonged to the file's preset but not to the one chosen on the command line.
-      for (const auto& [k, v] : r.table()) {
-        const std::string_view key = k.str();
-        bool known = key == "preset";
-        for (const auto& s : info.params) known |= s.name == key;
-        for (const char* c : kCommonKeys) known |= key == c;
-        if (!known) {
-          r.allow(key);
-          if (warnings)
-            warnings->push_back(
-                fmt::format("camera.{}: ignored, preset \"{}\" has no such key", key, name));
-        }
-      }
-    }
-    const ParamValues v = r.params(info.params);
-    try {
-      parts = info.create(v, img);
-    } catch (const ParamError& e) {
-      r.fail(e.key, e.what());
-    }
+    parts = read_preset(r, img, preset_overridden, warnings, &v);
   }
   DepthOfField dof;
-  dof.aperture_radius = r.number("aperture_radius", 0, 0);
-  dof.focus_distance = r.number("focus_distance", 1, 0);
+  dof.aperture_radius = v.number("aperture_radius");
+  dof.focus_distance = v.number("focus_distance");
   if (dof.aperture_radius > 0 && !(dof.focus_distance > 0))
     r.fail("focus_distance", "must be > 0 when aperture_radius > 0");
-  parts.world_from_camera = r.transform("transform") * parts.world_from_camera;
+  // (Always multiplied, as before: an identity product keeps the bits of every image.)
+  parts.world_from_camera =
+      (v.has("transform") ? v.transform("transform") : Transform()) * parts.world_from_camera;
   parts.coins = read_coins(r);
   ShutterSpec local;
-  if (!shutter) shutter = &local;
-  {
-    // shutter = [open, close] in frames relative to the frame rendered (default: instantaneous).
-    shutter->open = shutter->close = 0;
-    if (const toml::node* n = r.node("shutter")) {
-      const toml::array* a = n->as_array();
-      if (!a || a->size() != 2 || !a->get(0)->value<double>() || !a->get(1)->value<double>())
-        r.fail("shutter", "expected [open, close] in frames, e.g. [0, 0.5]");
-      shutter->open = *a->get(0)->value<double>();
-      shutter->close = *a->get(1)->value<double>();
-      if (!std::isfinite(shutter->open) || !std::isfinite(shutter->close) ||
-          shutter->close < shutter->open)
-        r.fail("shutter", "expected finite [open, close] with close >= open");
-    }
-    const std::string rolling = r.string("rolling_shutter", "none", kRolling);
-    shutter->shutter.rolling = rolling != "none";
-    const double angles[] = {0, 90, 270, 0, 180};
-    const size_t i =
-        size_t(std::find(std::begin(kRolling), std::end(kRolling), rolling) - std::begin(kRolling));
-    shutter->shutter.rolling_angle =
-        rolling == "angle" ? r.number("rolling_shutter_angle", 90) : (i < 5 ? angles[i] : 90);
-    if (rolling != "angle" && r.has("rolling_shutter_angle"))
-      r.fail("rolling_shutter_angle", "only used with rolling_shutter = \"angle\"");
-  }
-  r.finish();
+  read_shutter(r, v, shutter ? shutter : &local);
   auto cam = std::make_unique<VirtualCamera>(std::move(parts), dof);
   if (warnings)
     for (const std::string& w : cam->coin_warnings()) warnings->push_back("camera." + w);

@@ -23,7 +23,7 @@ struct ShutterSpec {
   Shutter shutter;
 };
 
-std::unique_ptr<Camera> read_camera(TableReader& r, ImageInfo img,
+std::unique_ptr<Camera> read_camera(const TableReader& r, ImageInfo img,
                                     const std::vector<ModelCamera>& model_cameras,
                                     bool preset_overridden, std::vector<std::string>* warnings,
                                     ShutterSpec* shutter = nullptr);

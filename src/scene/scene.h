@@ -14,18 +14,25 @@
 
 namespace anamorph {
 
+// The closed sets of [render], in the order of their names in scene_schema (integrator_names()
+// and so on): an enum's value is its name's index there.
+enum class IntegratorKind { Whitted, Path, Albedo, Normal, Depth, Position, Id, Uv };
+enum class SamplerKind { Center, Stratified, Random };
+enum class PixelFilter { Box, Gaussian };
+// Resolved at load: the file's "adaptive" means Lattice for whitted, Pixel for the others.
+enum class Antialias { Uniform, Lattice, Pixel };
+
 struct RenderSettings {
   int width = 640, height = 480;
-  std::string integrator =
-      "whitted";  // whitted | path | albedo | normal | depth | position | id | uv
+  IntegratorKind integrator = IntegratorKind::Whitted;
   int spp = 1;
-  std::string sampler = "stratified";  // center | stratified | random
+  SamplerKind sampler = SamplerKind::Stratified;
   int max_depth = 5;
   // Whitted: a reflected or refracted ray is traced only while the product of the coefficients
   // that lead to it is at least this (POV-Ray's adc_bailout, 1/255 by default).
   double bailout = 1.0 / 255;
   uint64_t seed = 0;
-  std::string filter = "box";  // box | gaussian
+  PixelFilter filter = PixelFilter::Box;
   double filter_radius = 1.5;  // gaussian: radius in pixels (box: pixel area)
   int tile_size = 32;
   // Antialiasing, resolved at load to one of: "uniform" (spp samples per pixel); "lattice" (the
@@ -33,7 +40,7 @@ struct RenderSettings {
   // "pixel" (per-pixel progressive sampling between min_spp and max_spp that stops each pixel
   // once its estimated error is small). The scene file's "adaptive" means lattice for whitted,
   // pixel for the other integrators.
-  std::string antialias = "lattice";
+  Antialias antialias = Antialias::Lattice;
   double aa_threshold = 0.1;      // contrast that splits a square (lattice)
   int aa_depth = 3;               // maximum subdivision levels per pixel (lattice)
   bool aa_distortion = true;      // stretched pixels start subdivided (lattice)
@@ -45,7 +52,8 @@ struct RenderSettings {
   // Whether the samples per pixel vary: an adaptive scheme with a radiance integrator (the AOV
   // integrators take `spp` samples under any scheme).
   bool adaptive() const {
-    return antialias != "uniform" && (integrator == "whitted" || integrator == "path");
+    return antialias != Antialias::Uniform &&
+           (integrator == IntegratorKind::Whitted || integrator == IntegratorKind::Path);
   }
 };
 

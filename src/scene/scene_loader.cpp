@@ -20,18 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string_view kIntegrators[] = {"whitted", "path",     "albedo", "normal",
-                                         "depth",   "position", "id",     "uv"};
-const std::string_view kSamplers[] = {"center", "stratified", "random"};
-const std::string_view kFilters[] = {"box", "gaussian"};
-const std::string_view kAntialias[] = {"uniform", "adaptive", "lattice", "pixel"};
-const std::string_view kObjectTypes[] = {"mesh", "sphere", "plane", "box", "cylinder", "disk"};
-const std::string_view kLightTypes[] = {"point", "spot", "directional", "quad", "sphere"};
-const std::string_view kMaterialTypes[] = {"whitted", "metallic_roughness"};
-const std::string_view kTextureTypes[] = {"checker", "grid", "image"};
-const std::string_view kSpaces[] = {"uv", "object", "world"};
-const std::string_view kWraps[] = {"repeat", "clamp", "mirror"};
-
 // A camera that gives no ray anywhere (a direction expression of 1/0, an origin surface that is
 // never defined) renders a transparent image without complaint: say so at load.
 void warn_if_no_rays(const Camera& cam, std::vector<std::string>* warnings) {
@@ -215,91 +203,73 @@ struct Context {
   std::map<std::string, uint32_t> material_ids;
 };
 
-fs::path resolve(const Context& c, TableReader& r, std::string_view key) {
-  const std::string f = r.string(key, "");
-  if (f.empty()) r.fail(key, "is required (a file path, relative to the scene file)");
-  fs::path p = f;
-  if (p.is_relative()) {
-    // The key's own file: an included file's paths are relative to that file.
-    const toml::node* n = r.table().get(key);
-    const SourceLoc l = loc_of(*n);
-    p = (l.file.empty() ? c.dir : fs::path(l.file).parent_path()) / p;
-  }
-  if (!fs::exists(p)) r.fail(key, fmt::format("file not found: {}", p.string()));
-  return p;
+Wrap wrap_of(const std::string& w) {
+  return w == "clamp" ? Wrap::Clamp : (w == "mirror" ? Wrap::Mirror : Wrap::Repeat);
 }
 
-Texture read_texture(Context& c, TableReader& r, std::string_view key, Color def, bool srgb) {
-  const toml::node* n = r.table().get(key);
-  if (!n || !n->is_table()) return Texture::constant(r.color(key, def));
-  r.allow(key);
-  TableReader t(*n->as_table(), r.full_key(key));
-  const std::string type = t.string("type", "", kTextureTypes);
-  if (type.empty()) t.fail("type", "is required (checker, grid or image)");
+// The texture (or constant colour) of parameter `key` of r's table.
+Texture read_texture(const TableReader& r, const ParamValues& v, std::string_view key, bool srgb) {
+  if (!v.is_table(key)) return Texture::constant(v.color(key));
+  const std::string type = v.function(key).type;
+  const ParamValues& t = v.function(key).values;
   Texture tex;
   if (type == "image") {
     tex.kind = Texture::Kind::Image;
-    const fs::path p = resolve(c, t, "file");
     try {
-      tex.image = std::make_shared<MipMap>(read_image(p, srgb));
+      tex.image = std::make_shared<MipMap>(read_image(t.string("file"), srgb));
     } catch (const std::exception& e) {
-      t.fail("file", e.what());
+      r.fail_at(*r.node(key)->as_table()->get("file"), std::string(key) + ".file", e.what());
     }
-    tex.value = t.color("scale_color", {1, 1, 1});
-    const std::string w = t.string("wrap", "repeat", kWraps);
-    tex.wrap_s = tex.wrap_t =
-        w == "clamp" ? Wrap::Clamp : (w == "mirror" ? Wrap::Mirror : Wrap::Repeat);
-    tex.nearest = t.boolean("nearest", false);
-    const Vec3 off = t.vec3("uv_offset", {0, 0, 0});
-    const Vec3 sc = t.vec3("uv_scale", {1, 1, 1});
+    tex.value = t.color("scale_color");
+    tex.wrap_s = tex.wrap_t = wrap_of(t.string("wrap"));
+    tex.nearest = t.boolean("nearest");
+    const Vec3 off = t.vec3("uv_offset"), sc = t.vec3("uv_scale");
     tex.uv_transform = UvTransform::from_offset_rotation_scale(
-        {off.x, off.y}, radians(t.number("uv_rotation", 0)), {sc.x, sc.y});
-  } else {
-    tex.kind = type == "checker" ? Texture::Kind::Checker : Texture::Kind::Grid;
-    const std::string s = t.string("space", type == "checker" ? "world" : "uv", kSpaces);
-    tex.space = s == "uv" ? Texture::Space::Uv
-                          : (s == "object" ? Texture::Space::Object : Texture::Space::World);
-    tex.color_a = t.color("color_a", {0.9, 0.9, 0.9});
-    tex.color_b = t.color("color_b", {0.1, 0.1, 0.1});
-    tex.scale = t.number("scale", 1.0, 1e-9, kInf);
-    tex.line_width = t.number("line_width", 0.05, 0, 1);
-    tex.pattern_from_space = t.transform("transform").inverse();
+        {off.x, off.y}, radians(t.number("uv_rotation")), {sc.x, sc.y});
+    return tex;
   }
-  t.finish();
+  tex.kind = type == "checker" ? Texture::Kind::Checker : Texture::Kind::Grid;
+  const std::string s = t.has("space") ? t.string("space") : type == "checker" ? "world" : "uv";
+  tex.space = s == "uv" ? Texture::Space::Uv
+                        : (s == "object" ? Texture::Space::Object : Texture::Space::World);
+  tex.color_a = t.color("color_a");
+  tex.color_b = t.color("color_b");
+  tex.scale = t.number("scale");
+  tex.line_width = t.number("line_width");
+  if (t.has("transform")) tex.pattern_from_space = t.transform("transform").inverse();
   return tex;
 }
 
-Material read_material(Context& c, TableReader& r) {
+Material read_material(const TableReader& r) {
+  const ParamValues v = r.params(material_schema());
   Material m;
-  m.name = r.string("name", "");
-  if (m.name.empty()) r.fail("name", "is required (objects refer to materials by name)");
-  const std::string type = r.string("type", "whitted", kMaterialTypes);
-  m.model = type == "whitted" ? Material::Model::Whitted : Material::Model::MetallicRoughness;
-  m.base_color = read_texture(c, r, "color", {0.8, 0.8, 0.8}, true);
-  m.emission = read_texture(c, r, "emission", {0, 0, 0}, true);
-  m.emission_strength = r.number("emission_strength", 1, 0);
-  m.ior = r.number("ior", 1.5, 1.0, 10);
+  m.name = v.string("name");
+  m.model =
+      v.string("type") == "whitted" ? Material::Model::Whitted : Material::Model::MetallicRoughness;
+  m.base_color = read_texture(r, v, "color", true);
+  m.emission = read_texture(r, v, "emission", true);
+  m.emission_strength = v.number("emission_strength");
+  m.ior = v.number("ior");
+  m.transmission = v.number("transmission");
   if (m.model == Material::Model::Whitted) {
-    m.diffuse = r.number("diffuse", 1, 0, 1);
-    m.specular = r.color("specular", {0, 0, 0});
-    m.exponent = r.number("exponent", 50, 0);
-    m.reflectivity = r.number("reflectivity", 0, 0, 1);
-    m.transmission = r.number("transmission", 0, 0, 1);
+    m.diffuse = v.number("diffuse");
+    m.specular = v.color("specular");
+    m.exponent = v.number("exponent");
+    m.reflectivity = v.number("reflectivity");
     if (m.reflectivity + m.transmission > 1)
       r.fail("transmission", "reflectivity + transmission must not exceed 1 (energy conservation)");
   } else {
-    m.metallic = r.number("metallic", 0, 0, 1);
-    m.roughness = r.number("roughness", 0.5, 0, 1);
-    m.transmission = r.number("transmission", 0, 0, 1);
+    m.metallic = v.number("metallic");
+    m.roughness = v.number("roughness");
   }
-  m.double_sided = r.boolean("double_sided", true);
-  r.finish();
+  m.double_sided = v.boolean("double_sided");
   return m;
 }
 
-uint32_t material_ref(Context& c, TableReader& r, std::string_view key) {
-  const std::string name = r.string(key, "");
-  if (name.empty()) return 0;  // the default material
+uint32_t material_ref(Context& c, const TableReader& r, const ParamValues& v,
+                      std::string_view key) {
+  if (!v.has(key)) return 0;  // the default material
+  const std::string& name = v.string(key);
   auto it = c.material_ids.find(name);
   if (it == c.material_ids.end()) {
     std::vector<std::string> names;
@@ -323,92 +293,103 @@ Transform y_to(const Vec3& n) {
   return {m, transpose(m)};
 }
 
-void read_object(Context& c, TableReader& r, int index) {
+Transform transform_or_identity(const ParamValues& v, std::string_view key) {
+  return v.has(key) ? v.transform(key) : Transform();
+}
+
+void add_model(Context& c, const TableReader& r, const ParamValues& v, const std::string& name,
+               const Transform& xf) {
   Scene& s = *c.scene;
-  const std::string type = r.string("type", "", kObjectTypes);
-  if (type.empty()) r.fail("type", "is required (mesh, sphere, plane, box, cylinder or disk)");
-  const std::string name = r.string("name", fmt::format("{}{}", type, index));
-  const Transform xf = r.transform("transform");
-  if (type == "mesh") {
-    const fs::path p = resolve(c, r, "file");
-    LoadedModel m;
-    try {
-      m = load_model(p);
-    } catch (const std::exception& e) {
-      r.fail("file", e.what());
-    }
-    const bool override_mat = r.has("material");
-    const uint32_t mat = material_ref(c, r, "material");
-    const auto mat_base = uint32_t(s.materials.size());
-    if (!override_mat)
-      for (auto& mm : m.materials) s.materials.push_back(std::move(mm));
-    const auto proto_base = uint32_t(s.prototypes.size());
-    for (auto& pr : m.prototypes) {
-      for (auto& mesh : pr.meshes) mesh.material = override_mat ? mat : mesh.material + mat_base;
-      s.prototypes.push_back(std::move(pr));
-    }
-    for (auto& inst : m.instances) {
-      inst.prototype += proto_base;
-      inst.world_from_object = xf * inst.world_from_object;
-      inst.name = name + (inst.name.empty() ? "" : "/" + inst.name);
-      s.instances.push_back(std::move(inst));
-    }
-    for (auto& cam : m.cameras) {
-      cam.world_from_camera = xf * cam.world_from_camera;
-      c.scene->model_cameras.push_back(cam);
-    }
-    for (auto& w : m.warnings) s.warnings.push_back(w);
-    r.finish();
-    return;
+  LoadedModel m;
+  try {
+    m = load_model(v.string("file"));
+  } catch (const std::exception& e) {
+    r.fail_at(*r.node("file"), "file", e.what());
   }
-  AnalyticShape sh;
-  sh.name = name;
-  sh.material = material_ref(c, r, "material");
+  const bool override_mat = v.has("material");
+  const uint32_t mat = material_ref(c, r, v, "material");
+  const auto mat_base = uint32_t(s.materials.size());
+  if (!override_mat)
+    for (auto& mm : m.materials) s.materials.push_back(std::move(mm));
+  const auto proto_base = uint32_t(s.prototypes.size());
+  for (auto& pr : m.prototypes) {
+    for (auto& mesh : pr.meshes) mesh.material = override_mat ? mat : mesh.material + mat_base;
+    s.prototypes.push_back(std::move(pr));
+  }
+  for (auto& inst : m.instances) {
+    inst.prototype += proto_base;
+    inst.world_from_object = xf * inst.world_from_object;
+    inst.name = name + (inst.name.empty() ? "" : "/" + inst.name);
+    s.instances.push_back(std::move(inst));
+  }
+  for (auto& cam : m.cameras) {
+    cam.world_from_camera = xf * cam.world_from_camera;
+    c.scene->model_cameras.push_back(cam);
+  }
+  for (auto& w : m.warnings) s.warnings.push_back(w);
+}
+
+// Where an analytic shape sits, from its type's keys (validated beyond their ranges here).
+void place_shape(const TableReader& r, const ParamValues& v, const std::string& type,
+                 const Transform& xf, AnalyticShape& sh) {
+  const auto nonzero = [&](const char* key) {
+    const Vec3 n = v.vec3(key);
+    if (!(length(n) > 0)) r.fail(key, "must not be zero");
+    return n;
+  };
   if (type == "sphere") {
     sh.kind = AnalyticShape::Kind::Sphere;
-    sh.radius = r.number("radius", 1, 0, kInf);
-    if (sh.radius <= 0) r.fail("radius", "must be > 0");
-    sh.world_from_object = xf * Transform::translate(r.vec3("center", {0, 0, 0}));
+    sh.radius = v.number("radius");
+    sh.world_from_object = xf * Transform::translate(v.vec3("center"));
   } else if (type == "plane") {
     sh.kind = AnalyticShape::Kind::Plane;
-    const Vec3 n = r.vec3("normal", {0, 1, 0});
-    if (!(length(n) > 0)) r.fail("normal", "must not be zero");
-    sh.world_from_object = xf * Transform::translate(r.vec3("point", {0, 0, 0})) * y_to(n);
+    const Vec3 n = nonzero("normal");
+    sh.world_from_object = xf * Transform::translate(v.vec3("point")) * y_to(n);
   } else if (type == "box") {
     sh.kind = AnalyticShape::Kind::Box;
-    Vec3 center{0, 0, 0}, size{1, 1, 1};
-    if (r.has("min") || r.has("max")) {
-      const Vec3 lo = r.vec3("min", {-0.5, -0.5, -0.5}), hi = r.vec3("max", {0.5, 0.5, 0.5});
+    Vec3 center = v.vec3("center"), size = v.vec3("size");
+    if (v.has("min") || v.has("max")) {
+      const Vec3 lo = v.has("min") ? v.vec3("min") : Vec3{-0.5, -0.5, -0.5};
+      const Vec3 hi = v.has("max") ? v.vec3("max") : Vec3{0.5, 0.5, 0.5};
       center = (lo + hi) * 0.5;
       size = hi - lo;
       if (min_component(size) <= 0)
         r.fail("max", "max must be greater than min in every component");
-    } else {
-      center = r.vec3("center", center);
-      size = r.vec3("size", size);
-      if (min_component(size) <= 0) r.fail("size", "every component must be > 0");
+    } else if (min_component(size) <= 0) {
+      r.fail("size", "every component must be > 0");
     }
     sh.size = size;
     sh.world_from_object = xf * Transform::translate(center);
   } else if (type == "cylinder") {
     sh.kind = AnalyticShape::Kind::Cylinder;
-    const Vec3 base = r.vec3("base", {0, 0, 0}), top = r.vec3("top", {0, 1, 0});
+    const Vec3 base = v.vec3("base"), top = v.vec3("top");
     sh.height = length(top - base);
     if (!(sh.height > 0)) r.fail("top", "top must differ from base");
-    sh.radius = r.number("radius", 0.5, 0, kInf);
-    if (sh.radius <= 0) r.fail("radius", "must be > 0");
-    sh.capped = r.boolean("capped", true);
+    sh.radius = v.number("radius");
+    sh.capped = v.boolean("capped");
     sh.world_from_object = xf * Transform::translate(base) * y_to(top - base);
   } else {  // disk
     sh.kind = AnalyticShape::Kind::Disk;
-    const Vec3 n = r.vec3("normal", {0, 1, 0});
-    if (!(length(n) > 0)) r.fail("normal", "must not be zero");
-    sh.radius = r.number("radius", 1, 0, kInf);
-    if (sh.radius <= 0) r.fail("radius", "must be > 0");
-    sh.world_from_object = xf * Transform::translate(r.vec3("center", {0, 0, 0})) * y_to(n);
+    const Vec3 n = nonzero("normal");
+    sh.radius = v.number("radius");
+    sh.world_from_object = xf * Transform::translate(v.vec3("center")) * y_to(n);
   }
-  r.finish();
-  s.shapes.push_back(sh);
+}
+
+void read_object(Context& c, const TableReader& r, int index) {
+  const ParamValues v = r.params(object_schema());
+  const std::string type = v.string("type");
+  const std::string name = v.has("name") ? v.string("name") : fmt::format("{}{}", type, index);
+  const Transform xf = transform_or_identity(v, "transform");
+  if (type == "mesh") {
+    add_model(c, r, v, name, xf);
+    return;
+  }
+  AnalyticShape sh;
+  sh.name = name;
+  sh.material = material_ref(c, r, v, "material");
+  place_shape(r, v, type, xf, sh);
+  c.scene->shapes.push_back(sh);
 }
 
 // A black, emitting material for an area light.
@@ -422,88 +403,88 @@ uint32_t emissive_material(Scene& s, const std::string& name, Color radiance, bo
   return uint32_t(s.materials.size() - 1);
 }
 
-void read_light(TableReader& r, Scene& s, int index) {
-  Light l;
-  const std::string type = r.string("type", "", kLightTypes);
-  if (type.empty()) r.fail("type", "is required (point, spot, directional, quad or sphere)");
-  l.name = r.string("name", fmt::format("{}{}", type, index));
-  const double strength = r.number("strength", 1, 0);
-  if (type == "point" || type == "spot") {
-    l.kind = type == "point" ? Light::Kind::Point : Light::Kind::Spot;
-    l.position = r.vec3("position", {0, 0, 0});
-    l.intensity = r.color("intensity", {1, 1, 1}) * strength;
-    if (l.kind == Light::Kind::Spot) {
-      if (r.has("look_at"))
-        l.direction = r.vec3("look_at", {}) - l.position;
-      else
-        l.direction = r.vec3("direction", {0, -1, 0});
-      if (!(length(l.direction) > 0)) r.fail("direction", "must not be zero");
-      l.direction = normalize(l.direction);
-      l.cone_angle = r.number("cone_angle", 30, 0, 180);
-      l.cone_falloff = r.number("cone_falloff", 5, 0, 180);
-    }
-  } else if (type == "directional") {
-    l.kind = Light::Kind::Directional;
-    l.direction = r.vec3("direction", {0, -1, 0});
-    if (!(length(l.direction) > 0)) r.fail("direction", "must not be zero");
-    l.direction = normalize(l.direction);
-    l.intensity = r.color("irradiance", {1, 1, 1}) * strength;
-  } else if (type == "quad") {
-    // Area lights are real emissive geometry: the camera and reflections see them, and the
-    // light sampler finds them among the emissive triangles.
-    const Vec3 corner = r.vec3("corner", {0, 0, 0});
-    const Vec3 eu = r.vec3("edge_u", {1, 0, 0}), ev = r.vec3("edge_v", {0, 0, 1});
+// Area lights are real emissive geometry: the camera and reflections see them, and the light
+// sampler finds them among the emissive triangles (quads) and spheres.
+void add_area_light(const TableReader& r, const ParamValues& v, const std::string& name,
+                    double strength, Scene& s) {
+  if (v.string("type") == "quad") {
+    const Vec3 corner = v.vec3("corner"), eu = v.vec3("edge_u"), ev = v.vec3("edge_v");
     if (!(length(cross(eu, ev)) > 0)) r.fail("edge_v", "edge_u and edge_v must span an area");
-    const uint32_t mat = emissive_material(s, l.name, r.color("radiance", {1, 1, 1}) * strength,
-                                           r.boolean("two_sided", false));
+    const uint32_t mat =
+        emissive_material(s, name, v.color("radiance") * strength, v.boolean("two_sided"));
     TriangleMesh m;
-    m.name = l.name;
+    m.name = name;
     for (const Vec3& p : {corner, corner + eu, corner + eu + ev, corner + ev})
       m.positions.push_back(Vec3f(p));
     // Counter-clockwise seen from the emitting side (edge_u x edge_v).
     m.indices = {0, 1, 2, 0, 2, 3};
     m.material = mat;
     Prototype pr;
-    pr.name = l.name;
+    pr.name = name;
     pr.meshes.push_back(std::move(m));
     s.prototypes.push_back(std::move(pr));
-    s.instances.push_back(Instance{uint32_t(s.prototypes.size() - 1), Transform(), l.name});
-    r.finish();
-    return;
-  } else {
-    AnalyticShape sh;
-    sh.kind = AnalyticShape::Kind::Sphere;
-    sh.name = l.name;
-    sh.radius = r.number("radius", 0.5, 0);
-    if (sh.radius <= 0) r.fail("radius", "must be > 0");
-    sh.world_from_object = Transform::translate(r.vec3("center", {0, 0, 0}));
-    sh.material = emissive_material(s, l.name, r.color("radiance", {1, 1, 1}) * strength, true);
-    s.shapes.push_back(sh);
-    r.finish();
+    s.instances.push_back(Instance{uint32_t(s.prototypes.size() - 1), Transform(), name});
     return;
   }
-  r.finish();
+  AnalyticShape sh;
+  sh.kind = AnalyticShape::Kind::Sphere;
+  sh.name = name;
+  sh.radius = v.number("radius");
+  sh.world_from_object = Transform::translate(v.vec3("center"));
+  sh.material = emissive_material(s, name, v.color("radiance") * strength, true);
+  s.shapes.push_back(sh);
+}
+
+void read_light(const TableReader& r, Scene& s, int index) {
+  const ParamValues v = r.params(light_schema());
+  const std::string type = v.string("type");
+  const std::string name = v.has("name") ? v.string("name") : fmt::format("{}{}", type, index);
+  const double strength = v.number("strength");
+  if (type == "quad" || type == "sphere") {
+    add_area_light(r, v, name, strength, s);
+    return;
+  }
+  Light l;
+  l.name = name;
+  const auto direction = [&] {
+    const Vec3 d = v.has("look_at") ? v.vec3("look_at") - l.position : v.vec3("direction");
+    if (!(length(d) > 0)) r.fail("direction", "must not be zero");
+    return normalize(d);
+  };
+  if (type == "directional") {
+    l.kind = Light::Kind::Directional;
+    l.direction = direction();
+    l.intensity = v.color("irradiance") * strength;
+  } else {
+    l.kind = type == "point" ? Light::Kind::Point : Light::Kind::Spot;
+    l.position = v.vec3("position");
+    l.intensity = v.color("intensity") * strength;
+    if (l.kind == Light::Kind::Spot) {
+      l.direction = direction();
+      l.cone_angle = v.number("cone_angle");
+      l.cone_falloff = v.number("cone_falloff");
+    }
+  }
   s.lights.push_back(l);
 }
 
-void read_environment(Context& c, TableReader& r, Scene& s) {
+void read_environment(const TableReader& r, Scene& s) {
+  const ParamValues v = r.params({environment_schema().common});
   Environment& e = s.environment;
-  e.color = r.color("color", {0, 0, 0});
-  e.strength = r.number("strength", 1, 0);
-  e.rotation = r.number("rotation", 0);
-  if (r.has("file")) {
-    const fs::path p = resolve(c, r, "file");
+  e.color = v.color("color");
+  e.strength = v.number("strength");
+  e.rotation = v.number("rotation");
+  if (v.has("file")) {
     try {
-      e.image = std::make_shared<Image>(read_image(p, true));
+      e.image = std::make_shared<Image>(read_image(v.string("file"), true));
     } catch (const std::exception& ex) {
-      r.fail("file", ex.what());
+      r.fail_at(*r.node("file"), "file", ex.what());
     }
   }
-  r.finish();
 }
 
 template <class F>
-void for_each_table(TableReader& root, std::string_view key, F&& f) {
+void for_each_table(const TableReader& root, std::string_view key, F&& f) {
   const toml::node* n = root.node(key);
   if (!n) return;
   const toml::array* a = n->as_array();
@@ -511,10 +492,17 @@ void for_each_table(TableReader& root, std::string_view key, F&& f) {
     root.fail(key, fmt::format("expected an array of tables ([[{}]] entries)", key));
   int i = 0;
   for (const auto& e : *a) {
-    TableReader r(*e.as_table(), fmt::format("{}[{}]", key, i));
+    const TableReader r(*e.as_table(), fmt::format("{}[{}]", key, i));
     f(r, i);
     ++i;
   }
+}
+
+// A sub-table of the top level (an error when it is not a table), or null.
+const toml::table* sub_table(const TableReader& top, std::string_view key) {
+  const toml::node* n = top.node(key);
+  if (n && !n->is_table()) top.fail(key, "expected a table");
+  return n ? n->as_table() : nullptr;
 }
 
 // The scene text at a (fractional) frame: animation evaluated, then the overrides.
@@ -529,26 +517,65 @@ toml::table at_frame(const toml::table& original, const std::vector<std::string>
 }
 
 // Materials, objects, lights and the environment of a scene.
-void read_world(Context& c, TableReader& top) {
+void read_world(Context& c, const TableReader& top) {
   Scene& s = *c.scene;
   // Material 0 is the default for objects without one.
   Material def;
   def.name = "default";
   s.materials.push_back(def);
-  for_each_table(top, "material", [&](TableReader& r, int) {
-    Material m = read_material(c, r);
+  for_each_table(top, "material", [&](const TableReader& r, int) {
+    Material m = read_material(r);
     if (c.material_ids.count(m.name))
       r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
     c.material_ids[m.name] = uint32_t(s.materials.size());
     s.materials.push_back(std::move(m));
   });
-  for_each_table(top, "object", [&](TableReader& r, int i) { read_object(c, r, i); });
-  for_each_table(top, "light", [&](TableReader& r, int i) { read_light(r, s, i); });
-  if (const toml::node* n = top.node("environment")) {
-    if (!n->is_table()) top.fail("environment", "expected a table");
-    TableReader r(*n->as_table(), "environment");
-    read_environment(c, r, s);
-  }
+  for_each_table(top, "object", [&](const TableReader& r, int i) { read_object(c, r, i); });
+  for_each_table(top, "light", [&](const TableReader& r, int i) { read_light(r, s, i); });
+  if (const toml::table* t = sub_table(top, "environment"))
+    read_environment(TableReader(*t, "environment"), s);
+}
+
+template <class E>
+E choice(const ParamValues& v, std::string_view key, std::span<const std::string_view> names) {
+  return E(std::find(names.begin(), names.end(), v.string(key)) - names.begin());
+}
+
+// [render]: the declared keys, and the defaults that depend on other keys.
+void read_render(const TableReader& r, RenderSettings& rs) {
+  const ParamValues v = r.params({render_schema().common});
+  rs.integrator = choice<IntegratorKind>(v, "integrator", integrator_names());
+  rs.spp = int(v.integer("spp"));
+  rs.sampler = choice<SamplerKind>(v, "sampler", sampler_names());
+  rs.max_depth = int(v.integer("max_depth"));
+  rs.bailout = v.number("bailout");
+  rs.seed = uint64_t(v.integer("seed"));
+  rs.filter = choice<PixelFilter>(v, "filter", filter_names());
+  rs.filter_radius = v.number("filter_radius");
+  rs.tile_size = int(v.integer("tile_size"));
+  // Whitted antialiases adaptively unless the file asks for a fixed sampler or scheme.
+  const bool whitted = rs.integrator == IntegratorKind::Whitted;
+  const std::string aa = v.has("antialias")                              ? v.string("antialias")
+                         : whitted && !r.has("sampler") && !r.has("spp") ? "adaptive"
+                                                                         : "uniform";
+  rs.antialias = aa == "uniform"                                    ? Antialias::Uniform
+                 : aa == "lattice" || (aa == "adaptive" && whitted) ? Antialias::Lattice
+                                                                    : Antialias::Pixel;
+  // The lattice compares single samples: path tracing's noise would split every square.
+  if (rs.antialias == Antialias::Lattice && rs.integrator == IntegratorKind::Path)
+    r.fail("antialias",
+           "\"lattice\" compares single samples, and path tracing's noise would split every "
+           "square: use \"pixel\" (or \"adaptive\") with path tracing");
+  rs.aa_threshold = v.number("aa_threshold");
+  rs.aa_depth = int(v.integer("aa_depth"));
+  rs.aa_distortion = v.boolean("aa_distortion");
+  // Whitted's samples differ only where the pixel holds detail: two find most of it.
+  rs.min_spp = v.has("min_spp") ? int(v.integer("min_spp")) : whitted ? 2 : 8;
+  rs.max_spp = v.has("max_spp") ? int(v.integer("max_spp")) : r.has("spp") ? rs.spp : 1024;
+  if (v.has("max_spp") && rs.max_spp < rs.min_spp)
+    r.fail_at(*r.node("max_spp"), "max_spp", range_error(rs.max_spp, rs.min_spp, kInf));
+  rs.noise_threshold = v.number("noise_threshold");
+  rs.time_limit = v.number("time_limit");
 }
 
 // `view_from`: read only image, render and camera, with the model cameras of this scene
@@ -573,64 +600,31 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   Context c;
   c.dir = file.parent_path();
   c.scene = &s;
-  TableReader top(root, "");
+  const TableReader top(root, "");
+  // The top level: `include` was merged already; the tables are read below.
+  static constexpr std::string_view kTables[] = {"image",  "render", "camera",      "material",
+                                                 "object", "light",  "environment", "animate"};
+  top.params({top_level_params()}, kTables);
 
-  if (const toml::node* n = top.node("image")) {
-    if (!n->is_table()) top.fail("image", "expected a table");
-    TableReader r(*n->as_table(), "image");
-    s.render.width = int(r.integer("width", 640, 1, 65536));
-    s.render.height = int(r.integer("height", 480, 1, 65536));
-    r.finish();
+  if (const toml::table* t = sub_table(top, "image")) {
+    const ParamValues v = TableReader(*t, "image").params({image_schema().common});
+    s.render.width = int(v.integer("width"));
+    s.render.height = int(v.integer("height"));
   }
-  if (const toml::node* n = top.node("render")) {
-    if (!n->is_table()) top.fail("render", "expected a table");
-    TableReader r(*n->as_table(), "render");
-    RenderSettings& rs = s.render;
-    rs.integrator = r.string("integrator", rs.integrator, kIntegrators);
-    rs.spp = int(r.integer("spp", rs.spp, 1, 1 << 20));
-    rs.sampler = r.string("sampler", rs.sampler, kSamplers);
-    rs.max_depth = int(r.integer("max_depth", rs.max_depth, 0, 1000));
-    rs.bailout = r.number("bailout", rs.bailout, 0, 1);
-    rs.seed = uint64_t(r.integer("seed", 0, 0, std::numeric_limits<int64_t>::max()));
-    rs.filter = r.string("filter", rs.filter, kFilters);
-    rs.filter_radius = r.number("filter_radius", rs.filter_radius, 0.5, 8);
-    rs.tile_size = int(r.integer("tile_size", rs.tile_size, 4, 1024));
-    // Whitted antialiases adaptively unless the file asks for a fixed sampler or scheme.
-    const bool whitted = rs.integrator == "whitted";
-    rs.antialias = r.string("antialias",
-                            whitted && !r.has("sampler") && !r.has("spp") ? "adaptive" : "uniform",
-                            kAntialias);
-    if (rs.antialias == "adaptive") rs.antialias = whitted ? "lattice" : "pixel";
-    // The lattice compares single samples: path tracing's noise would split every square.
-    if (rs.antialias == "lattice" && rs.integrator == "path")
-      r.fail("antialias",
-             "\"lattice\" compares single samples, and path tracing's noise would split every "
-             "square: use \"pixel\" (or \"adaptive\") with path tracing");
-    rs.aa_threshold = r.number("aa_threshold", rs.aa_threshold, 0, kInf);
-    rs.aa_depth = int(r.integer("aa_depth", rs.aa_depth, 0, 6));
-    rs.aa_distortion = r.boolean("aa_distortion", rs.aa_distortion);
-    // Whitted's samples differ only where the pixel holds detail: two find most of it.
-    rs.min_spp = int(r.integer("min_spp", whitted ? 2 : rs.min_spp, 1, 1 << 20));
-    rs.max_spp = int(r.integer("max_spp", r.has("spp") ? rs.spp : rs.max_spp, rs.min_spp, 1 << 20));
-    rs.noise_threshold = r.number("noise_threshold", rs.noise_threshold, 0, kInf);
-    rs.time_limit = r.number("time_limit", rs.time_limit, 0, kInf);
-    r.finish();
-  }
+  if (const toml::table* t = sub_table(top, "render"))
+    read_render(TableReader(*t, "render"), s.render);
 
   if (view_from) {
-    // (Marked as read: they were validated when view_from was loaded, and nothing in them is
-    // animated.)
-    for (const char* key : {"material", "object", "light", "environment"}) top.node(key);
+    // (The world was read, and validated, when view_from was loaded; nothing in it is animated.)
     s.model_cameras = view_from->model_cameras;
   } else {
     read_world(c, top);
   }
 
-  const toml::node* cn = top.node("camera");
-  if (cn && !cn->is_table()) top.fail("camera", "expected a table");
+  const toml::table* cn = sub_table(top, "camera");
   const toml::table empty;
-  const toml::table& ct = cn ? *cn->as_table() : empty;
-  TableReader cr(ct, "camera");
+  const toml::table& ct = cn ? *cn : empty;
+  const TableReader cr(ct, "camera");
   const bool preset_overridden =
       std::any_of(overrides.begin(), overrides.end(),
                   [](const std::string& o) { return o.rfind("camera.preset=", 0) == 0; });
@@ -643,7 +637,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     auto camera_at = [&](double t) {
       const toml::table r2 = at_frame(original, overrides, frame + t);
       const toml::node* n2 = r2.get("camera");
-      TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
+      const TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
       ShutterSpec unused;
       return read_camera(cr2, {s.render.width, s.render.height}, s.model_cameras, preset_overridden,
                          nullptr, &unused);
@@ -657,7 +651,6 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
         static_cast<const VirtualCamera&>(*s.camera).rig(), shutter.shutter);
   }
   warn_if_no_rays(*s.camera, &s.warnings);
-  top.finish();
   return s;
 }
 

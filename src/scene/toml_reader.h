@@ -1,9 +1,10 @@
-// Strict reading of TOML tables: typed getters with range checks, errors that name the file,
-// line, column and dotted key, and unknown keys rejected with a "did you mean" suggestion.
+// Strict reading of TOML tables by their declared keys (scene_schema.h, params/read_params.h):
+// errors that name the file, line, column and dotted key, and unknown keys rejected with a "did
+// you mean" suggestion.
 #pragma once
 
+#include <initializer_list>
 #include <optional>
-#include <set>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -12,10 +13,12 @@
 
 #include <toml++/toml.h>
 
-#include "camera/param_toml.h"
-#include "camera/params.h"
 #include "math/transform.h"
 #include "math/vec.h"
+#include "params/param_toml.h"
+#include "params/params.h"
+#include "params/read_params.h"
+#include "scene/scene_schema.h"
 
 namespace anamorph {
 
@@ -35,6 +38,11 @@ class SceneError : public std::runtime_error {
 SourceLoc loc_of(const toml::node& n);
 SourceLoc loc_of(const toml::key& k);
 
+// One table of a scene being read: its dotted path for messages, and the walker (read_params)
+// with the scene's hooks: errors carry file, line, column and dotted key; `file` values resolve
+// against the file that names them and must exist; nested tables are origin functions or
+// textures. Every key enters through params() (or, for structural keys a caller declares as
+// `also`: sub-tables and arrays of tables, through node()).
 class TableReader {
  public:
   // `path` is the dotted key of the table (e.g. "camera", "object[2]").
@@ -44,43 +52,27 @@ class TableReader {
   const std::string& path() const { return path_; }
   std::string full_key(std::string_view key) const;
   bool has(std::string_view key) const { return t_.contains(key); }
-  // Marks a key as accepted without reading it here.
-  void allow(std::string_view key) {
-    used_.insert(std::string(key));
-    known_.insert(std::string(key));
-  }
-  const toml::node* node(std::string_view key);  // marks used; nullptr when absent
+  const toml::node* node(std::string_view key) const { return t_.get(key); }
 
-  double number(std::string_view key, double def, double lo = -kInf, double hi = kInf);
-  double required_number(std::string_view key, double lo = -kInf, double hi = kInf);
-  int64_t integer(std::string_view key, int64_t def, int64_t lo, int64_t hi);
-  bool boolean(std::string_view key, bool def);
-  std::string string(std::string_view key, std::string def,
-                     std::span<const std::string_view> choices = {});
-  Vec3 vec3(std::string_view key, Vec3 def);
-  std::optional<Vec3> optional_vec3(std::string_view key);
-  Color color(std::string_view key, Color def);  // [r,g,b] or a single number (grey)
-  Transform transform(std::string_view key);     // identity when absent
-
-  // Parameters declared by a ParamSpec table (camera functions and presets).
-  ParamValues params(std::span<const ParamSpec> specs);
-
-  // Throws on any key that was not read or allowed, suggesting the closest known key.
-  void finish();
+  // The declared keys of `groups` (defaults filled in); any other key is an error unless named
+  // in `also`.
+  ParamValues params(std::initializer_list<std::span<const ParamSpec>> groups,
+                     std::span<const std::string_view> also = {}) const;
+  // The value of a selector key (a String spec with choices, e.g. `type`), its default when
+  // absent; "is required (one of: ...)" when it has none.
+  std::string selector(const ParamSpec& spec) const;
+  // A table with a selector (an object's `type`): its common keys and its form's own.
+  ParamValues params(const TableSchema& schema, std::span<const std::string_view> also = {}) const;
 
   [[noreturn]] void fail(std::string_view key, const std::string& msg) const;
   [[noreturn]] void fail_at(const toml::node& n, std::string_view key,
                             const std::string& msg) const;
 
  private:
-  void mark(std::string_view key);
+  ParamWalk walk(std::span<const std::string_view> also) const;
   const toml::table& t_;
   std::string path_;
-  std::set<std::string, std::less<>> used_, known_;
 };
-
-// Reads a value of the given spec type from a TOML node (shared by params() and nested tables).
-ParamValue read_param_value(TableReader& r, const ParamSpec& spec, const toml::node& n);
 
 // Values as TOML text, for metadata and `anamorph info`.
 std::string to_toml_text(const toml::table& t);

@@ -116,8 +116,9 @@ TEST(FunctionRegistry, MarkdownListsEveryParameter) {
   for (const auto& f : org_functions()) check("org", f.name, f.params);
   for (const auto& f : dir_functions()) check("dir", f.name, f.params);
   // Ranges and choices appear in their column.
-  EXPECT_NE(md.find("| `degree_u` | integer | `3` | [1, 15] |"), std::string::npos);
-  EXPECT_NE(md.find("| `radius` | number | `1` | (0, inf) |"), std::string::npos);
+  EXPECT_NE(md.find("| `degree_u` | integer | `3` |  | [1, 15] |"), std::string::npos);
+  EXPECT_NE(md.find("| `radius` | number | `1` |  | (0, inf) |"), std::string::npos);
+  EXPECT_NE(md.find("| `u_range` | [a, b] | `[-180, 180]` | degrees |"), std::string::npos);
   EXPECT_NE(md.find("`\"clamped\"`, `\"uniform\"`"), std::string::npos);
 }
 

@@ -178,10 +178,10 @@ namespace anamorph {
 
 TEST(Adaptive, SchemesResolvedAtLoad) {
   // "adaptive" is the integrator's scheme: the corner lattice for whitted, per pixel for path.
-  EXPECT_EQ(test::render_text(kEdge).scene.render.antialias, "lattice");
+  EXPECT_EQ(test::render_text(kEdge).scene.render.antialias, Antialias::Lattice);
   EXPECT_EQ(
       load_scene_from_string(kEdge, "t.toml", {"render.integrator=\"path\""}).render.antialias,
-      "pixel");
+      Antialias::Pixel);
   EXPECT_EQ(load_scene_from_string(kEdge, "t.toml", {"render.antialias=\"pixel\""}).render.min_spp,
             2)
       << "whitted's per-pixel sampling starts at two samples";

@@ -1,7 +1,7 @@
-// TOML values as camera parameter values (params.h): the one conversion behind the scene parser
-// (TableReader::params, errors with file positions) and the registry's params_from_toml
-// (make_org, make_dir, make_preset, make_coin: ParamError). Hooks say how each reports an error,
-// where a `file` parameter points, and how it reads a nested function's table.
+// TOML values as parameter values (params.h): the one conversion behind the walker read_params
+// (the scene, with file positions; the registry's make_org, make_dir, make_preset, make_coin,
+// with ParamError). Hooks say how each reports an error, where a `file` parameter points, and
+// how it reads a nested table (a camera function, a texture).
 #pragma once
 
 #include <cstdint>
@@ -14,7 +14,7 @@
 
 #include <toml++/toml.h>
 
-#include "camera/params.h"
+#include "params/params.h"
 
 namespace anamorph {
 
@@ -41,8 +41,9 @@ struct ParamTomlHooks {
   // and checks that it exists). Default: as written.
   std::function<std::string(const toml::node& at, std::string_view key, const std::string& path)>
       file;
-  // A nested origin function (ParamType::Function) from its table { type = "...", ... }.
-  std::function<std::shared_ptr<const NestedFunction>(const toml::table& t, std::string_view key)>
+  // A nested table { type = "...", ... }: an origin function (ParamType::Function) or a texture
+  // (ParamType::Texture); `spec` says which.
+  std::function<std::shared_ptr<const NestedFunction>(const toml::table& t, const ParamSpec& spec)>
       nested;
 };
 

@@ -1,6 +1,8 @@
-// Parameter tables: every camera function (and preset) declares its parameters once. The scene
-// parser converts TOML values into ParamValues by these specs, validation checks ranges from
-// them, and docs/--help list them from the same table.
+// Parameter tables: every key of the scene format is declared once, here as a ParamSpec in a
+// table (camera functions, presets, coins, and the scene's own tables in scene/scene_schema).
+// The one walker (read_params.h) converts TOML tables into ParamValues by these specs, checks
+// types, ranges and choices from them, and rejects unknown keys with a suggestion; the docs
+// (param_docs.h) and the JSON Schema (param_schema.h) are generated from the same tables.
 #pragma once
 
 #include <map>
@@ -13,6 +15,7 @@
 #include <variant>
 #include <vector>
 
+#include "math/transform.h"
 #include "math/vec.h"
 
 namespace anamorph {
@@ -30,6 +33,9 @@ enum class ParamType {
   NumberGrid,  // [[a, b, ...], ...] (weights)
   StringMap,   // { name = number, ... } (named constants)
   Function,    // { type = "...", ... } a nested origin function (e.g. dir from_surface)
+  Color,       // [r, g, b] or one number (grey); components >= min
+  Texture,     // a Color, or a table { type = "checker" | "grid" | "image", ... }
+  Transform,   // { translate = [...], rotate = [deg, x, y, z] (or a list), scale, matrix }
 };
 
 std::string_view to_string(ParamType t);
@@ -44,17 +50,17 @@ struct ParamSpec {
   std::span<const std::string_view> choices = {};  // for String
   bool min_exclusive = false;
   bool max_exclusive = false;
+  std::string_view unit = {};  // "degrees", "pixels", "scene units", "frames", "seconds", ...
+  // A default that depends on other keys (default_value is then "none"): said in the docs, e.g.
+  // "2 with whitted, 8 otherwise"; the reader computes it.
+  std::string_view default_note = {};
 };
-
-// The Markdown table (name | type | default | range | meaning) of a parameter table, for the
-// docs of functions and presets alike.
-std::string params_markdown_table(std::span<const ParamSpec> params);
 
 struct NestedFunction;
 using ParamValue = std::variant<double, int64_t, bool, std::string, Vec2, Vec3, std::vector<double>,
                                 std::vector<Vec3>, std::vector<std::vector<Vec3>>,
                                 std::vector<std::vector<double>>, std::map<std::string, double>,
-                                std::shared_ptr<const NestedFunction>>;
+                                std::shared_ptr<const NestedFunction>, Transform>;
 
 // Thrown by a factory when values are individually valid but inconsistent (e.g. a knot vector
 // that is too short); the scene parser adds file, line and column of `key`.
@@ -65,6 +71,7 @@ struct ParamError : std::runtime_error {
 };
 
 // Values after parsing and range checks; every spec'd parameter with a default is present.
+// (Declared before NestedFunction, which holds one.)
 class ParamValues {
  public:
   void set(std::string name, ParamValue v) { values_[std::move(name)] = std::move(v); }
@@ -93,6 +100,14 @@ class ParamValues {
   }
   const NestedFunction& function(std::string_view name) const {
     return *get<std::shared_ptr<const NestedFunction>>(name);
+  }
+  Vec3 color(std::string_view name) const { return get<Vec3>(name); }
+  const Transform& transform(std::string_view name) const { return get<Transform>(name); }
+  // A Texture parameter given as a table (else it is a colour, read with color()).
+  bool is_table(std::string_view name) const {
+    auto it = values_.find(name);
+    return it != values_.end() &&
+           std::holds_alternative<std::shared_ptr<const NestedFunction>>(it->second);
   }
   const std::map<std::string, ParamValue, std::less<>>& all() const { return values_; }
 

@@ -1,0 +1,430 @@
+// The declarations of scene_schema.h. A key is added here, once; the reader, the docs and the
+// JSON Schema follow.
+#include "scene/scene_schema.h"
+
+#include <limits>
+#include <vector>
+
+#include "camera/presets.h"
+
+namespace anamorph {
+
+namespace {
+
+constexpr double kMaxInt64 = double(std::numeric_limits<int64_t>::max());
+
+// ---- [image] ----------------------------------------------------------------------------------
+
+const ParamSpec kImage[] = {
+    {"width", ParamType::Integer, "640", "Image width.", 1, 65536, {}, false, false, "pixels"},
+    {"height", ParamType::Integer, "480", "Image height.", 1, 65536, {}, false, false, "pixels"},
+};
+
+// ---- [render] ---------------------------------------------------------------------------------
+
+constexpr std::string_view kIntegrators[] = {"whitted", "path",     "albedo", "normal",
+                                             "depth",   "position", "id",     "uv"};
+constexpr std::string_view kSamplers[] = {"center", "stratified", "random"};
+constexpr std::string_view kFilters[] = {"box", "gaussian"};
+constexpr std::string_view kAntialias[] = {"uniform", "adaptive", "lattice", "pixel"};
+
+// clang-format off
+const ParamSpec kRender[] = {
+    {"integrator", ParamType::String, "\"whitted\"",
+     "What a pixel shows. `whitted`: the paper's ray tracer (hard shadows, mirror reflection, "
+     "refraction with Fresnel, one sample of area lights per hit; a shadow ray passes a "
+     "transparent surface scaled by its `transmission`, unrefracted, as in Whitted's paper and "
+     "POV-Ray). `path`: unidirectional path tracing with next-event estimation, MIS and Russian "
+     "roulette. The others show one AOV (see AOVs below).",
+     -kInf, kInf, kIntegrators},
+    {"spp", ParamType::Integer, "1", "Samples per pixel.", 1, 1 << 20},
+    {"sampler", ParamType::String, "\"stratified\"",
+     "`center`: exactly the pixel center (for exact comparisons with other renderers). "
+     "`stratified`: the pixel's samples take their positions, lens and time samples and the "
+     "first three bounces' light and BSDF numbers from Owen-scrambled Sobol' points, so any "
+     "number of them (and any prefix, as per-pixel adaptive sampling takes) is well stratified. "
+     "`random`: independent uniform.",
+     -kInf, kInf, kSamplers},
+    {"max_depth", ParamType::Integer, "5",
+     "Whitted: recursion depth of reflection/refraction. Path: bounces.", 0, 1000},
+    {"bailout", ParamType::Number, "0.00392156862745098",
+     "Whitted: a reflected or refracted ray is traced only while the product of the "
+     "coefficients leading to it (mirror reflectivity, transmission x Fresnel) is at least this, "
+     "as POV-Ray's `adc_bailout` (default 1/255). It bounds the ray tree of glass between "
+     "mirrors at any `max_depth`. 0 traces every branch to `max_depth`.",
+     0, 1},
+    {"seed", ParamType::Integer, "0",
+     "Random seed. Each sample's random numbers depend only on (pixel, sample index, seed): "
+     "images are bit-identical for any thread count or tile size.",
+     0, kMaxInt64},
+    {"filter", ParamType::String, "\"box\"",
+     "Pixel reconstruction. Gaussian is done by filter importance sampling (sigma = radius/3): "
+     "sample positions spread over the filter, each with weight 1.",
+     -kInf, kInf, kFilters},
+    {"filter_radius", ParamType::Number, "1.5", "Gaussian radius.", 0.5, 8, {}, false, false,
+     "pixels"},
+    {"tile_size", ParamType::Integer, "32",
+     "Square tiles rendered in parallel. Does not change the image.", 4, 1024, {}, false, false,
+     "pixels"},
+    {"antialias", ParamType::String, "none",
+     "`uniform` (spp samples per pixel), `adaptive` (the integrator's scheme: lattice for "
+     "whitted, pixel for the others), `lattice` (the paper's corner subdivision, not for path) "
+     "or `pixel` (per-pixel progressive sampling); see antialiasing.md.",
+     -kInf, kInf, kAntialias, false, false, {},
+     "`\"adaptive\"` for whitted unless `spp` or `sampler` is given, else `\"uniform\"`"},
+    {"aa_threshold", ParamType::Number, "0.1", "Lattice: the contrast that splits a square.", 0,
+     kInf},
+    {"aa_depth", ParamType::Integer, "3", "Lattice: the most subdivision levels per pixel.", 0, 6},
+    {"aa_distortion", ParamType::Bool, "true",
+     "Lattice: pixels the camera stretches start subdivided."},
+    {"min_spp", ParamType::Integer, "none", "Pixel: samples of the first pass.", 1, 1 << 20, {},
+     false, false, {}, "2 with whitted, 8 otherwise"},
+    {"max_spp", ParamType::Integer, "none",
+     "Pixel: the most samples a pixel takes (at least `min_spp`).", 1, 1 << 20, {}, false,
+     false, {}, "`spp` when given, else 1024"},
+    {"noise_threshold", ParamType::Number, "0.01",
+     "Pixel: the estimated relative error at which a pixel stops.", 0, kInf},
+    {"time_limit", ParamType::Number, "0",
+     "Pixel: stop after this long (0 = no limit; a limit breaks determinism).", 0, kInf, {},
+     false, false, "seconds"},
+};
+// clang-format on
+
+// ---- [[material]] and its textures ------------------------------------------------------------
+
+constexpr std::string_view kMaterialTypes[] = {"whitted", "metallic_roughness"};
+
+// clang-format off
+const ParamSpec kMaterialCommon[] = {
+    {"name", ParamType::String, "", "Referred to by objects."},
+    {"type", ParamType::String, "\"whitted\"",
+     "`whitted` (the paper's model) or `metallic_roughness` (glTF 2.0, GGX microfacets).", -kInf,
+     kInf, kMaterialTypes},
+    {"color", ParamType::Texture, "0.8", "Diffuse colour / glTF base colour.", 0, kInf},
+    {"emission", ParamType::Texture, "0",
+     "Emitted radiance; emissive surfaces are light sources.", 0, kInf},
+    {"emission_strength", ParamType::Number, "1", "Multiplies `emission`.", 0, kInf},
+    {"ior", ParamType::Number, "1.5", "Index of refraction.", 1, 10},
+    {"double_sided", ParamType::Bool, "true", "One-sided emitters emit only on the front."},
+};
+const ParamSpec kWhitted[] = {
+    {"diffuse", ParamType::Number, "1",
+     "Diffuse weight. The diffuse part is also scaled by 1 - reflectivity - transmission.", 0, 1},
+    {"specular", ParamType::Color, "0", "Phong highlight colour ks (a normalized Phong lobe).", 0,
+     kInf},
+    {"exponent", ParamType::Number, "50", "Phong exponent.", 0, kInf},
+    {"reflectivity", ParamType::Number, "0", "Perfect mirror reflection weight.", 0, 1},
+    {"transmission", ParamType::Number, "0",
+     "Smooth dielectric (refraction with Fresnel) weight; reflectivity + transmission <= 1.", 0,
+     1},
+};
+const ParamSpec kMetallicRoughness[] = {
+    {"metallic", ParamType::Number, "0", "glTF metalness.", 0, 1},
+    {"roughness", ParamType::Number, "0.5", "glTF roughness (GGX alpha = roughness^2).", 0, 1},
+    {"transmission", ParamType::Number, "0",
+     "Smooth dielectric (refraction with Fresnel) weight.", 0, 1},
+};
+const TableVariant kMaterialVariants[] = {
+    {"whitted", "The paper's model: diffuse, Phong highlight, mirror and refraction.", kWhitted},
+    {"metallic_roughness", "glTF 2.0's metallic-roughness model.", kMetallicRoughness},
+};
+
+constexpr std::string_view kTextureTypes[] = {"checker", "grid", "image"};
+constexpr std::string_view kSpaces[] = {"uv", "object", "world"};
+constexpr std::string_view kWraps[] = {"repeat", "clamp", "mirror"};
+
+const ParamSpec kTextureCommon[] = {
+    {"type", ParamType::String, "", "The kind of texture.", -kInf, kInf, kTextureTypes},
+};
+const ParamSpec kPattern[] = {
+    {"space", ParamType::String, "none",
+     "Where the pattern lives. In object and world space the axis closest to the surface normal "
+     "is ignored, so a floor at y = 0 shows a clean 2D pattern.",
+     -kInf, kInf, kSpaces, false, false, {}, "`\"world\"` for checker, `\"uv\"` for grid"},
+    {"scale", ParamType::Number, "1", "Pattern period (checker cell size, grid spacing).", 1e-9,
+     kInf, {}, false, false, "scene units or uv"},
+    {"line_width", ParamType::Number, "0.05", "Grid: line width as a fraction of the period.", 0,
+     1},
+    {"color_a", ParamType::Color, "0.9", "Checker: one cell colour; grid: the background.", 0,
+     kInf},
+    {"color_b", ParamType::Color, "0.1", "Checker: the other cell colour; grid: the lines.", 0,
+     kInf},
+    {"transform", ParamType::Transform, "none", "Places the pattern in its space."},
+};
+const ParamSpec kImageTexture[] = {
+    {"file", ParamType::String, "",
+     "PNG, JPEG, BMP, TGA, HDR or EXR (8-bit files are sRGB), relative to the file naming it."},
+    {"scale_color", ParamType::Color, "1", "Multiplies the image.", 0, kInf},
+    {"wrap", ParamType::String, "\"repeat\"", "Outside [0, 1]: repeat, clamp or mirror.", -kInf,
+     kInf, kWraps},
+    {"nearest", ParamType::Bool, "false", "No filtering."},
+    {"uv_offset", ParamType::Vec3, "[0, 0, 0]", "uv offset [u, v, 0] (KHR_texture_transform)."},
+    {"uv_scale", ParamType::Vec3, "[1, 1, 1]", "uv scale [u, v, 1] (KHR_texture_transform)."},
+    {"uv_rotation", ParamType::Number, "0", "uv rotation (KHR_texture_transform).", -kInf, kInf,
+     {}, false, false, "degrees"},
+};
+const TableVariant kTextureVariants[] = {
+    {"checker", "Two colours in a 3D (or uv) checkerboard.", kPattern},
+    {"grid", "Lines on a background.", kPattern},
+    {"image", "An image file, mip-mapped and filtered by the ray footprint.", kImageTexture},
+};
+// clang-format on
+
+// ---- [[object]] -------------------------------------------------------------------------------
+
+constexpr std::string_view kObjectTypes[] = {"mesh", "sphere", "plane", "box", "cylinder", "disk"};
+
+// clang-format off
+const ParamSpec kObjectCommon[] = {
+    {"type", ParamType::String, "", "The kind of object.", -kInf, kInf, kObjectTypes},
+    {"name", ParamType::String, "none", "A name for messages and `info`.", -kInf, kInf, {}, false,
+     false, {}, "type and index, e.g. `\"sphere2\"`"},
+    {"transform", ParamType::Transform, "none",
+     "Applied after the shape's own placement (or to the whole model)."},
+    {"material", ParamType::String, "none",
+     "A material name (default grey); for a mesh, replaces the file's materials."},
+};
+const ParamSpec kMesh[] = {
+    {"file", ParamType::String, "",
+     "glTF 2.0 (.gltf, .glb, data URIs), OBJ/MTL, PLY, STL and every other format assimp "
+     "reads, relative to the file naming it."},
+};
+const ParamSpec kSphere[] = {
+    {"center", ParamType::Vec3, "[0, 0, 0]", "Center.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"radius", ParamType::Number, "1", "Radius.", 0, kInf, {}, true, false, "scene units"},
+};
+const ParamSpec kPlane[] = {
+    {"point", ParamType::Vec3, "[0, 0, 0]", "A point of the plane.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"normal", ParamType::Vec3, "[0, 1, 0]", "Its normal (not zero)."},
+};
+const ParamSpec kBox[] = {
+    {"center", ParamType::Vec3, "[0, 0, 0]", "Center (without min/max).", -kInf, kInf, {}, false,
+     false, "scene units"},
+    {"size", ParamType::Vec3, "[1, 1, 1]", "Edge lengths, each > 0 (without min/max).", -kInf,
+     kInf, {}, false, false, "scene units"},
+    {"min", ParamType::Vec3, "none", "Lowest corner (with max; default [-0.5, -0.5, -0.5]).",
+     -kInf, kInf, {}, false, false, "scene units"},
+    {"max", ParamType::Vec3, "none", "Highest corner (with min; default [0.5, 0.5, 0.5]).", -kInf,
+     kInf, {}, false, false, "scene units"},
+};
+const ParamSpec kCylinder[] = {
+    {"base", ParamType::Vec3, "[0, 0, 0]", "Center of the bottom.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"top", ParamType::Vec3, "[0, 1, 0]", "Center of the top (not the base).", -kInf, kInf, {},
+     false, false, "scene units"},
+    {"radius", ParamType::Number, "0.5", "Radius.", 0, kInf, {}, true, false, "scene units"},
+    {"capped", ParamType::Bool, "true", "Closed by disks at both ends."},
+};
+const ParamSpec kDisk[] = {
+    {"center", ParamType::Vec3, "[0, 0, 0]", "Center.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"normal", ParamType::Vec3, "[0, 1, 0]", "Its normal (not zero)."},
+    {"radius", ParamType::Number, "1", "Radius.", 0, kInf, {}, true, false, "scene units"},
+};
+const TableVariant kObjectVariants[] = {
+    {"mesh",
+     "A model file; glTF node hierarchies and transforms are kept, a mesh used by several nodes "
+     "is built once and instanced.",
+     kMesh},
+    {"sphere", "An exact sphere.", kSphere},
+    {"plane", "An infinite plane (exact; bounded at 1e6 for the BVH).", kPlane},
+    {"box", "An axis-aligned box (rotate it with `transform`).", kBox},
+    {"cylinder", "A cylinder between two points.", kCylinder},
+    {"disk", "A flat disk.", kDisk},
+};
+// clang-format on
+
+// ---- [[light]] --------------------------------------------------------------------------------
+
+constexpr std::string_view kLightTypes[] = {"point", "spot", "directional", "quad", "sphere"};
+
+// clang-format off
+const ParamSpec kLightCommon[] = {
+    {"type", ParamType::String, "", "The kind of light.", -kInf, kInf, kLightTypes},
+    {"name", ParamType::String, "none", "A name for messages and `info`.", -kInf, kInf, {}, false,
+     false, {}, "type and index, e.g. `\"point0\"`"},
+    {"strength", ParamType::Number, "1", "Multiplies the light's colour.", 0, kInf},
+};
+const ParamSpec kPointLight[] = {
+    {"position", ParamType::Vec3, "[0, 0, 0]", "Where it is.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"intensity", ParamType::Color, "1", "Radiant intensity.", 0, kInf, {}, false, false, "W/sr"},
+};
+const ParamSpec kSpotLight[] = {
+    {"position", ParamType::Vec3, "[0, 0, 0]", "Where it is.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"intensity", ParamType::Color, "1", "Radiant intensity on the axis.", 0, kInf, {}, false,
+     false, "W/sr"},
+    {"direction", ParamType::Vec3, "[0, -1, 0]", "The axis (not zero); ignored with look_at."},
+    {"look_at", ParamType::Vec3, "none", "A point on the axis, instead of direction.", -kInf, kInf,
+     {}, false, false, "scene units"},
+    {"cone_angle", ParamType::Number, "30", "Full intensity within this angle of the axis.", 0,
+     180, {}, false, false, "degrees"},
+    {"cone_falloff", ParamType::Number, "5", "Smooth falloff over this angle beyond the cone.", 0,
+     180, {}, false, false, "degrees"},
+};
+const ParamSpec kDirectionalLight[] = {
+    {"direction", ParamType::Vec3, "[0, -1, 0]", "The way the light travels (not zero)."},
+    {"irradiance", ParamType::Color, "1", "Irradiance on a surface facing the light.", 0, kInf},
+};
+const ParamSpec kQuadLight[] = {
+    {"corner", ParamType::Vec3, "[0, 0, 0]", "One corner.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"edge_u", ParamType::Vec3, "[1, 0, 0]", "First edge from the corner.", -kInf, kInf, {}, false,
+     false, "scene units"},
+    {"edge_v", ParamType::Vec3, "[0, 0, 1]",
+     "Second edge; emits on the side of edge_u x edge_v.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"radiance", ParamType::Color, "1", "Emitted radiance.", 0, kInf},
+    {"two_sided", ParamType::Bool, "false", "Emits on both sides."},
+};
+const ParamSpec kSphereLight[] = {
+    {"center", ParamType::Vec3, "[0, 0, 0]", "Center.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"radius", ParamType::Number, "0.5", "Radius.", 0, kInf, {}, true, false, "scene units"},
+    {"radiance", ParamType::Color, "1", "Emitted radiance.", 0, kInf},
+};
+const TableVariant kLightVariants[] = {
+    {"point", "A point light.", kPointLight},
+    {"spot", "A spot light: full intensity in a cone, smooth falloff beyond.", kSpotLight},
+    {"directional", "Light from infinitely far away in one direction.", kDirectionalLight},
+    {"quad", "An emissive parallelogram (real geometry, seen by the camera).", kQuadLight},
+    {"sphere", "An emissive sphere (real geometry, seen by the camera).", kSphereLight},
+};
+// clang-format on
+
+// ---- [environment], [[animate]], the camera, the top level -------------------------------------
+
+// clang-format off
+const ParamSpec kEnvironment[] = {
+    {"color", ParamType::Color, "0", "Constant radiance from every direction.", 0, kInf},
+    {"file", ParamType::String, "none",
+     "An equirectangular image (HDR, EXR, PNG, ...); longitude 0 (image center) is -z, u grows "
+     "toward +x, the top row is +y."},
+    {"strength", ParamType::Number, "1", "Multiplier.", 0, kInf},
+    {"rotation", ParamType::Number, "0", "Rotation about +y.", -kInf, kInf, {}, false, false,
+     "degrees"},
+};
+
+constexpr std::string_view kInterpolations[] = {"linear", "smooth", "step"};
+const ParamSpec kAnimate[] = {
+    {"key", ParamType::String, "",
+     "The dotted scene key, as for --set (array entries by index), e.g. "
+     "\"camera.coin.0.strength\"."},
+    {"keys", ParamType::NumberList, "",
+     "[[frame, value], ...] with increasing frames; values are numbers or arrays of numbers of "
+     "one shape."},
+    {"interpolation", ParamType::String, "\"linear\"",
+     "`linear`, `smooth` (C1 Catmull-Rom) or `step` (holds each value as written).", -kInf, kInf,
+     kInterpolations},
+};
+
+constexpr std::string_view kRolling[] = {"none",          "top_to_bottom", "bottom_to_top",
+                                         "left_to_right", "right_to_left", "angle"};
+const ParamSpec kCameraCommon[] = {
+    {"transform", ParamType::Transform, "none",
+     "Moves, rotates and scales the whole camera rig (after the preset's look-at)."},
+    {"aperture_radius", ParamType::Number, "0",
+     "Depth of field for any camera: the ray origin moves on a disk perpendicular to the ray; 0 "
+     "= pinhole.",
+     0, kInf, {}, false, false, "scene units"},
+    {"focus_distance", ParamType::Number, "1", "Distance along each ray that stays sharp.", 0,
+     kInf, {}, false, false, "scene units"},
+    {"shutter", ParamType::Vec2, "[0, 0]",
+     "[open, close] relative to the frame rendered. With animated camera keys the rig is built "
+     "at open and close and interpolated per ray: camera motion blur.",
+     -kInf, kInf, {}, false, false, "frames"},
+    {"rolling_shutter", ParamType::String, "\"none\"",
+     "A ray's time is its position along the readout direction instead of a random time in the "
+     "shutter.",
+     -kInf, kInf, kRolling},
+    {"rolling_shutter_angle", ParamType::Number, "none",
+     "With rolling_shutter = \"angle\": the readout direction from +u toward +v.", -kInf, kInf, {},
+     false, false, "degrees", "90 (top to bottom)"},
+    {"gltf_camera", ParamType::Integer, "none",
+     "Use camera N of the loaded glTF files (in the order objects load them), instead of a "
+     "preset or org/dir.",
+     0, 1 << 20},
+};
+
+const ParamSpec kTopLevel[] = {
+    {"include", ParamType::String, "none",
+     "A file or a list of files merged in first: tables merge key by key, arrays of tables are "
+     "concatenated (included entries first), other values of this file win."},
+};
+// clang-format on
+
+const TableSchema kImageSchema{"image",
+                               "Output size. Pixel (i, j) of a W x H image covers image "
+                               "positions [i/W, (i+1)/W] x [j/H, (j+1)/H].",
+                               false, kImage};
+const TableSchema kRenderSchema{"render", "Integrator and sampling.", false, kRender};
+const TableSchema kMaterialSchema{"material", "Named materials.", true, kMaterialCommon,
+                                  "type",     kMaterialVariants};
+const TableSchema kTextureSchema{
+    "texture", "A texture: the table form of a colour (`color`, `emission`).",
+    false,     kTextureCommon,
+    "type",    kTextureVariants};
+const TableSchema kObjectSchema{"object", "Meshes from files and analytic shapes.",
+                                true,     kObjectCommon,
+                                "type",   kObjectVariants};
+const TableSchema kLightSchema{"light",      "Light sources.", true,
+                               kLightCommon, "type",           kLightVariants};
+const TableSchema kEnvironmentSchema{"environment", "Light from infinitely far away.", false,
+                                     kEnvironment};
+const TableSchema kAnimateSchema{"animate", "Keyframes of any numeric key.", true, kAnimate};
+
+const TableSchema* const kTables[] = {&kImageSchema,       &kRenderSchema, &kMaterialSchema,
+                                      &kTextureSchema,     &kObjectSchema, &kLightSchema,
+                                      &kEnvironmentSchema, &kAnimateSchema};
+
+}  // namespace
+
+const TableVariant* TableSchema::variant(std::string_view name) const {
+  for (const TableVariant& v : variants)
+    if (v.name == name) return &v;
+  return nullptr;
+}
+
+const ParamSpec& camera_preset_spec() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> v;
+    for (const PresetInfo& p : camera_presets()) v.push_back(p.name);
+    return v;
+  }();
+  static const ParamSpec spec{"preset",
+                              ParamType::String,
+                              "\"perspective\"",
+                              "A named camera (see cameras.md), instead of org/dir functions.",
+                              -kInf,
+                              kInf,
+                              names};
+  return spec;
+}
+
+std::span<const std::string_view> integrator_names() { return kIntegrators; }
+std::span<const std::string_view> sampler_names() { return kSamplers; }
+std::span<const std::string_view> filter_names() { return kFilters; }
+std::string_view name_of(IntegratorKind k) { return kIntegrators[size_t(k)]; }
+std::string_view name_of(SamplerKind k) { return kSamplers[size_t(k)]; }
+std::string_view name_of(PixelFilter k) { return kFilters[size_t(k)]; }
+std::string_view name_of(Antialias k) {
+  static constexpr std::string_view kResolved[] = {"uniform", "lattice", "pixel"};
+  return kResolved[size_t(k)];
+}
+
+const TableSchema& image_schema() { return kImageSchema; }
+const TableSchema& render_schema() { return kRenderSchema; }
+const TableSchema& material_schema() { return kMaterialSchema; }
+const TableSchema& texture_schema() { return kTextureSchema; }
+const TableSchema& object_schema() { return kObjectSchema; }
+const TableSchema& light_schema() { return kLightSchema; }
+const TableSchema& environment_schema() { return kEnvironmentSchema; }
+const TableSchema& animate_schema() { return kAnimateSchema; }
+std::span<const ParamSpec> camera_common_params() { return kCameraCommon; }
+std::span<const ParamSpec> top_level_params() { return kTopLevel; }
+std::span<const TableSchema* const> scene_tables() { return kTables; }
+
+}  // namespace anamorph

@@ -1,0 +1,71 @@
+// The scene format's own tables, declared once: [image], [render], [[material]] (and the
+// textures in its colours), [[object]], [[light]], [environment], [[animate]], the camera's
+// common keys. The scene reader walks them (read_params), and docs/scene-format.md's key tables
+// and `anamorph schema` are generated from them. Camera functions, presets and coins declare
+// their own tables beside their code (camera/functions.h, presets.h, coins.h).
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "params/params.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+// One form of a table chosen by its selector key (an object's `type`, say), with its own keys.
+struct TableVariant {
+  std::string_view name;
+  std::string_view doc;
+  std::span<const ParamSpec> params;
+};
+
+struct TableSchema {
+  std::string_view key;  // "image", "object", "material.color (texture)", ...
+  std::string_view doc;
+  bool array = false;                 // [[key]] entries
+  std::span<const ParamSpec> common;  // keys of every form (the selector among them)
+  std::string_view selector = {};     // "type", or "" when the table has one form
+  std::span<const TableVariant> variants = {};
+  const TableVariant* variant(std::string_view name) const;
+};
+
+const TableSchema& image_schema();
+const TableSchema& render_schema();
+const TableSchema& material_schema();
+const TableSchema& texture_schema();
+const TableSchema& object_schema();
+const TableSchema& light_schema();
+const TableSchema& environment_schema();
+const TableSchema& animate_schema();
+// The keys every camera takes, besides its preset's or its org/dir functions' (`preset`, `org`,
+// `dir`, `gltf_camera`, `coin` and the common ones).
+std::span<const ParamSpec> camera_common_params();
+// The top level: include and the tables above.
+std::span<const ParamSpec> top_level_params();
+
+// `preset`: the camera presets by name (camera/presets.h), default "perspective".
+const ParamSpec& camera_preset_spec();
+
+// The names of [render]'s closed sets (an enum's value is its name's index) and back.
+std::span<const std::string_view> integrator_names();
+std::span<const std::string_view> sampler_names();
+std::span<const std::string_view> filter_names();
+std::string_view name_of(IntegratorKind k);
+std::string_view name_of(SamplerKind k);
+std::string_view name_of(PixelFilter k);
+std::string_view name_of(Antialias k);  // "uniform", "lattice" or "pixel"
+
+// Every table above, in the order the docs list them.
+std::span<const TableSchema* const> scene_tables();
+
+// The key tables of docs/scene-format.md (between its "generated" markers) and the function
+// reference docs/functions.md, as generated from the declarations.
+std::string scene_format_tables_markdown();
+std::string function_reference_markdown();
+
+// The whole scene format as a JSON Schema (draft 2020-12), for editors and validators.
+std::string scene_json_schema();
+
+}  // namespace anamorph
