@@ -60,5 +60,6 @@ void add_rays(CLI::App& app, std::function<int()>& run);
 void add_project(CLI::App& app, std::function<int()>& run);
 void add_bench(CLI::App& app, std::function<int()>& run);
 void add_compare(CLI::App& app, std::function<int()>& run);
+void add_schema(CLI::App& app, std::function<int()>& run);
 
 }  // namespace anamorph::app

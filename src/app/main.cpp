@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   add_project(app, run);
   add_bench(app, run);
   add_compare(app, run);
+  add_schema(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

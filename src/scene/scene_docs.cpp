@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "camera/coins.h"
@@ -16,14 +17,8 @@ namespace anamorph {
 
 namespace {
 
-std::string bracketed(const TableSchema& t) {
-  return t.array ? fmt::format("[[{}]]", t.key) : fmt::format("[{}]", t.key);
-}
-
 void table_markdown(std::ostringstream& os, const TableSchema& t) {
-  os << "### `" << (t.key == "texture" ? std::string("texture tables") : bracketed(t)) << "`\n\n"
-     << t.doc << "\n\n"
-     << params_markdown_table(t.common) << "\n";
+  os << params_markdown_table(t.common) << "\n";
   for (const TableVariant& v : t.variants) {
     os << "#### `" << t.selector << " = \"" << v.name << "\"`\n\n" << v.doc << "\n\n";
     if (v.params.empty())
@@ -33,19 +28,25 @@ void table_markdown(std::ostringstream& os, const TableSchema& t) {
   }
 }
 
+constexpr std::string_view kBlocks[] = {"top",     "image",  "render", "camera",      "material",
+                                        "texture", "object", "light",  "environment", "animate"};
+
 }  // namespace
 
-std::string scene_format_tables_markdown() {
+std::span<const std::string_view> scene_doc_blocks() { return kBlocks; }
+
+std::string scene_doc_block(std::string_view name) {
   std::ostringstream os;
-  os << "### Top level\n\n" << params_markdown_table(top_level_params()) << "\n";
-  for (const TableSchema* t : scene_tables()) table_markdown(os, *t);
-  os << "### `[camera]`: keys of every camera\n\n"
-     << "Besides these, a camera takes `preset` and its preset's keys, or `org` and `dir` "
-        "functions, or `gltf_camera` (see cameras.md and functions.md), and `[[camera.coin]]` "
-        "entries (see coins.md).\n\n";
-  const ParamSpec preset[] = {camera_preset_spec()};
-  os << params_markdown_table(preset) << "\n"
-     << params_markdown_table(camera_common_params()) << "\n";
+  if (name == "top") {
+    os << params_markdown_table(top_level_params()) << "\n";
+  } else if (name == "camera") {
+    const ParamSpec preset[] = {camera_preset_spec()};
+    os << params_markdown_table(preset) << "\n"
+       << params_markdown_table(camera_common_params()) << "\n";
+  } else {
+    for (const TableSchema* t : scene_tables())
+      if (t->key == name) table_markdown(os, *t);
+  }
   return os.str();
 }
 
@@ -65,21 +66,51 @@ std::string function_reference_markdown() {
 
 namespace {
 
-// One branch per form: its selector fixed (optional for the default form), its keys and the
-// common ones.
+std::pair<size_t, size_t> block_span(const std::string& doc, std::string_view name) {
+  const std::string open = fmt::format("<!-- generated:{} -->\n", name);
+  const std::string close = fmt::format("<!-- /generated:{} -->", name);
+  const size_t a = doc.find(open), b = doc.find(close);
+  if (a == std::string::npos || b == std::string::npos || b < a)
+    return {std::string::npos, std::string::npos};
+  return {a + open.size(), b};
+}
+
+}  // namespace
+
+std::string with_generated_block(const std::string& doc, std::string_view name,
+                                 const std::string& content) {
+  const auto [a, b] = block_span(doc, name);
+  if (a == std::string::npos)
+    throw std::runtime_error(fmt::format("no <!-- generated:{} --> block", name));
+  return doc.substr(0, a) + content + doc.substr(b);
+}
+
+std::string generated_block(const std::string& doc, std::string_view name) {
+  const auto [a, b] = block_span(doc, name);
+  return a == std::string::npos ? std::string() : doc.substr(a, b - a);
+}
+
+namespace {
+
+// One `if {selector: name} then {that form's table}` per form (not oneOf: a validator then names
+// the bad key inside the form, as the reader does, instead of "not valid under any schema").
+// The default form's `if` also holds when the selector is absent.
 template <class Forms, class KeysOf>
-Json one_of_forms(const Forms& forms, std::string_view selector, std::string_view default_form,
-                  std::span<const ParamSpec> common, const Json& extra, KeysOf keys_of) {
-  Json branches = Json::array();
+Json forms_by_selector(const Forms& forms, std::string_view selector, std::string_view default_form,
+                       std::span<const ParamSpec> common, const Json& extra, KeysOf keys_of) {
+  const std::string sel(selector);
+  Json names = Json::array(), branches = Json::array();
   for (const auto& f : forms) {
-    Json sel = {{"const", std::string(f.name)}, {"description", std::string(f.doc)}};
+    names.push_back(std::string(f.name));
     Json props = extra;
-    props[std::string(selector)] = sel;
-    Json branch = table_json_schema({common, keys_of(f)}, props);
-    if (f.name != default_form) branch["required"].push_back(std::string(selector));
-    branches.push_back(branch);
+    props[sel] = {{"const", std::string(f.name)}, {"description", std::string(f.doc)}};
+    Json when = {{"properties", {{sel, {{"const", std::string(f.name)}}}}}};
+    if (f.name != default_form) when["required"] = {sel};
+    branches.push_back({{"if", when}, {"then", table_json_schema({common, keys_of(f)}, props)}});
   }
-  return {{"oneOf", branches}};
+  Json j = {{"type", "object"}, {"properties", {{sel, {{"enum", names}}}}}, {"allOf", branches}};
+  if (default_form.empty()) j["required"] = {sel};
+  return j;
 }
 
 Json scene_table_json(const TableSchema& t, std::string_view default_form = {}) {
@@ -88,35 +119,38 @@ Json scene_table_json(const TableSchema& t, std::string_view default_form = {}) 
   std::vector<ParamSpec> common;
   for (const ParamSpec& s : t.common)
     if (s.name != t.selector) common.push_back(s);
-  return one_of_forms(t.variants, t.selector, default_form, common, Json::object(),
-                      [](const TableVariant& v) { return v.params; });
+  return forms_by_selector(t.variants, t.selector, default_form, common, Json::object(),
+                           [](const TableVariant& v) { return v.params; });
 }
 
+// The camera's three forms: org/dir functions (when either is given), a glTF camera (when
+// gltf_camera is given), else a preset (perspective when none is named).
 Json camera_json() {
   const Json coins = {{"type", "array"}, {"items", {{"$ref", "#/$defs/coin"}}}};
-  const Json preset_extra = {{"coin", coins}};
-  Json presets = one_of_forms(camera_presets(), "preset", "perspective", camera_common_params(),
-                              preset_extra, [](const PresetInfo& p) { return p.params; });
+  const Json composed_when = {{"anyOf", {{{"required", {"org"}}}, {{"required", {"dir"}}}}}};
+  const Json gltf_when = {{"required", {"gltf_camera"}}};
+  Json presets =
+      forms_by_selector(camera_presets(), "preset", "perspective", camera_common_params(),
+                        {{"coin", coins}}, [](const PresetInfo& p) { return p.params; });
+  for (Json& branch : presets["allOf"])
+    branch["if"]["not"] = {{"anyOf", {composed_when, gltf_when}}};
   Json composed = table_json_schema(
       {camera_common_params()},
       {{"org", {{"$ref", "#/$defs/org"}}}, {"dir", {{"$ref", "#/$defs/dir"}}}, {"coin", coins}});
   composed["required"] = {"org", "dir"};
-  Json branches = presets["oneOf"];
-  branches.push_back(composed);
+  composed["not"] = gltf_when;
+  presets["allOf"].push_back({{"if", composed_when}, {"then", composed}});
   Json gltf = table_json_schema({camera_common_params()}, {{"coin", coins}});
-  gltf["required"] = {"gltf_camera"};
-  branches.push_back(gltf);
-  // A preset table may hold gltf_camera too in the common keys: keep the forms apart.
-  for (size_t i = 0; i + 2 < branches.size(); ++i)
-    branches[i]["not"] = {{"required", {"gltf_camera"}}};
-  return {{"description", "The camera: a preset, an org/dir composition or a glTF camera."},
-          {"oneOf", branches}};
+  presets["allOf"].push_back({{"if", gltf_when}, {"then", gltf}});
+  presets["properties"].erase("preset");  // (named in each preset's branch)
+  presets["description"] = "The camera: a preset, an org/dir composition or a glTF camera.";
+  return presets;
 }
 
 template <class Infos>
 Json functions_json(const Infos& infos) {
-  return one_of_forms(infos, "type", "", {}, Json::object(),
-                      [](const auto& f) { return f.params; });
+  return forms_by_selector(infos, "type", "", {}, Json::object(),
+                           [](const auto& f) { return f.params; });
 }
 
 Json animate_json() {

@@ -60,10 +60,19 @@ std::string_view name_of(Antialias k);  // "uniform", "lattice" or "pixel"
 // Every table above, in the order the docs list them.
 std::span<const TableSchema* const> scene_tables();
 
-// The key tables of docs/scene-format.md (between its "generated" markers) and the function
-// reference docs/functions.md, as generated from the declarations.
-std::string scene_format_tables_markdown();
+// The key tables of docs/scene-format.md, one generated block per table ("top", "image",
+// "render", "camera", "material", "texture", "object", "light", "environment", "animate"), and
+// the function reference docs/functions.md (block "functions"), from the declarations.
+std::span<const std::string_view> scene_doc_blocks();
+std::string scene_doc_block(std::string_view name);
 std::string function_reference_markdown();
+
+// `doc` with the text between "<!-- generated:NAME -->\n" and "<!-- /generated:NAME -->"
+// replaced by `content`; throws std::runtime_error when the markers are missing.
+std::string with_generated_block(const std::string& doc, std::string_view name,
+                                 const std::string& content);
+// The generated block NAME of `doc` ("" when absent), for the tests that hold docs to the code.
+std::string generated_block(const std::string& doc, std::string_view name);
 
 // The whole scene format as a JSON Schema (draft 2020-12), for editors and validators.
 std::string scene_json_schema();
