@@ -555,15 +555,10 @@ double CoinField::overlay(Vec2 uv, Vec2 pixel) const {
   return cov;
 }
 
-std::span<const CoinSite> coin_sites(const Camera& cam) {
-  if (const auto* v = dynamic_cast<const VirtualCamera*>(&cam)) return v->coins().sites();
-  return {};
-}
+std::span<const CoinSite> coin_sites(const VirtualCamera& cam) { return cam.coins().sites(); }
 
-double coin_overlay(const Camera& cam, Vec2 uv, Vec2 pixel) {
-  if (const auto* v = dynamic_cast<const VirtualCamera*>(&cam))
-    return v->coins().overlay(uv, pixel);
-  return 0;
+double coin_overlay(const VirtualCamera& cam, Vec2 uv, Vec2 pixel) {
+  return cam.coins().overlay(uv, pixel);
 }
 
 }  // namespace anamorph

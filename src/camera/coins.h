@@ -36,6 +36,7 @@
 namespace anamorph {
 
 class Camera;
+class VirtualCamera;
 struct CameraRay;
 struct CameraRayBatch;
 
@@ -149,9 +150,9 @@ class CoinField {
   std::vector<uint32_t> cell_start_, cell_items_;  // CSR: items of cell c in [start[c], start[c+1])
 };
 
-// For `anamorph info` and `--aov coins` on any camera: the coin sites of a VirtualCamera (empty
-// for other cameras or without coins), and the marker coverage at an image position.
-std::span<const CoinSite> coin_sites(const Camera& cam);
-double coin_overlay(const Camera& cam, Vec2 uv, Vec2 pixel);
+// For `anamorph info` and `--aov coins`: the camera's coin sites (empty without coins), and the
+// marker coverage at an image position.
+std::span<const CoinSite> coin_sites(const VirtualCamera& cam);
+double coin_overlay(const VirtualCamera& cam, Vec2 uv, Vec2 pixel);
 
 }  // namespace anamorph

@@ -124,28 +124,37 @@ const ParamSpec kParams[] = {
     kFlipNormalParam,
 };
 
+MeshFileReader g_reader = nullptr;  // set once, by scene/loaders.cpp's static initializer
+
 std::unique_ptr<OrgFunction> create(const ParamValues& v) {
   check_params(kParams, v);
-  LoadedModel model;
+  if (!g_reader)
+    throw ParamError("file", "no model loader is linked (mesh files are read by the scene module)");
+  std::vector<Prototype> prototypes;
+  std::vector<Instance> instances;
   try {
-    model = load_model(v.string("file"));
+    g_reader(v.string("file"), &prototypes, &instances);
   } catch (const std::exception& e) {
     throw ParamError("file", e.what());
   }
-  return make_mesh_org(model, v.has("select") ? v.string("select") : std::string(),
+  return make_mesh_org(prototypes, instances, v.has("select") ? v.string("select") : std::string(),
                        read_range(v, "u_range"), read_range(v, "v_range"),
                        v.boolean("flip_normal"));
 }
 
 }  // namespace
 
-std::unique_ptr<OrgFunction> make_mesh_org(const LoadedModel& model, const std::string& select,
-                                           ParamRange ur, ParamRange vr, bool flip_normal) {
+void set_mesh_file_reader(MeshFileReader reader) { g_reader = reader; }
+
+std::unique_ptr<OrgFunction> make_mesh_org(std::span<const Prototype> prototypes,
+                                           std::span<const Instance> instances,
+                                           const std::string& select, ParamRange ur, ParamRange vr,
+                                           bool flip_normal) {
   std::vector<UvTriangle> tris;
   size_t meshes = 0, with_uv = 0;
-  for (const Instance& inst : model.instances) {
-    if (inst.prototype >= model.prototypes.size()) continue;
-    const Prototype& proto = model.prototypes[inst.prototype];
+  for (const Instance& inst : instances) {
+    if (inst.prototype >= prototypes.size()) continue;
+    const Prototype& proto = prototypes[inst.prototype];
     const Transform& t = inst.world_from_object;
     for (const TriangleMesh& m : proto.meshes) {
       if (!select.empty() && select != m.name && select != proto.name && select != inst.name)

@@ -86,13 +86,10 @@ size_t variant_index(ParamType t) {
   return size_t(-1);
 }
 
+// (The words of the scene's range errors: one range-message format, range_error.)
 void check_number(const ParamSpec& s, double x) {
-  const std::string key(s.name);
-  if (!std::isfinite(x)) throw ParamError(key, key + " must be a finite number");
-  const bool lo_ok = s.min_exclusive ? x > s.min : x >= s.min;
-  const bool hi_ok = s.max_exclusive ? x < s.max : x <= s.max;
-  if (!lo_ok || !hi_ok)
-    throw ParamError(key, key + " must be in " + range_text(s) + " (got " + format_number(x) + ")");
+  const std::string e = range_error(x, s.min, s.max, s.min_exclusive, s.max_exclusive);
+  if (!e.empty()) throw ParamError(std::string(s.name), std::string(s.name) + ": " + e);
 }
 
 const ParamSpec* find_spec(std::span<const ParamSpec> specs, std::string_view name) {

@@ -19,6 +19,11 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       rig_affine_(parts.world_from_camera.matrix().m[3] == std::array<double, 4>{0, 0, 0, 1}),
       dof_(dof),
       description_(std::move(parts.description)) {
+  shutter_ = parts.shutter;
+  if (parts.world_from_camera_close) {
+    moving_ = !(parts.world_from_camera_close->matrix() == world_from_camera_.matrix());
+    if (moving_) motion_ = RigidMotion(world_from_camera_, *parts.world_from_camera_close);
+  }
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) {
       rig34_.m[r][c] = world_from_camera_.matrix().m[size_t(r)][size_t(c)];
@@ -154,12 +159,6 @@ std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
   // Coins deform the ray field org/dir define (the paper: independent of the functions).
   if (!coins_.apply(uv, &r)) return std::nullopt;
   return r;
-}
-
-void VirtualCamera::set_motion(const Transform& close, Shutter shutter) {
-  shutter_ = shutter;
-  moving_ = !(close.matrix() == world_from_camera_.matrix());
-  if (moving_) motion_ = RigidMotion(world_from_camera_, close);
 }
 
 double VirtualCamera::shutter_time(const CameraSample& cs) const {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,15 +24,6 @@ class InverseMap {
   virtual std::vector<Vec2> project(const Vec3& p_camera) const = 0;
 };
 
-struct VirtualCameraParts {
-  std::unique_ptr<OrgFunction> org;
-  std::unique_ptr<DirFunction> dir;
-  Transform world_from_camera;  // the rig; identity when functions are given in world space
-  std::string description;
-  std::unique_ptr<InverseMap> inverse;  // optional closed-form inverse (see InverseMap)
-  std::vector<Coin> coins;  // centers of interest (world space), applied between org/dir and rig
-};
-
 // Camera motion over the shutter: the rig moves from `open` to `close` (times in [0,1] of the
 // shutter interval, sampled per ray by CameraSample::time). A rolling shutter makes a ray's time
 // a function of its image position instead: 0 where the readout starts, 1 where it ends, along
@@ -39,6 +31,18 @@ struct VirtualCameraParts {
 struct Shutter {
   bool rolling = false;
   double rolling_angle = 90;
+};
+
+struct VirtualCameraParts {
+  std::unique_ptr<OrgFunction> org;
+  std::unique_ptr<DirFunction> dir;
+  Transform world_from_camera;  // the rig; identity when functions are given in world space
+  std::string description;
+  std::unique_ptr<InverseMap> inverse;  // optional closed-form inverse (see InverseMap)
+  std::vector<Coin> coins;  // centers of interest (world space), applied between org/dir and rig
+  // Motion blur: the rig at shutter close (world_from_camera is the rig at open); none = still.
+  std::optional<Transform> world_from_camera_close;
+  Shutter shutter;
 };
 
 struct DepthOfField {
@@ -73,9 +77,8 @@ class VirtualCamera final : public Camera {
   const CoinField& coins() const { return coins_; }
   const std::vector<std::string>& coin_warnings() const { return coin_warnings_; }
 
-  // The rig (world_from_camera) and, for motion blur, its position at shutter close.
+  // The rig (world_from_camera) at shutter open, and whether it moves while the shutter is open.
   const Transform& rig() const { return world_from_camera_; }
-  void set_motion(const Transform& world_from_camera_close, Shutter shutter);
   bool moving() const { return moving_; }
   // The time in [0,1] of the shutter at which a sample's ray is taken.
   double shutter_time(const CameraSample& s) const;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/texture.h"
+#include "io/image.h"
 
 namespace anamorph {
 

@@ -99,19 +99,20 @@ namespace {
 
 // The shutter keys: [open, close] in frames relative to the frame rendered (default:
 // instantaneous) and the rolling shutter's readout direction.
-void read_shutter(const TableReader& r, const ParamValues& v, ShutterSpec* shutter) {
+void read_shutter(const TableReader& r, const ParamValues& v, CameraSpec* spec) {
   const Vec2 oc = v.vec2("shutter");
   if (oc.y < oc.x) r.fail("shutter", "expected finite [open, close] with close >= open");
-  shutter->open = oc.x;
-  shutter->close = oc.y;
+  spec->shutter_open = oc.x;
+  spec->shutter_close = oc.y;
+  Shutter* shutter = &spec->parts.shutter;
   const std::string& rolling = v.string("rolling_shutter");
-  shutter->shutter.rolling = rolling != "none";
+  shutter->rolling = rolling != "none";
   const double angles[] = {0, 90, 270, 0, 180};
   const size_t i =
       size_t(std::find(std::begin(kRolling), std::end(kRolling), rolling) - std::begin(kRolling));
   if (rolling != "angle" && v.has("rolling_shutter_angle"))
     r.fail("rolling_shutter_angle", "only used with rolling_shutter = \"angle\"");
-  shutter->shutter.rolling_angle =
+  shutter->rolling_angle =
       rolling == "angle" ? (v.has("rolling_shutter_angle") ? v.number("rolling_shutter_angle") : 90)
                          : (i < 5 ? angles[i] : 90);
 }
@@ -152,11 +153,11 @@ VirtualCameraParts read_preset(const TableReader& r, ImageInfo img, bool preset_
 
 }  // namespace
 
-std::unique_ptr<Camera> read_camera(const TableReader& r, ImageInfo img,
-                                    const std::vector<ModelCamera>& model_cameras,
-                                    bool preset_overridden, std::vector<std::string>* warnings,
-                                    ShutterSpec* shutter) {
-  VirtualCameraParts parts;
+CameraSpec read_camera(const TableReader& r, ImageInfo img,
+                       const std::vector<ModelCamera>& model_cameras, bool preset_overridden,
+                       std::vector<std::string>* warnings) {
+  CameraSpec spec;
+  VirtualCameraParts& parts = spec.parts;
   ParamValues v;
   const bool composed = r.has("org") || r.has("dir");
   if (r.has("gltf_camera")) {
@@ -189,7 +190,7 @@ std::unique_ptr<Camera> read_camera(const TableReader& r, ImageInfo img,
   } else {
     parts = read_preset(r, img, preset_overridden, warnings, &v);
   }
-  DepthOfField dof;
+  DepthOfField& dof = spec.dof;
   dof.aperture_radius = v.number("aperture_radius");
   dof.focus_distance = v.number("focus_distance");
   if (dof.aperture_radius > 0 && !(dof.focus_distance > 0))
@@ -198,12 +199,8 @@ std::unique_ptr<Camera> read_camera(const TableReader& r, ImageInfo img,
   parts.world_from_camera =
       (v.has("transform") ? v.transform("transform") : Transform()) * parts.world_from_camera;
   parts.coins = read_coins(r);
-  ShutterSpec local;
-  read_shutter(r, v, shutter ? shutter : &local);
-  auto cam = std::make_unique<VirtualCamera>(std::move(parts), dof);
-  if (warnings)
-    for (const std::string& w : cam->coin_warnings()) warnings->push_back("camera." + w);
-  return cam;
+  read_shutter(r, v, &spec);
+  return spec;
 }
 
 }  // namespace anamorph

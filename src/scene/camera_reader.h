@@ -14,18 +14,19 @@
 
 namespace anamorph {
 
-// `preset_overridden`: the preset came from --set, so keys of the file's old preset that the new
-// one does not know are dropped with a warning instead of being errors.
-// The shutter keys: `shutter = [open, close]` (frames, relative to the frame rendered) and
-// `rolling_shutter`. The caller builds the rig at open and close (animation) and sets the motion.
-struct ShutterSpec {
-  double open = 0, close = 0;
-  Shutter shutter;
+// What the [camera] table says: the camera's parts (its rig at the frame rendered), depth of
+// field, and the shutter interval [open, close] in frames relative to the frame rendered. The
+// scene loader reads the table again at open and close for motion blur, then builds the camera.
+struct CameraSpec {
+  VirtualCameraParts parts;
+  DepthOfField dof;
+  double shutter_open = 0, shutter_close = 0;
 };
 
-std::unique_ptr<Camera> read_camera(const TableReader& r, ImageInfo img,
-                                    const std::vector<ModelCamera>& model_cameras,
-                                    bool preset_overridden, std::vector<std::string>* warnings,
-                                    ShutterSpec* shutter = nullptr);
+// `preset_overridden`: the preset came from --set, so keys of the file's old preset that the new
+// one does not know are dropped with a warning instead of being errors.
+CameraSpec read_camera(const TableReader& r, ImageInfo img,
+                       const std::vector<ModelCamera>& model_cameras, bool preset_overridden,
+                       std::vector<std::string>* warnings);
 
 }  // namespace anamorph

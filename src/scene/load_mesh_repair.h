@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/mesh.h"
+#include "model/mesh.h"
 
 namespace anamorph {
 

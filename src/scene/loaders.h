@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "model/mesh.h"
 #include "scene/material.h"
-#include "scene/mesh.h"
 
 namespace anamorph {
 

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "camera/camera.h"
+#include "camera/virtual_camera.h"
+#include "model/mesh.h"
 #include "scene/light.h"
 #include "scene/loaders.h"
 #include "scene/material.h"
-#include "scene/mesh.h"
 #include "scene/shape.h"
 
 namespace anamorph {
@@ -60,7 +60,7 @@ struct RenderSettings {
 struct Scene {
   std::string path;  // the scene file
   RenderSettings render;
-  std::unique_ptr<Camera> camera;
+  std::unique_ptr<VirtualCamera> camera;
   std::string camera_toml;  // the [camera] table as written (for metadata)
 
   std::vector<Material> materials;

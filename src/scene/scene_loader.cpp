@@ -628,28 +628,29 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   const bool preset_overridden =
       std::any_of(overrides.begin(), overrides.end(),
                   [](const std::string& o) { return o.rfind("camera.preset=", 0) == 0; });
-  ShutterSpec shutter;
-  s.camera = read_camera(cr, {s.render.width, s.render.height}, s.model_cameras, preset_overridden,
-                         &s.warnings, &shutter);
+  CameraSpec cam = read_camera(cr, {s.render.width, s.render.height}, s.model_cameras,
+                               preset_overridden, &s.warnings);
   s.camera_toml = to_toml_text(ct);
-  if (shutter.close > shutter.open || shutter.open != 0) {
-    // Camera motion blur: the rig at shutter open and close, from the animation.
+  if (cam.shutter_close > cam.shutter_open || cam.shutter_open != 0) {
+    // Camera motion blur: the camera at shutter open, and its rig at close, from the animation.
     auto camera_at = [&](double t) {
       const toml::table r2 = at_frame(original, overrides, frame + t);
       const toml::node* n2 = r2.get("camera");
       const TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
-      ShutterSpec unused;
       return read_camera(cr2, {s.render.width, s.render.height}, s.model_cameras, preset_overridden,
-                         nullptr, &unused);
+                         nullptr);
     };
-    if (shutter.open != 0) s.camera = camera_at(shutter.open);
-    const auto close = camera_at(shutter.close);
-    static_cast<VirtualCamera&>(*s.camera).set_motion(
-        static_cast<const VirtualCamera&>(*close).rig(), shutter.shutter);
-  } else if (shutter.shutter.rolling) {
-    static_cast<VirtualCamera&>(*s.camera).set_motion(
-        static_cast<const VirtualCamera&>(*s.camera).rig(), shutter.shutter);
+    const Shutter shutter = cam.parts.shutter;
+    if (cam.shutter_open != 0) {
+      CameraSpec open = camera_at(cam.shutter_open);
+      cam.parts = std::move(open.parts);
+      cam.dof = open.dof;
+      cam.parts.shutter = shutter;
+    }
+    cam.parts.world_from_camera_close = camera_at(cam.shutter_close).parts.world_from_camera;
   }
+  s.camera = std::make_unique<VirtualCamera>(std::move(cam.parts), cam.dof);
+  for (const std::string& w : s.camera->coin_warnings()) s.warnings.push_back("camera." + w);
   warn_if_no_rays(*s.camera, &s.warnings);
   return s;
 }

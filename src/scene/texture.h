@@ -7,18 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "io/image.h"
 #include "math/transform.h"
 #include "math/vec.h"
 
 namespace anamorph {
-
-// Linear float RGBA image in memory, top row first.
-struct Image {
-  int width = 0, height = 0, channels = 4;
-  std::vector<float> pixels;  // width * height * channels
-  float at(int x, int y, int c) const { return pixels[(size_t(y) * width + x) * channels + c]; }
-  float& at(int x, int y, int c) { return pixels[(size_t(y) * width + x) * channels + c]; }
-};
 
 enum class Wrap { Repeat, Clamp, Mirror };
 

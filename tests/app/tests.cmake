@@ -7,3 +7,6 @@ anamorph_add_test(test_bad_input
   ${CMAKE_CURRENT_LIST_DIR}/bad_input_test.cpp
 )
 add_dependencies(test_bad_input anamorph)
+anamorph_add_test(test_layering
+  ${CMAKE_CURRENT_LIST_DIR}/layering_test.cpp
+)

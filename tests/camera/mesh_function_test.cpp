@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "camera/org_mesh.h"
+#include "scene/loaders.h"
 #include "function_test_util.h"
 
 namespace anamorph {
@@ -62,7 +63,7 @@ bool brute_force(const LoadedModel& model, Vec2 st, Vec3* p) {
 
 TEST(MeshOrg, FindsTheTriangleOfEveryTexturePoint) {
   const LoadedModel model = curved_grid(37, true, Transform::translate({1, 2, 3}));
-  const auto f = make_mesh_org(model, "");
+  const auto f = make_mesh_org(model.prototypes, model.instances, "");
   for (int j = 0; j <= 50; ++j)
     for (int i = 0; i <= 50; ++i) {
       const Vec2 uv{i / 50.0, j / 50.0 * 0.999 + 0.0003};
@@ -74,7 +75,7 @@ TEST(MeshOrg, FindsTheTriangleOfEveryTexturePoint) {
 
 TEST(MeshOrg, InterpolatesPositionAndNormalWithExactDerivatives) {
   const LoadedModel model = curved_grid(8, true);
-  const auto f = make_mesh_org(model, "", {0.1, 0.9}, {0.9, 0.05});
+  const auto f = make_mesh_org(model.prototypes, model.instances, "", {0.1, 0.9}, {0.9, 0.05});
   // Points inside triangles (derivatives jump across edges).
   for (const Vec2 uv : {Vec2{0.3, 0.35}, Vec2{0.61, 0.72}, Vec2{0.83, 0.2}}) {
     test::expect_derivatives_match(*f, uv, 1e-6, 1e-7);
@@ -87,19 +88,19 @@ TEST(MeshOrg, InterpolatesPositionAndNormalWithExactDerivatives) {
 
 TEST(MeshOrg, FlatMeshUsesGeometricNormal) {
   const LoadedModel model = curved_grid(4, false);
-  const auto f = make_mesh_org(model, "");
+  const auto f = make_mesh_org(model.prototypes, model.instances, "");
   const SurfaceSample s = sample(*f, {0.3, 0.4});
   test::expect_normal_valid(*f, {0.3, 0.4}, 1e-6);
   // The geometric normal is the counterclockwise side: these triangles run right, then down as
   // seen from the axis, which is clockwise from there, so it points away from the axis.
   EXPECT_GT(dot(s.n, Vec3{s.p.x, 0, s.p.z}), 0.9) << str(s.n);
-  const auto g = make_mesh_org(model, "", {}, {}, true);
+  const auto g = make_mesh_org(model.prototypes, model.instances, "", {}, {}, true);
   expect_close(sample(*g, {0.3, 0.4}).n, -s.n, 0, "flip_normal");
 }
 
 TEST(MeshOrg, OutsideEveryTriangleIsNoRay) {
   const LoadedModel model = curved_grid(4, true);
-  const auto f = make_mesh_org(model, "", {-0.5, 1.5}, {0, 1});
+  const auto f = make_mesh_org(model.prototypes, model.instances, "", {-0.5, 1.5}, {0, 1});
   SurfaceSample s;
   EXPECT_FALSE(f->eval({0.1, 0.5}, &s)) << "u' = -0.3 lies outside the UV layout";
   EXPECT_TRUE(f->eval({0.5, 0.5}, &s));
@@ -113,10 +114,10 @@ TEST(MeshOrg, OutsideEveryTriangleIsNoRay) {
 
 TEST(MeshOrg, SelectByName) {
   const LoadedModel model = curved_grid(4, true);
-  EXPECT_NO_THROW(make_mesh_org(model, "sheet"));
-  EXPECT_NO_THROW(make_mesh_org(model, "node"));
+  EXPECT_NO_THROW(make_mesh_org(model.prototypes, model.instances, "sheet"));
+  EXPECT_NO_THROW(make_mesh_org(model.prototypes, model.instances, "node"));
   try {
-    make_mesh_org(model, "nothing");
+    make_mesh_org(model.prototypes, model.instances, "nothing");
     FAIL() << "expected ParamError";
   } catch (const ParamError& e) {
     EXPECT_EQ(e.key, "select");
@@ -127,7 +128,7 @@ TEST(MeshOrg, NoTextureCoordinatesIsAnError) {
   LoadedModel model = curved_grid(2, true);
   model.prototypes[0].meshes[0].uvs.clear();
   try {
-    make_mesh_org(model, "");
+    make_mesh_org(model.prototypes, model.instances, "");
     FAIL() << "expected ParamError";
   } catch (const ParamError& e) {
     EXPECT_EQ(e.key, "file");

@@ -1,4 +1,5 @@
-// Triangle meshes as loaded from files, before they become Embree geometry.
+// Triangle meshes as loaded from files, before they become Embree geometry: plain data below
+// camera/ (the mesh origin function reads them) and scene/ (whose loaders make them).
 #pragma once
 
 #include <cstdint>
