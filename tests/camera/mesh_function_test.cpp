@@ -8,8 +8,8 @@
 #include <limits>
 
 #include "camera/org_mesh.h"
-#include "scene/loaders.h"
 #include "function_test_util.h"
+#include "scene/loaders.h"
 
 namespace anamorph {
 namespace {
