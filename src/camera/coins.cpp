@@ -426,7 +426,7 @@ ANAMORPH_SIMD_CLONES void add_site_lanes(const SiteLanes& site, CoinFalloff fall
     const Vec3 dv = at(r->ddir_dv, i) * (1 - W) - d0 * s.Wv[i] + (at(s.Cv, i) - pv * s.Sa[i]);
     const double len = length(d);
     const bool fine = (len > 0) & (len * 0 == 0);  // bent exactly backwards: no ray
-    ok[i] = bent & !fine ? 0.0 : 1.0;
+    ok[i] = (bent & !fine) ? 0.0 : 1.0;
     const double inv = 1 / (fine ? len : 1.0);
     const Vec3 nd = d * inv;
     put(r->dir, i, !bent, nd);

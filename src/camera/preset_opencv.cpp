@@ -363,7 +363,7 @@ struct KannalaBrandt {
     // Our image plane (a right, b up) is OpenCV's (x, -y).
     a[i] = xd.x, b[i] = -xd.y;
     td[i] = std::sqrt(xd.x * xd.x + xd.y * xd.y);
-    ok[i] = (td[i] >= 0) & (td[i] <= top) ? 1.0 : 0.0;
+    ok[i] = ((td[i] >= 0) & (td[i] <= top)) ? 1.0 : 0.0;
     act[i] = ok[i], fresh[i] = 0, slope[i] = 1;
     x[i] = td[i] < D.theta_max ? td[i] : D.theta_max;
     lo[i] = 0, hi[i] = D.theta_max;
@@ -375,11 +375,11 @@ struct KannalaBrandt {
       const double f = D.theta_d(x[i], &sl) - td[i];
       slope[i] = live ? sl : slope[i];
       fresh[i] = live ? 1.0 : fresh[i];
-      hi[i] = live & (f > 0) ? x[i] : hi[i];
-      lo[i] = live & !(f > 0) ? x[i] : lo[i];
+      hi[i] = (live & (f > 0)) ? x[i] : hi[i];
+      lo[i] = (live & !(f > 0)) ? x[i] : lo[i];
       const bool done = std::abs(f) < 1e-15 * (1 + td[i]);
       double nx = x[i] - f / sl;
-      nx = (nx > lo[i]) & (nx < hi[i]) ? nx : 0.5 * (lo[i] + hi[i]);
+      nx = ((nx > lo[i]) & (nx < hi[i])) ? nx : 0.5 * (lo[i] + hi[i]);
       const bool move = live & !done & (nx != x[i]);
       x[i] = move ? nx : x[i];
       fresh[i] = move ? 0.0 : fresh[i];
