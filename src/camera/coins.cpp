@@ -222,7 +222,8 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
   std::vector<double> radii;
   for (const CoinSite& s : sites_) radii.push_back(s.radius);
   std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
-  grid_ = std::clamp(int(std::ceil(1 / radii[radii.size() / 2])), 1, 512);
+  // (Clamped before the conversion: a radius of 1e-29 would make 1 / r overflow an int.)
+  grid_ = int(std::clamp(std::ceil(1 / radii[radii.size() / 2]), 1.0, 512.0));
   const int n = grid_;
   const auto cells_of = [&](const CoinSite& s, auto&& f) {
     const int i0 = cell_index(s.uv.x - s.radius, n), i1 = cell_index(s.uv.x + s.radius, n);

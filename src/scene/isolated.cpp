@@ -63,7 +63,9 @@ bool write_all(int fd, const void* data, size_t n) {
   if (getppid() != parent) _exit(1);
   // Default actions: the parent's handlers (and a sanitizer's, which would turn a fault into an
   // abort after a report) must not run here; the parent names the signal itself.
-  for (const int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) signal(sig, SIG_DFL);
+  // (SIGABRT too: a fuzzer's handler would report assimp's ai_assert as its own crash.)
+  for (const int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT})
+    signal(sig, SIG_DFL);
   const rlim_t cpu = rlim_t(std::ceil(limits.seconds)) + 1;  // the parent's clock acts first
   const rlimit cpu_limit{cpu, cpu + 1};
   setrlimit(RLIMIT_CPU, &cpu_limit);

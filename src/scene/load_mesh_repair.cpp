@@ -135,6 +135,14 @@ void generate_normals(TriangleMesh& m, double crease_degrees) {
     unit[t] = len > 0 ? weighted[t] / len : Vec3{0, 0, 0};
   }
   const double cos_crease = std::cos(radians(crease_degrees));
+  // The crease test compares each corner's face with every face around its position: quadratic
+  // in the valence. Around a position shared by more faces than this (none in real models; a
+  // fuzzed PLY had 16,000 on one point and took seconds) every face is summed, smooth.
+  constexpr uint32_t kMaxCreaseValence = 1024;
+  std::vector<Vec3> smooth(groups, Vec3{0, 0, 0});
+  for (uint32_t g = 0; g < groups; ++g)
+    if (start[g + 1] - start[g] > kMaxCreaseValence)
+      for (uint32_t j = start[g]; j < start[g + 1]; ++j) smooth[g] += weighted[faces[j]];
 
   // New vertices: one per (old vertex, normal); corners with equal normals share one.
   std::vector<std::vector<std::pair<Vec3f, uint32_t>>> variants(nv);
@@ -146,9 +154,13 @@ void generate_normals(TriangleMesh& m, double crease_degrees) {
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = m.indices[3 * t + k], g = group[v];
       Vec3 sum{0, 0, 0};
-      for (uint32_t j = start[g]; j < start[g + 1]; ++j) {
-        const uint32_t f = faces[j];
-        if (dot(unit[f], unit[t]) >= cos_crease) sum += weighted[f];
+      if (start[g + 1] - start[g] > kMaxCreaseValence) {
+        sum = smooth[g];
+      } else {
+        for (uint32_t j = start[g]; j < start[g + 1]; ++j) {
+          const uint32_t f = faces[j];
+          if (dot(unit[f], unit[t]) >= cos_crease) sum += weighted[f];
+        }
       }
       const double len = length(sum);
       const Vec3f n = len > 0 ? Vec3f(sum / len) : Vec3f(unit[t]);

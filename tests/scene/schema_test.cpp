@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "camera/coins.h"
+#include "camera/functions.h"
 #include "camera/presets.h"
 #include "params/param_toml.h"
 #include "scene/scene_loader.h"
@@ -135,6 +137,43 @@ TEST(Schema, EveryDeclaredKeyIsReadAndItsTypoSuggestedBack) {
       ++tried;
     }
   EXPECT_GT(tried, 150);
+}
+
+// The same for the keys of every camera function (those that need no other key) and coin.
+TEST(Schema, EveryFunctionAndCoinKeyTypoIsSuggestedBack) {
+  const auto required = [](std::span<const ParamSpec> specs) {
+    return std::any_of(specs.begin(), specs.end(),
+                       [](const ParamSpec& s) { return s.default_value.empty(); });
+  };
+  int tried = 0;
+  const auto expect_suggested = [&](const std::string& scene, std::string_view key) {
+    const std::string e = error_of(scene);
+    EXPECT_NE(e.find(fmt::format("(did you mean '{}'?)", key)), std::string::npos)
+        << scene << "gave: " << e;
+    ++tried;
+  };
+  for (const auto& f : org_functions()) {
+    if (required(f.params)) continue;
+    for (const ParamSpec& s : f.params)
+      expect_suggested(fmt::format("[camera]\norg = {{ type = \"{}\", {}{} = 1 }}\ndir = {{ type = "
+                                   "\"normal\" }}\n",
+                                   f.name, s.name, s.name.back()),
+                       s.name);
+  }
+  for (const auto& f : dir_functions()) {
+    if (required(f.params)) continue;
+    for (const ParamSpec& s : f.params)
+      expect_suggested(fmt::format("[camera]\norg = {{ type = \"plane\" }}\ndir = {{ type = "
+                                   "\"{}\", {}{} = 1 }}\n",
+                                   f.name, s.name, s.name.back()),
+                       s.name);
+  }
+  for (const ParamSpec& s : coin_params())
+    if (s.name != "position")
+      expect_suggested(
+          fmt::format("[[camera.coin]]\nposition = [0, 0, -1]\n{}{} = 1\n", s.name, s.name.back()),
+          s.name);
+  EXPECT_GT(tried, 50);
 }
 
 // NaN, infinities, huge and negative values for every numeric key of every table: a clean load
