@@ -261,7 +261,10 @@ struct StbFree {
 }  // namespace
 
 Image read_image(const fs::path& file, bool srgb) {
-  const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
+  return decode_image(io_detail::read_file_bytes(file), srgb, file);
+}
+
+Image decode_image(const std::vector<unsigned char>& bytes, bool srgb, const fs::path& file) {
   if (io_detail::is_exr(bytes)) return from_exr(io_detail::load_exr(bytes, file), file);
 
   if (bytes.size() > size_t(INT_MAX)) fail_read("cannot read image", file, "file too large");

@@ -27,6 +27,9 @@ struct ImageReadError : ImageIoError {
 // 8-bit sources are treated as sRGB-encoded and linearized unless `srgb` is false (data maps
 // such as normal or metallic-roughness textures). Returns 4 channels (alpha 1 when absent).
 Image read_image(const std::filesystem::path& file, bool srgb = true);
+// read_image of bytes already in memory (an image embedded in a model); `name` for messages.
+Image decode_image(const std::vector<unsigned char>& bytes, bool srgb,
+                   const std::filesystem::path& name);
 
 // One named layer of an EXR: channel names are "<layer>.<c>" (or bare "<c>" for the unnamed
 // beauty layer), e.g. "albedo.R". `channels` names the components, e.g. {"R","G","B","A"}.

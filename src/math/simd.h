@@ -7,7 +7,9 @@
 // target, is not inlined into the clone before the vectorizer runs, and leaves the loop scalar.
 #pragma once
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// (Not under ThreadSanitizer: the clones' ifunc resolvers run while the dynamic loader relocates
+// the program, before TSan's runtime is up, and crash there.)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 #define ANAMORPH_SIMD_CLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else

@@ -57,13 +57,15 @@ bool supported(const std::string& ext) {
          kSupportedExtensions.end();
 }
 
-// tinygltf image callback: embedded images (data URIs, .glb buffer views) are decoded by
-// tinygltf's own stb loader; image files (uri set) are left for read_image, which knows more
-// formats and the colour handling of the project.
+// tinygltf image callback: images in data URIs are decoded by tinygltf's own stb loader; image
+// files (uri set) are left for read_image, which knows more formats and the colour handling of
+// the project, and so are images in buffer views: tinygltf 2.7 hands this callback a buffer
+// view's bytes without checking that the view lies inside its buffer (a fuzzed .glb made stb
+// read past the end), so they are decoded after loading from the checked view (view_bytes).
 bool decode_embedded_image(tinygltf::Image* image, const int index, std::string* err,
                            std::string* warn, int req_width, int req_height,
                            const unsigned char* bytes, int size, void* /*user*/) {
-  if (!image->uri.empty()) return true;
+  if (!image->uri.empty() || image->bufferView >= 0) return true;
   return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size,
                                  nullptr);
 }
@@ -578,6 +580,16 @@ class GltfBuilder {
                         file_, source, path.string(), e.what()));
         images_.emplace(key, nullptr);
         return nullptr;
+      }
+    } else if (gi.bufferView >= 0) {
+      size_t size = 0;
+      const unsigned char* bytes =
+          buffer_view_bytes(m_, gi.bufferView, &size, fmt::format("image {}", source));
+      try {
+        img = decode_image(std::vector<unsigned char>(bytes, bytes + size), srgb,
+                           fmt::format("{} image {}", file_, source));
+      } catch (const std::exception& e) {
+        throw LoadError(e.what());
       }
     } else {
       img = decoded_image(gi, source, srgb);

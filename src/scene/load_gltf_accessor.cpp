@@ -159,6 +159,11 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
 
 }  // namespace
 
+const unsigned char* buffer_view_bytes(const tinygltf::Model& m, int view, size_t* size,
+                                       const std::string& what) {
+  return view_bytes(m, view, size, what);
+}
+
 std::vector<float> read_accessor_floats(const tinygltf::Model& m, int index, int components) {
   std::vector<float> out;
   for_each_component(m, index, components, [&](size_t i, int c, double v) {
