@@ -12,8 +12,8 @@
 
 #include <fmt/format.h>
 #include <stb_image.h>
-#include <tbb/parallel_for.h>
 #include <zlib.h>
+#include "math/parallel.h"
 
 #include "io/image_io.h"
 #include "io/io_util.h"
@@ -171,7 +171,7 @@ bool encode_png(const unsigned char* rgba, int width, int height, std::string* i
                 std::string* idat) {
   const size_t stride = size_t(width) * 4, line = stride + 1;
   std::vector<unsigned char> filtered(line * size_t(height));
-  tbb::parallel_for(0, height, [&](int y) {
+  parallel_for_each(0, height, [&](int y) {
     filter_row(rgba + size_t(y) * stride, y > 0 ? rgba + size_t(y - 1) * stride : nullptr, stride,
                &filtered[size_t(y) * line]);
   });
@@ -180,7 +180,7 @@ bool encode_png(const unsigned char* rgba, int width, int height, std::string* i
   std::vector<std::string> out(static_cast<size_t>(bands));
   std::vector<uLong> adler(static_cast<size_t>(bands));
   std::atomic<bool> ok{true};
-  tbb::parallel_for(0, bands, [&](int b) {
+  parallel_for_each(0, bands, [&](int b) {
     const unsigned char* in = &filtered[size_t(b) * kBandRows * line];
     const size_t n = size_t(std::min(kBandRows, height - b * kBandRows)) * line;
     adler[size_t(b)] = adler32(adler32(0, nullptr, 0), in, uInt(n));
@@ -254,7 +254,7 @@ void write_png(const fs::path& file, const OutputImage& img) {
   out.height = img.height;
   out.metadata = img.metadata;
   out.rgba.resize(size_t(img.width) * size_t(img.height) * 4);
-  tbb::parallel_for(0, img.height, [&](int y) {
+  parallel_for_each(0, img.height, [&](int y) {
     for (size_t i = size_t(y) * size_t(img.width); i < size_t(y + 1) * size_t(img.width); ++i) {
       const float* src = &beauty.data[i * nc];
       const float px[4] = {src[0], src[1], src[2], nc == 4 ? src[3] : 1.0f};

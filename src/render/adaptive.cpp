@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "math/parallel.h"
 
 #include "math/rng.h"
 
@@ -50,7 +49,7 @@ AdaptiveGrid::AdaptiveGrid(const Camera& cam, int width, int height, const Rende
   std::vector<int> ys;
   for (int y = std::min(4, h_); y <= h_; y += 8) ys.push_back(y);
   std::vector<std::vector<double>> per_row(ys.size());
-  tbb::parallel_for(0, int(ys.size()), [&](int r) {
+  parallel_for_each(0, int(ys.size()), [&](int r) {
     CameraSample cs[kCameraBatch];
     CameraRayBatch b;
     AdaptiveWorkspace::Corner c;
@@ -312,8 +311,8 @@ size_t update_active(const Film& film, const StopRule& rule, std::vector<uint8_t
   // Each pixel's error estimate in units of its threshold; rows in parallel (inside the caller's
   // task arena), each pixel's value independent of the others, so any split gives the same mask.
   std::vector<double> excess(size_t(W) * H);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
+  parallel_chunks(0, size_t(H), 8, [&](size_t y0, size_t y1) {
+    for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x < W; ++x) {
         const double mean = luminance(film.pixel(x, y));
         const uint32_t n = film.samples(x, y);
@@ -323,8 +322,8 @@ size_t update_active(const Film& film, const StopRule& rule, std::vector<uint8_t
       }
   });
   std::vector<uint32_t> row_count(size_t(H), 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
+  parallel_chunks(0, size_t(H), 8, [&](size_t y0, size_t y1) {
+    for (int y = int(y0); y < int(y1); ++y)
       for (int x = 0; x < W; ++x) {
         uint8_t a = excess[size_t(y) * W + x] > 1;
         for (int dy = -1; dy <= 1 && !a; ++dy)

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include <tbb/parallel_for.h>
+#include "math/parallel.h"
 
 namespace anamorph {
 
@@ -69,7 +69,7 @@ void Film::clear_aovs(int x, int y) {
 }
 
 void Film::clear() {
-  tbb::parallel_for(0, h_, [&](int y) {
+  parallel_for_each(0, h_, [&](int y) {
     const auto row = pixels_.begin() + ptrdiff_t(y) * w_;
     std::fill(row, row + w_, Pixel{});
   });
@@ -154,7 +154,7 @@ void Film::beauty_rgba(const Pixel& p, float* out) {
 
 std::vector<unsigned char> Film::output_rgba8() const {
   std::vector<unsigned char> out(pixels_.size() * 4);
-  tbb::parallel_for(0, h_, [&](int y) {
+  parallel_for_each(0, h_, [&](int y) {
     for (size_t i = size_t(y) * size_t(w_); i < size_t(y + 1) * size_t(w_); ++i) {
       float px[4];
       beauty_rgba(pixels_[i], px);
@@ -173,7 +173,7 @@ OutputImage Film::output() const {
   beauty.data.resize(pixels_.size() * 4);
   // Rows in parallel (first touch of the new layer included): a visible share of a quick render.
   const auto rows = [this](auto&& per_pixel) {
-    tbb::parallel_for(0, h_, [&](int y) {
+    parallel_for_each(0, h_, [&](int y) {
       for (size_t i = size_t(y) * size_t(w_); i < size_t(y + 1) * size_t(w_); ++i) per_pixel(i);
     });
   };

@@ -2,8 +2,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include "math/parallel.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "accel/accel.h"
+#include "math/parallel.h"
 #include "render/adaptive.h"
 #include "render/integrator.h"
 #include "render/lights.h"
@@ -304,35 +305,32 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     tbb::enumerable_thread_specific<AdaptiveWorkspace> spaces;
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<size_t>(0, tiles.size(), 1),
-          [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t ti = range.begin(); ti != range.end(); ++ti) {
-              if (cancelled()) return;
-              const Tile& t = tiles[ti];
-              TileStats& st = tile_stats[ti];
-              AdaptiveWorkspace& ws = spaces.local();
-              const AdaptiveGrid::EvalBatch eval =
-                  [&](const Vec2* uv, const uint64_t* keys, const double* footprints,
-                      const bool* use, SampleResult* out, uint64_t& rays, CameraRayBatch* cam) {
-                    job.lattice_samples(uv, keys, footprints, use, out, rays, cam);
-                  };
-              grid.render_tile(
-                  t.x0, t.y0, t.x1, t.y1, ws, eval,
-                  [&](int x, int y, const PixelResult& p) {
-                    AovSample a;
-                    if (job.want_aovs && !film.aovs().empty()) {
-                      Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), rs.seed);
-                      a = job.sample_at({(x + 0.5) / W, (y + 0.5) / H}, rng, st.rays).aov;
-                    }
-                    if (p.nans) st.nan(x, y, 0);
-                    film.set(x, y, p.L, p.alpha, p.samples, a);
-                  },
-                  st.rays, st.samples);
-              report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
-            }
-          },
-          tbb::simple_partitioner());
+      parallel_chunks(0, tiles.size(), 1, [&](size_t first_tile, size_t end_tile) {
+        for (size_t ti = first_tile; ti != end_tile; ++ti) {
+          if (cancelled()) return;
+          const Tile& t = tiles[ti];
+          TileStats& st = tile_stats[ti];
+          AdaptiveWorkspace& ws = spaces.local();
+          const AdaptiveGrid::EvalBatch eval =
+              [&](const Vec2* uv, const uint64_t* keys, const double* footprints, const bool* use,
+                  SampleResult* out, uint64_t& rays, CameraRayBatch* cam) {
+                job.lattice_samples(uv, keys, footprints, use, out, rays, cam);
+              };
+          grid.render_tile(
+              t.x0, t.y0, t.x1, t.y1, ws, eval,
+              [&](int x, int y, const PixelResult& p) {
+                AovSample a;
+                if (job.want_aovs && !film.aovs().empty()) {
+                  Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), rs.seed);
+                  a = job.sample_at({(x + 0.5) / W, (y + 0.5) / H}, rng, st.rays).aov;
+                }
+                if (p.nans) st.nan(x, y, 0);
+                film.set(x, y, p.L, p.alpha, p.samples, a);
+              },
+              st.rays, st.samples);
+          report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0), uint64_t(W) * H, st.rays, 0, 1);
+        }
+      });
     });
     merge(stats, tile_stats);
     stats.cancelled = cancelled();
@@ -382,110 +380,105 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     const double fp_scale = per_pixel ? Job::footprint_scale(s_end) : job.uniform_scale;
     std::vector<TileStats> tile_stats(tiles.size());
     arena.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<size_t>(0, tiles.size(), 1),
-          [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t ti = range.begin(); ti != range.end(); ++ti) {
-              if (cancelled()) return;
-              const Tile& t = tiles[ti];
-              TileStats& st = tile_stats[ti];
-              // Coherent packets of 4x4 pixels for the primary rays. The packet's arrays live for
-              // the whole tile: constructing them per packet (zeroing about 6 KB) cost a third of
-              // the time of primary-ray renders.
-              constexpr int kPacket = kCameraBatch;
-              CameraRayBatch cam;
-              bool valid[kPacket], found[kPacket], use[kPacket];
-              Hit hits[kPacket];
-              Rng rng[kPacket];
-              CameraSample samples[kPacket];
-              int lx[kPacket], ly[kPacket];
-              SampleResult res;
-              // Cancellation is checked for every packet, so a tile of a million samples per pixel
-              // (or of deep ray trees) stops within one packet's time.
-              for (uint32_t s = s_begin; s < s_end && !cancelled(); ++s) {
-                for (int y = t.y0; y < t.y1 && !cancelled(); y += 4)
-                  for (int x = t.x0; x < t.x1 && !cancelled(); x += 4) {
-                    if (!needs_rng) {
-                      // Every sample at the same spot of its pixel: u per column, v per row.
-                      double uc[4], vr[4];
-                      bool col[4], row[4];
-                      for (int i = 0; i < 4; ++i) {
-                        uc[i] = std::clamp((x + i + fixed_offset.x) / W, 0.0, 1.0);
-                        vr[i] = std::clamp((y + i + fixed_offset.y) / H, 0.0, 1.0);
-                        col[i] = x + i < t.x1;
-                        row[i] = y + i < t.y1;
-                      }
-                      for (int k = 0; k < kPacket; ++k) {
-                        lx[k] = x + (k & 3);
-                        ly[k] = y + (k >> 2);
-                        use[k] = col[k & 3] && row[k >> 2] &&
-                                 (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
-                        samples[k] = CameraSample{};
-                        if (use[k]) samples[k].uv = {uc[k & 3], vr[k >> 2]};
-                      }
-                    } else {
-                      for (int k = 0; k < kPacket; ++k) {
-                        lx[k] = x + (k & 3);
-                        ly[k] = y + (k >> 2);
-                        use[k] = lx[k] < t.x1 && ly[k] < t.y1 &&
-                                 (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
-                        if (!use[k]) continue;
-                        // AOV images of pinhole cameras at pixel centers use no random numbers at
-                        // all.
-                        if (needs_rng) {
-                          rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
-                          if (qmc)
-                            rng[k].qmc(s,
-                                       mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed),
-                                       kQmcDims);
-                        }
-                        Vec2 off;
-                        if (qmc)
-                          rng[k].uniform2(off.x, off.y);
-                        else
-                          off = pixel_offset(job.sampler, rng[k]);
-                        if (job.gaussian)
-                          off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
-                        CameraSample& cs = samples[k];
-                        cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0),
-                                 std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
-                        if (lens_time) {
-                          rng[k].uniform2(cs.lens.x, cs.lens.y);
-                          cs.time = rng[k].uniform();
-                        }
-                      }
-                      // Unused lanes get a harmless sample; their rays are masked out below.
-                      for (int k = 0; k < kPacket; ++k)
-                        if (!use[k]) samples[k] = CameraSample{};
+      parallel_chunks(0, tiles.size(), 1, [&](size_t first_tile, size_t end_tile) {
+        for (size_t ti = first_tile; ti != end_tile; ++ti) {
+          if (cancelled()) return;
+          const Tile& t = tiles[ti];
+          TileStats& st = tile_stats[ti];
+          // Coherent packets of 4x4 pixels for the primary rays. The packet's arrays live for
+          // the whole tile: constructing them per packet (zeroing about 6 KB) cost a third of
+          // the time of primary-ray renders.
+          constexpr int kPacket = kCameraBatch;
+          CameraRayBatch cam;
+          bool valid[kPacket], found[kPacket], use[kPacket];
+          Hit hits[kPacket];
+          Rng rng[kPacket];
+          CameraSample samples[kPacket];
+          int lx[kPacket], ly[kPacket];
+          SampleResult res;
+          // Cancellation is checked for every packet, so a tile of a million samples per pixel
+          // (or of deep ray trees) stops within one packet's time.
+          for (uint32_t s = s_begin; s < s_end && !cancelled(); ++s) {
+            for (int y = t.y0; y < t.y1 && !cancelled(); y += 4)
+              for (int x = t.x0; x < t.x1 && !cancelled(); x += 4) {
+                if (!needs_rng) {
+                  // Every sample at the same spot of its pixel: u per column, v per row.
+                  double uc[4], vr[4];
+                  bool col[4], row[4];
+                  for (int i = 0; i < 4; ++i) {
+                    uc[i] = std::clamp((x + i + fixed_offset.x) / W, 0.0, 1.0);
+                    vr[i] = std::clamp((y + i + fixed_offset.y) / H, 0.0, 1.0);
+                    col[i] = x + i < t.x1;
+                    row[i] = y + i < t.y1;
+                  }
+                  for (int k = 0; k < kPacket; ++k) {
+                    lx[k] = x + (k & 3);
+                    ly[k] = y + (k >> 2);
+                    use[k] = col[k & 3] && row[k >> 2] &&
+                             (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
+                    samples[k] = CameraSample{};
+                    if (use[k]) samples[k].uv = {uc[k & 3], vr[k >> 2]};
+                  }
+                } else {
+                  for (int k = 0; k < kPacket; ++k) {
+                    lx[k] = x + (k & 3);
+                    ly[k] = y + (k >> 2);
+                    use[k] = lx[k] < t.x1 && ly[k] < t.y1 &&
+                             (active.empty() || active[size_t(ly[k]) * W + lx[k]]);
+                    if (!use[k]) continue;
+                    // AOV images of pinhole cameras at pixel centers use no random numbers at
+                    // all.
+                    if (needs_rng) {
+                      rng[k] = Rng::for_sample(uint32_t(lx[k]), uint32_t(ly[k]), s, rs.seed);
+                      if (qmc)
+                        rng[k].qmc(s, mix64((uint64_t(ly[k]) << 32 | uint32_t(lx[k])) ^ rs.seed),
+                                   kQmcDims);
                     }
-                    scene_.camera->generate_batch(samples, kPacket, &cam);
-                    for (int k = 0; k < kPacket; ++k) valid[k] = cam.valid[k] && use[k];
-                    accel_->intersect16(cam.org, cam.dir, valid, hits, found, job.hit_surface);
-                    for (int k = 0; k < kPacket; ++k) {
-                      if (!use[k]) continue;
-                      st.samples++;
-                      if (!valid[k]) {
-                        film.add(lx[k], ly[k], {}, 0, AovSample{}, s == 0);  // no ray: transparent
-                        continue;
-                      }
-                      st.rays++;
-                      job.finish(
-                          Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
-                          found[k] ? &hits[k] : nullptr, rng[k], st.rays, res, fp_scale);
-                      if (!is_finite(res.L)) {
-                        st.nan(lx[k], ly[k], int(s));
-                        if (s == 0) film.reset(lx[k], ly[k]);  // no sample yet
-                        continue;                              // dropped
-                      }
-                      film.add(lx[k], ly[k], res.L, res.alpha, res.aov, s == 0);
+                    Vec2 off;
+                    if (qmc)
+                      rng[k].uniform2(off.x, off.y);
+                    else
+                      off = pixel_offset(job.sampler, rng[k]);
+                    if (job.gaussian) off = gaussian_offset(off, rs.filter_radius) + Vec2{0.5, 0.5};
+                    CameraSample& cs = samples[k];
+                    cs.uv = {std::clamp((lx[k] + off.x) / W, 0.0, 1.0),
+                             std::clamp((ly[k] + off.y) / H, 0.0, 1.0)};
+                    if (lens_time) {
+                      rng[k].uniform2(cs.lens.x, cs.lens.y);
+                      cs.time = rng[k].uniform();
                     }
                   }
+                  // Unused lanes get a harmless sample; their rays are masked out below.
+                  for (int k = 0; k < kPacket; ++k)
+                    if (!use[k]) samples[k] = CameraSample{};
+                }
+                scene_.camera->generate_batch(samples, kPacket, &cam);
+                for (int k = 0; k < kPacket; ++k) valid[k] = cam.valid[k] && use[k];
+                accel_->intersect16(cam.org, cam.dir, valid, hits, found, job.hit_surface);
+                for (int k = 0; k < kPacket; ++k) {
+                  if (!use[k]) continue;
+                  st.samples++;
+                  if (!valid[k]) {
+                    film.add(lx[k], ly[k], {}, 0, AovSample{}, s == 0);  // no ray: transparent
+                    continue;
+                  }
+                  st.rays++;
+                  job.finish(
+                      Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
+                      found[k] ? &hits[k] : nullptr, rng[k], st.rays, res, fp_scale);
+                  if (!is_finite(res.L)) {
+                    st.nan(lx[k], ly[k], int(s));
+                    if (s == 0) film.reset(lx[k], ly[k]);  // no sample yet
+                    continue;                              // dropped
+                  }
+                  film.add(lx[k], ly[k], res.L, res.alpha, res.aov, s == 0);
+                }
               }
-              report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) * (s_end - s_begin), work_total, st.rays,
-                     int(pass), int(pass_end.size()));
-            }
-          },
-          tbb::simple_partitioner());
+          }
+          report(uint64_t(t.x1 - t.x0) * (t.y1 - t.y0) * (s_end - s_begin), work_total, st.rays,
+                 int(pass), int(pass_end.size()));
+        }
+      });
     });
     merge(stats, tile_stats);
     if (cancelled()) {
