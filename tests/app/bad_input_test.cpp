@@ -246,4 +246,40 @@ TEST(BadInput, BadFramePatternIsBadInput) {
   EXPECT_FALSE(fs::exists(s.dir / "x_0_.png"));
 }
 
+// An interrupted frame sequence says which frames it wrote (was: "nothing written" after
+// thousands of frames). Frame 0 takes one sample, frame 1 a million: the signal comes once frame
+// 0 is on disk.
+TEST(BadInput, InterruptedFramesSayWhichWereWritten) {
+  Scratch s;
+  const std::string scene = s.write(
+      "s.toml",
+      "[image]\nwidth = 32\nheight = 32\n[render]\nantialias = \"uniform\"\ntile_size = 1024\n"
+      "[camera]\nlook_from = [0, 1, 4]\nlook_at = [0, 0, 0]\n[[object]]\ntype = \"sphere\"\n"
+      "[[animate]]\nkey = \"render.spp\"\nkeys = [[0, 1], [1, 1048576]]\ninterpolation = "
+      "\"step\"\n");
+  const fs::path pattern = s.dir / "f_%d.png", log = s.dir / "log";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string bin = test::binary().string();
+    if (!freopen(log.c_str(), "w", stderr)) _exit(126);
+    execl(bin.c_str(), bin.c_str(), "render", scene.c_str(), "-q", "--frames", "0:1", "-o",
+          pattern.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int i = 0; i < 3000 && !fs::exists(s.dir / "f_0.png"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  // (Frame 1's load takes milliseconds; its render, with a million samples, far longer.)
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string out = slurp(log);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << out;
+  EXPECT_TRUE(fs::exists(s.dir / "f_0.png"));
+  EXPECT_FALSE(fs::exists(s.dir / "f_1.png"));
+  EXPECT_NE(out.find("f_1.png not written"), std::string::npos) << out;
+  EXPECT_NE(out.find("frames 0..0 were written; frame 1 and later were not"), std::string::npos)
+      << out;
+}
+
 }  // namespace anamorph
