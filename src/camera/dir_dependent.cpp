@@ -128,17 +128,13 @@ const ParamSpec kDeviatedParams[] = {
      .min = 0,
      .max = 180,
      .unit = "degrees"},
-    {"azimuth",
-     ParamType::Number,
-     "0",
-     "Direction of the tilt around the normal, degrees: 0 toward increasing u (image right), 90 "
-     "toward decreasing v (image up), counterclockwise as seen in the image.",
-     -kInf,
-     kInf,
-     {},
-     false,
-     false,
-     "degrees"},
+    {.name = "azimuth",
+     .type = ParamType::Number,
+     .default_value = "0",
+     .doc = "Direction of the tilt around the normal, degrees: 0 toward increasing u (image "
+            "right), 90 "
+            "toward decreasing v (image up), counterclockwise as seen in the image.",
+     .unit = "degrees"},
     {"flip", ParamType::Bool, "false", "Deviate from the reversed normal instead."},
 };
 

@@ -209,16 +209,13 @@ void set_vertical(LatLongGeometry* g, const ParamValues& v, const ImageInfo& img
 const ParamSpec kEquirectParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
     ANAMORPH_LONGITUDE_PARAM,
-    {"latitude_range",
-     ParamType::Vec2,
-     "[-90, 90]",
-     "Latitudes in degrees at the bottom and top image edges (0 = the horizon).",
-     -90,
-     90,
-     {},
-     false,
-     false,
-     "degrees"},
+    {.name = "latitude_range",
+     .type = ParamType::Vec2,
+     .default_value = "[-90, 90]",
+     .doc = "Latitudes in degrees at the bottom and top image edges (0 = the horizon).",
+     .min = -90,
+     .max = 90,
+     .unit = "degrees"},
 };
 
 VirtualCameraParts create_equirect(const ParamValues& v, const ImageInfo& img) {
@@ -241,28 +238,23 @@ const ParamSpec kCylParams[] = {
      "\"central\": every ray from look_from through a cylinder around the up axis (y = tan(lat)); "
      "\"orthographic\": horizontal rays from origins moving up the axis (y = height).",
      -kInf, kInf, kCylProjections},
-    {"latitude_range",
-     ParamType::Vec2,
-     "none",
-     "central: latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: "
-     "square pixels on the horizon.",
-     -90,
-     90,
-     {},
-     false,
-     false,
-     "degrees"},
-    {"height",
-     ParamType::Number,
-     "none",
-     "orthographic: height of the axis segment in world units, centered on look_from. Default: "
-     "square pixels at distance 1.",
-     0,
-     kInf,
-     {},
-     true,
-     false,
-     "scene units"},
+    {.name = "latitude_range",
+     .type = ParamType::Vec2,
+     .default_value = "none",
+     .doc = "central: latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: "
+            "square pixels on the horizon.",
+     .min = -90,
+     .max = 90,
+     .unit = "degrees"},
+    {.name = "height",
+     .type = ParamType::Number,
+     .default_value = "none",
+     .doc =
+         "orthographic: height of the axis segment in world units, centered on look_from. Default: "
+         "square pixels at distance 1.",
+     .min = 0,
+     .min_exclusive = true,
+     .unit = "scene units"},
 };
 
 VirtualCameraParts create_cylindrical(const ParamValues& v, const ImageInfo& img) {
@@ -291,17 +283,14 @@ VirtualCameraParts create_cylindrical(const ParamValues& v, const ImageInfo& img
 const ParamSpec kMercatorParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
     ANAMORPH_LONGITUDE_PARAM,
-    {"latitude_range",
-     ParamType::Vec2,
-     "none",
-     "Latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: square "
-     "pixels (the map is conformal), centered on the horizon.",
-     -90,
-     90,
-     {},
-     false,
-     false,
-     "degrees"},
+    {.name = "latitude_range",
+     .type = ParamType::Vec2,
+     .default_value = "none",
+     .doc = "Latitudes in degrees at the bottom and top edges, inside (-90, 90). Default: square "
+            "pixels (the map is conformal), centered on the horizon.",
+     .min = -90,
+     .max = 90,
+     .unit = "degrees"},
 };
 
 VirtualCameraParts create_mercator(const ParamValues& v, const ImageInfo& img) {
@@ -318,16 +307,13 @@ VirtualCameraParts create_mercator(const ParamValues& v, const ImageInfo& img) {
 const ParamSpec kLambertParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
     ANAMORPH_LONGITUDE_PARAM,
-    {"latitude_range",
-     ParamType::Vec2,
-     "[-90, 90]",
-     "Latitudes in degrees at the bottom and top image edges.",
-     -90,
-     90,
-     {},
-     false,
-     false,
-     "degrees"},
+    {.name = "latitude_range",
+     .type = ParamType::Vec2,
+     .default_value = "[-90, 90]",
+     .doc = "Latitudes in degrees at the bottom and top image edges.",
+     .min = -90,
+     .max = 90,
+     .unit = "degrees"},
 };
 
 VirtualCameraParts create_lambert(const ParamValues& v, const ImageInfo& img) {

@@ -21,27 +21,23 @@ namespace {
 
 const ParamSpec kPushbroomParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov",
-     ParamType::Number,
-     "60",
-     "Vertical field of view of the line sensor in degrees.",
-     0,
-     180,
-     {},
-     true,
-     true,
-     "degrees"},
-    {"length",
-     ParamType::Number,
-     "none",
-     "Length of the sensor's path along the right vector, in world units, centered on "
-     "look_from. Default: square pixels at distance 1 (2 tan(fov/2) * aspect).",
-     0,
-     kInf,
-     {},
-     true,
-     false,
-     "scene units"},
+    {.name = "fov",
+     .type = ParamType::Number,
+     .default_value = "60",
+     .doc = "Vertical field of view of the line sensor in degrees.",
+     .min = 0,
+     .max = 180,
+     .min_exclusive = true,
+     .max_exclusive = true,
+     .unit = "degrees"},
+    {.name = "length",
+     .type = ParamType::Number,
+     .default_value = "none",
+     .doc = "Length of the sensor's path along the right vector, in world units, centered on "
+            "look_from. Default: square pixels at distance 1 (2 tan(fov/2) * aspect).",
+     .min = 0,
+     .min_exclusive = true,
+     .unit = "scene units"},
 };
 
 VirtualCameraParts create_pushbroom(const ParamValues& v, const ImageInfo& img) {
@@ -66,17 +62,16 @@ VirtualCameraParts create_pushbroom(const ParamValues& v, const ImageInfo& img) 
 
 const ParamSpec kCrossedSlitsParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"fov",
-     ParamType::Number,
-     "60",
-     "Horizontal field of view in degrees, seen from the vertical slit; the vertical extent "
-     "follows from the aspect (seen from the horizontal slit).",
-     0,
-     180,
-     {},
-     true,
-     true,
-     "degrees"},
+    {.name = "fov",
+     .type = ParamType::Number,
+     .default_value = "60",
+     .doc = "Horizontal field of view in degrees, seen from the vertical slit; the vertical extent "
+            "follows from the aspect (seen from the horizontal slit).",
+     .min = 0,
+     .max = 180,
+     .min_exclusive = true,
+     .max_exclusive = true,
+     .unit = "degrees"},
     {"slit_distance", ParamType::Number, "1",
      "Distance of the horizontal slit ahead of the vertical slit through look_from, in world "
      "units (negative: behind it; 0: a pinhole)."},

@@ -10,18 +10,16 @@ namespace {
 
 const ParamSpec kParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
-    {"view_width",
-     ParamType::Number,
-     "2",
-     "Width of the viewed rectangle in world units; its height is view_width / aspect. The "
-     "rectangle is centered on look_from and perpendicular to the view direction; rays start on "
-     "it.",
-     0,
-     kInf,
-     {},
-     true,
-     false,
-     "scene units"},
+    {.name = "view_width",
+     .type = ParamType::Number,
+     .default_value = "2",
+     .doc = "Width of the viewed rectangle in world units; its height is view_width / aspect. The "
+            "rectangle is centered on look_from and perpendicular to the view direction; rays "
+            "start on "
+            "it.",
+     .min = 0,
+     .min_exclusive = true,
+     .unit = "scene units"},
 };
 
 VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
