@@ -212,6 +212,9 @@ std::span<const OrgFunctionInfo> org_functions();
 std::span<const DirFunctionInfo> dir_functions();
 const OrgFunctionInfo* find_org_function(std::string_view name);
 const DirFunctionInfo* find_dir_function(std::string_view name);
+// The `type` key of an origin / direction function table, its choices the functions' names.
+const ParamSpec& org_type_spec();
+const ParamSpec& dir_type_spec();
 
 // Checks values against a parameter table: required keys present, numbers finite and within
 // [min, max] (each component of vectors and lists), strings among `choices`. Factories call it

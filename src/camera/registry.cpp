@@ -186,6 +186,29 @@ const DirFunctionInfo* find_dir_function(std::string_view name) {
   return nullptr;
 }
 
+namespace {
+template <class Info>
+std::vector<std::string_view> names_list(std::span<const Info> infos) {
+  std::vector<std::string_view> names;
+  for (const auto& f : infos) names.push_back(f.name);
+  return names;
+}
+}  // namespace
+
+const ParamSpec& org_type_spec() {
+  static const std::vector<std::string_view> names = names_list(org_functions());
+  static const ParamSpec spec{"type", ParamType::String, "", "The origin function.", -kInf, kInf,
+                              names};
+  return spec;
+}
+
+const ParamSpec& dir_type_spec() {
+  static const std::vector<std::string_view> names = names_list(dir_functions());
+  static const ParamSpec spec{"type", ParamType::String, "", "The direction function.", -kInf, kInf,
+                              names};
+  return spec;
+}
+
 void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
   for (const auto& [name, value] : values.all())
     if (!find_spec(specs, name))

@@ -2,10 +2,6 @@
 // reads by file signature, the sRGB transfer functions and shared helpers.
 #include "io/image_io.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -23,6 +19,7 @@
 #include <stb_image.h>
 
 #include "io/io_util.h"
+#include "io/read_file.h"
 
 namespace anamorph {
 
@@ -48,28 +45,9 @@ void check_read_size(const fs::path& file, int64_t width, int64_t height) {
 }
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
-  auto sys_fail = [&](int e) {
-    fail_read("cannot read image", file, std::generic_category().message(e));
-  };
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) sys_fail(errno);
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) sys_fail(errno);
-  if (S_ISDIR(st.st_mode)) sys_fail(EISDIR);
-  std::vector<unsigned char> bytes(size_t(std::max<off_t>(st.st_size, 0)));
-  size_t got = 0;
-  while (got < bytes.size()) {
-    const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) sys_fail(errno);
-    if (n == 0) break;  // shrank while reading
-    got += size_t(n);
-  }
-  bytes.resize(got);
+  std::vector<unsigned char> bytes;
+  if (const auto failure = read_whole_file(file, &bytes))
+    fail_read("cannot read image", file, std::generic_category().message(failure->error));
   return bytes;
 }
 

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "math/parallel.h"
-
 #include "math/rng.h"
 
 namespace anamorph {

@@ -39,7 +39,7 @@ class Integrator {
   const RenderContext& ctx_;
 };
 
-// "whitted" or "path"; AOV integrators are handled by the renderer.
+// Whitted or Path; AOV integrators are handled by the renderer.
 std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const RenderContext& ctx);
 
 }  // namespace anamorph

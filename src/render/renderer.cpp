@@ -1,9 +1,7 @@
 #include "render/renderer.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/task_arena.h>
-#include "math/parallel.h"
 
 #include <algorithm>
 #include <chrono>
@@ -296,7 +294,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     p.passes = passes;
     opt.on_progress(p);
   };
-  auto cancelled = [&] { return opt.cancel && opt.cancel->load(std::memory_order_relaxed); };
+  const auto cancelled = [&] { return ctx.cancelled(); };
 
   if (corners) {
     // The paper's adaptive supersampling: corners shared between pixels, squares split where

@@ -29,14 +29,6 @@ auto create_checked(const TableReader& r, const Info& info, const ParamValues& v
 
 constexpr std::string_view kTypeKey[] = {"type"};
 
-template <class Info>
-const Info& function_of(const TableReader& r, std::span<const Info> infos,
-                        const Info* (*find)(std::string_view)) {
-  std::vector<std::string_view> names;
-  for (const auto& f : infos) names.push_back(f.name);
-  return *find(r.selector({"type", ParamType::String, "", "", -kInf, kInf, names}));
-}
-
 // camera.org or camera.dir: a table { type = "...", ... } with the type's declared keys.
 const toml::table& function_table(const TableReader& cam, std::string_view key) {
   const toml::node* n = cam.node(key);
@@ -46,13 +38,13 @@ const toml::table& function_table(const TableReader& cam, std::string_view key) 
 
 std::unique_ptr<OrgFunction> read_org(const TableReader& cam) {
   const TableReader r(function_table(cam, "org"), cam.full_key("org"));
-  const OrgFunctionInfo& info = function_of(r, org_functions(), &find_org_function);
+  const OrgFunctionInfo& info = *find_org_function(r.selector(org_type_spec()));
   return create_checked(r, info, r.params({info.params}, kTypeKey));
 }
 
 std::unique_ptr<DirFunction> read_dir(const TableReader& cam) {
   const TableReader r(function_table(cam, "dir"), cam.full_key("dir"));
-  const DirFunctionInfo& info = function_of(r, dir_functions(), &find_dir_function);
+  const DirFunctionInfo& info = *find_dir_function(r.selector(dir_type_spec()));
   return create_checked(r, info, r.params({info.params}, kTypeKey));
 }
 

@@ -1,15 +1,15 @@
 #include "scene/load_common.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 
+#include <fmt/format.h>
+
 #include "io/image_io.h"
+#include "io/read_file.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
@@ -26,24 +26,10 @@ void require_readable(const fs::path& file) {
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
   require_readable(file);
-  // POSIX reads: a read error (EIO, a file that vanished) names its cause, where a stream
-  // iterator would stop silently or throw the library's own words.
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw LoadError("cannot open " + file.string() + ": " + std::strerror(errno));
   std::vector<unsigned char> bytes;
-  unsigned char buf[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const int e = errno;
-      ::close(fd);
-      throw LoadError("cannot read " + file.string() + ": " + std::strerror(e));
-    }
-    if (n == 0) break;
-    bytes.insert(bytes.end(), buf, buf + n);
-  }
-  ::close(fd);
+  if (const auto failure = read_whole_file(file, &bytes))
+    throw LoadError(fmt::format("cannot {} {}: {}", failure->step, file.string(),
+                                std::strerror(failure->error)));
   return bytes;
 }
 

@@ -69,9 +69,7 @@ std::shared_ptr<const NestedFunction> read_nested(const TableReader& outer, cons
     nf->type = nf->values.string("type");
     return nf;
   }
-  std::vector<std::string_view> names;
-  for (const auto& f : org_functions()) names.push_back(f.name);
-  nf->type = sub.selector({"type", ParamType::String, "", "", -kInf, kInf, names});
+  nf->type = sub.selector(org_type_spec());
   nf->values = sub.params({find_org_function(nf->type)->params}, kTypeKey);
   return nf;
 }
@@ -111,6 +109,7 @@ std::string TableReader::selector(const ParamSpec& spec) const {
   const toml::node* n = t_.get(spec.name);
   if (!n && spec.default_value.empty())
     fail(spec.name, "is required (one of: " + join_choices(spec.choices) + ")");
+  // (A selector's default is a TOML string: its text without the quotes.)
   if (!n) return std::string(spec.default_value.substr(1, spec.default_value.size() - 2));
   return std::get<std::string>(param_from_toml(spec, *n, walk({}).hooks));
 }
