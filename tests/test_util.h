@@ -2,6 +2,8 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -12,6 +14,13 @@ inline std::filesystem::path data_dir() { return ANAMORPH_TEST_DATA; }
 inline std::filesystem::path source_dir() { return ANAMORPH_SOURCE_DIR; }
 inline std::filesystem::path binary() { return ANAMORPH_BINARY; }
 inline std::filesystem::path shared_scenes() { return ANAMORPH_SHARED_SCENES; }
+// A file's bytes as text ("" when it cannot be read).
+inline std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
 inline bool have_shared() { return std::filesystem::exists(shared_scenes() / "MANIFEST.md"); }
 
 }  // namespace anamorph::test

@@ -84,12 +84,13 @@ Json value_schema(const ParamSpec& s) {
   return Json::object();
 }
 
-}  // namespace
-
+// A TOML default written as text ("[0, 1, 0]", "\"box\"") as JSON.
 Json toml_text_to_json(std::string_view text) {
   const toml::table t = toml::parse("v = " + std::string(text));
   return node_to_json(*t.get("v"));
 }
+
+}  // namespace
 
 Json param_json_schema(const ParamSpec& s) {
   Json j = value_schema(s);

@@ -30,7 +30,4 @@ Json table_json_schema(std::initializer_list<std::span<const ParamSpec>> groups,
 // The schema of a transform table (the type ParamType::Transform refers to).
 Json transform_json_schema();
 
-// A TOML default written as text ("[0, 1, 0]", "\"box\"") as JSON.
-Json toml_text_to_json(std::string_view toml_text);
-
 }  // namespace anamorph

@@ -313,7 +313,7 @@ const ParamSpec kAnimate[] = {
     {"key", ParamType::String, "",
      "The dotted scene key, as for --set (array entries by index), e.g. "
      "\"camera.coin.0.strength\"."},
-    {"keys", ParamType::NumberList, "",
+    {"keys", ParamType::NumberGrid, "",
      "[[frame, value], ...] with increasing frames; values are numbers or arrays of numbers of "
      "one shape."},
     {"interpolation", ParamType::String, "\"linear\"",

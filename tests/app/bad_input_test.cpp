@@ -76,11 +76,6 @@ int signal_after(const std::vector<std::string>& args, std::chrono::milliseconds
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
 #define EXPECT_CONTAINS(hay, needle) \
   EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
 
@@ -187,8 +182,9 @@ TEST(BadInput, SigtermEndsAProcessBlockedWhileLoading) {
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   const int code =
       signal_after({"info", fifo.string()}, std::chrono::milliseconds(300), SIGTERM, s.dir / "log");
-  EXPECT_EQ(code, 1) << slurp(s.dir / "log");
-  EXPECT_NE(slurp(s.dir / "log").find("interrupted"), std::string::npos) << slurp(s.dir / "log");
+  EXPECT_EQ(code, 1) << test::read_text(s.dir / "log");
+  EXPECT_NE(test::read_text(s.dir / "log").find("interrupted"), std::string::npos)
+      << test::read_text(s.dir / "log");
 }
 
 // Rendering: one tile of a million samples per pixel (the probe's --spp 1048576 took 14 s to
@@ -202,7 +198,7 @@ TEST(BadInput, SigtermStopsARenderInsideATile) {
   const fs::path out = s.dir / "out.png";
   const int code = signal_after({"render", scene, "-q", "-o", out.string(), "--spp", "1048576"},
                                 std::chrono::milliseconds(1000), SIGTERM, s.dir / "log");
-  const std::string log = slurp(s.dir / "log");
+  const std::string log = test::read_text(s.dir / "log");
   EXPECT_EQ(code, 1) << log;
   EXPECT_NE(log.find("interrupted: " + out.string() + " not written"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(out));
@@ -273,7 +269,7 @@ TEST(BadInput, InterruptedFramesSayWhichWereWritten) {
   kill(pid, SIGTERM);
   int status = 0;
   waitpid(pid, &status, 0);
-  const std::string out = slurp(log);
+  const std::string out = test::read_text(log);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << out;
   EXPECT_TRUE(fs::exists(s.dir / "f_0.png"));
   EXPECT_FALSE(fs::exists(s.dir / "f_1.png"));

@@ -38,13 +38,6 @@ std::string write(const fs::path& p, const std::string& text) {
   return p.string();
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 const char* kSmall =
     "[image]\nwidth = 24\nheight = 16\n[camera]\nlook_from = [0, 1, 4]\nlook_at = [0, 0, 0]\n"
     "[[object]]\ntype = \"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 3, 2]\nintensity = "
@@ -134,7 +127,7 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   const std::string scene = write(d / "s.toml", kSmall);
   const fs::path out = d / "out.png";
   ASSERT_EQ(run("render " + scene + " -q -o " + out.string()).code, 0);
-  const std::string before = slurp(out);
+  const std::string before = test::read_text(out);
   // A render that takes far longer than we wait, then SIGKILL (no chance to clean up).
   const pid_t pid = fork();
   if (pid == 0) {
@@ -148,7 +141,7 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   int status;
   waitpid(pid, &status, 0);
   EXPECT_TRUE(WIFSIGNALED(status)) << "the render finished before it was killed";
-  EXPECT_EQ(slurp(out), before) << "the previous image must survive byte for byte";
+  EXPECT_EQ(test::read_text(out), before) << "the previous image must survive byte for byte";
   // SIGINT: the renderer stops, writes nothing and says so.
   const pid_t pid2 = fork();
   if (pid2 == 0) {
@@ -161,7 +154,7 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   kill(pid2, SIGINT);
   waitpid(pid2, &status, 0);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1);
-  EXPECT_EQ(slurp(out), before);
+  EXPECT_EQ(test::read_text(out), before);
   fs::remove_all(d);
 }
 
@@ -174,7 +167,7 @@ TEST(Cli, InfoRaysProject) {
   EXPECT_CONTAINS(info.out, "perspective");
   const Result rays = run("rays " + scene + " --width 4 --height 3 -o " + (d / "r.csv").string());
   ASSERT_EQ(rays.code, 0) << rays.out;
-  const std::string csv = slurp(d / "r.csv");
+  const std::string csv = test::read_text(d / "r.csv");
   EXPECT_EQ(csv.rfind("px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n", 0), 0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
   // The camera looks at the origin: it projects to the image center.
@@ -280,7 +273,8 @@ TEST(Cli, FramesRenderASequenceAndVideoNeedsFfmpeg) {
   const Result r = run("render " + scene + " -q --frames 0:2 -o " + (d / "f_%03d.png").string());
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* f : {"f_000.png", "f_001.png", "f_002.png"}) EXPECT_TRUE(fs::exists(d / f)) << f;
-  EXPECT_NE(slurp(d / "f_000.png"), slurp(d / "f_002.png")) << "the animation changes the image";
+  EXPECT_NE(test::read_text(d / "f_000.png"), test::read_text(d / "f_002.png"))
+      << "the animation changes the image";
   EXPECT_EQ(read_metadata(d / "f_001.png").at("anamorph.frame"), "1");
   EXPECT_EQ(run("render " + scene + " --frames 0:2 -o " + (d / "nopattern.png").string()).code, 2);
   EXPECT_EQ(run("render " + scene + " --frames 5:2 -o " + (d / "f_%03d.png").string()).code, 2);

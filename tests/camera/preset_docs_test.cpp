@@ -13,12 +13,6 @@
 namespace anamorph {
 
 namespace {
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 const char* kRegenerate =
     "\n(regenerate: scripts/build camera_preset_gallery && build/tests/camera_preset_gallery "
     "tables docs/cameras.md)";
@@ -26,7 +20,7 @@ const char* kRegenerate =
 
 TEST(PresetDocs, EveryPresetHasSectionPictureAndCurrentTable) {
   const auto docs = test::source_dir() / "docs";
-  const std::string md = read_text(docs / "cameras.md");
+  const std::string md = test::read_text(docs / "cameras.md");
   ASSERT_FALSE(md.empty()) << "cannot read " << docs / "cameras.md";
   for (const auto& p : camera_presets()) {
     const std::string name(p.name);
@@ -46,7 +40,7 @@ TEST(PresetDocs, EveryPresetHasSectionPictureAndCurrentTable) {
 
 TEST(PresetDocs, ReferencedImagesExist) {
   const auto docs = test::source_dir() / "docs";
-  const std::string md = read_text(docs / "cameras.md");
+  const std::string md = test::read_text(docs / "cameras.md");
   const std::regex ref(R"(\((images/[A-Za-z0-9_/.-]+\.(png|svg))\))");
   int n = 0;
   for (auto it = std::sregex_iterator(md.begin(), md.end(), ref); it != std::sregex_iterator();

@@ -27,21 +27,14 @@ std::vector<fs::path> findings(const std::string& target) {
   return out;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(FuzzFindings, CameraTablesGiveFiniteRaysAndPacketsEqualSingleRays) {
   const auto files = findings("camera");
   ASSERT_FALSE(files.empty());
   for (const fs::path& f : files) {
     Scene scene;
     try {
-      scene = load_scene_from_string("[image]\nwidth = 16\nheight = 12\n[camera]\n" + read_text(f),
-                                     f.filename());
+      scene = load_scene_from_string(
+          "[image]\nwidth = 16\nheight = 12\n[camera]\n" + test::read_text(f), f.filename());
     } catch (const SceneError&) {
       continue;  // a clean rejection
     }

@@ -30,17 +30,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 const char* kRegenerate = "\n(regenerate: scripts/build && build/anamorph schema --docs docs)";
 
 TEST(SchemaDocs, SceneFormatTablesAreGeneratedFromTheDeclarations) {
-  const std::string md = read_text(test::source_dir() / "docs" / "scene-format.md");
+  const std::string md = test::read_text(test::source_dir() / "docs" / "scene-format.md");
   ASSERT_FALSE(md.empty());
   for (std::string_view block : scene_doc_blocks()) {
     const std::string want = scene_doc_block(block);
@@ -51,7 +44,7 @@ TEST(SchemaDocs, SceneFormatTablesAreGeneratedFromTheDeclarations) {
 }
 
 TEST(SchemaDocs, FunctionReferenceIsGeneratedFromTheDeclarations) {
-  const std::string md = read_text(test::source_dir() / "docs" / "functions.md");
+  const std::string md = test::read_text(test::source_dir() / "docs" / "functions.md");
   EXPECT_EQ(generated_block(md, "functions"), function_reference_markdown())
       << "docs/functions.md is stale" << kRegenerate;
   // The keys no document named before it existed.
