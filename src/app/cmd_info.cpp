@@ -10,34 +10,6 @@ namespace anamorph::app {
 
 namespace {
 
-const char* shape_name(AnalyticShape::Kind k) {
-  switch (k) {
-    case AnalyticShape::Kind::Sphere:
-      return "sphere";
-    case AnalyticShape::Kind::Plane:
-      return "plane";
-    case AnalyticShape::Kind::Box:
-      return "box";
-    case AnalyticShape::Kind::Cylinder:
-      return "cylinder";
-    case AnalyticShape::Kind::Disk:
-      return "disk";
-  }
-  return "?";
-}
-
-const char* light_name(Light::Kind k) {
-  switch (k) {
-    case Light::Kind::Point:
-      return "point";
-    case Light::Kind::Spot:
-      return "spot";
-    case Light::Kind::Directional:
-      return "directional";
-  }
-  return "?";
-}
-
 int run(const SceneOptions& o) {
   const Scene s = load(o);
   const Accel accel(s);
@@ -63,14 +35,14 @@ int run(const SceneOptions& o) {
   fmt::print("meshes      {} prototypes, {} placements ({} as Embree instances)\n",
              s.prototypes.size(), s.instances.size(), accel.stats().instances);
   fmt::print("shapes      {}\n", s.shapes.size());
-  for (const auto& sh : s.shapes) fmt::print("  {:<12} {}\n", shape_name(sh.kind), sh.name);
+  for (const auto& sh : s.shapes) fmt::print("  {:<12} {}\n", name_of(sh.kind), sh.name);
   fmt::print("materials   {}\n", s.materials.size());
   for (const auto& m : s.materials)
     fmt::print("  {:<24} {}{}\n", m.name,
                m.model == Material::Model::Whitted ? "whitted" : "metallic_roughness",
                m.is_emissive() ? ", emissive" : "");
   fmt::print("lights      {}\n", s.lights.size());
-  for (const auto& l : s.lights) fmt::print("  {:<12} {}\n", light_name(l.kind), l.name);
+  for (const auto& l : s.lights) fmt::print("  {:<12} {}\n", name_of(l.kind), l.name);
   fmt::print("environment {}\n", s.environment.image
                                      ? "image"
                                      : (s.environment.present() ? "constant colour" : "none"));

@@ -13,8 +13,8 @@
 #include <memory>
 
 #include "app/common.h"
-#include "camera/coins.h"
 #include "io/image_io.h"
+#include "render/coin_layer.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_schema.h"
@@ -93,18 +93,6 @@ bool has_frame_pattern(const std::string& s) {
   return false;
 }
 
-// Renders one frame to `out`; returns an exit code.
-// The --aov coins layer: coverage of each coin's (uc, vc) marker and radius outline.
-ImageLayer coins_layer(const Scene& scene) {
-  const int W = scene.render.width, H = scene.render.height;
-  ImageLayer l{"coins", {"A"}, std::vector<float>(size_t(W) * H)};
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      l.data[size_t(y) * W + x] =
-          float(coin_overlay(*scene.camera, {(x + 0.5) / W, (y + 0.5) / H}, {1.0 / W, 1.0 / H}));
-  return l;
-}
-
 // The beauty image with the coin markers drawn over it in red, for looking at.
 OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
   OutputImage o;
@@ -123,6 +111,7 @@ OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
   return o;
 }
 
+// Renders one frame to `out`; returns an exit code.
 int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
                  const std::vector<Aov>& aovs, double frame, const fs::path& out,
                  const std::string& prefix) {

@@ -1,6 +1,7 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/adaptive.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bsdf.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_metrics.cpp
   ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp

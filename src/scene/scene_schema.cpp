@@ -415,6 +415,34 @@ std::string_view name_of(Antialias k) {
   return kResolved[size_t(k)];
 }
 
+std::string_view name_of(AnalyticShape::Kind k) {
+  switch (k) {
+    case AnalyticShape::Kind::Sphere:
+      return "sphere";
+    case AnalyticShape::Kind::Plane:
+      return "plane";
+    case AnalyticShape::Kind::Box:
+      return "box";
+    case AnalyticShape::Kind::Cylinder:
+      return "cylinder";
+    case AnalyticShape::Kind::Disk:
+      return "disk";
+  }
+  return "?";
+}
+
+std::string_view name_of(Light::Kind k) {
+  switch (k) {
+    case Light::Kind::Point:
+      return "point";
+    case Light::Kind::Spot:
+      return "spot";
+    case Light::Kind::Directional:
+      return "directional";
+  }
+  return "?";
+}
+
 const TableSchema& image_schema() { return kImageSchema; }
 const TableSchema& render_schema() { return kRenderSchema; }
 const TableSchema& material_schema() { return kMaterialSchema; }

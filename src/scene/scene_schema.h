@@ -55,7 +55,9 @@ std::span<const std::string_view> filter_names();
 std::string_view name_of(IntegratorKind k);
 std::string_view name_of(SamplerKind k);
 std::string_view name_of(PixelFilter k);
-std::string_view name_of(Antialias k);  // "uniform", "lattice" or "pixel"
+std::string_view name_of(Antialias k);            // "uniform", "lattice" or "pixel"
+std::string_view name_of(AnalyticShape::Kind k);  // an object's `type`: "sphere", "plane", ...
+std::string_view name_of(Light::Kind k);          // a light's `type`: "point", "spot", ...
 
 // Every table above, in the order the docs list them.
 std::span<const TableSchema* const> scene_tables();

@@ -23,7 +23,8 @@ SceneError::SceneError(const SourceLoc& l, std::string k, const std::string& msg
                          : fmt::format("{}: {}: {}", where, k, msg);
       }()),
       loc(l),
-      key(std::move(k)) {}
+      key(std::move(k)),
+      message(msg) {}
 
 SourceLoc loc_of(const toml::node& n) {
   const auto& s = n.source();

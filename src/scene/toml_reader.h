@@ -33,6 +33,7 @@ class SceneError : public std::runtime_error {
   SceneError(const SourceLoc& loc, std::string key, const std::string& msg);
   SourceLoc loc;
   std::string key;
+  std::string message;  // what is wrong, without the place and the key
 };
 
 SourceLoc loc_of(const toml::node& n);

@@ -1,0 +1,79 @@
+"""Scenes: loaded from a scene file with ``set=`` overrides, described, and rendered into NumPy
+arrays."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+
+from . import _anamorph, _toml
+from ._camera import Camera
+
+
+class Scene:
+    """A loaded scene (``anamorph.load``). The acceleration structure is built on the first
+    render (or ``info()``) and kept for the next ones."""
+
+    def __init__(self, impl: Any):
+        self._impl = impl
+
+    def info(self) -> dict[str, Any]:
+        """What the scene holds, as ``anamorph info`` prints it: path, width, height,
+        integrator, antialias, spp, sampler, camera, triangles, shapes, materials, lights,
+        bounds, animated keys and warnings."""
+        return self._impl.info()
+
+    @property
+    def camera(self) -> Camera:
+        """The scene's camera at the scene's image size."""
+        return Camera._wrap(self._impl.camera())
+
+    @property
+    def warnings(self) -> list[str]:
+        return self._impl.warnings()
+
+    @property
+    def last_stats(self) -> dict[str, Any]:
+        """The last render's seconds, rays, samples and dropped NaN samples."""
+        return self._impl.last_stats()
+
+    def render(self, width: int | None = None, height: int | None = None, spp: int | None = None,
+               aovs: Sequence[str] = (), threads: int = 0,
+               progress: Callable[[dict[str, Any]], Any] | None = None, *,
+               seed: int | None = None, integrator: str | None = None,
+               sampler: str | None = None) -> dict[str, np.ndarray]:
+        """Renders the scene as ``anamorph render`` does, with the same options (``spp`` implies
+        uniform sampling). Returns float32 arrays of shape (H, W, C): ``rgba`` (linear colour,
+        straight alpha) and one per AOV (albedo, normal, depth, position, id, uv, spp, coins).
+        ``progress`` is called on this thread with a dict (fraction, seconds, rays, pass,
+        passes); an exception from it, or Ctrl-C, cancels the render and is raised. The GIL is
+        released while rendering."""
+        over = []
+        for key, v in (("image.width", width), ("image.height", height), ("render.spp", spp),
+                       ("render.seed", seed), ("render.integrator", integrator),
+                       ("render.sampler", sampler)):
+            if v is not None:
+                over.append(f"{key}={_toml.value(v)}")
+        if isinstance(aovs, str):
+            aovs = [a for a in aovs.split(",") if a]
+        return self._impl.render(over, list(aovs), threads, progress)
+
+    def __repr__(self) -> str:
+        i = self._impl.info()
+        return f"<anamorph.Scene {i['path']} {i['width']}x{i['height']}>"
+
+
+def load(path: str | os.PathLike[str], set: Mapping[str, Any] | None = None,
+         frame: float = 0) -> Scene:
+    """Loads a scene file. ``set`` overrides keys by their dotted path, like the CLI's ``--set``
+    (``{"camera.fov": 90, "camera.coin.0.strength": 0.8}``); ``frame`` evaluates the scene's
+    ``[[animate]]`` keys. A bad scene raises SceneError (a ValueError) naming the file, line,
+    column and key."""
+    return Scene(_anamorph.Scene(os.fspath(path), _toml.overrides(set), float(frame)))
+
+
+def loads(text: str, set: Mapping[str, Any] | None = None, frame: float = 0) -> Scene:
+    """A scene from TOML text (relative file names resolve against the working directory)."""
+    return Scene(_anamorph.Scene.from_text(text, _toml.overrides(set), float(frame)))

@@ -1,0 +1,58 @@
+// C++ errors as Python exceptions: a bad scene or keyword is anamorph.SceneError (a ValueError)
+// carrying the dotted key, the file, line and column; an unreadable file is a ValueError too;
+// failing to write is an OSError.
+#include "bindings.h"
+#include "io/image_io.h"
+#include "scene/loaders.h"
+#include "scene/toml_reader.h"
+
+namespace anamorph::py {
+
+namespace {
+
+// A source that is not a file (keywords, `set=` overrides) has no useful position: the message is
+// "key: what", as the scene reader would put it after the position.
+bool is_generated(const SourceLoc& loc) { return loc.file.empty() || loc.file[0] == '<'; }
+
+void raise_scene_error(const pb::object& type, const std::string& text, const std::string& key,
+                       const SourceLoc& loc, const std::string& message) {
+  pb::object e = type(text);
+  e.attr("key") = key;
+  e.attr("message") = message;
+  e.attr("file") = is_generated(loc) ? pb::none() : pb::cast(loc.file);
+  e.attr("line") = loc.line;
+  e.attr("column") = loc.column;
+  PyErr_SetObject(type.ptr(), e.ptr());
+}
+
+}  // namespace
+
+void bind_errors(pb::module_& m) {
+  static pb::exception<SceneError> scene_error(m, "SceneError", PyExc_ValueError);
+  scene_error.doc() =
+      "A bad scene, camera keyword or override (a ValueError). Attributes: key (the dotted key, "
+      "e.g. 'camera.fov'), message, and file, line, column when it comes from a file.";
+  pb::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const SceneError& e) {
+      const std::string text = !is_generated(e.loc) ? std::string(e.what())
+                               : e.key.empty()      ? e.message
+                                                    : e.key + ": " + e.message;
+      raise_scene_error(scene_error, text, e.key, e.loc, e.message);
+    } catch (const ParamError& e) {
+      const std::string text = e.key.empty() ? e.what() : e.key + ": " + e.what();
+      raise_scene_error(scene_error, text, e.key, {}, e.what());
+    } catch (const LoadError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ImageReadError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ImageIoError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const std::invalid_argument& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+}
+
+}  // namespace anamorph::py

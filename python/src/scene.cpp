@@ -1,0 +1,244 @@
+// anamorph._anamorph.Scene: a loaded scene, what it holds, and renders into numpy arrays. A render
+// runs on a worker thread while the calling thread, holding the GIL only briefly, reports progress
+// and watches for KeyboardInterrupt (Ctrl-C), which cancels the render at its next packet.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <future>
+#include <mutex>
+
+#include "accel/accel.h"
+#include "bindings.h"
+#include "camera/coins.h"
+#include "camera_handle.h"
+#include "render/coin_layer.h"
+#include "render/renderer.h"
+#include "scene/scene_schema.h"
+
+namespace anamorph::py {
+
+namespace {
+
+struct RenderRequest {
+  std::vector<std::string> overrides;  // image size, spp, seed, integrator, sampler
+  std::vector<std::string> aovs;       // names; "coins" is drawn, not sampled
+  int threads = 0;
+  pb::object progress;  // callable(dict) or None
+};
+
+pb::dict progress_dict(const Progress& p) {
+  pb::dict d;
+  d["fraction"] = p.fraction;
+  d["seconds"] = p.seconds;
+  d["rays"] = p.rays;
+  d["pass"] = p.pass;
+  d["passes"] = p.passes;
+  return d;
+}
+
+pb::dict stats_dict(const RenderStats& s) {
+  pb::dict d;
+  d["seconds"] = s.seconds;
+  d["rays"] = s.rays;
+  d["samples"] = s.samples;
+  d["nan_samples"] = s.nan_samples;
+  return d;
+}
+
+// An OutputImage's layers as (H, W, C) float32 arrays: "rgba" for the beauty, AOVs by name.
+pb::dict layers_dict(OutputImage&& img) {
+  pb::dict d;
+  for (ImageLayer& l : img.layers) {
+    const std::vector<pb::ssize_t> shape = {img.height, img.width, pb::ssize_t(l.channels.size())};
+    d[pb::str(l.name.empty() ? "rgba" : l.name)] = to_array(std::move(l.data), shape);
+  }
+  return d;
+}
+
+class SceneHandle {
+ public:
+  explicit SceneHandle(SceneSource s)
+      : source_(std::move(s)), scene_(std::make_shared<Scene>(source_.load())) {}
+
+  const Scene& scene() const { return *scene_; }
+  CameraHandle camera() const { return CameraHandle(source_, view({}), scene_); }
+  pb::dict info();
+  pb::dict render(const RenderRequest& req);
+  pb::dict last_stats() const { return stats_dict(stats_); }
+
+ private:
+  // The camera and settings with `extra` overrides, the geometry shared with scene_.
+  std::shared_ptr<const Scene> view(const std::vector<std::string>& extra) const {
+    return std::make_shared<const Scene>(source_.load_view(extra, *scene_));
+  }
+  RenderStats run(Film& film, const RenderOptions& opt, const pb::object& progress);
+  // Takes the render lock (without the GIL, so a render on another thread can finish) and
+  // builds the acceleration structure on first use.
+  std::unique_lock<std::mutex> lock_and_build() {
+    pb::gil_scoped_release release;
+    std::unique_lock<std::mutex> lock(render_mutex_);
+    if (!renderer_) renderer_ = std::make_unique<Renderer>(*scene_);
+    return lock;
+  }
+
+  SceneSource source_;
+  std::shared_ptr<Scene> scene_;
+  std::unique_ptr<Renderer> renderer_;
+  std::mutex render_mutex_;  // one render at a time (a render swaps the view into scene_)
+  RenderStats stats_;
+};
+
+// Swaps a view's camera and settings into the scene for one render, and back.
+struct ViewSwap {
+  Scene& scene;
+  Scene& view;
+  ViewSwap(Scene& s, Scene& v) : scene(s), view(v) { swap(); }
+  ~ViewSwap() { swap(); }
+  void swap() {
+    std::swap(scene.render, view.render);
+    std::swap(scene.camera, view.camera);
+  }
+};
+
+pb::dict SceneHandle::render(const RenderRequest& req) {
+  std::vector<Aov> aovs;
+  bool coins = false;
+  std::string list;
+  for (const std::string& a : req.aovs) {
+    if (a == "coins")
+      coins = true;
+    else
+      list += (list.empty() ? "" : ",") + a;
+  }
+  aovs = parse_aovs(list);
+  const auto lock = lock_and_build();
+  Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
+  std::optional<ViewSwap> swap;
+  if (!req.overrides.empty()) swap.emplace(*scene_, view);
+  Film film(scene_->render.width, scene_->render.height, aovs);
+  RenderOptions opt;
+  opt.threads = req.threads;
+  opt.aovs = aovs;
+  stats_ = run(film, opt, req.progress);
+  OutputImage img = film.output();
+  if (coins) img.layers.push_back(coins_layer(*scene_));
+  return layers_dict(std::move(img));
+}
+
+RenderStats SceneHandle::run(Film& film, const RenderOptions& options, const pb::object& progress) {
+  std::atomic<bool> cancel{false};
+  std::mutex progress_mutex;
+  std::optional<Progress> latest;
+  RenderOptions opt = options;
+  opt.cancel = &cancel;
+  opt.on_progress = [&](const Progress& p) {
+    const std::lock_guard<std::mutex> l(progress_mutex);
+    latest = p;
+  };
+  const Renderer& r = *renderer_;
+  auto done = std::async(std::launch::async, [&] { return r.render(film, opt); });
+  // Progress and Ctrl-C are handled here, on the calling thread, every 50 ms.
+  const auto report = [&] {
+    std::optional<Progress> p;
+    {
+      const std::lock_guard<std::mutex> l(progress_mutex);
+      p.swap(latest);
+    }
+    if (p && !progress.is_none()) progress(progress_dict(*p));
+  };
+  try {
+    for (;;) {
+      std::future_status st;
+      {
+        pb::gil_scoped_release release;
+        st = done.wait_for(std::chrono::milliseconds(50));
+      }
+      if (PyErr_CheckSignals() != 0) throw pb::error_already_set();
+      report();
+      if (st == std::future_status::ready) break;
+    }
+  } catch (...) {
+    cancel = true;
+    pb::gil_scoped_release release;
+    done.wait();
+    throw;
+  }
+  return done.get();
+}
+
+pb::dict SceneHandle::info() {
+  const auto lock = lock_and_build();
+  const Scene& s = *scene_;
+  const Accel& accel = renderer_->accel();
+  pb::dict d;
+  d["path"] = s.path;
+  d["width"] = s.render.width;
+  d["height"] = s.render.height;
+  d["integrator"] = std::string(name_of(s.render.integrator));
+  d["antialias"] = std::string(name_of(s.render.antialias));
+  d["spp"] = s.render.spp;
+  d["sampler"] = std::string(name_of(s.render.sampler));
+  d["camera"] = s.camera->describe();
+  d["unique_triangles"] = accel.stats().unique_triangles;
+  d["instanced_triangles"] = accel.stats().instanced_triangles;
+  pb::list shapes, materials, lights;
+  for (const auto& sh : s.shapes)
+    shapes.append(
+        pb::dict(pb::arg("type") = std::string(name_of(sh.kind)), pb::arg("name") = sh.name));
+  for (const auto& m : s.materials) materials.append(m.name);
+  for (const auto& l : s.lights)
+    lights.append(
+        pb::dict(pb::arg("type") = std::string(name_of(l.kind)), pb::arg("name") = l.name));
+  d["shapes"] = shapes;
+  d["materials"] = materials;
+  d["lights"] = lights;
+  d["meshes"] = s.instances.size();
+  const Bounds3 b = accel.bounds();
+  d["bounds"] = b.empty() ? pb::object(pb::none())
+                          : pb::object(pb::make_tuple(pb::make_tuple(b.lo.x, b.lo.y, b.lo.z),
+                                                      pb::make_tuple(b.hi.x, b.hi.y, b.hi.z)));
+  d["animated"] = s.animated;
+  d["frames"] = pb::make_tuple(s.first_key, s.last_key);
+  d["warnings"] = s.warnings;
+  return d;
+}
+
+SceneSource source_of(std::string path, std::string text, std::vector<std::string> overrides,
+                      double frame) {
+  SceneSource s;
+  s.path = std::move(path);
+  s.text = std::move(text);
+  s.name = s.path.empty() ? "<string>" : s.path;
+  s.overrides = std::move(overrides);
+  s.frame = frame;
+  return s;
+}
+
+}  // namespace
+
+void bind_scene(pb::module_& m) {
+  pb::class_<SceneHandle>(m, "Scene")
+      .def(pb::init([](const std::string& path, std::vector<std::string> overrides, double frame) {
+             return std::make_unique<SceneHandle>(source_of(path, "", std::move(overrides), frame));
+           }),
+           pb::arg("path"), pb::arg("overrides"), pb::arg("frame"))
+      .def_static(
+          "from_text",
+          [](const std::string& text, std::vector<std::string> overrides, double frame) {
+            return std::make_unique<SceneHandle>(source_of("", text, std::move(overrides), frame));
+          },
+          pb::arg("text"), pb::arg("overrides"), pb::arg("frame"))
+      .def("info", &SceneHandle::info)
+      .def("camera", &SceneHandle::camera)
+      .def("warnings", [](const SceneHandle& s) { return s.scene().warnings; })
+      .def("last_stats", &SceneHandle::last_stats)
+      .def(
+          "render",
+          [](SceneHandle& s, std::vector<std::string> overrides, std::vector<std::string> aovs,
+             int threads, pb::object progress) {
+            return s.render({std::move(overrides), std::move(aovs), threads, std::move(progress)});
+          },
+          pb::arg("overrides"), pb::arg("aovs"), pb::arg("threads"), pb::arg("progress"));
+}
+
+}  // namespace anamorph::py
