@@ -19,6 +19,18 @@
 
 #include "scene/loaders.h"
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(undefined_behavior_sanitizer)
+#define ANAMORPH_SANITIZER_DEATH_CALLBACK 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define ANAMORPH_SANITIZER_DEATH_CALLBACK 1
+#endif
+#ifdef ANAMORPH_SANITIZER_DEATH_CALLBACK
+#include <sanitizer/common_interface_defs.h>
+#endif
+
 namespace anamorph {
 
 namespace {
@@ -66,6 +78,11 @@ bool write_all(int fd, const void* data, size_t n) {
   // (SIGABRT too: a fuzzer's handler would report assimp's ai_assert as its own crash.)
   for (const int sig : {SIGINT, SIGTERM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT})
     signal(sig, SIG_DFL);
+#ifdef ANAMORPH_SANITIZER_DEATH_CALLBACK
+  // Likewise a sanitizer's death callback (libFuzzer's writes a crash-* file): an allocation
+  // past the child's memory limit makes ASan abort the child, which the parent reports.
+  __sanitizer_set_death_callback(nullptr);
+#endif
   const rlim_t cpu = rlim_t(std::ceil(limits.seconds)) + 1;  // the parent's clock acts first
   const rlimit cpu_limit{cpu, cpu + 1};
   setrlimit(RLIMIT_CPU, &cpu_limit);

@@ -1,0 +1,171 @@
+"""Scenes from Python: renders equal to `anamorph render` bit for bit, overrides, progress,
+cancellation by Ctrl-C, the GIL released while rendering, and no memory growth over renders."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import anamorph
+from conftest import ROOT, cli
+
+DEMO = ROOT / "examples/demo.toml"
+
+
+def assert_layers_equal(got: dict, want: dict) -> None:
+    assert sorted(got) == sorted(want)
+    for k in want:
+        a, b = got[k], want[k]
+        assert a.shape == b.shape, (k, a.shape, b.shape)
+        diff = np.argwhere(~((a == b) | (np.isnan(a) & np.isnan(b))))
+        assert diff.size == 0, f"layer {k}: {len(diff)} values differ, first at {diff[0]}: " \
+                               f"{a[tuple(diff[0])]} != {b[tuple(diff[0])]}"
+
+
+@pytest.mark.parametrize("scene, args, kwargs", [
+    ("examples/demo.toml", [], {}),  # whitted, adaptive lattice
+    ("examples/apps/focus_context.toml", ["--spp", "2", "--seed", "5"], dict(spp=2, seed=5)),
+    ("examples/demo.toml", ["--integrator", "path", "--spp", "3"],
+     dict(integrator="path", spp=3)),
+])
+def test_render_equals_the_cli_bit_for_bit(tmp_path, scene, args, kwargs):
+    out = tmp_path / "cli.exr"
+    cli("render", ROOT / scene, "--width", 64, "--height", 48, "-q", "--aov",
+        "albedo,depth,normal,spp,coins", *args, "-o", out)
+    img = anamorph.load(ROOT / scene).render(
+        width=64, height=48, aovs=["albedo", "depth", "normal", "spp", "coins"], **kwargs)
+    assert img["rgba"].dtype == np.float32 and img["rgba"].shape == (48, 64, 4)
+    assert_layers_equal(img, anamorph.read_exr(out))
+
+
+def test_set_overrides_are_the_clis_set(tmp_path):
+    out = tmp_path / "cli.exr"
+    cli("render", DEMO, "--width", 40, "--height", 30, "-q", "--set", "camera.fov=75",
+        "--set", "render.antialias=uniform", "--set", 'camera.look_at=[0, 0.5, 0]', "-o", out)
+    scene = anamorph.load(DEMO, set={"camera.fov": 75, "render.antialias": "uniform",
+                                     "camera.look_at": np.array([0, 0.5, 0])})
+    assert_layers_equal(scene.render(width=40, height=30), anamorph.read_exr(out))
+
+
+def test_a_bad_override_names_the_key():
+    with pytest.raises(anamorph.SceneError) as e:
+        anamorph.load(DEMO, set={"camera.fov": "wide"})
+    assert e.value.key == "camera.fov"
+    assert str(e.value).startswith("camera.fov: ")
+    with pytest.raises(anamorph.SceneError) as e:
+        anamorph.load(DEMO).render(width=-3)
+    assert e.value.key == "image.width"
+
+
+def test_a_bad_scene_file_names_file_line_and_key(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[render]\nspp = 0\n")
+    with pytest.raises(anamorph.SceneError) as e:
+        anamorph.load(bad)
+    assert (e.value.file, e.value.line, e.value.key) == (str(bad), 2, "render.spp")
+    assert str(e.value) == cli("info", bad, check=False).stderr.strip().removeprefix("error: ")
+
+
+def test_info_agrees_with_the_cli():
+    info = anamorph.load(DEMO).info()
+    text = cli("info", DEMO).stdout
+    assert f"{info['unique_triangles']} unique" in text
+    assert f"camera      {info['camera']}" in text
+    assert f"{info['width']}x{info['height']}" in text
+    assert [s["type"] for s in info["shapes"]] == [
+        line.split()[0] for line in text.split("shapes")[1].split("materials")[0].splitlines()[1:]]
+
+
+def test_progress_is_reported_on_the_calling_thread_and_reaches_one():
+    seen = []
+    caller = threading.get_ident()
+
+    def progress(p):
+        assert threading.get_ident() == caller
+        seen.append(p["fraction"])
+
+    anamorph.load(DEMO).render(width=160, height=120, spp=16, progress=progress)
+    assert seen and seen[-1] == pytest.approx(1.0)
+    assert all(a <= b for a, b in zip(seen, seen[1:])), seen
+
+
+def test_an_exception_in_progress_cancels_the_render():
+    scene = anamorph.load(DEMO)
+
+    def stop(p):
+        raise RuntimeError("enough")
+
+    t0 = time.monotonic()
+    with pytest.raises(RuntimeError, match="enough"):
+        scene.render(width=640, height=480, spp=4096, progress=stop)
+    # The scene still renders afterwards.
+    assert scene.render(width=8, height=6)["rgba"].shape == (6, 8, 4)
+
+
+def test_ctrl_c_cancels_a_render_cleanly(tmp_path):
+    script = (
+        "import anamorph, sys\n"
+        f"s = anamorph.load({str(DEMO)!r})\n"
+        "print('rendering', flush=True)\n"
+        "try:\n"
+        "    s.render(width=640, height=480, spp=100000)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('cancelled', s.render(width=4, height=3)['rgba'].shape, flush=True)\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True,
+                         env=env)
+    assert p.stdout.readline().strip() == "rendering"
+    time.sleep(0.5)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 0, out
+    assert out.strip() == "cancelled (3, 4, 4)"
+
+
+def test_the_gil_is_released_while_rendering():
+    scene = anamorph.load(DEMO)
+    ticks = 0
+    done = threading.Event()
+
+    def count():
+        nonlocal ticks
+        while not done.is_set():
+            ticks += 1
+
+    t = threading.Thread(target=count)
+    t.start()
+    try:
+        scene.render(width=320, height=240, spp=8)
+    finally:
+        done.set()
+        t.join()
+    # With the GIL held for the whole render the counter would not move at all (it is started
+    # before the render and stopped after).
+    assert ticks > 1000, ticks
+
+
+def rss_kb() -> int:
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith("VmRSS"))
+
+
+def test_no_memory_growth_over_a_thousand_renders():
+    # Uniform sampling: the adaptive lattice's fixed cost per frame would make this 20 s.
+    scene = anamorph.load(DEMO, set={"render.antialias": "uniform", "render.spp": 2})
+    cam = scene.camera
+    for _ in range(100):
+        scene.render(width=16, height=12, aovs=["albedo"])
+        cam.rays(16, 12)
+    warm = rss_kb()
+    for _ in range(1000):
+        scene.render(width=16, height=12, aovs=["albedo"])
+        cam.rays(16, 12)
+    grown = rss_kb() - warm
+    assert grown < 0.05 * warm, f"RSS grew by {grown} kB over 1000 renders (from {warm} kB)"
