@@ -11,6 +11,7 @@
 
 #include "accel/accel.h"
 #include "camera/presets.h"
+#include "camera/ray_field.h"
 #include "math/simd.h"
 #include "scene/scene_loader.h"
 
@@ -225,5 +226,25 @@ static void BM_TraceBunny1080p(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * int64_t(rays.size()));
 }
 BENCHMARK(BM_TraceBunny1080p)->Unit(benchmark::kMillisecond);
+
+// What the Python API's Camera.rays(1920, 1080) computes, from C++: the focus+context camera
+// (three coins) through generate_ray_field into freshly allocated arrays (origins, directions,
+// the four differentials, the mask), on every core. bench/python/rays_vs_cpp runs both.
+static void BM_RayField1080p(benchmark::State& state) {
+  const std::filesystem::path scene = std::filesystem::path(__FILE__).parent_path() / ".." /
+                                      "examples" / "apps" / "focus_context.toml";
+  const Scene s = load_scene(scene, {"image.width=1920", "image.height=1080"});
+  const size_t n = size_t(kW) * kH;
+  for (auto _ : state) {
+    std::vector<double> org(3 * n), dir(3 * n), a(3 * n), b(3 * n), c(3 * n), d(3 * n);
+    std::vector<uint8_t> valid(n);
+    generate_ray_field(*s.camera, kW, kH,
+                       {org.data(), dir.data(), a.data(), b.data(), c.data(), d.data(),
+                        valid.data()});
+    benchmark::DoNotOptimize(valid.data());
+  }
+  state.SetItemsProcessed(state.iterations() * int64_t(n));
+}
+BENCHMARK(BM_RayField1080p)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace anamorph

@@ -66,6 +66,23 @@ def poses(n: int) -> list[tuple[list[float], list[float]]]:
     return out
 
 
+def calibrate(objects: list, images: list, used: list[int], size: tuple[int, int]):
+    """cv2.fisheye.calibrate over the views; when its initialisation fails on a view (an
+    assertion in InitExtrinsics, for a view too oblique for its homography), without that one."""
+    flags = cv2.fisheye.CALIB_RECOMPUTE_EXTRINSIC | cv2.fisheye.CALIB_FIX_SKEW
+    criteria = (cv2.TERM_CRITERIA_COUNT + cv2.TERM_CRITERIA_EPS, 200, 1e-12)
+    for drop in [None, *range(len(used))]:
+        keep = [i for i in range(len(used)) if i != drop]
+        try:
+            rms, K, D, _, _ = cv2.fisheye.calibrate(
+                [objects[i] for i in keep], [images[i] for i in keep], size, np.eye(3),
+                np.zeros((4, 1)), flags=flags, criteria=criteria)
+            return rms, K, D, [used[i] for i in keep]
+        except cv2.error:
+            continue
+    raise SystemExit("cv2.fisheye.calibrate failed on every subset of the views")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=pathlib.Path, default=pathlib.Path("."))
@@ -105,10 +122,7 @@ def main() -> None:
     if len(used) < 3:
         raise SystemExit(f"only {len(used)} of {args.views} views showed the whole board")
 
-    flags = cv2.fisheye.CALIB_RECOMPUTE_EXTRINSIC | cv2.fisheye.CALIB_FIX_SKEW
-    rms, K, D, _, _ = cv2.fisheye.calibrate(
-        objects, images, (width, height), np.eye(3), np.zeros((4, 1)), flags=flags,
-        criteria=(cv2.TERM_CRITERIA_COUNT + cv2.TERM_CRITERIA_EPS, 200, 1e-12))
+    rms, K, D, used = calibrate(objects, images, used, (width, height))
     got = dict(fx=K[0, 0], fy=K[1, 1], cx=K[0, 2], cy=K[1, 2],
                k1=D[0, 0], k2=D[1, 0], k3=D[2, 0], k4=D[3, 0])
     print(f"{len(used)} of {args.views} views, reprojection RMS {rms:.4f} px")
