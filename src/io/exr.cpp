@@ -164,7 +164,7 @@ io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,
     if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
       h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
   check_read_size(file, int64_t(h.data_window.max_x) - h.data_window.min_x + 1,
-                  int64_t(h.data_window.max_y) - h.data_window.min_y + 1);
+                  int64_t(h.data_window.max_y) - h.data_window.min_y + 1, b.size());
   InitEXRImage(&exr.image);
   const char* err = nullptr;
   // Not freed on failure: tinyexr 1.0's DecodeEXRImage frees the image itself on a failed chunk

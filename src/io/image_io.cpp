@@ -35,13 +35,19 @@ void fail_read(std::string_view what, const fs::path& file, std::string_view rea
   throw ImageReadError(fmt::format("{} '{}': {}", what, file.string(), reason));
 }
 
-void check_read_size(const fs::path& file, int64_t width, int64_t height) {
+void check_read_size(const fs::path& file, int64_t width, int64_t height, size_t file_bytes) {
   if (width <= 0 || height <= 0)
     fail_read("cannot read image", file, fmt::format("invalid size {} x {}", width, height));
-  if (uint64_t(width) * uint64_t(height) > kMaxReadPixels)
+  const uint64_t pixels = uint64_t(width) * uint64_t(height);
+  if (pixels > kMaxReadPixels)
     fail_read("cannot read image", file,
               fmt::format("{} x {} pixels is more than the {} million pixels anamorph reads", width,
                           height, kMaxReadPixels / 1000000));
+  if (pixels > kSmallImagePixels && pixels / kMaxPixelsPerByte > file_bytes)
+    fail_read("cannot read image", file,
+              fmt::format("the {}-byte file declares {} x {} pixels, more than {} per byte any "
+                          "image format packs: a damaged file or a decompression bomb",
+                          file_bytes, width, height, kMaxPixelsPerByte));
 }
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
@@ -266,7 +272,7 @@ Image decode_image(const std::vector<unsigned char>& bytes, bool srgb, const fs:
     }
   };
   if (!stbi_info_from_memory(data, len, &w, &h, &n)) stb_fail();
-  io_detail::check_read_size(file, w, h);
+  io_detail::check_read_size(file, w, h, bytes.size());
   // Asking stb for 4 components expands grey to RGB and adds opaque alpha.
   if (stbi_is_hdr_from_memory(data, len)) {
     const int present = hdr_scanlines_present(bytes, w, h);

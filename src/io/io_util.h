@@ -27,7 +27,15 @@ std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
 // RGBA before its mip levels). A few bytes of compressed data can claim far more; the size is
 // checked from the header before any pixel is decoded.
 inline constexpr uint64_t kMaxReadPixels = uint64_t(1) << 27;
-void check_read_size(const std::filesystem::path& file, int64_t width, int64_t height);
+// Beyond kMaxReadPixels, an image must also fit its file: no format anamorph reads packs more
+// than about 8,256 pixels into a byte (deflate's 1032:1 on 1-bit PNG rows), so a file declaring
+// more than kMaxPixelsPerByte per byte of itself (and more than kSmallImagePixels) is damaged or
+// a decompression bomb, refused before decoding (an 86-byte file would otherwise decode to
+// 1.6 GB).
+inline constexpr uint64_t kMaxPixelsPerByte = 8300;
+inline constexpr uint64_t kSmallImagePixels = uint64_t(1) << 22;
+void check_read_size(const std::filesystem::path& file, int64_t width, int64_t height,
+                     size_t file_bytes);
 
 inline constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 bool is_png(const std::vector<unsigned char>& bytes);

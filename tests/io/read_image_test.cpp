@@ -133,3 +133,28 @@ TEST_F(ReadImageScratch, TruncatedHdrIsAnError) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+// An image must fit its file: 86 bytes found by fuzz_image decoded (as a TGA) to 1.6 GB of
+// pixels in 4 s; now refused from the header. A legitimately well compressed image (a flat
+// 3000 x 3000 PNG, 1/1000 of its pixel bytes) still reads.
+TEST_F(ReadImageScratch, ImagesMustFitTheirFiles) {
+  const auto bomb = test::data_dir() / "fuzz" / "image" / "86_bytes_decoding_to_1.6_GB.tga";
+  const std::string msg = test::error_of([&] { read_image(bomb); });
+  EXPECT_NE(msg.find("the 86-byte file declares"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("a damaged file or a decompression bomb"), std::string::npos) << msg;
+
+  OutputImage flat;
+  flat.width = flat.height = 3000;
+  flat.layers.push_back({"", {"R", "G", "B", "A"}, std::vector<float>(size_t(3000) * 3000 * 4)});
+  const auto png = dir() / "flat.png";
+  write_png(png, flat);
+  const auto bytes = std::filesystem::file_size(png);
+  EXPECT_LT(bytes * 100, uint64_t(3000) * 3000 * 4) << "not well compressed: " << bytes;
+  const Image img = read_image(png);
+  EXPECT_EQ(img.width, 3000);
+  EXPECT_EQ(img.at(2999, 2999, 3), 0.0f);
+}
+
+}  // namespace anamorph
