@@ -6,6 +6,7 @@
 #include <chrono>
 #include <future>
 #include <mutex>
+#include <thread>
 
 #include "accel/accel.h"
 #include "bindings.h"
@@ -75,6 +76,9 @@ class SceneHandle {
   // Takes the render lock (without the GIL, so a render on another thread can finish) and
   // builds the acceleration structure on first use.
   std::unique_lock<std::mutex> lock_and_build() {
+    // A progress callback that renders (or asks for info) would wait for itself.
+    if (render_thread_ == std::this_thread::get_id())
+      throw std::runtime_error("a scene cannot be used from its own render's progress callback");
     pb::gil_scoped_release release;
     std::unique_lock<std::mutex> lock(render_mutex_);
     if (!renderer_) renderer_ = std::make_unique<Renderer>(*scene_);
@@ -85,6 +89,7 @@ class SceneHandle {
   std::shared_ptr<Scene> scene_;
   std::unique_ptr<Renderer> renderer_;
   std::mutex render_mutex_;  // one render at a time (a render swaps the view into scene_)
+  std::atomic<std::thread::id> render_thread_{};  // the thread inside run(), if any
   RenderStats stats_;
 };
 
@@ -136,6 +141,11 @@ RenderStats SceneHandle::run(Film& film, const RenderOptions& options, const pb:
     latest = p;
   };
   const Renderer& r = *renderer_;
+  struct Inside {  // marks this thread as rendering, for lock_and_build's check
+    std::atomic<std::thread::id>& id;
+    explicit Inside(std::atomic<std::thread::id>& i) : id(i) { id = std::this_thread::get_id(); }
+    ~Inside() { id = std::thread::id(); }
+  } inside(render_thread_);
   auto done = std::async(std::launch::async, [&] { return r.render(film, opt); });
   // Progress and Ctrl-C are handled here, on the calling thread, every 50 ms.
   const auto report = [&] {

@@ -169,3 +169,14 @@ def test_no_memory_growth_over_a_thousand_renders():
         cam.rays(16, 12)
     grown = rss_kb() - warm
     assert grown < 0.05 * warm, f"RSS grew by {grown} kB over 1000 renders (from {warm} kB)"
+
+
+def test_a_progress_callback_cannot_render_its_own_scene():
+    scene = anamorph.load(DEMO)
+
+    def again(p):
+        scene.render(width=4, height=3)
+
+    with pytest.raises(RuntimeError, match="own render's progress callback"):
+        scene.render(width=320, height=240, spp=64, progress=again)
+    assert scene.render(width=4, height=3)["rgba"].shape == (3, 4, 4)
