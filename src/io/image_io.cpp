@@ -197,9 +197,12 @@ Image from_exr(io_detail::ExrChannels exr, const fs::path& file) {
   return img;
 }
 
-// The scanlines a Radiance HDR file holds (header, then new-style RLE or flat RGBE lines), or -1
-// when its layout is not recognised. stb_image reads past the end of a cut file as zeros, so a
-// truncated sky would load as a partly black one without this check.
+// The scanlines a Radiance HDR file holds (header, then new-style RLE or flat RGBE lines), -1
+// when its layout is not recognised, kHdrCorrupt for a run of length zero. stb_image reads past
+// the end of a cut file as zeros, so a truncated sky would load as a partly black one without
+// this check; and its decoder never advances past a zero-length run (a 178-byte file hung it,
+// found by fuzz_image).
+constexpr int kHdrCorrupt = -2;
 int hdr_scanlines_present(const std::vector<unsigned char>& b, int width, int height) {
   size_t at = 0;
   const auto line = [&] {
@@ -228,7 +231,7 @@ int hdr_scanlines_present(const std::vector<unsigned char>& b, int width, int he
         const int n = b[at++];
         const bool run = n > 128;
         const int count = run ? n - 128 : n;
-        if (count == 0) return -1;  // not a layout we know: let stb judge
+        if (count == 0) return kHdrCorrupt;  // stb_image would loop on it forever
         const size_t bytes = run ? 1 : size_t(count);
         if (b.size() - at < bytes) return y;
         at += bytes;
@@ -276,6 +279,9 @@ Image decode_image(const std::vector<unsigned char>& bytes, bool srgb, const fs:
   // Asking stb for 4 components expands grey to RGB and adds opaque alpha.
   if (stbi_is_hdr_from_memory(data, len)) {
     const int present = hdr_scanlines_present(bytes, w, h);
+    if (present == kHdrCorrupt)
+      fail_read("cannot read image", file,
+                "the HDR file's run-length data is corrupt (a run of length zero)");
     if (present >= 0 && present < h)
       fail_read(
           "cannot read image", file,

@@ -158,3 +158,14 @@ TEST_F(ReadImageScratch, ImagesMustFitTheirFiles) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+// stb_image's HDR decoder loops forever on a run of length zero (178 bytes from fuzz_image).
+TEST(ReadImage, HdrWithAZeroLengthRunIsAnErrorNotAHang) {
+  const auto f = test::data_dir() / "fuzz" / "image" / "hdr_zero_length_run_hung_stb.hdr";
+  const std::string msg = test::error_of([&] { read_image(f); });
+  EXPECT_NE(msg.find("run-length data is corrupt"), std::string::npos) << msg;
+}
+
+}  // namespace anamorph
