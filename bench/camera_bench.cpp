@@ -238,9 +238,9 @@ static void BM_RayField1080p(benchmark::State& state) {
   for (auto _ : state) {
     std::vector<double> org(3 * n), dir(3 * n), a(3 * n), b(3 * n), c(3 * n), d(3 * n);
     std::vector<uint8_t> valid(n);
-    generate_ray_field(*s.camera, kW, kH,
-                       {org.data(), dir.data(), a.data(), b.data(), c.data(), d.data(),
-                        valid.data()});
+    generate_ray_field(
+        *s.camera, kW, kH,
+        {org.data(), dir.data(), a.data(), b.data(), c.data(), d.data(), valid.data()});
     benchmark::DoNotOptimize(valid.data());
   }
   state.SetItemsProcessed(state.iterations() * int64_t(n));
