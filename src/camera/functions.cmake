@@ -9,8 +9,11 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/org_spline.cpp
   ${CMAKE_CURRENT_LIST_DIR}/org_mesh.cpp
   ${CMAKE_CURRENT_LIST_DIR}/org_expression.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/org_scattered.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_basic.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_dependent.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_expression.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/dir_scattered.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scattered_common.cpp
   ${CMAKE_CURRENT_LIST_DIR}/registry.cpp
 )

@@ -12,12 +12,14 @@
 #include "camera/dir_basic.h"
 #include "camera/dir_dependent.h"
 #include "camera/dir_expression.h"
+#include "camera/dir_scattered.h"
 #include "camera/functions.h"
 #include "camera/org_basic.h"
 #include "camera/org_expression.h"
 #include "camera/org_mesh.h"
 #include "camera/org_quadric.h"
 #include "camera/org_revolution.h"
+#include "camera/org_scattered.h"
 #include "camera/org_spline.h"
 #include "camera/org_superquadric.h"
 #include "params/param_docs.h"
@@ -28,13 +30,14 @@ namespace anamorph {
 
 namespace {
 const OrgFunctionInfo* const kOrg[] = {
-    &kPointOrgInfo,   &kPlaneOrgInfo,     &kSphereOrgInfo,  &kCylinderOrgInfo,     &kConeOrgInfo,
-    &kTorusOrgInfo,   &kEllipsoidOrgInfo, &kQuadricOrgInfo, &kSuperquadricOrgInfo, &kBezierOrgInfo,
-    &kBSplineOrgInfo, &kNurbsOrgInfo,     &kMeshOrgInfo,    &kExpressionOrgInfo};
+    &kPointOrgInfo,        &kPlaneOrgInfo,      &kSphereOrgInfo,    &kCylinderOrgInfo,
+    &kConeOrgInfo,         &kTorusOrgInfo,      &kEllipsoidOrgInfo, &kQuadricOrgInfo,
+    &kSuperquadricOrgInfo, &kBezierOrgInfo,     &kBSplineOrgInfo,   &kNurbsOrgInfo,
+    &kMeshOrgInfo,         &kExpressionOrgInfo, &kScatteredOrgInfo};
 const DirFunctionInfo* const kDir[] = {
-    &kConstantDirInfo, &kFromSurfaceDirInfo,    &kTowardDirInfo,
-    &kAwayFromDirInfo, &kNormalDirInfo,         &kTangentUDirInfo,
-    &kTangentVDirInfo, &kDeviatedNormalDirInfo, &kExpressionDirInfo};
+    &kConstantDirInfo,   &kFromSurfaceDirInfo, &kTowardDirInfo,         &kAwayFromDirInfo,
+    &kNormalDirInfo,     &kTangentUDirInfo,    &kTangentVDirInfo,       &kDeviatedNormalDirInfo,
+    &kExpressionDirInfo, &kScatteredDirInfo,   &kScatteredSphereDirInfo};
 
 template <class Info, size_t N>
 std::vector<Info> to_list(const Info* const (&infos)[N]) {

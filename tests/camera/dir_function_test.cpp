@@ -71,6 +71,16 @@ std::vector<Pair> pairs() {
        "x = \"nx + k * u * oy\"\ny = \"ny - v * ox\"\nz = \"nz + sin(u * v) + oz\"\n"
        "constants = { k = 0.7 }\nu_range = [-1, 2]",
        2e-5},
+      {"scattered", "point", "", "scattered",
+       "points = [[0.1, 0.1, -1, 1, -1], [0.9, 0.15, 1, 1, -1.5], [0.5, 0.5, 0, 0, -1], "
+       "[0.2, 0.85, -1, -1, -1], [0.8, 0.9, 1, -0.8, -1]]\nkernel = \"multiquadric\""},
+      {"scattered_sphere_fisheye", "point", "", "scattered_sphere",
+       "points = [[0.3, 0.3, 0, 0.2, -1], [0.7, 0.6, 1, 0, 0.1], [0.6, 0.2, 0, 1, 0]]\n"
+       "fov = 200\nshape = 2"},
+      {"scattered_sphere_equirect", "point", "", "scattered_sphere",
+       "points = [[0.3, 0.3, 0, 0.2, -1], [0.7, 0.6, 1, 0, 0.1], [0.6, 0.2, 0, 1, 0], "
+       "[0.1, 0.9, 0, -1, 0]]\nlayout = \"equirectangular\"\nkernel = \"thin_plate\"\n"
+       "u_range = [-150, 170]"},
   };
 }
 

@@ -28,6 +28,7 @@ struct Case {
   std::string u_range, v_range;  // "[a, b]" (empty: the function has no ranges)
   double tol = 1e-6;             // derivative tolerance
   bool has_normal = true;
+  bool image_coordinates = false;  // no ranges, data placed at image (u, v) (scattered)
 };
 
 // A wavy control net as TOML rows: nu points per row, nv rows, z = f(x, y).
@@ -68,6 +69,19 @@ std::string quad_obj() {
   };
   static const File f;
   return f.path.string();
+}
+
+// Nine [u, v, x, y, z] rows at scattered image positions (none at kPoints below), z wavy.
+std::string scattered_points() {
+  const double uv[9][2] = {{0.1, 0.15}, {0.5, 0.05}, {0.92, 0.2}, {0.2, 0.5},  {0.55, 0.45},
+                           {0.9, 0.6},  {0.05, 0.9}, {0.4, 0.95}, {0.75, 0.85}};
+  std::string rows = "[";
+  for (int i = 0; i < 9; ++i) {
+    const double u = uv[i][0], v = uv[i][1];
+    rows += test::cat(i ? ", [" : "[", u, ", ", v, ", ", 2 * u + 0.3 * v, ", ", -2 * v, ", ",
+                      std::sin(3 * u) + v * v, "]");
+  }
+  return rows + "]";
 }
 
 std::vector<Case> cases() {
@@ -129,6 +143,18 @@ std::vector<Case> cases() {
        "x = \"u + a * sin(v)\"\ny = \"v^2 - u * v\"\nz = \"k * cos(u) + u * v^2\"\n"
        "constants = { a = 0.5, k = 2 }",
        "[-1, 2]", "[0.5, -1.5]", 2e-5},
+      {"scattered_thin_plate", "scattered", test::cat("points = ", scattered_points()), "", "",
+       1e-6, true, true},
+      {"scattered_multiquadric", "scattered",
+       test::cat("points = ", scattered_points(), "\nkernel = \"multiquadric\"\nshape = 2"), "", "",
+       1e-6, true, true},
+      {"scattered_gaussian_smoothed", "scattered",
+       test::cat("points = ", scattered_points(),
+                 "\nkernel = \"gaussian\"\nshape = 1.5\nsmoothing = 0.01"),
+       "", "", 1e-6, true, true},
+      {"scattered_cubic", "scattered",
+       test::cat("points = ", scattered_points(), "\nkernel = \"cubic\""), "", "", 1e-6, true,
+       true},
   };
 }
 
@@ -169,6 +195,7 @@ TEST_P(OrgFunctionTest, NormalIsUnitAndOrthogonal) {
 
 TEST_P(OrgFunctionTest, ReversedRangesMirrorTheImage) {
   const Case& c = GetParam();
+  if (c.image_coordinates) return;  // data at image positions: no ranges to reverse
   if (c.u_range.empty()) {
     // Without ranges the function does not depend on (u, v) at all.
     const auto f = build(c);

@@ -45,6 +45,9 @@ std::string required_keys(std::string_view kind, std::string_view type) {
     return kind == "org" ? "x = \"u\"\ny = \"v\"\nz = \"u * v\""
                          : "x = \"nx\"\ny = \"ny\"\nz = \"nz + u\"";
   if (type == "from_surface") return "surface = { type = \"sphere\" }";
+  if (type == "scattered" || type == "scattered_sphere")
+    return "points = [[0.2, 0.2, 0, 0, -1], [0.8, 0.3, 1, 0, -1], [0.4, 0.9, 0, 1, -1], "
+           "[0.6, 0.6, 0.5, 0.2, -0.5]]";
   return {};
 }
 
@@ -77,10 +80,11 @@ TEST(FunctionRegistry, TablesAreWellFormed) {
   // The list.
   for (const char* n :
        {"point", "plane", "sphere", "cylinder", "cone", "torus", "ellipsoid", "quadric",
-        "superquadric", "bezier", "bspline", "nurbs", "mesh", "expression"})
+        "superquadric", "bezier", "bspline", "nurbs", "mesh", "expression", "scattered"})
     EXPECT_TRUE(org_names.count(n)) << "missing org " << n;
-  for (const char* n : {"constant", "from_surface", "toward", "away_from", "normal", "tangent_u",
-                        "tangent_v", "deviated_normal", "expression"})
+  for (const char* n :
+       {"constant", "from_surface", "toward", "away_from", "normal", "tangent_u", "tangent_v",
+        "deviated_normal", "expression", "scattered", "scattered_sphere"})
     EXPECT_TRUE(dir_names.count(n)) << "missing dir " << n;
 }
 

@@ -1,0 +1,27 @@
+#include "camera/scattered_common.h"
+
+#include <algorithm>
+#include <iterator>
+
+namespace anamorph {
+
+std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::string_view key) {
+  std::vector<ScatteredDatum> out;
+  const auto& rows = v.number_grid(key);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].size() != 5)
+      throw ParamError(std::string(key), std::string(key) + ": point " + std::to_string(i) +
+                                             " has " + std::to_string(rows[i].size()) +
+                                             " numbers; each is [u, v, x, y, z]");
+    out.push_back({{rows[i][0], rows[i][1]}, {rows[i][2], rows[i][3], rows[i][4]}});
+  }
+  return out;
+}
+
+RbfKernel read_rbf_kernel(const ParamValues& v) {
+  const std::string& k = v.string("kernel");
+  const auto* it = std::find(std::begin(kRbfKernelNames), std::end(kRbfKernelNames), k);
+  return RbfKernel(it - std::begin(kRbfKernelNames));  // check_params has checked the choice
+}
+
+}  // namespace anamorph

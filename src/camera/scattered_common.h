@@ -1,0 +1,67 @@
+// What the scattered-data functions (org `scattered`, dir `scattered` and `scattered_sphere`)
+// share: the kernel keys and the reading of [u, v, x, y, z] data rows.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "camera/functions.h"
+#include "math/rbf.h"
+
+namespace anamorph {
+
+inline constexpr std::string_view kRbfKernelNames[] = {
+    "thin_plate", "multiquadric", "inverse_multiquadric", "gaussian", "cubic"};  // RbfKernel order
+
+inline constexpr ParamSpec kRbfKernelParam{
+    "kernel",
+    ParamType::String,
+    "\"thin_plate\"",
+    "The radial basis phi(r): thin_plate (r^2 log r, the smoothest bending; with its linear tail "
+    "it reproduces planes), multiquadric (-sqrt(1 + (shape r)^2), constant tail), "
+    "inverse_multiquadric (1 / sqrt(1 + (shape r)^2)), gaussian (exp(-(shape r)^2)) or cubic "
+    "(r^3, linear tail): SciPy's RBFInterpolator kernels and minimum polynomial degrees.",
+    -kInf,
+    kInf,
+    kRbfKernelNames};
+inline constexpr ParamSpec kRbfShapeParam{
+    "shape",
+    ParamType::Number,
+    "1",
+    "The shape parameter (SciPy's epsilon) of multiquadric, inverse_multiquadric and gaussian: "
+    "larger = narrower bumps, each data point pulling a smaller neighbourhood. The kernels see "
+    "shape * r, as SciPy's; thin_plate and cubic surfaces do not depend on it unless smoothing "
+    "is on (it then scales the smoothing's effect).",
+    0,
+    kInf,
+    {},
+    true};
+inline constexpr ParamSpec kRbfSmoothingParam{
+    "smoothing", ParamType::Number, "0",
+    "lambda: 0 passes through every data point exactly; larger values trade that for a smoother "
+    "result (lambda is added to the system's diagonal, as SciPy's `smoothing`).",
+    0};
+
+// One data row [u, v, x, y, z].
+struct ScatteredDatum {
+  Vec2 uv;
+  Vec3 value;
+};
+
+// Reads `key` as [u, v, x, y, z] rows; ParamError naming the row that is not five numbers.
+std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::string_view key);
+
+RbfKernel read_rbf_kernel(const ParamValues& v);
+
+// Runs make(), turning the interpolator's std::invalid_argument into a ParamError on `key`.
+template <class F>
+auto rbf_param_errors(std::string_view key, F make) {
+  try {
+    return make();
+  } catch (const std::invalid_argument& e) {
+    throw ParamError(std::string(key), std::string(key) + ": " + e.what());
+  }
+}
+
+}  // namespace anamorph
