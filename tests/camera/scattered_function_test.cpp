@@ -277,3 +277,32 @@ TEST(Rbf, SphereSitesOnOneCircleAreSingularUnderALinearTail) {
 
 }  // namespace
 }  // namespace anamorph
+
+namespace anamorph {
+namespace {
+
+TEST(ScatteredCamera, InverseMapFindsThePixelOfEveryPoint) {
+  // A composed camera has no closed-form inverse: project() searches numerically, which needs
+  // the derivatives to be right. pixel -> ray -> a point along it -> project -> the pixel.
+  for (const char* dir : {"normal", "scattered_sphere"}) {
+    VirtualCameraParts parts;
+    const bool sphere = std::string(dir) == "scattered_sphere";
+    parts.org = sphere ? make_org("point", "") : make_org("scattered", rows(random_data(9, 5)));
+    parts.dir = make_dir(dir, sphere ? "points = [[0.4, 0.45, 0.3, 0.1, -1], "
+                                       "[0.7, 0.6, 0.6, -0.3, -0.6]]\nshape = 3\n"
+                                     : "");
+    const VirtualCamera cam(std::move(parts));
+    for (const Vec2 uv : {Vec2{0.37, 0.42}, Vec2{0.61, 0.55}, Vec2{0.45, 0.7}}) {
+      const auto r = cam.generate_pinhole(uv);
+      ASSERT_TRUE(r) << dir;
+      const Vec3 p = r->org + r->dir * 3.7;
+      double best = 1;
+      for (const Vec2 q : cam.project(p)) best = std::min(best, length(q - uv));
+      EXPECT_LT(best, 1e-6) << dir << ": no image position of the point seen at (" << uv.x << ", "
+                            << uv.y << ")";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace anamorph
