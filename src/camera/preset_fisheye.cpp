@@ -19,16 +19,21 @@ namespace anamorph {
 
 namespace {
 
+// The most polynomial coefficients (degree 23): more than any lens model uses (Kannala-Brandt
+// goes to r^9, Scaramuzza's to about r^12), in a fixed array so the mapping copies cheaply.
+constexpr size_t kMaxPolyTerms = 24;
+
 // theta(r): the angle from the axis at normalized image radius r (r = 1 on the image circle).
 struct FisheyeMapping {
   enum Kind { kEquidistant, kEquisolid, kStereographic, kOrthographic, kPolynomial };
   Kind kind = kEquidistant;
-  double theta_max = kPi / 2;  // fov / 2
-  std::array<double, 5> k{};   // polynomial coefficients, radians
+  double theta_max = kPi / 2;             // fov / 2
+  std::array<double, kMaxPolyTerms> k{};  // polynomial coefficients, radians
+  int terms = 0;                          // how many of k are used
 
   double poly(double r, double* dtheta) const {
     double t = 0, dt = 0;
-    for (int i = 4; i >= 0; --i) {
+    for (int i = terms - 1; i >= 0; --i) {
       dt = dt * r + t;
       t = t * r + k[size_t(i)];
     }
@@ -119,16 +124,28 @@ struct FisheyeFrame {
   Vec3 to_local(const Vec3& c) const { return {dot(c, right), dot(c, up), -dot(c, axis)}; }
 };
 
-// Image coordinates: a = (u - 1/2) sa, b = (1/2 - v) sb, so that r = |(a, b)| = 1 on the circle.
+// Image coordinates: a = (u - cu) sa, b = (cv - v) sb, so that r = |(a, b)| = 1 on the circle
+// around (cu, cv).
 struct FisheyeGeometry {
   FisheyeMapping map;
   FisheyeFrame frame;
   double sa = 2, sb = 2;
+  double cu = 0.5, cv = 0.5;  // the image position of the circle's center
+  // Cut-offs (no ray beyond them; the defaults cut nothing): cos of the largest angle from the
+  // axis, and the sine of the lowest elevation above the plane perpendicular to `up_cam` (the
+  // world's +y in camera space) of the unit direction from the eye.
+  double cos_max_angle = -2, sin_min_elevation = -2;
+  Vec3 up_cam{0, 1, 0};
   double radius = 1;  // of the sphere, around the camera-space origin
   Vec3 eye;           // the ray origin
   // sin(fov/4), tan(fov/4), sin(fov/2): set by FisheyeDir once, not per ray.
   double half_sin = 0, half_tan = 0, full_sin = 0;
 };
+
+// Whether direction d (from the eye, any length) rises at least to the minimum elevation.
+inline bool above_min_elevation(const FisheyeGeometry& g, const Vec3& d) {
+  return dot(d, g.up_cam) >= g.sin_min_elevation * length(d);
+}
 
 // The fisheye directions as straight-line code over a batch, which the compiler vectorizes
 // (radial_lane for the direction). No inverse trigonometry: the
@@ -144,9 +161,9 @@ template <FisheyeMapping::Kind K>
   const double tm = g.map.theta_max, R = g.radius, su = R * g.sa, sv = -R * g.sb;
   const double half_sin = g.half_sin, half_tan = g.half_tan, full_sin = g.full_sin;
   const Vec3 X = g.frame.right, Y = g.frame.up, Z = g.frame.axis;
-  alignas(64) double radius[kCameraBatch];
+  alignas(64) double radius[kCameraBatch], cosine[kCameraBatch];
   for (int i = 0; i < n; ++i) {
-    double a = (u[i] - 0.5) * g.sa, b = (0.5 - v[i]) * g.sb;
+    double a = (u[i] - g.cu) * g.sa, b = (g.cv - v[i]) * g.sb;
     const double r = std::sqrt(a * a + b * b);
     radius[i] = r;
     const double ik = 1 / (r > 1 ? r : 1.0);  // onto the circle (exactly 1 inside it)
@@ -186,9 +203,13 @@ template <FisheyeMapping::Kind K>
     out->dv[0][i] = (X.x * bx + Y.x * by - Z.x * bz) * sv;
     out->dv[1][i] = (X.y * bx + Y.y * by - Z.y * bz) * sv;
     out->dv[2][i] = (X.z * bx + Y.z * by - Z.z * bz) * sv;
+    cosine[i] = ct;
   }
-  // Outside the image circle: no ray. (A separate loop: bool stores keep the one above scalar.)
-  for (int i = 0; i < n; ++i) out->ok[i] = radius[i] <= 1 + 1e-12;
+  // Outside the image circle or beyond a cut-off: no ray. (A separate loop: bool stores keep the
+  // one above scalar.)
+  for (int i = 0; i < n; ++i)
+    out->ok[i] = radius[i] <= 1 + 1e-12 && cosine[i] >= g.cos_max_angle &&
+                 (g.sin_min_elevation < -1 || above_min_elevation(g, out->lane(i).d));
 }
 
 // Constant trip counts for full packets and for one-at-a-time calls: full vectors with no
@@ -226,19 +247,20 @@ class FisheyeDir final : public DirFunction {
     if (g_.map.kind != FisheyeMapping::kPolynomial) {
       return eval_as_batch_of_one(*this, uv, org, out);
     }
-    double a = (uv.x - 0.5) * g_.sa, b = (0.5 - uv.y) * g_.sb;
+    double a = (uv.x - g_.cu) * g_.sa, b = (g_.cv - uv.y) * g_.sb;
     const double r = std::sqrt(a * a + b * b);
     if (!(r <= 1 + 1e-12)) return false;  // outside the image circle: no ray
     if (r > 1) a /= r, b /= r;
     double dtheta;
     const double theta = g_.map.theta(std::min(r, 1.0), &dtheta);
+    if (std::cos(theta) < g_.cos_max_angle) return false;
     RadialDirection rd;
     if (!radial_direction(a, b, theta, dtheta, &rd)) return false;
     const double R = g_.radius;
     out->d = g_.frame.to_camera(rd.d) * R - g_.eye;
     out->dd_du = g_.frame.to_camera(rd.dd_da) * (R * g_.sa);
     out->dd_dv = g_.frame.to_camera(rd.dd_db) * (-R * g_.sb);
-    return true;
+    return g_.sin_min_elevation < -1 || above_min_elevation(g_, out->d);
   }
 
   void eval_batch(const double* u, const double* v, int n, const SurfaceBatch& org,
@@ -270,7 +292,9 @@ std::vector<Vec2> fisheye_project(const FisheyeGeometry& g, const Vec3& q) {
   const double theta = polar_angle(g.frame.to_local(g.eye + wn * t), &az);
   double r;
   if (!g.map.radius(theta, &r)) return {};
-  Vec2 uv{0.5 + r * az.x / g.sa, 0.5 - r * az.y / g.sb};
+  if (std::cos(theta) < g.cos_max_angle) return {};
+  if (g.sin_min_elevation >= -1 && !above_min_elevation(g, wn)) return {};
+  Vec2 uv{g.cu + r * az.x / g.sa, g.cv - r * az.y / g.sb};
   if (!clamp_to_image(&uv)) return {};
   return {uv};
 }
@@ -298,7 +322,11 @@ std::string fmt_deg(double rad) { return fmt::format("{:.10g}", degrees(rad)); }
 
 const std::string_view kMappings[] = {"equidistant", "equisolid", "stereographic", "orthographic",
                                       "polynomial"};
-const std::string_view kFits[] = {"circle", "full_frame", "pixels"};
+const std::string_view kFits[] = {"circle", "full_frame", "pixels", "omnimax"};
+
+// POV-Ray's omnimax frame (its tracepixel.cpp): the circle spans the width up to this aspect
+// ratio (width / height) and its top touches the image's top; wider frames keep this circle.
+constexpr double kOmnimaxAspect = 1.283458;
 
 const ParamSpec kFisheyeParams[] = {
     ANAMORPH_LOOK_AT_PARAMS,
@@ -315,14 +343,18 @@ const ParamSpec kFisheyeParams[] = {
     {"mapping", ParamType::String, "\"equidistant\"",
      "theta(r) for r in [0, 1]: equidistant theta = r fov/2; equisolid r = sin(theta/2) / "
      "sin(fov/4); stereographic r = tan(theta/2) / tan(fov/4); orthographic r = sin(theta) / "
-     "sin(fov/2); polynomial theta = k0 + k1 r + ... + k4 r^4 (from `poly`).",
+     "sin(fov/2); polynomial theta = k0 + k1 r + k2 r^2 + ... (from `poly`, any degree up to "
+     "23).",
      -kInf, kInf, kMappings},
     {"poly", ParamType::NumberList, "none",
-     "Polynomial coefficients [k0, ..., k4] in radians (missing ones are 0), for mapping = "
+     "Polynomial coefficients [k0, k1, ..., kn] in radians, n up to 23, for mapping = "
      "\"polynomial\". theta(r) must increase on [0, 1] and theta(1) must equal fov/2."},
     {"fit", ParamType::String, "\"circle\"",
      "Image circle diameter: \"circle\" = the shorter image side (the whole circle visible), "
-     "\"full_frame\" = the image diagonal (the frame filled), \"pixels\" = circle_diameter.",
+     "\"full_frame\" = the image diagonal (the frame filled), \"pixels\" = circle_diameter, "
+     "\"omnimax\" = POV-Ray's omnimax frame (diameter min(width, 1.283458 height), the circle's "
+     "top at the image's top when the image is wider than tall, so the frame cuts its bottom; "
+     "centered otherwise).",
      -kInf, kInf, kFits},
     {"circle_diameter",
      ParamType::Number,
@@ -332,6 +364,27 @@ const ParamSpec kFisheyeParams[] = {
      kInf,
      {},
      true},
+    {"circle_center", ParamType::Vec2, "none",
+     "The image position (u, v) of the circle's center, the axis (default: the image center; "
+     "with fit = \"omnimax\" set by the fit)."},
+    {.name = "max_angle",
+     .type = ParamType::Number,
+     .default_value = "none",
+     .doc = "No ray beyond this angle from the axis (default: fov / 2, the circle's rim): a "
+            "circular cut-off inside the image circle.",
+     .min = 0,
+     .max = 180,
+     .unit = "degrees"},
+    {.name = "min_elevation",
+     .type = ParamType::Number,
+     .default_value = "none",
+     .doc = "No ray below this elevation above the horizon, the plane perpendicular to the "
+            "world's +y as the look-at rig sees it (before camera.transform): e.g. 0 cuts "
+            "everything below the horizon, -10 keeps 10 degrees of it, as a dome theatre's "
+            "screen ends there.",
+     .min = -90,
+     .max = 90,
+     .unit = "degrees"},
 };
 
 FisheyeMapping read_mapping(const ParamValues& v) {
@@ -358,11 +411,14 @@ FisheyeMapping read_mapping(const ParamValues& v) {
     return m;
   }
   if (!v.has("poly"))
-    throw ParamError("mapping", "mapping = \"polynomial\" needs poly = [k0, k1, k2, k3, k4]");
+    throw ParamError("mapping", "mapping = \"polynomial\" needs poly = [k0, k1, ...]");
   const auto& k = v.numbers("poly");
-  if (k.empty() || k.size() > 5)
-    throw ParamError("poly", "poly needs 1 to 5 coefficients (k0..k4)");
+  if (k.empty() || k.size() > kMaxPolyTerms)
+    throw ParamError("poly",
+                     fmt::format("poly needs 1 to {} coefficients (degree up to {}), not {}",
+                                 kMaxPolyTerms, kMaxPolyTerms - 1, k.size()));
   for (size_t i = 0; i < k.size(); ++i) m.k[i] = k[i];
+  m.terms = int(k.size());
   double d;
   if (m.k[0] < 0) throw ParamError("poly", "theta(0) = k0 must be >= 0");
   for (int i = 0; i <= 1000; ++i) {
@@ -381,6 +437,15 @@ FisheyeMapping read_mapping(const ParamValues& v) {
   return m;
 }
 
+// max_angle and min_elevation (see the table); a max_angle beyond the circle cuts nothing.
+void read_cut_offs(const ParamValues& v, FisheyeGeometry* g) {
+  if (v.has("max_angle")) g->cos_max_angle = std::cos(radians(v.number("max_angle")));
+  if (v.has("min_elevation")) {
+    g->sin_min_elevation = std::sin(radians(v.number("min_elevation")));
+    g->up_cam = normalize(rig_from_look_at(v).inverse().vector({0, 1, 0}));
+  }
+}
+
 VirtualCameraParts create_fisheye(const ParamValues& v, const ImageInfo& img) {
   check_params(kFisheyeParams, v);
   FisheyeGeometry g;
@@ -393,11 +458,22 @@ VirtualCameraParts create_fisheye(const ParamValues& v, const ImageInfo& img) {
     diameter = std::min(img.width, img.height);
   else if (fit == "full_frame")
     diameter = std::hypot(double(img.width), double(img.height));
+  else if (fit == "omnimax")
+    diameter = std::min(double(img.width), kOmnimaxAspect * img.height);
   else if (v.has("circle_diameter"))
     diameter = v.number("circle_diameter");
   else
     throw ParamError("fit", "fit = \"pixels\" needs circle_diameter");
   set_circle(&g, img, diameter);
+  if (fit == "omnimax") {
+    if (v.has("circle_center"))
+      throw ParamError("circle_center", "circle_center is set by fit = \"omnimax\"");
+    if (img.width >= img.height) g.cv = diameter / (2.0 * img.height);
+  } else if (v.has("circle_center")) {
+    const Vec2 c = v.vec2("circle_center");
+    g.cu = c.x, g.cv = c.y;
+  }
+  read_cut_offs(v, &g);
   return fisheye_parts(g, v,
                        fmt::format("fisheye {} {:g} deg (org point + dir fisheye sphere)",
                                    v.string("mapping"), v.number("fov")));

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
 
 #include "preset_test_util.h"
 
@@ -147,6 +150,149 @@ TEST(Fisheye, StrictParameters) {
   EXPECT_EQ(key_of("mapping = \"equirectangular\""), "mapping");
   EXPECT_EQ(key_of("fov = 180\nmapping = \"polynomial\"\npoly = [0, 1.5707963267948966]"),
             "<accepted>");
+}
+
+TEST(Fisheye, PolynomialOfHighDegree) {
+  // theta(r) = sum k_i r^i with terms up to r^11 (odd, as a Kannala-Brandt lens has them), the
+  // last coefficient chosen so that theta(1) = 100 degrees.
+  double k[12] = {0, 1.5, 0, 0.08, 0, -0.05, 0, 0.02, 0, -0.01, 0, 0};
+  double sum = 0;
+  for (double c : k) sum += c;
+  k[11] = radians(100) - sum;
+  std::string poly = "poly = [";
+  for (int i = 0; i < 12; ++i) {
+    char c[40];
+    std::snprintf(c, sizeof c, "%s%.17g", i ? ", " : "", k[i]);
+    poly += c;
+  }
+  const VirtualCamera cam =
+      camera("fisheye", "fov = 200\nmapping = \"polynomial\"\n" + poly + "]", {1000, 1000});
+  for (double rr : {0.05, 0.3, 0.61, 0.9, 0.999}) {
+    double theta = 0;
+    for (int i = 11; i >= 0; --i) theta = theta * rr + k[i];
+    const auto r = ray(cam, {0.5 + rr / 2, 0.5});
+    ASSERT_TRUE(r) << "r " << rr;
+    EXPECT_NEAR(angle_deg(r->dir, kForward), degrees(theta), 1e-9) << "r " << rr;
+    // And back: the inverse map solves theta(r) for r.
+    const auto uv = cam.project(r->org + r->dir * 5);
+    ASSERT_EQ(uv.size(), 1u) << "r " << rr;
+    EXPECT_NEAR(uv[0].x, 0.5 + rr / 2, 1e-9) << "r " << rr;
+  }
+  // 24 coefficients (degree 23) are accepted, 25 are not.
+  std::string p24 = "[0, 1.5707963267948966", p25;
+  for (int i = 2; i < 24; ++i) p24 += ", 0";
+  p25 = p24 + ", 0]";
+  p24 += "]";
+  EXPECT_NO_THROW(make_preset("fisheye", "mapping = \"polynomial\"\npoly = " + p24, {64, 64}));
+  try {
+    make_preset("fisheye", "mapping = \"polynomial\"\npoly = " + p25, {64, 64});
+    ADD_FAILURE() << "25 coefficients accepted";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.key, "poly");
+    EXPECT_NE(std::string(e.what()).find("1 to 24 coefficients (degree up to 23), not 25"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Fisheye, MaxAngleCutsACircleInsideTheImageCircle) {
+  const VirtualCamera cam = camera("fisheye", "fov = 180\nmax_angle = 60", {900, 900});
+  int kept = 0, cut = 0;
+  for (int j = 0; j < 90; ++j)
+    for (int i = 0; i < 90; ++i) {
+      const Vec2 uv{(i + 0.5) / 90, (j + 0.5) / 90};
+      const double theta = 90 * std::hypot(2 * uv.x - 1, 2 * uv.y - 1);  // equidistant
+      if (theta > 90) continue;
+      const auto r = ray(cam, uv);
+      EXPECT_EQ(bool(r), theta <= 60) << "uv " << str(uv) << " theta " << theta;
+      (r ? kept : cut)++;
+    }
+  EXPECT_GT(kept, 100);
+  EXPECT_GT(cut, 100);
+  // The inverse map agrees: 50 degrees off the axis is seen, 70 is not.
+  EXPECT_EQ(cam.project({std::sin(radians(50)), 0, -std::cos(radians(50))}).size(), 1u);
+  EXPECT_TRUE(cam.project({std::sin(radians(70)), 0, -std::cos(radians(70))}).empty());
+}
+
+TEST(Fisheye, MinElevationCutsBelowTheWorldHorizon) {
+  // A fisheye looking at the horizon, tilted 20 degrees up: nothing below 5 degrees under the
+  // horizon has a ray, whatever the tilt, and the inverse map agrees.
+  const std::string keys =
+      "fov = 180\nlook_from = [1, 2, 3]\nlook_at = [1, 2.36397, 2]\nmin_elevation = -5";
+  const VirtualCamera cam = camera("fisheye", keys, {400, 400});
+  const VirtualCamera all = camera("fisheye",
+                                   "fov = 180\nlook_from = [1, 2, 3]\n"
+                                   "look_at = [1, 2.36397, 2]",
+                                   {400, 400});
+  const double s5 = std::sin(radians(-5));
+  int cut = 0;
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i) {
+      const Vec2 uv{(i + 0.5) / 40, (j + 0.5) / 40};
+      const auto a = ray(all, uv);
+      if (!a) continue;
+      const auto r = ray(cam, uv);
+      const double elevation = a->dir.y / length(a->dir);
+      EXPECT_EQ(bool(r), elevation >= s5) << "uv " << str(uv) << " dir " << str(a->dir);
+      if (!r) ++cut;
+      const auto back = cam.project(a->org + a->dir * 4);
+      EXPECT_EQ(back.empty(), elevation < s5) << "uv " << str(uv);
+    }
+  EXPECT_GT(cut, 100) << "the bottom of the circle lies below -5 degrees";
+}
+
+// POV-Ray's omnimax camera (tracepixel.cpp, "case OMNIMAX_CAMERA"), written out from its
+// formula at image position (u, v) of a W x H frame: x0 = 2u - 1, y0 = 1 - 2v, the frame's
+// aspect correction, rad = |(x0, y0)| (no ray beyond 1), phi = the polar angle of (x0, y0),
+// theta = rad * angle / 2, and dir = cos(phi) sin(theta) right + sin(phi) sin(theta) up +
+// cos(theta) direction. (POV-Ray samples row y at (H - 1 - y) / H; we compare the mapping at
+// the same continuous positions.)
+std::optional<Vec3> povray_omnimax(Vec2 uv, double W, double H, double angle) {
+  double x0 = 2 * uv.x - 1, y0 = 1 - 2 * uv.y;
+  const double aspect = W / H;
+  if (aspect > 1) {
+    if (aspect > 1.283458) {
+      x0 *= aspect / 1.283458;
+      y0 = (y0 - 1) / 1.283458 + 1;
+    } else {
+      y0 = (y0 - 1) / aspect + 1;
+    }
+  } else {
+    y0 /= aspect;
+  }
+  const double rad = std::sqrt(x0 * x0 + y0 * y0);
+  if (rad > 1) return std::nullopt;
+  const double phi = rad == 0 ? 0 : (x0 < 0 ? kPi - std::asin(y0 / rad) : std::asin(y0 / rad));
+  const double theta = rad * angle * kPi / 360;
+  // right = +x, up = +y, direction = -z (our right-handed camera space).
+  return Vec3{std::cos(phi) * std::sin(theta), std::sin(phi) * std::sin(theta), -std::cos(theta)};
+}
+
+TEST(Fisheye, OmnimaxFitIsPovRaysOmnimaxCamera) {
+  for (const ImageInfo img :
+       {ImageInfo{1540, 1200}, ImageInfo{1600, 900}, ImageInfo{800, 1000}, ImageInfo{700, 700}}) {
+    const VirtualCamera cam = camera("fisheye", "fov = 180\nfit = \"omnimax\"", img);
+    int rays = 0;
+    for (int j = 0; j < 60; ++j)
+      for (int i = 0; i < 60; ++i) {
+        const Vec2 uv{(i + 0.5) / 60, (j + 0.5) / 60};
+        const auto want = povray_omnimax(uv, img.width, img.height, 180);
+        const auto got = ray(cam, uv);
+        ASSERT_EQ(bool(got), bool(want)) << img.width << "x" << img.height << " uv " << str(uv);
+        if (!got) continue;
+        ++rays;
+        EXPECT_LT(length(got->dir - *want), 1e-12)
+            << img.width << "x" << img.height << " uv " << str(uv) << ": " << str(got->dir)
+            << " vs POV-Ray " << str(*want);
+      }
+    EXPECT_GT(rays, 1000) << img.width << "x" << img.height;
+  }
+  try {
+    make_preset("fisheye", "fit = \"omnimax\"\ncircle_center = [0.5, 0.6]", {64, 48});
+    ADD_FAILURE() << "circle_center with fit = omnimax accepted";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.key, "circle_center");
+  }
 }
 
 TEST(MirrorBall, CenterReflectsBackRimShowsBehindTheBall) {
