@@ -53,19 +53,28 @@ int run_rays(const RaysArgs& a) {
   OutputImage img;
   img.width = W;
   img.height = H;
+  // org and dir as floats, and org_lo, dir_lo the float residuals: hi + lo carries each double
+  // to about 1e-15 (EXR has no 64-bit floats), which the table camera reads back.
   ImageLayer org{"org", {"X", "Y", "Z"}, {}}, dir{"dir", {"X", "Y", "Z"}, {}},
+      org_lo{"org_lo", {"X", "Y", "Z"}, {}}, dir_lo{"dir_lo", {"X", "Y", "Z"}, {}},
       valid{"valid", {"V"}, {}};
+  const auto put = [](ImageLayer& hi, ImageLayer& lo, double x) {
+    const float h = float(x);
+    hi.data.push_back(h);
+    lo.data.push_back(float(x - double(h)));
+  };
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const auto r = s.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
       const Vec3 o = r ? r->org : Vec3{}, d = r ? r->dir : Vec3{};
       for (int k = 0; k < 3; ++k) {
-        org.data.push_back(float(o[k]));
-        dir.data.push_back(float(d[k]));
+        put(org, org_lo, o[k]);
+        put(dir, dir_lo, d[k]);
       }
       valid.data.push_back(r ? 1.0f : 0.0f);
     }
-  img.layers = {std::move(org), std::move(dir), std::move(valid)};
+  img.layers = {std::move(org), std::move(dir), std::move(org_lo), std::move(dir_lo),
+                std::move(valid)};
   img.metadata["anamorph.command"] = command_line();
   img.metadata["anamorph.camera"] = s.camera->describe() + "\n" + s.camera_toml;
   write_exr(out, img);

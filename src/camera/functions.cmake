@@ -15,5 +15,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/dir_expression.cpp
   ${CMAKE_CURRENT_LIST_DIR}/dir_scattered.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scattered_common.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/ray_table.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/table_functions.cpp
   ${CMAKE_CURRENT_LIST_DIR}/registry.cpp
 )

@@ -22,6 +22,7 @@
 #include "camera/org_scattered.h"
 #include "camera/org_spline.h"
 #include "camera/org_superquadric.h"
+#include "camera/table_functions.h"
 #include "params/param_docs.h"
 #include "params/param_toml.h"
 #include "params/read_params.h"
@@ -33,11 +34,11 @@ const OrgFunctionInfo* const kOrg[] = {
     &kPointOrgInfo,        &kPlaneOrgInfo,      &kSphereOrgInfo,    &kCylinderOrgInfo,
     &kConeOrgInfo,         &kTorusOrgInfo,      &kEllipsoidOrgInfo, &kQuadricOrgInfo,
     &kSuperquadricOrgInfo, &kBezierOrgInfo,     &kBSplineOrgInfo,   &kNurbsOrgInfo,
-    &kMeshOrgInfo,         &kExpressionOrgInfo, &kScatteredOrgInfo};
+    &kMeshOrgInfo,         &kExpressionOrgInfo, &kScatteredOrgInfo, &kTableOrgInfo};
 const DirFunctionInfo* const kDir[] = {
-    &kConstantDirInfo,   &kFromSurfaceDirInfo, &kTowardDirInfo,         &kAwayFromDirInfo,
-    &kNormalDirInfo,     &kTangentUDirInfo,    &kTangentVDirInfo,       &kDeviatedNormalDirInfo,
-    &kExpressionDirInfo, &kScatteredDirInfo,   &kScatteredSphereDirInfo};
+    &kConstantDirInfo,   &kFromSurfaceDirInfo, &kTowardDirInfo,          &kAwayFromDirInfo,
+    &kNormalDirInfo,     &kTangentUDirInfo,    &kTangentVDirInfo,        &kDeviatedNormalDirInfo,
+    &kExpressionDirInfo, &kScatteredDirInfo,   &kScatteredSphereDirInfo, &kTableDirInfo};
 
 template <class Info, size_t N>
 std::vector<Info> to_list(const Info* const (&infos)[N]) {

@@ -10,3 +10,7 @@ add_dependencies(test_bad_input anamorph)
 anamorph_add_test(test_layering
   ${CMAKE_CURRENT_LIST_DIR}/layering_test.cpp
 )
+anamorph_add_test(test_table_camera
+  ${CMAKE_CURRENT_LIST_DIR}/table_camera_test.cpp
+)
+add_dependencies(test_table_camera anamorph)

@@ -8,4 +8,5 @@ anamorph_add_test(test_camera_functions
   ${CMAKE_CURRENT_LIST_DIR}/function_error_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/registry_function_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scattered_function_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/table_function_test.cpp
 )

@@ -155,6 +155,7 @@ std::vector<Case> cases() {
       {"scattered_cubic", "scattered",
        test::cat("points = ", scattered_points(), "\nkernel = \"cubic\""), "", "", 1e-6, true,
        true},
+      {"table", "table", test::cat("samples = ", net(7, 6)), "", "", 1e-6, false, true},
   };
 }
 

@@ -45,6 +45,7 @@ std::string required_keys(std::string_view kind, std::string_view type) {
     return kind == "org" ? "x = \"u\"\ny = \"v\"\nz = \"u * v\""
                          : "x = \"nx\"\ny = \"ny\"\nz = \"nz + u\"";
   if (type == "from_surface") return "surface = { type = \"sphere\" }";
+  if (type == "table") return "samples = [[[-1, 1, -1], [1, 1, -1]], [[-1, -1, -1], [1, -1, -1]]]";
   if (type == "scattered" || type == "scattered_sphere")
     return "points = [[0.2, 0.2, 0, 0, -1], [0.8, 0.3, 1, 0, -1], [0.4, 0.9, 0, 1, -1], "
            "[0.6, 0.6, 0.5, 0.2, -0.5]]";
