@@ -52,11 +52,62 @@ struct ParsedExr {
   }
 };
 
+// The header's attributes that tinyexr 1.0 checks with assert() instead of an error (an abort
+// in a release build: found by fuzz_image): `tiles` must be a 9-byte tiledesc, and `type` one of
+// OpenEXR's image types, consistent with tinyexr's notion of tiled (the version's tiled flag
+// and a tiles attribute). Walks name\0 type\0 size data... up to the empty name; a header cut
+// short is left to tinyexr, which reports it as an error before it looks at `type`.
+void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_flag,
+                             const fs::path& file) {
+  size_t at = 8;  // magic and version
+  const auto text = [&](std::string* out) {
+    if (at >= b.size()) return false;
+    const auto* end =
+        static_cast<const unsigned char*>(std::memchr(b.data() + at, 0, b.size() - at));
+    if (!end) return false;
+    out->assign(reinterpret_cast<const char*>(b.data() + at), size_t(end - (b.data() + at)));
+    at = size_t(end - b.data()) + 1;
+    return true;
+  };
+  bool has_tiles = false;
+  std::string image_type;
+  for (;;) {
+    std::string name, type;
+    if (!text(&name)) return;
+    if (name.empty()) break;
+    if (!text(&type) || at + 4 > b.size()) return;
+    uint32_t size = 0;
+    std::memcpy(&size, b.data() + at, 4);  // little-endian, as every host we build for
+    at += 4;
+    if (size > b.size() - at) return;
+    if (name == "tiles") {
+      if (size != 9)
+        fail_read("cannot read EXR", file,
+                  fmt::format("its tiles attribute has {} bytes, not 9", size));
+      has_tiles = true;
+    }
+    if (name == "type") {
+      image_type.assign(reinterpret_cast<const char*>(b.data() + at), size);
+      image_type = image_type.substr(0, image_type.find('\0'));
+      if (image_type != "scanlineimage" && image_type != "tiledimage")
+        fail_read("cannot read EXR", file,
+                  "its type attribute is neither scanlineimage nor tiledimage (deep or damaged)");
+    }
+    at += size;
+  }
+  const bool tiled = tiled_flag && has_tiles;
+  if (!image_type.empty() && (image_type == "tiledimage") != tiled)
+    fail_read("cannot read EXR", file,
+              fmt::format("its type says {} but the header describes {}", image_type,
+                          tiled ? "tiles" : "scanlines"));
+}
+
 void parse_header(ParsedExr& exr, const std::vector<unsigned char>& b, const fs::path& file) {
   if (ParseEXRVersionFromMemory(&exr.version, b.data(), b.size()) != TINYEXR_SUCCESS)
     fail_read("cannot read EXR", file, "not a valid OpenEXR file");
   if (exr.version.multipart || exr.version.non_image)
     fail_read("cannot read EXR", file, "multi-part and deep EXR files are not supported");
+  check_header_attributes(b, exr.version.tiled != 0, file);
   InitEXRHeader(&exr.header);
   const char* err = nullptr;
   if (ParseEXRHeaderFromMemory(&exr.header, &exr.version, b.data(), b.size(), &err) !=

@@ -1,7 +1,10 @@
 // read_image on fixtures written by tests/data/io/make_fixtures.py (not by our encoders).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
+
+#include <filesystem>
 #include <fstream>
 
 #include "io/image_io.h"
@@ -166,6 +169,60 @@ TEST(ReadImage, HdrWithAZeroLengthRunIsAnErrorNotAHang) {
   const auto f = test::data_dir() / "fuzz" / "image" / "hdr_zero_length_run_hung_stb.hdr";
   const std::string msg = test::error_of([&] { read_image(f); });
   EXPECT_NE(msg.find("run-length data is corrupt"), std::string::npos) << msg;
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+// tinyexr 1.0 checks an EXR's `type` and `tiles` attributes with assert(): a bad one aborted the
+// process (1548 bytes from fuzz_image). Each case is an EXR we wrote with one attribute added
+// right after the version field.
+std::filesystem::path exr_with_attribute(const std::string& name, const std::string& type,
+                                         const std::string& value, bool tiled_flag) {
+  OutputImage img;
+  img.width = img.height = 2;
+  img.layers = {{"", {"R", "G", "B", "A"}, std::vector<float>(16, 0.5f)}};
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("anamorph_exr_attr_" + std::to_string(::getpid()) + ".exr");
+  write_exr(path, img);
+  std::string bytes = test::read_text(path);
+  const uint32_t size = uint32_t(value.size());
+  const std::string attr =
+      name + '\0' + type + '\0' + std::string(reinterpret_cast<const char*>(&size), 4) + value;
+  bytes.insert(8, attr);
+  if (tiled_flag) bytes[5] = char(bytes[5] | 0x02);
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+std::string exr_error(const std::string& name, const std::string& type, const std::string& value,
+                      bool tiled_flag) {
+  const auto path = exr_with_attribute(name, type, value, tiled_flag);
+  const std::string msg = test::error_of([&] { read_image(path); });
+  std::filesystem::remove(path);
+  return msg;
+}
+
+TEST(ReadImage, ExrAttributesTinyexrAssertsOnAreErrors) {
+  const auto f = test::data_dir() / "fuzz" / "image" / "exr_type_attribute_aborted_tinyexr.exr";
+  const std::string fuzzed = test::error_of([&] { read_image(f); });
+  EXPECT_NE(fuzzed.find("its type attribute is neither scanlineimage nor tiledimage"),
+            std::string::npos)
+      << fuzzed;
+  EXPECT_NE(exr_error("type", "string", "deepscanline", false)
+                .find("neither scanlineimage nor tiledimage"),
+            std::string::npos);
+  EXPECT_NE(exr_error("type", "string", "tiledimage", false)
+                .find("its type says tiledimage but the header describes scanlines"),
+            std::string::npos);
+  EXPECT_NE(exr_error("tiles", "tiledesc", std::string(8, '\1'), true)
+                .find("its tiles attribute has 8 bytes, not 9"),
+            std::string::npos);
+  // A consistent type attribute passes the check (the file then fails later only because the
+  // inserted bytes moved its pixel data away from its offset table).
+  const std::string consistent = exr_error("type", "string", "scanlineimage", false);
+  EXPECT_EQ(consistent.find("type"), std::string::npos) << consistent;
 }
 
 }  // namespace anamorph
