@@ -58,6 +58,7 @@ void add_render(CLI::App& app, std::function<int()>& run);
 void add_info(CLI::App& app, std::function<int()>& run);
 void add_rays(CLI::App& app, std::function<int()>& run);
 void add_project(CLI::App& app, std::function<int()>& run);
+void add_formfactors(CLI::App& app, std::function<int()>& run);
 void add_bench(CLI::App& app, std::function<int()>& run);
 void add_compare(CLI::App& app, std::function<int()>& run);
 void add_schema(CLI::App& app, std::function<int()>& run);

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   add_info(app, run);
   add_rays(app, run);
   add_project(app, run);
+  add_formfactors(app, run);
   add_bench(app, run);
   add_compare(app, run);
   add_schema(app, run);

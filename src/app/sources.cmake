@@ -6,5 +6,6 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_bench.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_compare.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cmd_formfactors.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_schema.cpp
 )

@@ -2,7 +2,9 @@
 // (possibly with packet tracing) and hands it over, so AOVs and integrators share one trace.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -23,6 +25,12 @@ struct RenderContext {
   const std::atomic<bool>* cancel = nullptr;  // set: integrators stop tracing and return black
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
+
+// How far a ray leaving a surface point starts off it (along the normal), against float
+// self-intersection in Embree: relative to the point's distance from the origin.
+inline double ray_offset(const Vec3& p) {
+  return 1e-5 * (1 + std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+}
 
 class Integrator {
  public:

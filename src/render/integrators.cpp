@@ -9,12 +9,8 @@ namespace anamorph {
 
 namespace {
 
-double offset_scale(const Vec3& p) {
-  return 1e-5 * (1 + std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
-}
-
 bool visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint64_t& rays) {
-  const double eps = offset_scale(h.p);
+  const double eps = ray_offset(h.p);
   // Stop short of the light by a relative margin: float rays may otherwise graze the emitter
   // itself near its silhouette (measured: 20% of sphere-light samples lost at 1e-6).
   const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
@@ -102,7 +98,7 @@ class Whitted final : public Integrator {
   // rays stop at glass: its paths through glass find the light themselves.)
   double transmittance(const Hit& h, const LightSample& ls, uint64_t& rays) const {
     const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
-    Vec3 o = h.p + n * offset_scale(h.p);
+    Vec3 o = h.p + n * ray_offset(h.p);
     double T = 1;
     for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
       // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
@@ -115,7 +111,7 @@ class Whitted final : public Integrator {
       T *= ctx_.scene.materials[x.material].transmission;
       if (!(T > 0)) return 0;
       const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
-      o = x.p + nx * offset_scale(x.p);
+      o = x.p + nx * ray_offset(x.p);
     }
     return 0;  // (more surfaces than that: taken as opaque)
   }
@@ -222,7 +218,7 @@ class PathTracer final : public Integrator {
 
 Ray Integrator::spawn(const Hit& h, const Vec3& dir) {
   const Vec3 n = dot(dir, h.ng) >= 0 ? h.ng : -h.ng;
-  return Ray{h.p + n * offset_scale(h.p), dir, 0, kInf};
+  return Ray{h.p + n * ray_offset(h.p), dir, 0, kInf};
 }
 
 std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const RenderContext& ctx) {

@@ -3,6 +3,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/bsdf.cpp
   ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/form_factors.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/surface_sampler.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_metrics.cpp
   ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lights.cpp

@@ -1,0 +1,319 @@
+#include "render/form_factors.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "camera/presets.h"
+#include "math/frame.h"
+#include "math/parallel.h"
+#include "math/rng.h"
+#include "render/integrator.h"
+#include "render/lights.h"
+#include "render/surface_sampler.h"
+#include "scene/scene_schema.h"
+
+namespace anamorph {
+
+namespace {
+
+std::string record_name(const Accel::Record& r, uint32_t id) {
+  std::string n;
+  switch (r.kind) {
+    case Accel::Record::Kind::FlatMesh:
+      n = r.mesh->name;
+      break;
+    case Accel::Record::Kind::Instance:
+      n = r.proto->name;
+      break;
+    case Accel::Record::Kind::Shape:
+      n = r.shape->name.empty() ? std::string(name_of(r.shape->kind)) : r.shape->name;
+      break;
+  }
+  return n.empty() ? "object" + std::to_string(id) : n;
+}
+
+// Unique names: a repeated name gets "#2", "#3", ... in object order.
+std::vector<std::string> object_names(const Accel& accel) {
+  std::vector<std::string> names;
+  std::map<std::string, int> seen;
+  for (uint32_t id = 0; id < accel.object_count(); ++id) {
+    std::string n = record_name(accel.record(id), id);
+    const int k = ++seen[n];
+    names.push_back(k == 1 ? n : n + "#" + std::to_string(k));
+  }
+  return names;
+}
+
+int index_of(const std::vector<std::string>& names, const std::string& n) {
+  const auto it = std::find(names.begin(), names.end(), n);
+  if (it == names.end()) {
+    std::string all;
+    for (const auto& x : names) all += (all.empty() ? "" : ", ") + x;
+    throw std::invalid_argument("no object named '" + n + "' (the scene has: " + all + ")");
+  }
+  return int(it - names.begin());
+}
+
+// The hemispherical camera: the orthographic fisheye over 180 degrees, r = sin(theta), whose
+// image disk has equal projected solid angle per unit area (Nusselt's analog). Its rays, in its
+// own space (looking along -z), at the centers of a jittered g x g grid.
+struct Hemisphere {
+  VirtualCamera camera{make_preset("fisheye", "fov = 180\nmapping = \"orthographic\"", {64, 64})};
+  int g;
+  explicit Hemisphere(int rays) : g(std::max(1, int(std::lround(std::sqrt(double(rays)))))) {}
+  // Direction m of the grid in the frame around n (local z = n), turned by `spin`.
+  std::optional<Vec3> direction(int m, Rng& rng, const Frame& f) const {
+    const double u = (m % g + rng.uniform()) / g, v = (m / g + rng.uniform()) / g;
+    const auto r = camera.generate(CameraSample{{u, v}});
+    if (!r) return std::nullopt;  // outside the image circle
+    return f.to_world({r->dir.x, r->dir.y, -r->dir.z});
+  }
+};
+
+// A frame around n turned by a random angle (so that the grid's directions differ per point).
+Frame spun_frame(const Vec3& n, double spin) {
+  Frame f = Frame::from_normal(n);
+  const double c = std::cos(spin), s = std::sin(spin);
+  const Vec3 a = f.s * c + f.t * s, b = f.t * c - f.s * s;
+  f.s = a, f.t = b;
+  return f;
+}
+
+// Weighted sums over a source's points, per column: sum w, sum w F, sum w^2 F^2 ... enough for
+// the weighted mean and its standard error.
+struct Sums {
+  double w = 0, w2 = 0;
+  std::vector<double> wf, w2f, w2f2;
+  explicit Sums(size_t cols) : wf(cols), w2f(cols), w2f2(cols) {}
+  void add(double weight, const std::vector<double>& f) {
+    w += weight, w2 += weight * weight;
+    for (size_t c = 0; c < f.size(); ++c) {
+      wf[c] += weight * f[c];
+      w2f[c] += weight * weight * f[c];
+      w2f2[c] += weight * weight * f[c] * f[c];
+    }
+  }
+  void merge(const Sums& o) {
+    w += o.w, w2 += o.w2;
+    for (size_t c = 0; c < wf.size(); ++c)
+      wf[c] += o.wf[c], w2f[c] += o.w2f[c], w2f2[c] += o.w2f2[c];
+  }
+  // The ratio estimate sum(w f) / sum(w) and its standard error, sqrt(sum w^2 (f - mean)^2) /
+  // sum(w) (n / (n - 1) corrected).
+  std::pair<double, double> mean_error(size_t c, int n) const {
+    const double m = wf[c] / w;
+    const double var = std::max(0.0, w2f2[c] - 2 * m * w2f[c] + m * m * w2);
+    return {m, std::sqrt(var * n / std::max(1, n - 1)) / w};
+  }
+};
+
+// Runs f(point, weight, rng, counts) over a source's origins in fixed chunks, merging per-chunk
+// sums in chunk order: the same bits for any thread count.
+template <class PerPoint>
+Sums over_points(const SurfaceSampler& sampler, int origins, size_t cols, uint64_t seed,
+                 uint64_t stream, const std::atomic<bool>* cancel, PerPoint per_point) {
+  constexpr int kChunk = 16;
+  const int chunks = (origins + kChunk - 1) / kChunk;
+  std::vector<Sums> partial(static_cast<size_t>(chunks), Sums(cols));
+  parallel_for_each(0, chunks, [&](int c) {
+    std::vector<double> f(cols);
+    for (int k = c * kChunk; k < std::min(origins, (c + 1) * kChunk); ++k) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) return;
+      Rng rng((stream << 32) + uint64_t(k), seed);
+      const SurfacePoint s = sampler.sample((k + rng.uniform()) / origins, rng.uniform());
+      std::fill(f.begin(), f.end(), 0.0);
+      per_point(s, rng, f);
+      partial[size_t(c)].add(s.weight, f);
+    }
+  });
+  Sums total(cols);
+  for (const Sums& p : partial) total.merge(p);
+  return total;
+}
+
+}  // namespace
+
+FormFactors measure_form_factors(const Scene& scene, const Accel& accel,
+                                 const FormFactorOptions& o) {
+  (void)scene;
+  FormFactors out;
+  out.names = object_names(accel);
+  const size_t n = out.names.size(), cols = n + 1;
+  std::vector<bool> inward(n, false);
+  for (const auto& name : o.inward) inward[size_t(index_of(out.names, name))] = true;
+  std::vector<int> wanted;
+  for (const auto& name : o.sources) wanted.push_back(index_of(out.names, name));
+  out.areas.assign(n, 0);
+  std::vector<std::optional<SurfaceSampler>> samplers(n);
+  for (size_t i = 0; i < n; ++i) {
+    try {
+      samplers[i].emplace(accel.record(uint32_t(i)), inward[i]);
+    } catch (const std::invalid_argument& e) {
+      if (std::find(wanted.begin(), wanted.end(), int(i)) != wanted.end())
+        throw std::invalid_argument("'" + out.names[i] + "': " + e.what() +
+                                    ", so it has no row of form factors");
+    }
+  }
+  if (wanted.empty())
+    for (size_t i = 0; i < n; ++i)
+      if (samplers[i]) wanted.push_back(int(i));
+  const Hemisphere hemi(o.rays);
+  for (const int i : wanted) {
+    const Sums sums =
+        over_points(*samplers[size_t(i)], o.origins, cols, o.seed, uint64_t(i), o.cancel,
+                    [&](const SurfacePoint& s, Rng& rng, std::vector<double>& f) {
+                      const Frame frame = spun_frame(s.n, 2 * kPi * rng.uniform());
+                      int valid = 0;
+                      for (int m = 0; m < hemi.g * hemi.g; ++m) {
+                        const auto d = hemi.direction(m, rng, frame);
+                        if (!d) continue;
+                        ++valid;
+                        Hit hit;
+                        const Ray ray{s.p + s.n * ray_offset(s.p), *d};
+                        f[accel.intersect(ray, &hit) ? hit.object_id : n] += 1;
+                      }
+                      for (double& x : f) x /= std::max(valid, 1);
+                    });
+    out.rows.push_back(i);
+    out.areas[size_t(i)] = sums.w / o.origins;
+    std::vector<double> row(cols), err(cols);
+    // An entry no ray hit has a spread of zero, but all it shows is F < a few / rays: its error
+    // is at least one ray's worth (so reciprocity against a tiny object is judged fairly).
+    const double one_ray = 1.0 / (double(o.origins) * hemi.g * hemi.g * kPi / 4);
+    for (size_t c = 0; c < cols; ++c) {
+      std::tie(row[c], err[c]) = sums.mean_error(c, o.origins);
+      err[c] = std::max(err[c], one_ray);
+    }
+    out.F.push_back(std::move(row));
+    out.error.push_back(std::move(err));
+  }
+  // Reciprocity over measured pairs.
+  for (size_t a = 0; a < out.rows.size(); ++a)
+    for (size_t b = a + 1; b < out.rows.size(); ++b) {
+      const size_t i = size_t(out.rows[a]), j = size_t(out.rows[b]);
+      const double lhs = out.areas[i] * out.F[a][j], rhs = out.areas[j] * out.F[b][i];
+      const double se = std::hypot(out.areas[i] * out.error[a][j], out.areas[j] * out.error[b][i]);
+      const double z = se > 0 ? std::abs(lhs - rhs) / se : (lhs == rhs ? 0 : kInf);
+      if (z > out.worst_reciprocity_z)
+        out.worst_reciprocity_z = z, out.worst_i = int(i), out.worst_j = int(j);
+    }
+  return out;
+}
+
+namespace {
+
+const Material& object_material(const Scene& scene, const Accel& accel, uint32_t id) {
+  const Accel::Record& r = accel.record(id);
+  uint32_t m = 0;
+  switch (r.kind) {
+    case Accel::Record::Kind::FlatMesh:
+      m = r.mesh->material;
+      break;
+    case Accel::Record::Kind::Instance:
+      m = r.proto->meshes.empty() ? 0 : r.proto->meshes[0].material;
+      break;
+    case Accel::Record::Kind::Shape:
+      m = r.shape->material;
+      break;
+  }
+  return scene.materials[m];
+}
+
+}  // namespace
+
+Color object_reflectance(const Scene& scene, const Accel& accel, uint32_t id) {
+  const Material& m = object_material(scene, accel, id);
+  const Color base = m.base_color.value;
+  return m.model == Material::Model::Whitted ? base * m.diffuse : base * (1 - m.metallic);
+}
+
+Color object_emission(const Scene& scene, const Accel& accel, uint32_t id) {
+  const Material& m = object_material(scene, accel, id);
+  return m.emission.value * (m.emission_strength * kPi);
+}
+
+std::vector<Color> solve_radiosity(const Scene& scene, const Accel& accel, const FormFactors& f) {
+  const int n = int(f.rows.size());
+  if (size_t(n) != f.names.size())
+    throw std::invalid_argument(
+        "radiosity needs a row of form factors for every object (all with finite area)");
+  // Each pair's exchange A_i F_ij = A_j F_ji is measured twice, from either side, usually with
+  // very different errors (a small lamp's row measures its exchange with a big room far more
+  // precisely than the room's row does): combine the two by inverse variance and use that.
+  std::vector<std::vector<double>> F(static_cast<size_t>(n),
+                                     std::vector<double>(static_cast<size_t>(n)));
+  for (int a = 0; a < n; ++a)
+    for (int j = 0; j < n; ++j) F[size_t(f.rows[size_t(a)])][size_t(j)] = f.F[size_t(a)][size_t(j)];
+  std::vector<int> row_of(static_cast<size_t>(n));
+  for (int a = 0; a < n; ++a) row_of[size_t(f.rows[size_t(a)])] = a;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      const double Ai = f.areas[size_t(i)], Aj = f.areas[size_t(j)];
+      const auto& ri = f.error[size_t(row_of[size_t(i)])];
+      const auto& rj = f.error[size_t(row_of[size_t(j)])];
+      const double si = Ai * ri[size_t(j)], sj = Aj * rj[size_t(i)];
+      const double wi = 1 / (si * si), wj = 1 / (sj * sj);
+      const double g =
+          (wi * Ai * F[size_t(i)][size_t(j)] + wj * Aj * F[size_t(j)][size_t(i)]) / (wi + wj);
+      F[size_t(i)][size_t(j)] = g / Ai, F[size_t(j)][size_t(i)] = g / Aj;
+    }
+  std::vector<Color> B(static_cast<size_t>(n));
+  for (int c = 0; c < 3; ++c) {
+    Eigen::MatrixXd A = Eigen::MatrixXd::Identity(n, n);
+    Eigen::VectorXd E(n);
+    for (int i = 0; i < n; ++i) {
+      const double rho = object_reflectance(scene, accel, uint32_t(i))[c];
+      E(i) = object_emission(scene, accel, uint32_t(i))[c];
+      for (int j = 0; j < n; ++j) A(i, j) -= rho * F[size_t(i)][size_t(j)];
+    }
+    const Eigen::VectorXd x = A.partialPivLu().solve(E);
+    for (int i = 0; i < n; ++i) B[size_t(i)][c] = x(i);
+  }
+  return B;
+}
+
+PathRadiance path_traced_radiance(const Scene& scene, const Accel& accel, const FormFactors& f,
+                                  const FormFactorOptions& o, int max_depth) {
+  const Lights lights(scene, accel);
+  const RenderContext ctx{scene, accel, lights, max_depth, 0, o.cancel};
+  const auto path = make_integrator(IntegratorKind::Path, ctx);
+  const Hemisphere hemi(o.rays);
+  std::vector<bool> inward(f.names.size(), false);
+  for (const auto& name : o.inward) inward[size_t(index_of(f.names, name))] = true;
+  PathRadiance out;
+  for (const int i : f.rows) {
+    const SurfaceSampler sampler(accel.record(uint32_t(i)), inward[size_t(i)]);
+    const Color rho = object_reflectance(scene, accel, uint32_t(i));
+    const Color le = object_emission(scene, accel, uint32_t(i)) / kPi;
+    const Sums sums =
+        over_points(sampler, o.origins, 3, o.seed + 1, uint64_t(i), o.cancel,
+                    [&](const SurfacePoint& s, Rng& rng, std::vector<double>& f3) {
+                      const Frame frame = spun_frame(s.n, 2 * kPi * rng.uniform());
+                      Color in;
+                      int valid = 0;
+                      uint64_t rays = 0;
+                      for (int m = 0; m < hemi.g * hemi.g; ++m) {
+                        const auto d = hemi.direction(m, rng, frame);
+                        if (!d) continue;
+                        ++valid;
+                        const Ray ray{s.p + s.n * ray_offset(s.p), *d};
+                        Hit hit;
+                        const bool found = accel.intersect(ray, &hit);
+                        in += path->radiance(ray, found ? &hit : nullptr, Footprint{}, rng, rays);
+                      }
+                      const Color out_radiance = le + rho * in / double(std::max(valid, 1));
+                      for (int c = 0; c < 3; ++c) f3[size_t(c)] = out_radiance[c];
+                    });
+    Color m, e;
+    for (int c = 0; c < 3; ++c) std::tie(m[c], e[c]) = sums.mean_error(size_t(c), o.origins);
+    out.mean.push_back(m);
+    out.error.push_back(e);
+  }
+  return out;
+}
+
+}  // namespace anamorph

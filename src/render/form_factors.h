@@ -1,0 +1,63 @@
+// Form factors measured with a virtual camera (the paper's future work: "virtual cameras might
+// be considered for the form factor calculations of non-polygonal objects with the radiosity
+// method"). At points spread over a source object by area, a hemispherical camera around the
+// surface normal whose pixels have equal projected solid angle (the orthographic fisheye,
+// Nusselt's analog) traces into the scene; the fraction of its rays that first hit object j is
+// the point-to-object form factor, and its area-weighted mean over the source is F_ij. Works
+// for analytic shapes and meshes alike: nothing is tessellated.
+#pragma once
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "accel/accel.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+struct FormFactorOptions {
+  int origins = 2048;                // points per source object (stratified by area)
+  int rays = 256;                    // hemisphere camera samples per point (a 16 x 16 image)
+  uint64_t seed = 0;                 // the same seed, the same numbers
+  std::vector<std::string> sources;  // objects whose rows to measure (empty: every one with area)
+  std::vector<std::string> inward;   // objects whose surfaces face inward (enclosures)
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+struct FormFactors {
+  // Every top-level object of the scene (receivers), by unique name; column names.size() of F
+  // is the environment (rays that hit nothing).
+  std::vector<std::string> names;
+  std::vector<double> areas;                  // world area per object (0 where infinite)
+  std::vector<int> rows;                      // the object index of each measured row
+  std::vector<std::vector<double>> F, error;  // [row][column]: estimate, standard error
+  // Reciprocity A_i F_ij = A_j F_ji over measured pairs: the largest |difference| in standard
+  // errors of the difference, and the pair.
+  double worst_reciprocity_z = 0;
+  int worst_i = -1, worst_j = -1;
+};
+
+// Throws std::invalid_argument naming an unknown object, or a requested source without area.
+FormFactors measure_form_factors(const Scene& scene, const Accel& accel,
+                                 const FormFactorOptions& o);
+
+// Radiosity of every object from (I - rho F) B = E (per colour channel), with E = pi Le and rho
+// the diffuse reflectance of each object's material, and each pair's A_i F_ij = A_j F_ji taken
+// as the inverse-variance mean of its two measurements. Needs every object measured as a row.
+std::vector<Color> solve_radiosity(const Scene& scene, const Accel& accel, const FormFactors& f);
+
+// The path tracer's mean outgoing radiance over each measured object's surface (Le + rho times
+// the mean incoming radiance over cosine-distributed directions), with standard errors: the
+// check of the radiosity solution (B / pi) by an independent method.
+struct PathRadiance {
+  std::vector<Color> mean, error;
+};
+PathRadiance path_traced_radiance(const Scene& scene, const Accel& accel, const FormFactors& f,
+                                  const FormFactorOptions& o, int max_depth);
+
+// The diffuse reflectance and emitted radiosity (pi Le) of object `id`'s material.
+Color object_reflectance(const Scene& scene, const Accel& accel, uint32_t id);
+Color object_emission(const Scene& scene, const Accel& accel, uint32_t id);
+
+}  // namespace anamorph

@@ -1,0 +1,131 @@
+#include "render/surface_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace anamorph {
+
+namespace {
+
+Vec3 axis_vector(int axis, double s) {
+  Vec3 v;
+  v[axis] = s;
+  return v;
+}
+
+}  // namespace
+
+SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(inward) {
+  const auto add = [&](const Piece& p, double area) {
+    if (!(area > 0)) return;
+    pieces_.push_back(p);
+    total_ += area;
+    cdf_.push_back(total_);
+  };
+  const auto add_mesh = [&](const TriangleMesh& m) {
+    for (size_t t = 0; t < m.triangle_count(); ++t) {
+      const Vec3 a(m.positions[m.indices[3 * t]]), b(m.positions[m.indices[3 * t + 1]]),
+          c(m.positions[m.indices[3 * t + 2]]);
+      add({Part::Triangle, a, b, c}, 0.5 * length(cross(b - a, c - a)));
+    }
+  };
+  switch (r.kind) {
+    case Accel::Record::Kind::FlatMesh:
+      add_mesh(*r.mesh);
+      break;
+    case Accel::Record::Kind::Instance:
+      for (const auto& m : r.proto->meshes) add_mesh(m);
+      world_from_object_ = r.world_from_object, identity_ = false;
+      break;
+    case Accel::Record::Kind::Shape: {
+      const AnalyticShape& s = *r.shape;
+      world_from_object_ = r.world_from_object, identity_ = false;
+      switch (s.kind) {
+        case AnalyticShape::Kind::Plane:
+          throw std::invalid_argument("an infinite plane has no finite area");
+        case AnalyticShape::Kind::Sphere:
+          add({Part::Sphere, {}, {}, {}, s.radius}, 4 * kPi * s.radius * s.radius);
+          break;
+        case AnalyticShape::Kind::Disk:
+          add({Part::Disk, {}, {}, {}, s.radius, 0, 1, 1}, kPi * s.radius * s.radius);
+          break;
+        case AnalyticShape::Kind::Cylinder:
+          add({Part::CylinderSide, {}, {}, {}, s.radius, s.height}, 2 * kPi * s.radius * s.height);
+          if (s.capped) {
+            add({Part::Disk, {}, {}, {}, s.radius, 0, -1, 1}, kPi * s.radius * s.radius);
+            add({Part::Disk, {}, {}, {}, s.radius, s.height, 1, 1}, kPi * s.radius * s.radius);
+          }
+          break;
+        case AnalyticShape::Kind::Box:
+          for (int axis = 0; axis < 3; ++axis)
+            for (double sign : {-1.0, 1.0}) {
+              const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+              Piece p{Part::BoxFace, {}, {}, {}};
+              p.a = axis_vector(axis, sign * s.size[axis] / 2) - axis_vector(i, s.size[i] / 2) -
+                    axis_vector(j, s.size[j] / 2);
+              p.b = axis_vector(i, s.size[i]), p.c = axis_vector(j, s.size[j]);
+              p.sign = sign, p.axis = axis;
+              add(p, s.size[i] * s.size[j]);
+            }
+          break;
+      }
+      break;
+    }
+  }
+  if (!(total_ > 0)) throw std::invalid_argument("the object has no surface area");
+  if (!identity_) {  // the area scale of a uniform transform: |det|^(2/3)
+    const Vec3 x = world_from_object_.vector({1, 0, 0}), y = world_from_object_.vector({0, 1, 0}),
+               z = world_from_object_.vector({0, 0, 1});
+    scale_hint_ = std::pow(std::abs(dot(x, cross(y, z))), 2.0 / 3.0);
+  }
+}
+
+SurfacePoint SurfaceSampler::local(const Piece& q, double u1, double u2) const {
+  switch (q.part) {
+    case Part::Triangle: {
+      const double s = std::sqrt(u1), b0 = 1 - s, b1 = u2 * s;
+      return {q.a * b0 + q.b * b1 + q.c * (1 - b0 - b1), normalize(cross(q.b - q.a, q.c - q.a)), 1};
+    }
+    case Part::Sphere: {
+      const double z = 1 - 2 * u1, rr = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * u2;
+      const Vec3 n{rr * std::cos(phi), rr * std::sin(phi), z};
+      return {n * q.r, n, 1};
+    }
+    case Part::Disk: {
+      const double rr = q.r * std::sqrt(u1), phi = 2 * kPi * u2;
+      return {{rr * std::cos(phi), q.h, rr * std::sin(phi)}, {0, q.sign, 0}, 1};
+    }
+    case Part::CylinderSide: {
+      const double phi = 2 * kPi * u2;
+      const Vec3 n{std::cos(phi), 0, std::sin(phi)};
+      return {Vec3{n.x * q.r, u1 * q.h, n.z * q.r}, n, 1};
+    }
+    case Part::BoxFace:
+      return {q.a + q.b * u1 + q.c * u2, axis_vector(q.axis, q.sign), 1};
+  }
+  return {};
+}
+
+SurfacePoint SurfaceSampler::sample(double u1, double u2) const {
+  const double target = u1 * total_;
+  const size_t k = std::min(
+      size_t(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin()), cdf_.size() - 1);
+  const double lo = k ? cdf_[k - 1] : 0.0, hi = cdf_[k];
+  const double v1 = std::clamp((target - lo) / (hi - lo), 0.0, 1.0 - 1e-16);
+  SurfacePoint s = local(pieces_[k], v1, u2);
+  double scale = 1;
+  if (!identity_) {
+    const Vec3 m = world_from_object_.normal(s.n);  // M^-T n: its length * |det M| = area scale
+    const Vec3 x = world_from_object_.vector({1, 0, 0}), y = world_from_object_.vector({0, 1, 0}),
+               z = world_from_object_.vector({0, 0, 1});
+    scale = std::abs(dot(x, cross(y, z))) * length(m);
+    s.p = world_from_object_.point(s.p);
+    s.n = normalize(m);
+  }
+  if (inward_) s.n = -s.n;
+  s.weight = total_ * scale;
+  return s;
+}
+
+}  // namespace anamorph

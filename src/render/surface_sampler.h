@@ -1,0 +1,47 @@
+// Points spread over one scene object's surface by area, for form factors: the surface of a
+// top-level geometry (an analytic shape, a mesh, an instance of a prototype) in world space.
+#pragma once
+
+#include <vector>
+
+#include "accel/accel.h"
+
+namespace anamorph {
+
+struct SurfacePoint {
+  Vec3 p, n;      // world position and unit normal (the side the surface faces)
+  double weight;  // the world area this sample stands for (times the sample count)
+};
+
+class SurfaceSampler {
+ public:
+  // `inward` turns every normal around (an enclosure seen from inside). Throws
+  // std::invalid_argument for a surface without finite area (an infinite plane).
+  SurfaceSampler(const Accel::Record& r, bool inward);
+
+  // The point at random numbers (u1, u2) in [0, 1)^2: u1 chooses where along the surface's
+  // cumulative area (stratify it across samples for an even spread), u2 the rest.
+  SurfacePoint sample(double u1, double u2) const;
+
+  // The exact world area when the object's transform scales areas uniformly (rigid motions,
+  // uniform scales); otherwise the mean of sample weights estimates it.
+  double nominal_area() const { return total_ * scale_hint_; }
+
+ private:
+  enum class Part { Triangle, Sphere, Disk, CylinderSide, BoxFace };
+  struct Piece {
+    Part part;
+    Vec3 a, b, c;  // triangle corners / box face: corner and two edges / unused
+    double r = 0, h = 0;
+    double sign = 1;  // disk / cap / box face: which way its normal points along its axis
+    int axis = 1;     // box face, disk: the axis of the normal (0 x, 1 y, 2 z)
+  };
+  SurfacePoint local(const Piece& piece, double u1, double u2) const;
+  std::vector<Piece> pieces_;
+  std::vector<double> cdf_;  // cumulative object-space area, last = total_
+  double total_ = 0, scale_hint_ = 1;
+  Transform world_from_object_;
+  bool identity_ = true, inward_ = false;
+};
+
+}  // namespace anamorph
