@@ -318,3 +318,34 @@ TEST(Cli, CoinsInInfoAndOverlay) {
 }
 
 }  // namespace anamorph
+
+namespace anamorph {
+
+TEST(Cli, FormFactorsWritesItsMatrixAndRefusesBadRequests) {
+  const fs::path d = temp_dir("formfactors");
+  const std::string scene = write(d / "discs.toml",
+                                  "[[object]]\ntype = \"disk\"\nname = \"d1\"\nradius = 1\n"
+                                  "[[object]]\ntype = \"disk\"\nname = \"d2\"\nradius = 0.6\n"
+                                  "transform = { rotate = [180, 1, 0, 0], translate = [0, 0.8, "
+                                  "0] }\n");
+  const Result r = run("formfactors " + scene + " --samples 256 -o " + (d / "f.csv").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "-> d2");
+  EXPECT_CONTAINS(r.out, "reciprocity");
+  const std::string csv = test::read_text(d / "f.csv");
+  EXPECT_EQ(csv.rfind("from,to,area_from,F,stderr\nd1,d1,3.14159265", 0), 0u) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7) << "2 rows x 3 columns + header";
+  const Result j = run("formfactors " + scene + " --samples 64 -o " + (d / "f.json").string());
+  ASSERT_EQ(j.code, 0) << j.out;
+  EXPECT_CONTAINS(test::read_text(d / "f.json"), "\"columns\": [\"d1\", \"d2\", \"environment\"]");
+  const Result unknown = run("formfactors " + scene + " --objects d3");
+  EXPECT_EQ(unknown.code, 2) << unknown.out;
+  EXPECT_CONTAINS(unknown.out, "no object named 'd3' (the scene has: d1, d2)");
+  EXPECT_EQ(run("formfactors " + scene + " -o f.txt").code, 2);
+  const Result partial = run("formfactors " + scene + " --objects d1 --radiosity");
+  EXPECT_EQ(partial.code, 2) << partial.out;
+  EXPECT_CONTAINS(partial.out, "radiosity needs a row of form factors for every object");
+  fs::remove_all(d);
+}
+
+}  // namespace anamorph
