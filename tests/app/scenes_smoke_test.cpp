@@ -157,7 +157,13 @@ TEST(SceneFiles, ApplicationsAreFound) {
                                   "panini_wide",
                                   "cubemap",
                                   "pushbroom",
-                                  "crossed_slits"};
+                                  "crossed_slits",
+                                  "omnimax_dome",
+                                  "scattered_surface",
+                                  "dome_pulled",
+                                  "calibrated_lens",
+                                  "formfactor_room",
+                                  "radiosity_spheres"};
   const std::vector<SceneFile> files = scene_files();
   for (const char* name : expected) {
     const bool found = std::any_of(files.begin(), files.end(), [&](const SceneFile& f) {
