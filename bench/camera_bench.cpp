@@ -108,6 +108,27 @@ static void BM_BSplineNormal(benchmark::State& state) {
 }
 BENCHMARK(BM_BSplineNormal)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The cameras of three example scenes: a thin-plate surface through nine scattered points with
+// normal rays, a dome pulled by two scattered direction samples, a 40 x 30 ray-table lens.
+static void example_camera(benchmark::State& state, const char* scene) {
+  const Scene s = load_scene(std::filesystem::path(__FILE__).parent_path() / ".." / "examples" /
+                             "apps" / scene);
+  if (state.range(0))
+    generate_packets(state, *s.camera);
+  else
+    generate_all(state, *s.camera);
+}
+static void BM_ScatteredNormal(benchmark::State& state) {
+  example_camera(state, "scattered_surface.toml");
+}
+static void BM_ScatteredSphere(benchmark::State& state) {
+  example_camera(state, "dome_pulled.toml");
+}
+static void BM_TableLens(benchmark::State& state) { example_camera(state, "calibrated_lens.toml"); }
+BENCHMARK(BM_ScatteredNormal)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ScatteredSphere)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TableLens)->ArgName("batch")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 // The same rays in single precision (what a float ray format would cost; the renderer's rays are
 // doubles).
 struct FloatRayBatch {

@@ -18,6 +18,17 @@ class ScatteredOrg final : public OrgFunctionLoop<ScatteredOrg> {
     set_cross_normal(geom, 1, 1, flip_, out);
     return true;
   }
+  // Only p and its first derivatives (a direction that reads no normal): no Hessian.
+  void eval_batch_first_order(const double* u, const double* v, int n,
+                              SurfaceBatch* out) const override {
+    for (int i = 0; i < n; ++i) {
+      Vec3 g[2];
+      SurfaceBatch::put(out->p, i, rbf_.eval({u[i], v[i]}, g));
+      SurfaceBatch::put(out->dpdu, i, g[0]);
+      SurfaceBatch::put(out->dpdv, i, g[1]);
+      out->ok[i] = true;
+    }
+  }
 
  private:
   Rbf<2> rbf_;

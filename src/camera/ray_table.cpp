@@ -11,7 +11,7 @@ namespace {
 
 // Catmull-Rom weights of the samples at -1, 0, 1, 2 for position t in [0, 1] between 0 and 1,
 // and their first and second derivatives.
-void catmull_rom(double t, double w[4], double dw[4], double ddw[4]) {
+[[gnu::always_inline]] inline void catmull_rom(double t, double w[4], double dw[4], double ddw[4]) {
   const double t2 = t * t, t3 = t2 * t;
   w[0] = 0.5 * (-t + 2 * t2 - t3);
   w[1] = 0.5 * (2 - 5 * t2 + 3 * t3);
@@ -38,13 +38,13 @@ RayTable::RayTable(const RayTableData& d) : w_(d.width), h_(d.height) {
   const size_t rows = size_t(h_ + 2 * kPad);
   grid_.assign(stride_ * rows, Vec3{});
   std::vector<char> known(stride_ * rows, 0);
-  valid_.assign(n, true);
+  valid_.assign(n, 1);
   size_t count = 0;
   for (int j = 0; j < h_; ++j)
     for (int i = 0; i < w_; ++i) {
       const size_t k = size_t(j) * size_t(w_) + size_t(i);
       const bool ok = d.valid.empty() || d.valid[k];
-      valid_[k] = ok;
+      valid_[k] = ok ? 1 : 0;
       if (!ok) continue;
       const Vec3& x = d.values[k];
       if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
@@ -88,6 +88,40 @@ RayTable::RayTable(const RayTableData& d) : w_(d.width), h_(d.height) {
   }
 }
 
+// The 4 x 4 Catmull-Rom stencil of cell (i, j) at (fs, ft) in it, separably: each row along u,
+// then the rows along v.
+template <bool kSecond>
+void RayTable::interpolate(int i, int j, double fs, double ft, Vec3* value, Vec3* du, Vec3* dv,
+                           Vec3* second) const {
+  double wu[4], dwu[4], ddwu[4], wv[4], dwv[4], ddwv[4];
+  catmull_rom(fs, wu, dwu, ddwu);
+  catmull_rom(ft, wv, dwv, ddwv);
+  Vec3 f, fu, fv, fuu, fuv, fvv;
+  for (int b = 0; b < 4; ++b) {
+    Vec3 row, drow, ddrow;
+    for (int a = 0; a < 4; ++a) {
+      const Vec3& p = at(i - 1 + a, j - 1 + b);
+      row += p * wu[a];
+      drow += p * dwu[a];
+      if constexpr (kSecond) ddrow += p * ddwu[a];
+    }
+    f += row * wv[b];
+    fu += drow * wv[b];
+    fv += row * dwv[b];
+    if constexpr (kSecond) {
+      fuu += ddrow * wv[b];
+      fuv += drow * dwv[b];
+      fvv += row * ddwv[b];
+    }
+  }
+  const double W = w_, H = h_;
+  *value = f;
+  *du = fu * W;
+  *dv = fv * H;
+  if constexpr (kSecond)
+    second[0] = fuu * (W * W), second[1] = fuv * (W * H), second[2] = fvv * (H * H);
+}
+
 bool RayTable::eval(double u, double v, Vec3* value, Vec3* du, Vec3* dv, Vec3* second) const {
   const double s = u * w_ - 0.5, t = v * h_ - 0.5;
   if (!std::isfinite(s) || !std::isfinite(t)) return false;
@@ -108,32 +142,10 @@ bool RayTable::eval(double u, double v, Vec3* value, Vec3* du, Vec3* dv, Vec3* s
   const double m = (ok(i, j) * (1 - fs0) + ok(i + 1, j) * fs0) * (1 - ft0) +
                    (ok(i, j + 1) * (1 - fs0) + ok(i + 1, j + 1) * fs0) * ft0;
   if (!(m >= 0.5)) return false;
-  double wu[4], dwu[4], ddwu[4], wv[4], dwv[4], ddwv[4];
-  catmull_rom(s - i, wu, dwu, ddwu);
-  catmull_rom(t - j, wv, dwv, ddwv);
-  Vec3 f, fs, ft, fss, fst, ftt;
-  for (int b = 0; b < 4; ++b) {
-    Vec3 row, drow, ddrow;
-    for (int a = 0; a < 4; ++a) {
-      const Vec3& p = at(i - 1 + a, j - 1 + b);
-      row += p * wu[a];
-      drow += p * dwu[a];
-      ddrow += p * ddwu[a];
-    }
-    f += row * wv[b];
-    fs += drow * wv[b];
-    ft += row * dwv[b];
-    fss += ddrow * wv[b];
-    fst += drow * dwv[b];
-    ftt += row * ddwv[b];
-  }
-  if (second) {
-    const double W = w_, H = h_;
-    second[0] = fss * (W * W), second[1] = fst * (W * H), second[2] = ftt * (H * H);
-  }
-  *value = f;
-  *du = fs * double(w_);
-  *dv = ft * double(h_);
+  if (second)
+    interpolate<true>(i, j, s - i, t - j, value, du, dv, second);
+  else
+    interpolate<false>(i, j, s - i, t - j, value, du, dv, nullptr);
   return true;
 }
 

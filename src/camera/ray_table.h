@@ -8,6 +8,7 @@
 // every hole, along its whole row and column. C1 continuity is what ray differentials need.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,10 @@ class RayTable {
   int w_, h_;
   size_t stride_;
   std::vector<Vec3> grid_;  // (w + 4) x (h + 4), padded and filled
-  std::vector<bool> valid_;
+  template <bool kSecond>
+  void interpolate(int i, int j, double fs, double ft, Vec3* value, Vec3* du, Vec3* dv,
+                   Vec3* second) const;
+  std::vector<uint8_t> valid_;  // bytes, not vector<bool>: read four times per ray
 };
 
 }  // namespace anamorph

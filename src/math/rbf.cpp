@@ -14,40 +14,50 @@ namespace {
 // phi(r) = g(eps r) for the unit kernel g, and the terms of its derivatives with d = x - x_i,
 // r = |d|:  d phi / dx = a d,  d^2 phi / dx^2 = a I + b d d^T,  a = phi'(r) / r,
 // b = (phi''(r) - a) / r^2 (finite forms, so r = 0 needs no division). With s = eps r these are
-// a = eps^2 g'(s) / s and b = eps^4 (g''(s) - g'(s) / s) / s^2: the unit kernel's, scaled.
+// a = eps^2 g'(s) / s and b = eps^4 (g''(s) - g'(s) / s) / s^2. Every kernel but the cubic is a
+// function of s^2, so no square root is taken for them, and the thin plate takes one logarithm:
+// s^2 log s = s^2 log(s^2) / 2.
 struct Radial {
   double phi, a, b;
 };
 
-Radial unit_radial(RbfKernel k, double s) {
-  switch (k) {
-    case RbfKernel::Gaussian: {  // exp(-s^2)
-      const double g = std::exp(-s * s);
-      return {g, -2 * g, 4 * g};
-    }
-    case RbfKernel::InverseMultiquadric: {  // 1 / sqrt(1 + s^2)
-      const double q = 1 / std::sqrt(1 + s * s), q3 = q * q * q;
-      return {q, -q3, 3 * q3 * q * q};
-    }
-    case RbfKernel::Multiquadric: {  // -sqrt(1 + s^2), SciPy's sign
-      const double m = std::sqrt(1 + s * s);
-      return {-m, -1 / m, 1 / (m * m * m)};
-    }
-    case RbfKernel::Cubic:  // s^3
-      return {s * s * s, 3 * s, s > 0 ? 3 / s : 0.0};
-    case RbfKernel::ThinPlate: {  // s^2 log s; g'' diverges like log s at 0: taken at 1e-9
-      if (s == 0) return {0, 0, 0};
-      const double ss = std::max(s, 1e-9), l = std::log(ss);
-      return {s * s * std::log(s), 2 * l + 1, 2 / (ss * ss)};
-    }
+template <RbfKernel K>
+[[gnu::always_inline]] inline Radial radial2(double e2, double r2) {
+  const double s2 = e2 * r2, e4 = e2 * e2;
+  if constexpr (K == RbfKernel::Gaussian) {  // exp(-s^2)
+    const double g = std::exp(-s2);
+    return {g, -2 * g * e2, 4 * g * e4};
+  } else if constexpr (K == RbfKernel::InverseMultiquadric) {  // 1 / sqrt(1 + s^2)
+    const double q = 1 / std::sqrt(1 + s2), q3 = q * q * q;
+    return {q, -q3 * e2, 3 * q3 * q * q * e4};
+  } else if constexpr (K == RbfKernel::Multiquadric) {  // -sqrt(1 + s^2), SciPy's sign
+    const double m = std::sqrt(1 + s2);
+    return {-m, -e2 / m, e4 / (m * m * m)};
+  } else if constexpr (K == RbfKernel::Cubic) {  // s^3
+    const double sv = std::sqrt(s2);
+    return {sv * s2, 3 * sv * e2, sv > 0 ? 3 / sv * e4 : 0.0};
+  } else {  // thin plate, s^2 log s; g'' diverges like log s at 0: taken at s = 1e-9 within it
+    if (s2 == 0) return {0, 0, 0};
+    const double c2 = std::max(s2, 1e-18), l = std::log(c2);
+    return {0.5 * s2 * (s2 == c2 ? l : std::log(s2)), (l + 1) * e2, 2 / c2 * e4};
   }
-  return {0, 0, 0};
 }
 
 Radial radial(RbfKernel k, double eps, double r) {
-  const Radial g = unit_radial(k, eps * r);
-  const double e2 = eps * eps;
-  return {g.phi, g.a * e2, g.b * e2 * e2};
+  const double e2 = eps * eps, r2 = r * r;
+  switch (k) {
+    case RbfKernel::Gaussian:
+      return radial2<RbfKernel::Gaussian>(e2, r2);
+    case RbfKernel::InverseMultiquadric:
+      return radial2<RbfKernel::InverseMultiquadric>(e2, r2);
+    case RbfKernel::Multiquadric:
+      return radial2<RbfKernel::Multiquadric>(e2, r2);
+    case RbfKernel::Cubic:
+      return radial2<RbfKernel::Cubic>(e2, r2);
+    case RbfKernel::ThinPlate:
+      return radial2<RbfKernel::ThinPlate>(e2, r2);
+  }
+  return {0, 0, 0};
 }
 
 template <int D>
@@ -133,19 +143,28 @@ Rbf<D>::Rbf(std::vector<Point> centers, const std::vector<Vec3>& values, RbfKern
   for (int k = 0; k < m; ++k) tail_[size_t(k)] = {x(n + k, 0), x(n + k, 1), x(n + k, 2)};
 }
 
-template <int D>
-Vec3 Rbf<D>::eval(const Point& x, Vec3* grad, Vec3* hess) const {
-  Vec3 f = tail_[0];
-  for (int k = 0; k < D; ++k) f += tail_[size_t(k + 1)] * x[size_t(k)];
+// The sum over centers for one kernel, with the gradient and Hessian only when asked for: the
+// kernel's switch outside the loop, its math inlined into it.
+template <int D, RbfKernel K>
+Vec3 rbf_sum(const std::vector<std::array<double, D>>& centers, const std::vector<Vec3>& weights,
+             const std::array<Vec3, D + 1>& tail, double eps, const std::array<double, D>& x,
+             Vec3* grad, Vec3* hess) {
+  Vec3 f = tail[0];
+  for (int k = 0; k < D; ++k) f += tail[size_t(k + 1)] * x[size_t(k)];
   if (grad)
-    for (int k = 0; k < D; ++k) grad[k] = tail_[size_t(k + 1)];
+    for (int k = 0; k < D; ++k) grad[k] = tail[size_t(k + 1)];
   if (hess)
-    for (int k = 0; k < kHessian; ++k) hess[k] = Vec3{};
-  for (size_t i = 0; i < centers_.size(); ++i) {
-    Point d;
-    for (int k = 0; k < D; ++k) d[size_t(k)] = x[size_t(k)] - centers_[i][size_t(k)];
-    const Radial r = radial(kernel_, epsilon_, distance<D>(x, centers_[i]));
-    const Vec3& w = weights_[i];
+    for (int k = 0; k < D * (D + 1) / 2; ++k) hess[k] = Vec3{};
+  const double e2 = eps * eps;
+  for (size_t i = 0; i < centers.size(); ++i) {
+    std::array<double, D> d;
+    double r2 = 0;
+    for (int k = 0; k < D; ++k) {
+      d[size_t(k)] = x[size_t(k)] - centers[i][size_t(k)];
+      r2 += d[size_t(k)] * d[size_t(k)];
+    }
+    const Radial r = radial2<K>(e2, r2);
+    const Vec3& w = weights[i];
     f += w * r.phi;
     if (grad)
       for (int k = 0; k < D; ++k) grad[k] += w * (r.a * d[size_t(k)]);
@@ -155,6 +174,25 @@ Vec3 Rbf<D>::eval(const Point& x, Vec3* grad, Vec3* hess) const {
           hess[h] += w * ((k == l ? r.a : 0.0) + r.b * d[size_t(k)] * d[size_t(l)]);
   }
   return f;
+}
+
+template <int D>
+Vec3 Rbf<D>::eval(const Point& x, Vec3* grad, Vec3* hess) const {
+  switch (kernel_) {
+    case RbfKernel::Gaussian:
+      return rbf_sum<D, RbfKernel::Gaussian>(centers_, weights_, tail_, epsilon_, x, grad, hess);
+    case RbfKernel::InverseMultiquadric:
+      return rbf_sum<D, RbfKernel::InverseMultiquadric>(centers_, weights_, tail_, epsilon_, x,
+                                                        grad, hess);
+    case RbfKernel::Multiquadric:
+      return rbf_sum<D, RbfKernel::Multiquadric>(centers_, weights_, tail_, epsilon_, x, grad,
+                                                 hess);
+    case RbfKernel::Cubic:
+      return rbf_sum<D, RbfKernel::Cubic>(centers_, weights_, tail_, epsilon_, x, grad, hess);
+    case RbfKernel::ThinPlate:
+      return rbf_sum<D, RbfKernel::ThinPlate>(centers_, weights_, tail_, epsilon_, x, grad, hess);
+  }
+  return {};
 }
 
 template class Rbf<2>;
