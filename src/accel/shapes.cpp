@@ -45,12 +45,15 @@ bool intersect_shape(const AnalyticShape& s, const Vec3& o, const Vec3& d, doubl
       return pick(tc - h, tc + h, tmin, tmax, t);
     }
     case AnalyticShape::Kind::Plane:
+    case AnalyticShape::Kind::Rectangle:
     case AnalyticShape::Kind::Disk: {
       if (d.y == 0) return false;
       const double th = -o.y / d.y;
       if (!(th > tmin && th < tmax)) return false;
       const Vec3 p = o + d * th;
       if (s.kind == AnalyticShape::Kind::Disk && p.x * p.x + p.z * p.z > s.radius * s.radius)
+        return false;
+      if (s.kind == AnalyticShape::Kind::Rectangle && (std::abs(p.x) > 0.5 || std::abs(p.z) > 0.5))
         return false;
       if (s.kind == AnalyticShape::Kind::Plane &&
           (std::abs(p.x) > kPlaneExtent || std::abs(p.z) > kPlaneExtent))
@@ -134,6 +137,7 @@ Vec3 shape_normal(const AnalyticShape& s, const Vec3& p) {
       return normalize(p);
     case AnalyticShape::Kind::Plane:
     case AnalyticShape::Kind::Disk:
+    case AnalyticShape::Kind::Rectangle:
       return {0, 1, 0};
     case AnalyticShape::Kind::Box: {
       const int axis = box_axis(s, p);
@@ -174,6 +178,11 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p) {
       r.uv = {p.x / (2 * s.radius) + 0.5, p.z / (2 * s.radius) + 0.5};
       r.dpdu = {2 * s.radius, 0, 0};
       r.dpdv = {0, 0, 2 * s.radius};
+      break;
+    case AnalyticShape::Kind::Rectangle:  // u along edge_u (object z), v along edge_v (x)
+      r.uv = {p.z + 0.5, p.x + 0.5};
+      r.dpdu = {0, 0, 1};
+      r.dpdv = {1, 0, 0};
       break;
     case AnalyticShape::Kind::Box: {
       const int axis = box_axis(s, p);
@@ -216,6 +225,10 @@ Bounds3 shape_object_bounds(const AnalyticShape& s) {
     case AnalyticShape::Kind::Disk:
       b.extend({-s.radius, -1e-6, -s.radius});
       b.extend({s.radius, 1e-6, s.radius});
+      break;
+    case AnalyticShape::Kind::Rectangle:
+      b.extend({-0.5, -1e-6, -0.5});
+      b.extend({0.5, 1e-6, 0.5});
       break;
     case AnalyticShape::Kind::Box:
       b.extend(s.size * -0.5);

@@ -57,6 +57,12 @@ SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(in
             add({Part::Disk, {}, {}, {}, s.radius, s.height, 1, 1}, kPi * s.radius * s.radius);
           }
           break;
+        case AnalyticShape::Kind::Rectangle: {
+          Piece p{Part::BoxFace, {-0.5, 0, -0.5}, {0, 0, 1}, {1, 0, 0}};
+          p.sign = 1, p.axis = 1;
+          add(p, 1);
+          break;
+        }
         case AnalyticShape::Kind::Box:
           for (int axis = 0; axis < 3; ++axis)
             for (double sign : {-1.0, 1.0}) {

@@ -368,6 +368,17 @@ void place_shape(const TableReader& r, const ParamValues& v, const std::string& 
     sh.radius = v.number("radius");
     sh.capped = v.boolean("capped");
     sh.world_from_object = xf * Transform::translate(base) * y_to(top - base);
+  } else if (type == "rectangle") {
+    // Object space is the unit square in y = 0; x -> edge_v, y -> the unit normal, z -> edge_u
+    // keeps the orientation (determinant > 0) with the normal along edge_u x edge_v.
+    sh.kind = AnalyticShape::Kind::Rectangle;
+    const Vec3 eu = v.vec3("edge_u"), ev = v.vec3("edge_v"), n = cross(eu, ev);
+    if (!(length(n) > 1e-12 * length(eu) * length(ev)))
+      r.fail("edge_v", "edge_u and edge_v must not be parallel (or zero)");
+    Mat4 m = Mat4::identity();
+    const Vec3 un = normalize(n);
+    for (int k = 0; k < 3; ++k) m.m[k][0] = ev[k], m.m[k][1] = un[k], m.m[k][2] = eu[k];
+    sh.world_from_object = xf * Transform::translate(v.vec3("center")) * Transform(m);
   } else {  // disk
     sh.kind = AnalyticShape::Kind::Disk;
     const Vec3 n = nonzero("normal");

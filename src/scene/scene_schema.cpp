@@ -172,7 +172,8 @@ const TableVariant kTextureVariants[] = {
 
 // ---- [[object]] -------------------------------------------------------------------------------
 
-constexpr std::string_view kObjectTypes[] = {"mesh", "sphere", "plane", "box", "cylinder", "disk"};
+constexpr std::string_view kObjectTypes[] = {"mesh",     "sphere", "plane",    "box",
+                                             "cylinder", "disk",   "rectangle"};
 
 // clang-format off
 const ParamSpec kObjectCommon[] = {
@@ -223,6 +224,16 @@ const ParamSpec kDisk[] = {
     {"normal", ParamType::Vec3, "[0, 1, 0]", "Its normal (not zero)."},
     {"radius", ParamType::Number, "1", "Radius.", 0, kInf, {}, true, false, "scene units"},
 };
+const ParamSpec kRectangle[] = {
+    {"center", ParamType::Vec3, "[0, 0, 0]", "Center.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"edge_u", ParamType::Vec3, "[1, 0, 0]", "One full edge (its texture u direction).", -kInf,
+     kInf, {}, false, false, "scene units"},
+    {"edge_v", ParamType::Vec3, "[0, 0, -1]",
+     "The other full edge (texture v); need not be perpendicular to edge_u (a parallelogram). "
+     "The normal is edge_u x edge_v: the side it faces.",
+     -kInf, kInf, {}, false, false, "scene units"},
+};
 const TableVariant kObjectVariants[] = {
     {"mesh",
      "A model file; glTF node hierarchies and transforms are kept, a mesh used by several nodes "
@@ -233,6 +244,7 @@ const TableVariant kObjectVariants[] = {
     {"box", "An axis-aligned box (rotate it with `transform`).", kBox},
     {"cylinder", "A cylinder between two points.", kCylinder},
     {"disk", "A flat disk.", kDisk},
+    {"rectangle", "A flat rectangle (or parallelogram): a finite plane patch.", kRectangle},
 };
 // clang-format on
 
@@ -427,6 +439,8 @@ std::string_view name_of(AnalyticShape::Kind k) {
       return "cylinder";
     case AnalyticShape::Kind::Disk:
       return "disk";
+    case AnalyticShape::Kind::Rectangle:
+      return "rectangle";
   }
   return "?";
 }

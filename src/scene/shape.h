@@ -10,11 +10,12 @@ namespace anamorph {
 
 struct AnalyticShape {
   enum class Kind {
-    Sphere,    // center (0,0,0), radius `radius`
-    Plane,     // infinite plane y = 0, normal +y
-    Box,       // axis-aligned box [-size/2, size/2]
-    Cylinder,  // axis y, radius `radius`, y in [0, height], open or capped
-    Disk,      // y = 0 plane, normal +y, radius `radius`
+    Sphere,     // center (0,0,0), radius `radius`
+    Plane,      // infinite plane y = 0, normal +y
+    Box,        // axis-aligned box [-size/2, size/2]
+    Cylinder,   // axis y, radius `radius`, y in [0, height], open or capped
+    Disk,       // y = 0 plane, normal +y, radius `radius`
+    Rectangle,  // y = 0 plane, normal +y, x and z in [-1/2, 1/2] (shaped by its transform)
   };
   Kind kind = Kind::Sphere;
   double radius = 1;

@@ -93,6 +93,44 @@ transform = { translate = [0, 2.5, 0] }
   expect_form_factor(m.f, "point", "ball", (0.7 / 2.5) * (0.7 / 2.5));
 }
 
+TEST(FormFactors, PointBelowTheCenterOfARectangle) {
+  // Four times the corner case F = (1 / 2 pi) [X / sqrt(1 + X^2) atan(Y / sqrt(1 + X^2)) +
+  // Y / sqrt(1 + Y^2) atan(X / sqrt(1 + Y^2))], X = a / c, Y = b / c for a quarter a x b at
+  // height c.
+  const double a = 1.5 / 2, b = 0.8 / 2, c = 1.2, X = a / c, Y = b / c;
+  const double corner = (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+                         Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
+                        (2 * kPi);
+  FormFactorOptions o;
+  o.sources = {"point"};
+  const Measured m = measure(R"(
+[[object]]
+type = "disk"
+name = "point"
+radius = 0.001
+[[object]]
+type = "rectangle"
+name = "patch"
+center = [0, 1.2, 0]
+edge_u = [1.5, 0, 0]
+edge_v = [0, 0, 0.8]
+)",
+                             o);
+  expect_form_factor(m.f, "point", "patch", 4 * corner);
+  // Its own row: a patch facing down (edge_u x edge_v = -y) sees the point's tiny disc only.
+  FormFactorOptions p;
+  p.sources = {"patch"};
+  const Measured n = measure(R"(
+[[object]]
+type = "rectangle"
+name = "patch"
+edge_u = [1.5, 0, 0]
+edge_v = [0, 0, 0.8]
+)",
+                             p);
+  EXPECT_NEAR(n.f.areas[0], 1.5 * 0.8, 1e-12);
+}
+
 TEST(FormFactors, ParallelCoaxialDiscsAndReciprocity) {
   // F12 = (X - sqrt(X^2 - 4 (R2/R1)^2)) / 2, X = 1 + (1 + R2^2) / R1^2, R_i = r_i / h; and
   // F21 = F12 A1 / A2.

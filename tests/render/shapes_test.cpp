@@ -67,6 +67,28 @@ TEST(Shapes, PlaneBoxCylinderDisk) {
       << "outside the disk radius";
 }
 
+TEST(Shapes, RectangleIsAFinitePlanePatch) {
+  // A 2 x 1 patch in the plane z = -2 facing +z (edge_u x edge_v = x * y = +z), and a
+  // parallelogram.
+  Probe r(
+      "[[object]]\ntype = \"rectangle\"\ncenter = [0, 0, -2]\nedge_u = [2, 0, 0]\n"
+      "edge_v = [0, 1, 0]\n");
+  const Hit h = r.hit({0.9, 0.4, 0}, {0, 0, -1});
+  EXPECT_NEAR(h.t, 2, 1e-5);
+  expect_vec(h.ng, {0, 0, 1}, 1e-12, "rectangle normal");
+  expect_vec(h.dpdu, {2, 0, 0}, 1e-12, "dpdu = edge_u");
+  expect_vec(h.dpdv, {0, 1, 0}, 1e-12, "dpdv = edge_v");
+  EXPECT_NEAR(h.uv.x, 0.95, 1e-6) << "u runs along edge_u";
+  EXPECT_NEAR(h.uv.y, 0.9, 1e-6) << "v runs along edge_v";
+  Hit miss;
+  EXPECT_FALSE(r.accel->intersect({{1.1, 0, 0}, {0, 0, -1}}, &miss)) << "beyond edge_u";
+  EXPECT_FALSE(r.accel->intersect({{0, 0.6, 0}, {0, 0, -1}}, &miss)) << "beyond edge_v";
+  Probe par("[[object]]\ntype = \"rectangle\"\nedge_u = [1, 0, 0]\nedge_v = [1, 0, -1]\n");
+  EXPECT_NEAR(par.hit({0.9, 1, -0.45}, {0, -1, 0}).t, 1, 1e-5) << "inside the slanted side";
+  EXPECT_FALSE(par.accel->intersect({{-0.9, 1, -0.45}, {0, -1, 0}}, &miss))
+      << "outside the parallelogram, inside its bounding square";
+}
+
 TEST(Shapes, TiltedCylinderFollowsItsAxis) {
   Probe p(
       "[[object]]\ntype = \"cylinder\"\nbase = [-1, 1, 1]\ntop = [1, -1, -1]\nradius = "
