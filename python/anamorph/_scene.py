@@ -39,6 +39,19 @@ class Scene:
         """The last render's seconds, rays, samples and dropped NaN samples."""
         return self._impl.last_stats()
 
+    def form_factors(self, samples: int = 2048, rays: int = 256, *,
+                     objects: Sequence[str] = (), inward: Sequence[str] = (), seed: int = 0,
+                     radiosity: bool = False, depth: int = 64) -> dict[str, Any]:
+        """Form factors between the scene's objects, as ``anamorph formfactors`` measures them
+        (docs/formfactors.md): ``samples`` points per object, ``rays`` hemisphere-camera
+        samples per point. Returns ``objects`` (names), ``areas``, ``rows`` (the measured
+        objects), ``columns`` (the objects, then ``"environment"``), ``F`` and ``stderr`` as
+        (rows, columns) arrays and ``reciprocity_worst_z``; with ``radiosity`` also
+        ``radiosity`` (B per object, RGB) and the path tracer's ``path_radiance`` and
+        ``path_radiance_stderr`` (compare with B / pi). An unknown name is a ValueError."""
+        return self._impl.form_factors(samples, rays, list(objects), list(inward), seed,
+                                       radiosity, depth)
+
     def render(self, width: int | None = None, height: int | None = None, spp: int | None = None,
                aovs: Sequence[str] = (), threads: int = 0,
                progress: Callable[[dict[str, Any]], Any] | None = None, *,

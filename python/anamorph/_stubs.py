@@ -115,6 +115,9 @@ class Camera:
 
 class Scene:
     def info(self) -> dict[str, Any]: ...
+    def form_factors(self, samples: int = 2048, rays: int = 256, *,
+                     objects: Sequence[str] = (), inward: Sequence[str] = (), seed: int = 0,
+                     radiosity: bool = False, depth: int = 64) -> dict[str, Any]: ...
     @property
     def camera(self) -> Camera: ...
     @property

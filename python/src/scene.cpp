@@ -13,6 +13,7 @@
 #include "camera/coins.h"
 #include "camera_handle.h"
 #include "render/coin_layer.h"
+#include "render/form_factors.h"
 #include "render/renderer.h"
 #include "scene/scene_schema.h"
 
@@ -65,6 +66,7 @@ class SceneHandle {
   CameraHandle camera() const { return CameraHandle(source_, view({}), scene_); }
   pb::dict info();
   pb::dict render(const RenderRequest& req);
+  pb::dict form_factors(const FormFactorOptions& o, bool radiosity, int depth);
   pb::dict last_stats() const { return stats_dict(stats_); }
 
  private:
@@ -213,6 +215,52 @@ pb::dict SceneHandle::info() {
   return d;
 }
 
+// Rows x columns as a float64 (rows, cols) array.
+pb::array_t<double> matrix(const std::vector<std::vector<double>>& m) {
+  std::vector<double> flat;
+  for (const auto& row : m) flat.insert(flat.end(), row.begin(), row.end());
+  const pb::ssize_t rows = pb::ssize_t(m.size()), cols = m.empty() ? 0 : pb::ssize_t(m[0].size());
+  return to_array(std::move(flat), {rows, cols});
+}
+
+pb::array_t<double> colors(const std::vector<Color>& c) {
+  std::vector<double> flat;
+  for (const Color& x : c) flat.insert(flat.end(), {x.x, x.y, x.z});
+  return to_array(std::move(flat), {pb::ssize_t(c.size()), 3});
+}
+
+pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, int depth) {
+  const auto lock = lock_and_build();
+  FormFactors f;
+  std::vector<Color> B;
+  PathRadiance path;
+  {
+    pb::gil_scoped_release release;
+    f = measure_form_factors(*scene_, renderer_->accel(), o);
+    if (radiosity) {
+      B = solve_radiosity(*scene_, renderer_->accel(), f);
+      path = path_traced_radiance(*scene_, renderer_->accel(), f, o, depth);
+    }
+  }
+  pb::dict d;
+  d["objects"] = f.names;
+  std::vector<std::string> columns = f.names, rows;
+  columns.push_back("environment");
+  for (int r : f.rows) rows.push_back(f.names[size_t(r)]);
+  d["columns"] = columns;
+  d["rows"] = rows;
+  d["areas"] = to_array(std::vector<double>(f.areas), {pb::ssize_t(f.areas.size())});
+  d["F"] = matrix(f.F);
+  d["stderr"] = matrix(f.error);
+  d["reciprocity_worst_z"] = f.worst_reciprocity_z;
+  if (radiosity) {
+    d["radiosity"] = colors(B);
+    d["path_radiance"] = colors(path.mean);
+    d["path_radiance_stderr"] = colors(path.error);
+  }
+  return d;
+}
+
 SceneSource source_of(std::string path, std::string text, std::vector<std::string> overrides,
                       double frame) {
   SceneSource s;
@@ -239,6 +287,19 @@ void bind_scene(pb::module_& m) {
           },
           pb::arg("text"), pb::arg("overrides"), pb::arg("frame"))
       .def("info", &SceneHandle::info)
+      .def(
+          "form_factors",
+          [](SceneHandle& s, int samples, int rays, std::vector<std::string> objects,
+             std::vector<std::string> inward, uint64_t seed, bool radiosity, int depth) {
+            if (samples < 1 || rays < 1 || depth < 1)
+              throw pb::value_error("samples, rays and depth must be at least 1");
+            FormFactorOptions o;
+            o.origins = samples, o.rays = rays, o.seed = seed;
+            o.sources = std::move(objects), o.inward = std::move(inward);
+            return s.form_factors(o, radiosity, depth);
+          },
+          pb::arg("samples"), pb::arg("rays"), pb::arg("objects"), pb::arg("inward"),
+          pb::arg("seed"), pb::arg("radiosity"), pb::arg("depth"))
       .def("camera", &SceneHandle::camera)
       .def("warnings", [](const SceneHandle& s) { return s.scene().warnings; })
       .def("last_stats", &SceneHandle::last_stats)

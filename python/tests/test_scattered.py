@@ -75,3 +75,4 @@ def test_scattered_sphere_equals_scipy_over_the_sphere(kernel):
     # And every sample's direction is met.
     at = cam.generate(uv[:, 0], uv[:, 1])["dir"]
     assert rel_error(at, unit) < 1e-12
+
