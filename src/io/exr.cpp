@@ -52,6 +52,36 @@ struct ParsedExr {
   }
 };
 
+// OpenEXR's chlist: per channel name\0, pixel type (int32: 0 uint, 1 half, 2 float), pLinear,
+// 3 reserved bytes, x and y sampling (int32), then a terminating \0. tinyexr asserts on any
+// other pixel type and on a header without channels (a zero-sized decode buffer), and does not
+// read subsampled channels.
+void check_channel_list(const std::vector<unsigned char>& b, size_t at, size_t size,
+                        const fs::path& file) {
+  const size_t end = at + size;
+  int channels = 0;
+  while (at < end && b[at] != 0) {
+    const auto* name_end =
+        static_cast<const unsigned char*>(std::memchr(b.data() + at, 0, end - at));
+    if (!name_end || size_t(name_end - b.data()) + 1 + 16 > end) return;  // tinyexr's error
+    at = size_t(name_end - b.data()) + 1;
+    int32_t type = 0, xs = 0, ys = 0;
+    std::memcpy(&type, b.data() + at, 4);
+    std::memcpy(&xs, b.data() + at + 8, 4);
+    std::memcpy(&ys, b.data() + at + 12, 4);
+    at += 16;
+    if (type < 0 || type > 2)
+      fail_read(
+          "cannot read EXR", file,
+          fmt::format("channel {} has pixel type {} (0 uint, 1 half, 2 float)", channels, type));
+    if (xs != 1 || ys != 1)
+      fail_read("cannot read EXR", file,
+                fmt::format("channel {} is subsampled ({} x {}): not supported", channels, xs, ys));
+    ++channels;
+  }
+  if (channels == 0) fail_read("cannot read EXR", file, "its header lists no channels");
+}
+
 // The header's attributes that tinyexr 1.0 checks with assert() instead of an error (an abort
 // in a release build: found by fuzz_image): `tiles` must be a 9-byte tiledesc, and `type` one of
 // OpenEXR's image types, consistent with tinyexr's notion of tiled (the version's tiled flag
@@ -86,6 +116,7 @@ void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_fla
                   fmt::format("its tiles attribute has {} bytes, not 9", size));
       has_tiles = true;
     }
+    if (name == "channels") check_channel_list(b, at, size, file);
     if (name == "type") {
       image_type.assign(reinterpret_cast<const char*>(b.data() + at), size);
       image_type = image_type.substr(0, image_type.find('\0'));

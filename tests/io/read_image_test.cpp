@@ -219,6 +219,18 @@ TEST(ReadImage, ExrAttributesTinyexrAssertsOnAreErrors) {
   EXPECT_NE(exr_error("tiles", "tiledesc", std::string(8, '\1'), true)
                 .find("its tiles attribute has 8 bytes, not 9"),
             std::string::npos);
+  // A channel list with an unknown pixel type (tinyexr asserts) or none at all (a zero-sized
+  // buffer, asserted too). The inserted `channels` attribute comes first, so it is the one read.
+  std::string chlist = std::string("R") + '\0';
+  const int32_t bad_type = 7, one = 1;
+  chlist += std::string(reinterpret_cast<const char*>(&bad_type), 4) + std::string(4, '\0') +
+            std::string(reinterpret_cast<const char*>(&one), 4) +
+            std::string(reinterpret_cast<const char*>(&one), 4) + '\0';
+  EXPECT_NE(exr_error("channels", "chlist", chlist, false).find("channel 0 has pixel type 7"),
+            std::string::npos);
+  EXPECT_NE(exr_error("channels", "chlist", std::string(1, '\0'), false)
+                .find("its header lists no channels"),
+            std::string::npos);
   // A consistent type attribute passes the check (the file then fails later only because the
   // inserted bytes moved its pixel data away from its offset table).
   const std::string consistent = exr_error("type", "string", "scanlineimage", false);
