@@ -46,17 +46,7 @@ const ParamSpec kPlanarParams[] = {
 
 std::unique_ptr<DirFunction> create_planar(const ParamValues& v) {
   check_params(kPlanarParams, v);
-  std::vector<Rbf<2>::Point> at;
-  std::vector<Vec3> values;
-  const auto data = read_scattered_data(v, "points");
-  for (size_t i = 0; i < data.size(); ++i) {
-    at.push_back({data[i].uv.x, data[i].uv.y});
-    values.push_back(unit_direction(data[i], i));
-  }
-  return rbf_param_errors("points", [&] {
-    return std::make_unique<ScatteredDir>(Rbf<2>(std::move(at), values, read_rbf_kernel(v),
-                                                 v.number("shape"), v.number("smoothing")));
-  });
+  return std::make_unique<ScatteredDir>(planar_rbf(v, unit_direction));
 }
 
 // Where image (u, v) lies on the unit sphere of directions before the pull, with derivatives;

@@ -49,17 +49,8 @@ const ParamSpec kParams[] = {
 
 std::unique_ptr<OrgFunction> create(const ParamValues& v) {
   check_params(kParams, v);
-  std::vector<Rbf<2>::Point> at;
-  std::vector<Vec3> values;
-  for (const ScatteredDatum& d : read_scattered_data(v, "points")) {
-    at.push_back({d.uv.x, d.uv.y});
-    values.push_back(d.value);
-  }
-  return rbf_param_errors("points", [&] {
-    return std::make_unique<ScatteredOrg>(
-        Rbf<2>(std::move(at), values, read_rbf_kernel(v), v.number("shape"), v.number("smoothing")),
-        v.boolean("flip_normal"));
-  });
+  const auto point = [](const ScatteredDatum& d, size_t) { return d.value; };
+  return std::make_unique<ScatteredOrg>(planar_rbf(v, point), v.boolean("flip_normal"));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "camera/functions.h"
@@ -54,6 +55,12 @@ std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::strin
 
 RbfKernel read_rbf_kernel(const ParamValues& v);
 
+// The planar interpolant of `points` ([u, v, x, y, z] rows) with the table's kernel, shape and
+// smoothing: value(datum, i) gives row i's value (the point itself, or its unit direction).
+// Interpolator errors become a ParamError on `points`.
+template <class Value>
+Rbf<2> planar_rbf(const ParamValues& v, Value value);
+
 // Runs make(), turning the interpolator's std::invalid_argument into a ParamError on `key`.
 template <class F>
 auto rbf_param_errors(std::string_view key, F make) {
@@ -62,6 +69,21 @@ auto rbf_param_errors(std::string_view key, F make) {
   } catch (const std::invalid_argument& e) {
     throw ParamError(std::string(key), std::string(key) + ": " + e.what());
   }
+}
+
+template <class Value>
+Rbf<2> planar_rbf(const ParamValues& v, Value value) {
+  std::vector<Rbf<2>::Point> at;
+  std::vector<Vec3> values;
+  const auto data = read_scattered_data(v, "points");
+  for (size_t i = 0; i < data.size(); ++i) {
+    at.push_back({data[i].uv.x, data[i].uv.y});
+    values.push_back(value(data[i], i));
+  }
+  return rbf_param_errors("points", [&] {
+    return Rbf<2>(std::move(at), values, read_rbf_kernel(v), v.number("shape"),
+                  v.number("smoothing"));
+  });
 }
 
 }  // namespace anamorph
