@@ -85,8 +85,7 @@ void check_channel_list(const std::vector<unsigned char>& b, size_t at, size_t s
 // The header's attributes that tinyexr 1.0 checks with assert() instead of an error (an abort
 // in a release build: found by fuzz_image): `tiles` must be a 9-byte tiledesc, and `type` one of
 // OpenEXR's image types, consistent with tinyexr's notion of tiled (the version's tiled flag
-// and a tiles attribute). Walks name\0 type\0 size data... up to the empty name; a header cut
-// short is left to tinyexr, which reports it as an error before it looks at `type`.
+// and a tiles attribute). Walks name\0 type\0 size data... up to the empty name.
 void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_flag,
                              const fs::path& file) {
   size_t at = 8;  // magic and version
@@ -103,13 +102,14 @@ void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_fla
   std::string image_type;
   for (;;) {
     std::string name, type;
-    if (!text(&name)) return;
-    if (name.empty()) break;
-    if (!text(&type) || at + 4 > b.size()) return;
+    // A header cut short ends the walk but not the checks: tinyexr converts whatever it parsed
+    // into the header even when parsing fails, and asserts on it there.
+    if (!text(&name) || name.empty()) break;
+    if (!text(&type) || at + 4 > b.size()) break;
     uint32_t size = 0;
     std::memcpy(&size, b.data() + at, 4);  // little-endian, as every host we build for
     at += 4;
-    if (size > b.size() - at) return;
+    if (size > b.size() - at) break;
     if (name == "tiles") {
       if (size != 9)
         fail_read("cannot read EXR", file,
@@ -119,8 +119,8 @@ void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_fla
     if (name == "channels") check_channel_list(b, at, size, file);
     if (name == "type") {
       image_type.assign(reinterpret_cast<const char*>(b.data() + at), size);
-      image_type = image_type.substr(0, image_type.find('\0'));
-      if (image_type != "scanlineimage" && image_type != "tiledimage")
+      image_type = image_type.substr(0, image_type.find('\0'));  // as tinyexr reads it
+      if (!image_type.empty() && image_type != "scanlineimage" && image_type != "tiledimage")
         fail_read("cannot read EXR", file,
                   "its type attribute is neither scanlineimage nor tiledimage (deep or damaged)");
     }

@@ -210,6 +210,13 @@ TEST(ReadImage, ExrAttributesTinyexrAssertsOnAreErrors) {
   EXPECT_NE(fuzzed.find("its type attribute is neither scanlineimage nor tiledimage"),
             std::string::npos)
       << fuzzed;
+  // The same with the header cut short after the type (tinyexr converts a failed header too).
+  const auto cut =
+      test::data_dir() / "fuzz" / "image" / "exr_type_in_a_truncated_header_aborted_tinyexr.exr";
+  const std::string truncated = test::error_of([&] { read_image(cut); });
+  EXPECT_NE(truncated.find("its type says tiledimage but the header describes scanlines"),
+            std::string::npos)
+      << truncated;
   EXPECT_NE(exr_error("type", "string", "deepscanline", false)
                 .find("neither scanlineimage nor tiledimage"),
             std::string::npos);
