@@ -46,6 +46,7 @@ struct ParsedExr {
   EXRHeader header{};
   EXRImage image{};
   bool has_header = false, has_image = false;
+  std::vector<unsigned char> renamed;  // the file with its `type` attributes renamed, if any
   ~ParsedExr() {
     if (has_image) FreeEXRImage(&image);
     if (has_header) FreeEXRHeader(&header);
@@ -83,11 +84,14 @@ void check_channel_list(const std::vector<unsigned char>& b, size_t at, size_t s
 }
 
 // The header's attributes that tinyexr 1.0 checks with assert() instead of an error (an abort
-// in a release build: found by fuzz_image): `tiles` must be a 9-byte tiledesc, and `type` one of
-// OpenEXR's image types, consistent with tinyexr's notion of tiled (the version's tiled flag
-// and a tiles attribute). Walks name\0 type\0 size data... up to the empty name.
-void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_flag,
-                             const fs::path& file) {
+// in a release build: found by fuzz_image): `tiles` must be a 9-byte tiledesc, the channel list
+// must be sound (check_channel_list), and `type` (an image's scanline or tiled, which tinyexr
+// asserts is consistent with its own notion of tiled, set or not by attributes it may never
+// reach in a damaged header) is taken out of its sight: returns the offsets of every attribute
+// named `type`, which parse_header renames. Walks name\0 type\0 size data... up to the empty
+// name or to where the header is cut short (tinyexr converts a failed header too).
+std::vector<size_t> check_header_attributes(const std::vector<unsigned char>& b,
+                                            const fs::path& file) {
   size_t at = 8;  // magic and version
   const auto text = [&](std::string* out) {
     if (at >= b.size()) return false;
@@ -98,56 +102,62 @@ void check_header_attributes(const std::vector<unsigned char>& b, bool tiled_fla
     at = size_t(end - b.data()) + 1;
     return true;
   };
-  bool has_tiles = false;
-  std::string image_type;
+  std::vector<size_t> type_names;
   for (;;) {
     std::string name, type;
-    // A header cut short ends the walk but not the checks: tinyexr converts whatever it parsed
-    // into the header even when parsing fails, and asserts on it there.
+    const size_t name_at = at;
     if (!text(&name) || name.empty()) break;
     if (!text(&type) || at + 4 > b.size()) break;
     uint32_t size = 0;
     std::memcpy(&size, b.data() + at, 4);  // little-endian, as every host we build for
     at += 4;
     if (size > b.size() - at) break;
-    if (name == "tiles") {
-      if (size != 9)
-        fail_read("cannot read EXR", file,
-                  fmt::format("its tiles attribute has {} bytes, not 9", size));
-      has_tiles = true;
-    }
+    if (name == "tiles" && size != 9)
+      fail_read("cannot read EXR", file,
+                fmt::format("its tiles attribute has {} bytes, not 9", size));
     if (name == "channels") check_channel_list(b, at, size, file);
     if (name == "type") {
-      image_type.assign(reinterpret_cast<const char*>(b.data() + at), size);
-      image_type = image_type.substr(0, image_type.find('\0'));  // as tinyexr reads it
-      if (!image_type.empty() && image_type != "scanlineimage" && image_type != "tiledimage")
+      type_names.push_back(name_at);
+      std::string value(reinterpret_cast<const char*>(b.data() + at), size);
+      value = value.substr(0, value.find('\0'));
+      if (!value.empty() && value != "scanlineimage" && value != "tiledimage")
         fail_read("cannot read EXR", file,
                   "its type attribute is neither scanlineimage nor tiledimage (deep or damaged)");
     }
     at += size;
   }
-  const bool tiled = tiled_flag && has_tiles;
-  if (!image_type.empty() && (image_type == "tiledimage") != tiled)
-    fail_read("cannot read EXR", file,
-              fmt::format("its type says {} but the header describes {}", image_type,
-                          tiled ? "tiles" : "scanlines"));
+  return type_names;
 }
 
-void parse_header(ParsedExr& exr, const std::vector<unsigned char>& b, const fs::path& file) {
+// What tinyexr reads instead of a `type` attribute (same length, so no offset moves).
+constexpr char kRenamedType[] = "tyqe";
+
+// Parses the header; returns the bytes tinyexr is to read the image from (b, or a copy with the
+// `type` attributes renamed, see check_header_attributes).
+const std::vector<unsigned char>& parse_header(ParsedExr& exr, const std::vector<unsigned char>& b,
+                                               const fs::path& file) {
   if (ParseEXRVersionFromMemory(&exr.version, b.data(), b.size()) != TINYEXR_SUCCESS)
     fail_read("cannot read EXR", file, "not a valid OpenEXR file");
   if (exr.version.multipart || exr.version.non_image)
     fail_read("cannot read EXR", file, "multi-part and deep EXR files are not supported");
-  check_header_attributes(b, exr.version.tiled != 0, file);
+  const std::vector<size_t> type_names = check_header_attributes(b, file);
+  const std::vector<unsigned char>* bytes = &b;
+  if (!type_names.empty()) {
+    exr.renamed = b;
+    for (size_t at : type_names) std::memcpy(exr.renamed.data() + at, kRenamedType, 4);
+    bytes = &exr.renamed;
+  }
   InitEXRHeader(&exr.header);
   const char* err = nullptr;
-  const int parsed = ParseEXRHeaderFromMemory(&exr.header, &exr.version, b.data(), b.size(), &err);
+  const int parsed =
+      ParseEXRHeaderFromMemory(&exr.header, &exr.version, bytes->data(), bytes->size(), &err);
   // tinyexr 1.0 converts what it parsed into the header even when parsing failed (channels,
   // attributes: malloc'd), so the header is ours to free either way; not freeing it leaked a
   // little per bad file, which fuzz_image's million inputs turned into 3 GB.
   exr.has_header = true;
   if (parsed != TINYEXR_SUCCESS)
     fail_read("cannot read EXR", file, take_error(err, "invalid header"));
+  return *bytes;
 }
 
 }  // namespace
@@ -243,7 +253,7 @@ void write_exr(const fs::path& file, const OutputImage& img) {
 io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,
                                            const fs::path& file) {
   ParsedExr exr;
-  parse_header(exr, b, file);
+  const std::vector<unsigned char>& bytes = parse_header(exr, b, file);
   EXRHeader& h = exr.header;
   for (int c = 0; c < h.num_channels; ++c)
     if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
@@ -254,7 +264,7 @@ io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,
   const char* err = nullptr;
   // Not freed on failure: tinyexr 1.0's DecodeEXRImage frees the image itself on a failed chunk
   // but leaves the pointers set, so FreeEXRImage here would free them twice.
-  if (LoadEXRImageFromMemory(&exr.image, &h, b.data(), b.size(), &err) != TINYEXR_SUCCESS)
+  if (LoadEXRImageFromMemory(&exr.image, &h, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS)
     fail_read("cannot read EXR", file, take_error(err, "invalid image data"));
   exr.has_image = true;
 
@@ -295,7 +305,7 @@ std::map<std::string, std::string> io_detail::exr_metadata(const std::vector<uns
   std::map<std::string, std::string> meta;
   for (int i = 0; i < exr.header.num_custom_attributes; ++i) {
     const EXRAttribute& a = exr.header.custom_attributes[i];
-    if (std::strcmp(a.type, "string") != 0) continue;
+    if (std::strcmp(a.type, "string") != 0 || std::strcmp(a.name, kRenamedType) == 0) continue;
     std::string value(reinterpret_cast<const char*>(a.value), size_t(std::max(a.size, 0)));
     if (value == std::string(1, '\0')) value.clear();  // tinyexr's form of an empty string
     meta[a.name] = std::move(value);

@@ -205,24 +205,27 @@ std::string exr_error(const std::string& name, const std::string& type, const st
 }
 
 TEST(ReadImage, ExrAttributesTinyexrAssertsOnAreErrors) {
-  const auto f = test::data_dir() / "fuzz" / "image" / "exr_type_attribute_aborted_tinyexr.exr";
-  const std::string fuzzed = test::error_of([&] { read_image(f); });
+  const auto fuzz = test::data_dir() / "fuzz" / "image";
+  const std::string fuzzed =
+      test::error_of([&] { read_image(fuzz / "exr_type_attribute_aborted_tinyexr.exr"); });
   EXPECT_NE(fuzzed.find("its type attribute is neither scanlineimage nor tiledimage"),
             std::string::npos)
       << fuzzed;
-  // The same with the header cut short after the type (tinyexr converts a failed header too).
-  const auto cut =
-      test::data_dir() / "fuzz" / "image" / "exr_type_in_a_truncated_header_aborted_tinyexr.exr";
-  const std::string truncated = test::error_of([&] { read_image(cut); });
-  EXPECT_NE(truncated.find("its type says tiledimage but the header describes scanlines"),
-            std::string::npos)
-      << truncated;
+  // A `tiledimage` type in a header that is cut short, or that a later empty type attribute
+  // seemed to cancel: tinyexr asserted on both. The type is now renamed before tinyexr reads the
+  // header, so each is just a damaged file.
+  for (const char* f : {"exr_type_in_a_truncated_header_aborted_tinyexr.exr",
+                        "exr_second_type_attribute_aborted_tinyexr.exr"}) {
+    const std::string msg = test::error_of([&] { read_image(fuzz / f); });
+    EXPECT_NE(msg.find("cannot read EXR"), std::string::npos) << f << ": " << msg;
+  }
   EXPECT_NE(exr_error("type", "string", "deepscanline", false)
                 .find("neither scanlineimage nor tiledimage"),
             std::string::npos);
-  EXPECT_NE(exr_error("type", "string", "tiledimage", false)
-                .find("its type says tiledimage but the header describes scanlines"),
-            std::string::npos);
+  // tiledimage over scanlines (tinyexr asserted): read as the scanlines it is; it fails here only
+  // because the inserted bytes moved the pixel data away from its offset table.
+  const std::string tiled = exr_error("type", "string", "tiledimage", false);
+  EXPECT_NE(tiled.find("decoding pixels"), std::string::npos) << tiled;
   EXPECT_NE(exr_error("tiles", "tiledesc", std::string(8, '\1'), true)
                 .find("its tiles attribute has 8 bytes, not 9"),
             std::string::npos);
@@ -238,10 +241,10 @@ TEST(ReadImage, ExrAttributesTinyexrAssertsOnAreErrors) {
   EXPECT_NE(exr_error("channels", "chlist", std::string(1, '\0'), false)
                 .find("its header lists no channels"),
             std::string::npos);
-  // A consistent type attribute passes the check (the file then fails later only because the
-  // inserted bytes moved its pixel data away from its offset table).
-  const std::string consistent = exr_error("type", "string", "scanlineimage", false);
-  EXPECT_EQ(consistent.find("type"), std::string::npos) << consistent;
+  // A type attribute does not reach tinyexr, and is not reported as metadata either.
+  const auto ok = exr_with_attribute("type", "string", "scanlineimage", false);
+  EXPECT_EQ(read_metadata(ok).count("tyqe"), 0u);
+  std::filesystem::remove(ok);
 }
 
 }  // namespace anamorph
