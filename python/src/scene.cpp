@@ -236,7 +236,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   PathRadiance path;
   {
     pb::gil_scoped_release release;
-    f = measure_form_factors(*scene_, renderer_->accel(), o);
+    f = measure_form_factors(renderer_->accel(), o);
     if (radiosity) {
       B = solve_radiosity(*scene_, renderer_->accel(), f);
       path = path_traced_radiance(*scene_, renderer_->accel(), f, o, depth);

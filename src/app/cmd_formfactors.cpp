@@ -111,7 +111,7 @@ int run(const FormFactorArgs& a) {
   std::vector<Color> B;
   try {
     RenderPhase phase;
-    f = measure_form_factors(s, accel, o);
+    f = measure_form_factors(accel, o);
     if (interrupt_flag()) return kFailure;
     if (a.radiosity) B = solve_radiosity(s, accel, f);
   } catch (const std::invalid_argument& e) {

@@ -36,9 +36,6 @@ class RayTable {
   // second (3 entries, may be null): d2/du2, d2/dudv, d2/dv2 (piecewise linear: C1 tables).
   bool eval(double u, double v, Vec3* value, Vec3* du, Vec3* dv, Vec3* second = nullptr) const;
 
-  int width() const { return w_; }
-  int height() const { return h_; }
-
  private:
   const Vec3& at(int i, int j) const {
     return grid_[size_t(j + kPad) * stride_ + size_t(i + kPad)];

@@ -137,9 +137,7 @@ Sums over_points(const SurfaceSampler& sampler, int origins, size_t cols, uint64
 
 }  // namespace
 
-FormFactors measure_form_factors(const Scene& scene, const Accel& accel,
-                                 const FormFactorOptions& o) {
-  (void)scene;
+FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o) {
   FormFactors out;
   out.names = object_names(accel);
   const size_t n = out.names.size(), cols = n + 1;

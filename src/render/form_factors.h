@@ -39,8 +39,7 @@ struct FormFactors {
 };
 
 // Throws std::invalid_argument naming an unknown object, or a requested source without area.
-FormFactors measure_form_factors(const Scene& scene, const Accel& accel,
-                                 const FormFactorOptions& o);
+FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o);
 
 // Radiosity of every object from (I - rho F) B = E (per colour channel), with E = pi Le and rho
 // the diffuse reflectance of each object's material, and each pair's A_i F_ij = A_j F_ji taken

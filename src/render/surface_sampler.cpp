@@ -80,10 +80,10 @@ SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(in
     }
   }
   if (!(total_ > 0)) throw std::invalid_argument("the object has no surface area");
-  if (!identity_) {  // the area scale of a uniform transform: |det|^(2/3)
+  if (!identity_) {
     const Vec3 x = world_from_object_.vector({1, 0, 0}), y = world_from_object_.vector({0, 1, 0}),
                z = world_from_object_.vector({0, 0, 1});
-    scale_hint_ = std::pow(std::abs(dot(x, cross(y, z))), 2.0 / 3.0);
+    det_ = std::abs(dot(x, cross(y, z)));
   }
 }
 
@@ -123,9 +123,7 @@ SurfacePoint SurfaceSampler::sample(double u1, double u2) const {
   double scale = 1;
   if (!identity_) {
     const Vec3 m = world_from_object_.normal(s.n);  // M^-T n: its length * |det M| = area scale
-    const Vec3 x = world_from_object_.vector({1, 0, 0}), y = world_from_object_.vector({0, 1, 0}),
-               z = world_from_object_.vector({0, 0, 1});
-    scale = std::abs(dot(x, cross(y, z))) * length(m);
+    scale = det_ * length(m);
     s.p = world_from_object_.point(s.p);
     s.n = normalize(m);
   }

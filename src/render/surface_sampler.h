@@ -23,10 +23,6 @@ class SurfaceSampler {
   // cumulative area (stratify it across samples for an even spread), u2 the rest.
   SurfacePoint sample(double u1, double u2) const;
 
-  // The exact world area when the object's transform scales areas uniformly (rigid motions,
-  // uniform scales); otherwise the mean of sample weights estimates it.
-  double nominal_area() const { return total_ * scale_hint_; }
-
  private:
   enum class Part { Triangle, Sphere, Disk, CylinderSide, BoxFace };
   struct Piece {
@@ -39,7 +35,8 @@ class SurfaceSampler {
   SurfacePoint local(const Piece& piece, double u1, double u2) const;
   std::vector<Piece> pieces_;
   std::vector<double> cdf_;  // cumulative object-space area, last = total_
-  double total_ = 0, scale_hint_ = 1;
+  double total_ = 0;
+  double det_ = 1;  // |det| of the transform's linear part (area scale = det_ |M^-T n|)
   Transform world_from_object_;
   bool identity_ = true, inward_ = false;
 };

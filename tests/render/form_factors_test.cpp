@@ -25,7 +25,7 @@ struct Measured {
 Measured measure(const std::string& toml, FormFactorOptions o = {}) {
   Measured m{load_scene_from_string(toml, "form_factors_test.toml"), nullptr, {}};
   m.accel = std::make_unique<Accel>(m.scene);
-  m.f = measure_form_factors(m.scene, *m.accel, o);
+  m.f = measure_form_factors(*m.accel, o);
   return m;
 }
 
