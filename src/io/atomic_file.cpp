@@ -117,6 +117,23 @@ void AtomicFile::write(const void* bytes, size_t size) {
   }
 }
 
+uint64_t AtomicFile::tell() const {
+  const off_t at = ::lseek(fd_, 0, SEEK_CUR);
+  if (at < 0)
+    io_detail::fail("cannot write", target_, fmt::format("seek failed: {}", errno_message(errno)));
+  return uint64_t(at);
+}
+
+void AtomicFile::seek(uint64_t offset) {
+  if (::lseek(fd_, off_t(offset), SEEK_SET) < 0)
+    io_detail::fail("cannot write", target_, fmt::format("seek failed: {}", errno_message(errno)));
+}
+
+void AtomicFile::commit_as(const fs::path& other) {
+  if (!direct_) target_ = resolve_links(other);
+  commit();
+}
+
 void AtomicFile::commit() {
   const auto fail_step = [&](const char* step, int err) {
     io_detail::fail("cannot write", target_,

@@ -8,6 +8,7 @@
 #include <tinyexr.h>
 
 #include "io/image_io.h"
+#include "io/image_stream.h"
 #include "io/io_util.h"
 
 namespace anamorph {
@@ -164,90 +165,15 @@ const std::vector<unsigned char>& parse_header(ParsedExr& exr, const std::vector
 
 void write_exr(const fs::path& file, const OutputImage& img) {
   io_detail::check_output(img, file);
-  struct Channel {
-    std::string name;
-    size_t layer, component;
-  };
-  std::vector<Channel> channels;
-  for (size_t l = 0; l < img.layers.size(); ++l) {
-    const ImageLayer& layer = img.layers[l];
-    for (size_t c = 0; c < layer.channels.size(); ++c) {
-      std::string name =
-          layer.name.empty() ? layer.channels[c] : layer.name + "." + layer.channels[c];
-      if (layer.channels[c].empty() || name.size() > 255)
-        fail("cannot write EXR", file,
-             fmt::format("invalid channel name '{}' (1-255 characters)", name));
-      channels.push_back({std::move(name), l, c});
-    }
+  std::vector<LayerSpec> layers;
+  std::vector<const float*> data;
+  for (const ImageLayer& l : img.layers) {
+    layers.push_back({l.name, l.channels});
+    data.push_back(l.data.data());
   }
-  // OpenEXR readers expect the channel list, and so the pixel data, in sorted name order;
-  // tinyexr writes channels in the order given, so sort them here.
-  std::sort(channels.begin(), channels.end(),
-            [](const Channel& a, const Channel& b) { return a.name < b.name; });
-  for (size_t i = 1; i < channels.size(); ++i)
-    if (channels[i].name == channels[i - 1].name)
-      fail("cannot write EXR", file, fmt::format("duplicate channel '{}'", channels[i].name));
-
-  const size_t pixels = size_t(img.width) * size_t(img.height);
-  std::vector<std::vector<float>> planes(channels.size(), std::vector<float>(pixels));
-  std::vector<unsigned char*> plane_ptrs(channels.size());
-  std::vector<EXRChannelInfo> infos(channels.size());
-  for (size_t i = 0; i < channels.size(); ++i) {
-    const ImageLayer& layer = img.layers[channels[i].layer];
-    const size_t n = layer.channels.size();
-    for (size_t p = 0; p < pixels; ++p) planes[i][p] = layer.data[p * n + channels[i].component];
-    plane_ptrs[i] = reinterpret_cast<unsigned char*>(planes[i].data());
-    std::memset(&infos[i], 0, sizeof(EXRChannelInfo));
-    std::memcpy(infos[i].name, channels[i].name.c_str(), channels[i].name.size() + 1);
-  }
-  std::vector<int> pixel_types(channels.size(), TINYEXR_PIXELTYPE_FLOAT);
-
-  if (img.metadata.size() > TINYEXR_MAX_CUSTOM_ATTRIBUTES)
-    fail("cannot write EXR", file,
-         fmt::format("{} metadata entries, at most {} are supported", img.metadata.size(),
-                     TINYEXR_MAX_CUSTOM_ATTRIBUTES));
-  std::vector<EXRAttribute> attributes;
-  for (const auto& entry : img.metadata) {
-    // Not a structured binding: clang 14 cannot capture one in the lambda below.
-    const std::string &key = entry.first, &value = entry.second;
-    const bool reserved =
-        std::any_of(std::begin(kReservedAttributes), std::end(kReservedAttributes),
-                    [&](const char* r) { return key == r; });
-    if (key.empty() || key.size() > 255 || key.find('\0') != std::string::npos || reserved)
-      fail("cannot write EXR", file,
-           fmt::format("metadata key '{}' is empty, too long or a standard EXR attribute", key));
-    EXRAttribute a{};
-    std::memcpy(a.name, key.c_str(), key.size() + 1);
-    std::strcpy(a.type, "string");
-    // tinyexr only reads the value while saving; it never frees or modifies it here.
-    a.value = reinterpret_cast<unsigned char*>(const_cast<char*>(value.data()));
-    a.size = int(value.size());
-    attributes.push_back(a);
-  }
-
-  EXRHeader header;
-  InitEXRHeader(&header);
-  header.num_channels = int(channels.size());
-  header.channels = infos.data();
-  header.pixel_types = pixel_types.data();
-  header.requested_pixel_types = pixel_types.data();
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;  // lossless
-  header.num_custom_attributes = int(attributes.size());
-  header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
-
-  EXRImage image;
-  InitEXRImage(&image);
-  image.images = plane_ptrs.data();
-  image.width = img.width;
-  image.height = img.height;
-  image.num_channels = int(channels.size());
-
-  unsigned char* memory = nullptr;
-  const char* err = nullptr;
-  const size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
-  std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
-  if (size == 0) fail("cannot write EXR", file, take_error(err, "encoding failed"));
-  write_file_atomic(file, memory, size);
+  ExrStream exr(file, img.width, img.height, layers, img.metadata);
+  exr.write_rows(data, img.height);
+  exr.commit();
 }
 
 io_detail::ExrChannels io_detail::load_exr(const std::vector<unsigned char>& b,

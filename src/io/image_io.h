@@ -5,6 +5,7 @@
 // file where a good one was.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
@@ -79,7 +80,12 @@ class AtomicFile {
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   void write(const void* bytes, size_t size);
+  // Position in the file and moving it (formats that fill in an offset table at the end).
+  uint64_t tell() const;
+  void seek(uint64_t offset);
   void commit();
+  // The file renamed to `other` (in the same directory as the target) instead.
+  void commit_as(const std::filesystem::path& other);
 
  private:
   std::filesystem::path target_, dir_, tmp_;

@@ -16,6 +16,7 @@
 #include "math/parallel.h"
 
 #include "io/image_io.h"
+#include "io/image_stream.h"
 #include "io/io_util.h"
 
 namespace anamorph {
@@ -163,66 +164,6 @@ void filter_row(const unsigned char* row, const unsigned char* prev, size_t n, u
   }
 }
 
-// RGBA8 pixels into PNG chunks IHDR and IDAT (the caller adds the signature, text and IEND).
-// Rows are filtered in parallel and deflated (zlib, level 3) in fixed bands of rows, each ending
-// on a full flush, so the bands concatenate into one stream: the bytes do not depend on the
-// number of threads. About 4x faster than stb's encoder at 1080p, for smaller files.
-bool encode_png(const unsigned char* rgba, int width, int height, std::string* ihdr,
-                std::string* idat) {
-  const size_t stride = size_t(width) * 4, line = stride + 1;
-  std::vector<unsigned char> filtered(line * size_t(height));
-  parallel_for_each(0, height, [&](int y) {
-    filter_row(rgba + size_t(y) * stride, y > 0 ? rgba + size_t(y - 1) * stride : nullptr, stride,
-               &filtered[size_t(y) * line]);
-  });
-  constexpr int kBandRows = 64;
-  const int bands = (height + kBandRows - 1) / kBandRows;
-  std::vector<std::string> out(static_cast<size_t>(bands));
-  std::vector<uLong> adler(static_cast<size_t>(bands));
-  std::atomic<bool> ok{true};
-  parallel_for_each(0, bands, [&](int b) {
-    const unsigned char* in = &filtered[size_t(b) * kBandRows * line];
-    const size_t n = size_t(std::min(kBandRows, height - b * kBandRows)) * line;
-    adler[size_t(b)] = adler32(adler32(0, nullptr, 0), in, uInt(n));
-    z_stream z{};
-    if (deflateInit2(&z, 3, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
-      ok = false;
-      return;
-    }
-    std::string& o = out[size_t(b)];
-    o.resize(deflateBound(&z, uLong(n)) + 16);
-    z.next_in = const_cast<unsigned char*>(in);
-    z.avail_in = uInt(n);
-    z.next_out = reinterpret_cast<unsigned char*>(o.data());
-    z.avail_out = uInt(o.size());
-    const int r = deflate(&z, b + 1 == bands ? Z_FINISH : Z_FULL_FLUSH);
-    if (r != (b + 1 == bands ? Z_STREAM_END : Z_OK) || z.avail_in != 0) ok = false;
-    o.resize(o.size() - z.avail_out);
-    deflateEnd(&z);
-  });
-  if (!ok) return false;
-  uLong sum = adler32(0, nullptr, 0);
-  for (int b = 0; b < bands; ++b) {
-    const size_t n = size_t(std::min(kBandRows, height - b * kBandRows)) * line;
-    sum = adler32_combine(sum, adler[size_t(b)], z_off_t(n));
-  }
-  idat->assign("\x78\x5e", 2);  // zlib header: deflate, 32 KiB window, "fast" level
-  for (const std::string& o : out) *idat += o;
-  unsigned char tail[4];
-  write_be32(tail, uint32_t(sum));
-  idat->append(reinterpret_cast<const char*>(tail), 4);
-  unsigned char h[13];
-  write_be32(h, uint32_t(width));
-  write_be32(h + 4, uint32_t(height));
-  h[8] = 8;   // bits per channel
-  h[9] = 6;   // RGBA
-  h[10] = 0;  // deflate
-  h[11] = 0;  // adaptive row filters
-  h[12] = 0;  // no interlace
-  ihdr->assign(reinterpret_cast<const char*>(h), 13);
-  return true;
-}
-
 std::string inflate(const unsigned char* p, size_t n, const fs::path& file) {
   int len = 0;
   std::unique_ptr<char, decltype(&std::free)> out(
@@ -270,18 +211,102 @@ void write_png(const fs::path& file, const Rgba8Image& img) {
   if (img.rgba.size() != size_t(img.width) * size_t(img.height) * 4)
     fail("cannot write image", file,
          fmt::format("{} bytes for a {}x{} RGBA image", img.rgba.size(), img.width, img.height));
-  std::string ihdr, idat;
-  if (!encode_png(img.rgba.data(), img.width, img.height, &ihdr, &idat))
-    fail("cannot write PNG", file, "PNG encoding failed");
-  std::vector<unsigned char> png(io_detail::kPngSignature, io_detail::kPngSignature + 8);
-  const auto append = [&png](const std::vector<unsigned char>& c) {
-    png.insert(png.end(), c.begin(), c.end());
-  };
-  append(make_chunk("IHDR", ihdr));
-  for (const auto& [key, value] : img.metadata) append(text_chunk(key, value, file));
-  append(make_chunk("IDAT", idat));
-  append(make_chunk("IEND", ""));
-  write_file_atomic(file, png.data(), png.size());
+  // Bands of 64 rows encoded in parallel (about 4x faster than stb's encoder at 1080p, for
+  // smaller files), appended in order.
+  constexpr int kBandRows = 64;
+  const int bands = (img.height + kBandRows - 1) / kBandRows;
+  std::vector<PngStream::Band> encoded(static_cast<size_t>(bands));
+  const auto rows_of = [&](int b) { return std::min(kBandRows, img.height - b * kBandRows); };
+  parallel_for_each(0, bands, [&](int b) {
+    encoded[size_t(b)] =
+        PngStream::encode(&img.rgba[size_t(b) * kBandRows * img.width * 4], img.width, rows_of(b));
+  });
+  PngStream png(file, img.width, img.height, img.metadata);
+  for (int b = 0; b < bands; ++b) png.append(encoded[size_t(b)], rows_of(b));
+  png.commit();
+}
+
+PngStream::PngStream(const fs::path& file, int width, int height,
+                     const std::map<std::string, std::string>& metadata)
+    : file_(file), width_(width), height_(height), adler_(adler32(0, nullptr, 0)) {
+  if (width <= 0 || height <= 0 || width > (1 << 24) || height > (1 << 24))
+    fail("cannot write image", file, fmt::format("invalid size {}x{}", width, height));
+  unsigned char h[13];
+  write_be32(h, uint32_t(width));
+  write_be32(h + 4, uint32_t(height));
+  h[8] = 8;   // bits per channel
+  h[9] = 6;   // RGBA
+  h[10] = 0;  // deflate
+  h[11] = 0;  // adaptive row filters
+  h[12] = 0;  // no interlace
+  std::vector<std::vector<unsigned char>> chunks;
+  chunks.push_back(make_chunk("IHDR", std::string(reinterpret_cast<const char*>(h), 13)));
+  for (const auto& [key, value] : metadata) chunks.push_back(text_chunk(key, value, file));
+  out_ = std::make_unique<AtomicFile>(file);
+  out_->write(io_detail::kPngSignature, 8);
+  for (const auto& c : chunks) out_->write(c.data(), c.size());
+}
+
+PngStream::~PngStream() = default;
+
+PngStream::Band PngStream::encode(const unsigned char* rgba, int width, int rows) {
+  const size_t stride = size_t(width) * 4, line = stride + 1;
+  std::vector<unsigned char> filtered(line * size_t(rows));
+  for (int y = 0; y < rows; ++y)
+    filter_row(rgba + size_t(y) * stride, y > 0 ? rgba + size_t(y - 1) * stride : nullptr, stride,
+               &filtered[size_t(y) * line]);
+  Band band;
+  band.raw_bytes = filtered.size();
+  band.adler = adler32(adler32(0, nullptr, 0), filtered.data(), uInt(filtered.size()));
+  z_stream z{};
+  if (deflateInit2(&z, 3, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw ImageIoError("cannot write PNG: deflateInit failed");
+  band.deflated.resize(deflateBound(&z, uLong(filtered.size())) + 16);
+  z.next_in = filtered.data();
+  z.avail_in = uInt(filtered.size());
+  z.next_out = reinterpret_cast<unsigned char*>(band.deflated.data());
+  z.avail_out = uInt(band.deflated.size());
+  const int r = deflate(&z, Z_FULL_FLUSH);
+  const bool ok = r == Z_OK && z.avail_in == 0;
+  band.deflated.resize(band.deflated.size() - z.avail_out);
+  deflateEnd(&z);
+  if (!ok) throw ImageIoError("cannot write PNG: deflate failed");
+  return band;
+}
+
+void PngStream::append(const Band& band, int rows) {
+  if (rows_ + rows > height_)
+    fail("cannot write PNG", file_,
+         fmt::format("{} rows for a {}-row image", rows_ + rows, height_));
+  // The zlib header (deflate, 32 KiB window, "fast" level) leads the first IDAT chunk.
+  std::string data = rows_ == 0 ? std::string("\x78\x5e", 2) : std::string();
+  data += band.deflated;
+  const auto chunk = make_chunk("IDAT", data);
+  out_->write(chunk.data(), chunk.size());
+  adler_ = adler32_combine(adler_, band.adler, z_off_t(band.raw_bytes));
+  rows_ += rows;
+}
+
+void PngStream::finish() {
+  if (rows_ != height_)
+    fail("cannot write PNG", file_, fmt::format("{} of {} rows written", rows_, height_));
+  // An empty final block (fixed Huffman, end of block) closes the deflate stream.
+  std::string tail("\x03\x00", 2);
+  unsigned char a[4];
+  write_be32(a, uint32_t(adler_));
+  tail.append(reinterpret_cast<const char*>(a), 4);
+  for (const auto& c : {make_chunk("IDAT", tail), make_chunk("IEND", "")})
+    out_->write(c.data(), c.size());
+}
+
+void PngStream::commit() {
+  finish();
+  out_->commit();
+}
+
+void PngStream::commit_as(const fs::path& other) {
+  finish();
+  out_->commit_as(other);
 }
 
 std::map<std::string, std::string> io_detail::png_metadata(const std::vector<unsigned char>& b,

@@ -59,6 +59,23 @@ void parallel_chunks(size_t begin, size_t end, size_t grain, F&& f) {
   }
 }
 
+// f(i) for every i in [begin, end), handed out in increasing order from one counter to as many
+// threads as the arena allows: work finishes roughly in order, which a streamed image needs (a
+// recursive split would start one thread in the middle of the frame and hold half of it back).
+template <class F>
+void parallel_in_order(size_t begin, size_t end, F&& f) {
+  if (begin >= end) return;
+  if constexpr (!kParallelWithStdThreads) {
+    std::atomic<size_t> next{begin};
+    const int n = std::min<int>(tbb::this_task_arena::max_concurrency(), int(end - begin));
+    tbb::parallel_for(0, n, [&](int) {
+      for (size_t i; (i = next.fetch_add(1)) < end;) f(i);
+    });
+  } else {
+    parallel_chunks(begin, end, 1, [&](size_t lo, size_t) { f(lo); });
+  }
+}
+
 // f(i) for every i in [begin, end).
 template <class F>
 void parallel_for_each(int begin, int end, F&& f) {

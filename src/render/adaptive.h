@@ -22,16 +22,10 @@
 
 #include "camera/camera.h"
 #include "render/film.h"
+#include "render/render_job.h"
 #include "scene/scene.h"
 
 namespace anamorph {
-
-// One sample's outcome (also used by the uniform path).
-struct SampleResult {
-  Color L;
-  double alpha = 0;  // 0: no ray
-  AovSample aov;
-};
 
 struct PixelResult {
   Color L;

@@ -1,6 +1,11 @@
-// The renderer: a library call that renders a scene into a film tile by tile (TBB), in
-// progressive passes, reporting progress and honouring cancellation. Deterministic: each sample
-// draws from an RNG seeded by (pixel, sample index, seed).
+// The renderer: a library call that renders a scene tile by tile (TBB), reporting progress and
+// honouring cancellation. Deterministic: each sample draws from an RNG seeded by (pixel, sample
+// index, seed), so the result is the same for any thread count, tile size or interruption.
+//
+// Two ways to render. render_tiles() renders each tile with all its samples and hands it over:
+// memory follows the tiles in flight (what `anamorph render` streams into files). render() keeps
+// a whole frame in a Film, in progressive passes (previews, per-pixel adaptive sampling, whose
+// stopping rule looks across tile borders).
 #pragma once
 
 #include <atomic>
@@ -24,13 +29,27 @@ struct Progress {
   int pass = 0, passes = 1;
 };
 
+// Where an interrupted pass render continues: the film holds every tile after tile_pass[i]
+// passes' worth (-1: none), and pass `pass` runs over the pixels `active` leaves on.
+struct PassResume {
+  int pass = 0;
+  std::vector<uint8_t> active;
+  std::vector<int> tile_pass;
+};
+
 struct RenderOptions {
   int threads = 0;  // 0 = all cores
   std::vector<Aov> aovs;
   std::function<void(const Progress&)> on_progress;    // called from worker threads, serialised
   std::function<void(const Film&, int pass)> on_pass;  // after each progressive pass
-  const std::atomic<bool>* cancel = nullptr;
-  bool progressive = true;  // passes of 1, 1, 2, 4, ... samples
+  const std::atomic<bool>* cancel = nullptr;  // stop within a packet; tiles in flight are lost
+  const std::atomic<bool>* stop = nullptr;    // finish the tiles in flight, start no others
+  bool progressive = true;                    // passes of 1, 1, 2, 4, ... samples
+  // Pass renders, for checkpoints: a tile finished pass `pass` (called from its worker thread),
+  // and pass `pass` is about to run over the pixels `active` leaves on. `resume` continues.
+  std::function<void(size_t tile, int pass, const TileBuffer&)> on_tile_pass;
+  std::function<void(int pass, const std::vector<uint8_t>& active)> on_pass_start;
+  const PassResume* resume = nullptr;
 };
 
 struct RenderStats {
@@ -40,19 +59,30 @@ struct RenderStats {
   uint64_t rays = 0, samples = 0;
   uint64_t nan_samples = 0;                     // non-finite radiance, dropped
   int nan_x = -1, nan_y = -1, nan_sample = -1;  // the first one in (y, x, sample) order
-  bool cancelled = false;
+  bool cancelled = false;                       // by `cancel` or `stop`: the image is incomplete
   double mrays_per_second() const { return seconds > 0 ? rays / seconds * 1e-6 : 0; }
 };
+
+// A finished tile, from a worker thread (several at once, in roughly increasing index order).
+using TileSink = std::function<void(size_t index, std::unique_ptr<TileBuffer> tile)>;
 
 class Renderer {
  public:
   explicit Renderer(const Scene& scene);  // builds the acceleration structure and lights
   ~Renderer();
+  // A whole frame into `film` (cleared first unless opt.resume), in progressive passes.
   RenderStats render(Film& film, const RenderOptions& opt) const;
+  // Every tile of `grid` not marked in `skip` (finished before a checkpoint), each with all its
+  // samples, handed to `sink` as it completes. Only for settings streams() accepts.
+  RenderStats render_tiles(const TileGrid& grid, const RenderOptions& opt,
+                           const std::vector<uint8_t>& skip, const TileSink& sink) const;
+  // Whether a tile can be rendered alone: all but per-pixel adaptive sampling.
+  static bool streams(const RenderSettings& rs);
   const Accel& accel() const { return *accel_; }
 
  private:
-  struct Job;
+  struct Run;
+  RenderStats render_passes(Film& film, const RenderOptions& opt) const;
   const Scene& scene_;
   std::unique_ptr<Accel> accel_;
   std::unique_ptr<Lights> lights_;

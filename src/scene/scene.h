@@ -62,6 +62,9 @@ struct Scene {
   RenderSettings render;
   std::unique_ptr<VirtualCamera> camera;
   std::string camera_toml;  // the [camera] table as written (for metadata)
+  // The whole scene as rendered: includes merged, animation evaluated at `frame`, overrides
+  // applied (checkpoints compare it to refuse resuming a changed scene).
+  std::string effective_toml;
 
   std::vector<Material> materials;
   std::vector<Prototype> prototypes;

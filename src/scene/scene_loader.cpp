@@ -602,6 +602,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   for (const auto& o : overrides) apply_override(root, o);
   Scene s;
   s.frame = frame;
+  s.effective_toml = to_toml_text(root);
   for (const AnimatedKey& a : animation) {
     s.first_key = s.animated.empty() ? a.frames.front() : std::min(s.first_key, a.frames.front());
     s.last_key = s.animated.empty() ? a.frames.back() : std::max(s.last_key, a.frames.back());

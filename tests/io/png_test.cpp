@@ -220,7 +220,7 @@ TEST_F(Png, FilmStraightTo8BitsEqualsTheFloatLayerPath) {
       for (int s = 0; s < 1 + (x + y) % 3; ++s) {
         const bool ray = (x * 7 + y * 3 + s) % 5 != 0;
         const Color L{0.03 * x, 0.05 * y, 1.7 * std::sin(0.3 * (x + s))};
-        film.add(x, y, ray ? L : Color{}, ray ? 1.0 : 0.0, AovSample{}, s == 0);
+        film.add(x, y, ray ? L : Color{}, ray ? 1.0 : 0.0, AovSample{});
       }
   OutputImage img = film.output();
   img.metadata = kMetadata;

@@ -233,7 +233,7 @@ TEST(Adaptive, StopRuleFollowsItsFormula) {
     for (int x = 0; x < 5; ++x)
       for (int i = 0; i < n; ++i) {
         const double l = (x == 2 && y == 2) ? (i & 1) : 0.0;
-        film.add(x, y, {l, l, l}, 1, {}, i == 0);
+        film.add(x, y, {l, l, l}, 1, {});
       }
   const double s = std::sqrt(n / (4.0 * (n - 1))), m = std::sqrt(0.5 + 1e-4);
   for (const StopRule base : {StopRule::noisy(1), StopRule::deterministic(1)}) {

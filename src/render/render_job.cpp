@@ -1,0 +1,161 @@
+#include "render/render_job.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/shading.h"
+
+namespace anamorph {
+
+namespace {
+
+RenderMode mode_of(IntegratorKind integrator) {
+  switch (integrator) {
+    case IntegratorKind::Albedo:
+      return RenderMode::Albedo;
+    case IntegratorKind::Normal:
+      return RenderMode::Normal;
+    case IntegratorKind::Depth:
+      return RenderMode::Depth;
+    case IntegratorKind::Position:
+      return RenderMode::Position;
+    case IntegratorKind::Id:
+      return RenderMode::Id;
+    case IntegratorKind::Uv:
+      return RenderMode::Uv;
+    case IntegratorKind::Whitted:
+    case IntegratorKind::Path:
+      break;
+  }
+  return RenderMode::Radiance;
+}
+
+// A stable, well-spread colour for an object id.
+Color id_color(double id) {
+  const uint64_t h = mix64(uint64_t(id + 1));
+  return {double(h & 0xff) / 255, double((h >> 8) & 0xff) / 255, double((h >> 16) & 0xff) / 255};
+}
+
+}  // namespace
+
+RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, int width,
+                     int height, bool aovs)
+    : scene(s),
+      accel(a),
+      rs(s.render),
+      mode(mode_of(rs.integrator)),
+      integrator(mode == RenderMode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
+      want_aovs(aovs || mode != RenderMode::Radiance),
+      film_aovs(aovs),
+      W(width),
+      H(height),
+      cancel(ctx.cancel) {
+  // A sample filters textures over its share of the pixel: 1/sqrt(spp) of it with uniform
+  // sampling; adaptive subdivision passes the lattice spacing each sample stands for, and
+  // per-pixel adaptive sampling the share given by the samples the pixel has once the pass ends.
+  uniform_scale = footprint_scale(uint32_t(rs.spp));
+  du = 1.0 / W;
+  dv = 1.0 / H;
+  for (const Material& m : s.materials)
+    textured.push_back(m.base_color.kind != Texture::Kind::Constant || m.has_normal_map ||
+                       m.metallic_roughness.kind != Texture::Kind::Constant ||
+                       m.emission.kind != Texture::Kind::Constant);
+  const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
+  hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
+                               (mode == RenderMode::Albedo && !any_texture));
+}
+
+double RenderJob::footprint_scale(uint32_t n) {
+  return std::max(0.125, 1.0 / std::sqrt(double(std::max(1u, n))));
+}
+
+void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const {
+  // Every field for AOV layers; otherwise only the one the AOV integrator shows.
+  const bool all = film_aovs;
+  const Material& m = scene.materials[hit.material];
+  a.hit = true;
+  if (all || mode == RenderMode::Albedo)
+    a.albedo =
+        textured[hit.material] ? m.base_color.eval(texcoord_at(hit, fp)) : m.base_color.value;
+  if (all || mode == RenderMode::Normal) a.normal = dot(hit.ns, ray.d) > 0 ? -hit.ns : hit.ns;
+  if (all || mode == RenderMode::Position) a.position = hit.p;
+  // Distance along the camera ray from its origin (dir is unit).
+  if (all || mode == RenderMode::Depth) a.depth = hit.t;
+  if (all || mode == RenderMode::Id) a.id = hit.object_id;
+  if (all || mode == RenderMode::Uv) a.uv = hit.uv;
+}
+
+Color RenderJob::aov_beauty(const AovSample& a) const {
+  if (!a.hit) return {};
+  switch (mode) {
+    case RenderMode::Albedo:
+      return a.albedo;
+    case RenderMode::Normal:
+      return a.normal * 0.5 + Vec3(0.5);
+    case RenderMode::Depth:
+      return Color(a.depth);
+    case RenderMode::Position:
+      return a.position;
+    case RenderMode::Id:
+      return id_color(a.id);
+    case RenderMode::Uv:
+      return {a.uv.x, a.uv.y, 0};
+    case RenderMode::Radiance:
+      break;
+  }
+  return {};
+}
+
+CameraSample RenderJob::camera_sample(Vec2 uv, Rng& rng) const {
+  CameraSample cs;
+  cs.uv = uv;
+  if (scene.camera->uses_lens_or_time()) {
+    cs.lens = {rng.uniform(), rng.uniform()};
+    cs.time = rng.uniform();
+  }
+  return cs;
+}
+
+SampleResult RenderJob::sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint) const {
+  const auto cam = scene.camera->generate(camera_sample(uv, rng));
+  if (!cam) return SampleResult{};  // no ray: transparent
+  const Ray ray{cam->org, cam->dir, 0, kInf};
+  Hit h;
+  ++rays;
+  const bool found = accel.intersect(ray, &h);
+  SampleResult out;
+  finish(
+      ray, [&] { return *cam; }, found ? &h : nullptr, rng, rays, out, footprint);
+  return out;
+}
+
+void RenderJob::lattice_samples(const Vec2* uv, const uint64_t* keys, const double* footprints,
+                                const bool* use, SampleResult* out, uint64_t& rays,
+                                CameraRayBatch* keep) const {
+  constexpr int N = kCameraBatch;
+  CameraSample cs[N];
+  Rng rng[N];
+  for (int k = 0; k < N; ++k) {
+    rng[k] = Rng(keys[k], rs.seed);
+    cs[k] = camera_sample(uv[k], rng[k]);
+  }
+  CameraRayBatch local;
+  CameraRayBatch& cam = keep ? *keep : local;
+  scene.camera->generate_batch(cs, N, &cam);
+  bool valid[N], found[N];
+  Hit hits[N];
+  for (int k = 0; k < N; ++k) valid[k] = use[k] && cam.valid[k];
+  accel.intersect16(cam.org, cam.dir, valid, hits, found);
+  for (int k = 0; k < N; ++k) {
+    if (!valid[k]) {
+      out[k] = SampleResult{};  // no ray (or not wanted): transparent
+      continue;
+    }
+    ++rays;
+    finish(
+        Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
+        found[k] ? &hits[k] : nullptr, rng[k], rays, out[k], footprints[k]);
+  }
+}
+
+}  // namespace anamorph

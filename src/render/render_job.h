@@ -1,0 +1,91 @@
+// What one render call shares between its tiles: the settings read once, the integrator, and how
+// a camera sample whose first hit is known becomes radiance and AOV values. Internal to the
+// renderer (renderer.cpp, tile_sampler.cpp).
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <vector>
+
+#include "accel/accel.h"
+#include "camera/camera.h"
+#include "render/integrator.h"
+#include "render/tile_buffer.h"
+#include "scene/scene.h"
+
+namespace anamorph {
+
+// One camera sample's outcome.
+struct SampleResult {
+  Color L;
+  double alpha = 0;  // 0: no ray
+  AovSample aov;
+};
+
+// What a render's beauty shows: radiance, or one AOV (the AOV integrators).
+enum class RenderMode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };
+
+struct RenderJob {
+  RenderJob(const Scene& scene, const Accel& accel, const RenderContext& ctx, int width, int height,
+            bool film_aovs);
+
+  const Scene& scene;
+  const Accel& accel;
+  const RenderSettings& rs;
+  RenderMode mode;
+  std::unique_ptr<Integrator> integrator;
+  bool want_aovs;  // AOV values: for the film's layers or an AOV integrator
+  bool film_aovs;  // the film has AOV layers
+  // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
+  // or albedo without textures when there are no AOV layers.
+  bool hit_surface;
+  int W, H;
+  double du, dv;  // one pixel, in image units (ray differentials)
+  // Uniform sampling: each sample's share of a pixel, as a footprint scale (1/sqrt(spp)).
+  double uniform_scale;
+  std::vector<uint8_t> textured;  // per material: some texture is not a constant
+  const std::atomic<bool>* cancel;
+
+  bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+
+  // The share of a pixel one of n samples stands for, as a footprint scale (never below 1/8
+  // pixel: finer footprints only add texture noise).
+  static double footprint_scale(uint32_t n);
+
+  // Completes a camera sample whose first hit is known. `footprint` is the sample's share of a
+  // pixel as a scale of the pixel's footprint; `cam_ray()` gives the camera ray with its
+  // differentials (asked for only where a footprint is needed: primary packets hold their rays as
+  // arrays). Writes into `out` (reused by the caller: building a fresh result per sample meant
+  // zeroing ~150 bytes per ray, a visible cost for primary-ray renders).
+  template <class CamRay>
+  void finish(const Ray& ray, const CamRay& cam_ray, const Hit* hit, Rng& rng, uint64_t& rays,
+              SampleResult& out, double footprint = 1) const {
+    out.alpha = 1;
+    out.aov.hit = false;
+    Footprint fp;
+    // Footprints only matter where something is filtered: textures, or rays that go on (their
+    // ray cones carry it to textures further along).
+    if (hit && (mode == RenderMode::Radiance || textured[hit->material]))
+      fp = footprint_at(cam_ray(), du * footprint, dv * footprint, *hit);
+    if (want_aovs && hit) fill_aovs(ray, *hit, fp, out.aov);
+    out.L = mode == RenderMode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays)
+                                         : aov_beauty(out.aov);
+  }
+
+  // The camera sample at image position uv: lens and time drawn from rng when the camera uses them.
+  CameraSample camera_sample(Vec2 uv, Rng& rng) const;
+  // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
+  SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint = 1) const;
+  // kCameraBatch lattice points of adaptive sampling as sample_at gives them (each lane's random
+  // numbers from its key, its footprint as given), the camera rays generated as a batch and
+  // traced as one packet.
+  void lattice_samples(const Vec2* uv, const uint64_t* keys, const double* footprints,
+                       const bool* use, SampleResult* out, uint64_t& rays,
+                       CameraRayBatch* keep) const;
+
+ private:
+  void fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const;
+  Color aov_beauty(const AovSample& a) const;
+};
+
+}  // namespace anamorph

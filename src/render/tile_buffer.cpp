@@ -1,0 +1,164 @@
+#include "render/tile_buffer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace anamorph {
+
+const std::vector<AovInfo>& aov_table() {
+  static const std::vector<AovInfo> t = {
+      {Aov::Albedo, "albedo", {"R", "G", "B"}},
+      {Aov::Normal, "normal", {"X", "Y", "Z"}},
+      {Aov::Depth, "depth", {"Z"}},
+      {Aov::Position, "position", {"X", "Y", "Z"}},
+      {Aov::Id, "id", {"id"}},
+      {Aov::Uv, "uv", {"U", "V"}},
+      {Aov::Spp, "spp", {"N"}},
+  };
+  return t;
+}
+
+const AovInfo& aov_info(Aov a) {
+  for (const auto& i : aov_table())
+    if (i.aov == a) return i;
+  throw std::logic_error("unknown AOV");
+}
+
+size_t aov_floats(const std::vector<Aov>& aovs) {
+  size_t n = 0;
+  for (Aov a : aovs) n += aov_info(a).channels.size();
+  return n;
+}
+
+std::vector<Aov> parse_aovs(const std::string& list) {
+  std::vector<Aov> out;
+  size_t s = 0;
+  while (s <= list.size() && !list.empty()) {
+    size_t e = list.find(',', s);
+    if (e == std::string::npos) e = list.size();
+    const std::string name = list.substr(s, e - s);
+    bool found = false;
+    for (const auto& i : aov_table())
+      if (name == i.name) {
+        out.push_back(i.aov);
+        found = true;
+      }
+    if (!found) {
+      std::string valid;
+      for (const auto& i : aov_table()) valid += std::string(valid.empty() ? "" : ", ") + i.name;
+      throw std::invalid_argument("unknown AOV '" + name + "' (valid: " + valid + ")");
+    }
+    s = e + 1;
+  }
+  return out;
+}
+
+TileGrid::TileGrid(int w, int h, int tile_size)
+    : width(w),
+      height(h),
+      size(std::max(1, tile_size)),
+      cols((w + size - 1) / size),
+      rows((h + size - 1) / size) {}
+
+TileRect TileGrid::rect(size_t index) const {
+  const int tx = int(index % size_t(cols)), ty = int(index / size_t(cols));
+  return {tx * size, ty * size, std::min(width, (tx + 1) * size),
+          std::min(height, (ty + 1) * size)};
+}
+
+TileBuffer::TileBuffer(const TileRect& rect, const std::vector<Aov>& aovs)
+    : rect_(rect),
+      aovs_(aovs),
+      aov_floats_(anamorph::aov_floats(aovs)),
+      px_(rect.pixels()),
+      aov_(rect.pixels() * aov_floats_) {}
+
+void TileBuffer::set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a) {
+  PixelSum& p = at(x, y);
+  p = PixelSum{};
+  p.rgb[0] = float(L.x);
+  p.rgb[1] = float(L.y);
+  p.rgb[2] = float(L.z);
+  p.alpha = float(alpha);
+  p.n = 1;
+  p.spp = spp;
+  if (aov_floats_ == 0) return;
+  std::fill_n(aov_.begin() + ptrdiff_t(index(x, y) * aov_floats_), aov_floats_, 0.0f);
+  if (a.hit) add_aovs(x, y, a);
+}
+
+void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
+  PixelSum& p = at(x, y);
+  p.hits++;
+  float* v = &aov_[index(x, y) * aov_floats_];
+  const auto add = [&v](std::initializer_list<double> values) {
+    for (const double d : values) *v++ += float(d);
+  };
+  for (Aov k : aovs_) {
+    switch (k) {
+      case Aov::Albedo:
+        add({a.albedo.x, a.albedo.y, a.albedo.z});
+        break;
+      case Aov::Normal:
+        add({a.normal.x, a.normal.y, a.normal.z});
+        break;
+      case Aov::Position:
+        add({a.position.x, a.position.y, a.position.z});
+        break;
+      case Aov::Depth:
+        add({a.depth});
+        break;
+      case Aov::Id:
+        // An average of ids means nothing: keep the first hit's, stored +1 so 0 means "none".
+        if (*v == 0) *v = float(a.id + 1);
+        ++v;
+        break;
+      case Aov::Uv:
+        add({a.uv.x, a.uv.y});
+        break;
+      case Aov::Spp:
+        ++v;  // read from the pixel's sample count when resolved
+        break;
+    }
+  }
+}
+
+void TileBuffer::beauty_rgba(int x, int y, float* out) const {
+  const PixelSum& p = at(x, y);
+  const float n = p.n ? float(p.n) : 1.0f;
+  // Straight (un-premultiplied) colour: no-ray samples are transparent, not black.
+  const float inv = p.alpha > 0 ? 1.0f / p.alpha : 0.0f;
+  for (int c = 0; c < 3; ++c) out[c] = p.rgb[c] * inv;
+  out[3] = p.alpha / n;
+}
+
+void TileBuffer::aov_values(int x, int y, float* out) const {
+  const PixelSum& p = at(x, y);
+  const float* v = aov_at(x, y);
+  for (Aov k : aovs_) {
+    const size_t nc = aov_info(k).channels.size();
+    for (size_t c = 0; c < nc; ++c, ++v, ++out) {
+      if (k == Aov::Id)
+        *out = *v > 0 ? *v - 1 : -1.0f;
+      else if (k == Aov::Spp)
+        *out = float(p.spp);
+      else if (p.hits == 0)
+        *out = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
+      else
+        *out = *v / float(p.hits);
+    }
+  }
+}
+
+double TileBuffer::standard_error(int x, int y) const {
+  const PixelSum& p = at(x, y);
+  if (p.n < 2) return kInf;
+  const double n = p.n;
+  const double mean = luminance({p.rgb[0], p.rgb[1], p.rgb[2]}) / n;
+  const double var = std::max(0.0, (double(p.lum2) - n * mean * mean) / (n - 1));
+  return std::sqrt(var / n);
+}
+
+}  // namespace anamorph
