@@ -13,8 +13,10 @@
 #include <memory>
 
 #include "app/common.h"
+#include "app/frame_job.h"
 #include "io/image_io.h"
 #include "render/coin_layer.h"
+#include "render/frame_output.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_schema.h"
@@ -37,7 +39,22 @@ struct RenderArgs {
   int fps = 30;
   bool coins_overlay = false;  // --aov coins
   bool quiet = false;
+  std::string checkpoint;  // --checkpoint FILE (a frame pattern with --frames)
+  std::string checkpoint_every = "60s";
+  std::string resume;  // --resume FILE
+  bool skip_existing = false;
 };
+
+// "90", "90s", "5m", "2h" as seconds; false if malformed.
+bool parse_duration(const std::string& text, double* seconds) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || !(v > 0) || v > 1e7) return false;
+  const std::string unit = end;
+  const double scale = unit.empty() || unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : 0;
+  *seconds = v * scale;
+  return scale > 0;
+}
 
 void print_progress(const Progress& p, const std::string& prefix) {
   const int width = 30;
@@ -111,67 +128,111 @@ OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
   return o;
 }
 
-// Renders one frame to `out`; returns an exit code.
-int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
-                 const std::vector<Aov>& aovs, double frame, const fs::path& out,
-                 const std::string& prefix) {
-  Film film(scene.render.width, scene.render.height, aovs);
-  RenderOptions opt;
-  opt.threads = a.threads.value_or(0);
-  opt.aovs = aovs;
-  opt.cancel = &interrupt_flag();
-  const bool bar = !a.quiet && isatty(STDERR_FILENO);
-  auto last = std::chrono::steady_clock::now();
-  if (bar)
-    opt.on_progress = [&](const Progress& p) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::milliseconds(100) && p.fraction < 1) return;
-      last = now;
-      print_progress(p, prefix);
-    };
-  RenderStats st;
-  {
-    const RenderPhase phase;
-    st = renderer.render(film, opt);
-  }
-  if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
-  if (st.cancelled) {
-    fmt::print(stderr, "interrupted: {} not written\n", out.string());
-    return kFailure;
-  }
-
+std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame) {
   std::map<std::string, std::string> metadata;
   metadata["anamorph.version"] = ANAMORPH_VERSION;
   metadata["anamorph.command"] = command_line();
   metadata["anamorph.scene"] = scene.path;
   metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
   if (!scene.animated.empty()) metadata["anamorph.frame"] = fmt::format("{}", frame);
-  const bool png = lower_extension(out) == ".png";
-  OutputImage img;
-  if (png && aovs.empty() && !a.coins_overlay) {
-    // The beauty alone: straight from the film to 8 bits, no float layer in between.
-    write_png(out, Rgba8Image{film.width(), film.height(), film.output_rgba8(), metadata});
-  } else {
-    img = film.output();
-    img.metadata = metadata;
+  return metadata;
+}
+
+// The coin overlay needs the whole beauty image: that render keeps its frame in a film.
+int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
+                        const std::vector<Aov>& aovs, double frame, const fs::path& out,
+                        const RenderOptions& opt, RenderStats* st) {
+  Film film(scene.render.width, scene.render.height, aovs, scene.render.tile_size);
+  {
+    const RenderPhase phase;
+    *st = renderer.render(film, opt);
   }
-  if (a.coins_overlay) {
-    img.layers.push_back(coins_layer(scene));
-    fs::path marked = out;
-    marked.replace_extension(".coins.png");
-    write_png(marked, with_overlay(img, img.layers.back()));
-    if (!a.quiet) fmt::print("coin overlay written to {}\n", marked.string());
+  if (st->cancelled) {
+    fmt::print(stderr, "interrupted: {} not written\n", out.string());
+    return kInterrupted;
   }
-  if (png) {
-    if (!img.layers.empty()) write_png(out, img);
-    if (img.layers.size() > 1) {
-      fs::path exr = out;
-      exr.replace_extension(".exr");
-      write_exr(exr, img);
-      if (!a.quiet) fmt::print("AOVs written to {}\n", exr.string());
-    }
+  OutputImage img = film.output();
+  img.metadata = frame_metadata(scene, frame);
+  img.layers.push_back(coins_layer(scene));
+  fs::path marked = out;
+  marked.replace_extension(".coins.png");
+  write_png(marked, with_overlay(img, img.layers.back()));
+  if (!a.quiet) fmt::print("coin overlay written to {}\n", marked.string());
+  if (lower_extension(out) == ".png") {
+    write_png(out, img);
+    fs::path exr = out;
+    exr.replace_extension(".exr");
+    write_exr(exr, img);
+    if (!a.quiet) fmt::print("AOVs written to {}\n", exr.string());
   } else {
     write_exr(out, img);
+  }
+  return kOk;
+}
+
+// Renders one frame to `out`; returns an exit code.
+int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
+                 const std::vector<Aov>& aovs, double frame, const fs::path& out,
+                 const std::string& prefix, const fs::path& checkpoint, double checkpoint_every) {
+  const bool bar = !a.quiet && isatty(STDERR_FILENO);
+  auto last = std::chrono::steady_clock::now();
+  std::function<void(const Progress&)> on_progress;
+  if (bar)
+    on_progress = [&](const Progress& p) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last < std::chrono::milliseconds(100) && p.fraction < 1) return;
+      last = now;
+      print_progress(p, prefix);
+    };
+  RenderStats st;
+  if (a.coins_overlay) {
+    RenderOptions opt;
+    opt.threads = a.threads.value_or(0);
+    opt.aovs = aovs;
+    opt.cancel = &interrupt_flag();
+    opt.on_progress = on_progress;
+    const int rc = render_with_overlay(a, scene, renderer, aovs, frame, out, opt, &st);
+    if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
+    if (rc != kOk) return rc;
+  } else {
+    FrameJob job{scene,
+                 renderer,
+                 aovs,
+                 {},
+                 {},
+                 frame_metadata(scene, frame),
+                 checkpoint,
+                 checkpoint_every,
+                 a.threads.value_or(0),
+                 on_progress};
+    if (lower_extension(out) == ".png") {
+      job.png = out;
+      // AOVs go beside a PNG, with the beauty, into an EXR of the same name.
+      if (!aovs.empty()) job.exr = fs::path(out).replace_extension(".exr");
+    } else {
+      job.exr = out;
+    }
+    FrameResult r;
+    {
+      const RenderPhase phase;
+      r = render_to_files(job);
+    }
+    if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
+    st = r.stats;
+    if (r.resumed && !a.quiet)
+      fmt::print("resumed from {}: {} tiles were done\n", checkpoint.string(), r.resumed_tiles);
+    if (r.interrupted) {
+      const fs::path partial =
+          FrameOutput::with_suffix(job.png.empty() ? job.exr : job.png, ".partial");
+      fmt::print(stderr, "interrupted: {} not written; the image so far is in {}{}\n", out.string(),
+                 partial.string(),
+                 checkpoint.empty() ? ""
+                                    : fmt::format("; resume with: anamorph render --resume {}",
+                                                  checkpoint.string()));
+      return kInterrupted;
+    }
+    if (!job.exr.empty() && !job.png.empty() && !a.quiet)
+      fmt::print("AOVs written to {}\n", job.exr.string());
   }
   if (!a.quiet) {
     const double per_pixel =
@@ -194,7 +255,46 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
   return kOk;
 }
 
+// A frame already rendered: its file is there (files appear only when complete) and readable.
+bool frame_exists(const fs::path& out) {
+  if (!fs::is_regular_file(out)) return false;
+  try {
+    return read_metadata(out).count("anamorph.command") > 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// `render --resume FILE`: the command that started the checkpoint, run again (a frame sequence
+// skips the frames it finished).
+int resume(const std::string& file) {
+  const CheckpointReader reader(file);
+  std::vector<std::string> args;
+  for (const auto& [k, v] : reader.identity())
+    if (k == "command")
+      for (size_t s = 0, e; s < v.size(); s = e + 1)
+        args.push_back(v.substr(s, (e = v.find('\0', s)) - s));
+  if (args.empty() || args[0] != "render")
+    throw CheckpointError(fmt::format("checkpoint '{}' does not say how it was started", file));
+  const bool frames = std::find(args.begin(), args.end(), "--frames") != args.end();
+  if (frames && std::find(args.begin(), args.end(), "--skip-existing") == args.end())
+    args.push_back("--skip-existing");
+  CLI::App app;
+  std::function<int()> runner;
+  add_render(app, runner);
+  std::reverse(args.begin(), args.end());  // CLI11 takes a vector last argument first
+  app.parse(args);
+  return runner ? runner() : kBadInput;
+}
+
 int run(const RenderArgs& a) {
+  if (!a.resume.empty()) {
+    if (!a.scene.scene.empty()) {
+      fmt::print(stderr, "error: --resume takes everything from the checkpoint: give no scene\n");
+      return kBadInput;
+    }
+    return resume(a.resume);
+  }
   std::vector<std::string> extra;
   if (a.spp) extra.push_back(fmt::format("render.spp={}", *a.spp));
   if (a.seed) extra.push_back(fmt::format("render.seed={}", *a.seed));
@@ -222,6 +322,16 @@ int run(const RenderArgs& a) {
   }
   const std::string out =
       a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
+  double every = 60;
+  if (!parse_duration(a.checkpoint_every, &every)) {
+    fmt::print(stderr, "error: --checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h\n",
+               a.checkpoint_every);
+    return kBadInput;
+  }
+  if (a.scene.scene.empty()) {
+    fmt::print(stderr, "error: render needs a scene file (or --resume CHECKPOINT)\n");
+    return kBadInput;
+  }
   if (lower_extension(out) != ".png" && lower_extension(out) != ".exr") {
     fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
     return kBadInput;
@@ -231,9 +341,13 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --video needs --frames A:B\n");
       return kBadInput;
     }
+    if (a.skip_existing && frame_exists(out)) {
+      if (!a.quiet) fmt::print("{} exists: skipped\n", out);
+      return kOk;
+    }
     const Scene scene = load(args.scene, extra, 0);
     const Renderer renderer(scene);
-    return render_frame(args, scene, renderer, aovs, 0, out, "");
+    return render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every);
   }
 
   // A sequence: frames A..B inclusive, written through a printf pattern.
@@ -269,9 +383,20 @@ int run(const RenderArgs& a) {
   }
   // When the keys change only camera, image or render settings, the frames share the first
   // one's geometry, lights and acceleration structure: only the view is read again.
+  if (!a.checkpoint.empty() && !has_frame_pattern(a.checkpoint)) {
+    fmt::print(stderr,
+               "error: --checkpoint {}: with --frames each frame has its checkpoint, so the name "
+               "needs a frame-number pattern, e.g. render_%04d.ckpt\n",
+               a.checkpoint);
+    return kBadInput;
+  }
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;
   for (int f = first; f <= last; ++f) {
+    if (a.skip_existing && frame_exists(fmt::sprintf(out, f))) {
+      if (!a.quiet) fmt::print("{} exists: skipped\n", fmt::sprintf(out, f));
+      continue;
+    }
     if (scene && animates_view_only(*scene)) {
       load_view_into(args.scene, extra, f, *scene);
     } else {
@@ -281,7 +406,8 @@ int run(const RenderArgs& a) {
     }
     const std::string file = fmt::sprintf(out, f);
     const int rc =
-        render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f));
+        render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f),
+                     a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every);
     if (rc != kOk) {
       if (f > first)
         fmt::print(stderr, "frames {}..{} were written; frame {} and later were not\n", first,
@@ -315,7 +441,7 @@ int run(const RenderArgs& a) {
 void add_render(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene to an image (PNG or EXR)");
-  a->scene.add_to(*cmd);
+  a->scene.add_to(*cmd, false);
   cmd->add_option(
       "-o,--output", a->output,
       "Output image (.png or .exr); default <scene>.png. With --frames, a pattern such as "
@@ -341,6 +467,16 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--fps", a->fps, "Frames per second of --video (default 30)")
       ->check(CLI::Range(1, 1000));
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar or summary");
+  cmd->add_option("--checkpoint", a->checkpoint,
+                  "Keep a checkpoint here while rendering (with --frames, a pattern such as "
+                  "ckpt/frame_%04d.ckpt); an existing one of the same render is resumed");
+  cmd->add_option("--checkpoint-every", a->checkpoint_every,
+                  "How often the checkpoint is forced to disk: 60s (default), 5m, 1h");
+  cmd->add_option("--resume", a->resume,
+                  "Continue the render a checkpoint belongs to (the same command, resumed)");
+  cmd->add_flag("--skip-existing", a->skip_existing,
+                "Skip frames whose output file is already there (complete: files appear only "
+                "when done)");
   cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
 }
 

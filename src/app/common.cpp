@@ -9,6 +9,7 @@
 #include <exception>
 
 #include "io/image_io.h"
+#include "render/checkpoint.h"
 #include "scene/loaders.h"
 #include "scene/scene_loader.h"
 #include "scene/toml_reader.h"
@@ -40,7 +41,12 @@ const std::atomic<bool>& interrupt_flag() { return g_interrupted; }
 RenderPhase::RenderPhase() { g_render_phase = true; }
 RenderPhase::~RenderPhase() { g_render_phase = false; }
 
+namespace {
+std::vector<std::string> g_args;
+}  // namespace
+
 void set_command_line(int argc, char** argv) {
+  g_args.assign(argv + std::min(argc, 1), argv + argc);
   for (int i = 0; i < argc; ++i) {
     std::string a = argv[i];
     const bool quote = a.find_first_of(" \t\"'") != std::string::npos;
@@ -48,9 +54,10 @@ void set_command_line(int argc, char** argv) {
   }
 }
 std::string command_line() { return g_command_line; }
+const std::vector<std::string>& command_args() { return g_args; }
 
-void SceneOptions::add_to(CLI::App& cmd) {
-  cmd.add_option("scene", scene, "Scene file (TOML)")->required();
+void SceneOptions::add_to(CLI::App& cmd, bool required) {
+  cmd.add_option("scene", scene, "Scene file (TOML)")->required(required);
   cmd.add_option("--width", width, "Image width in pixels (overrides image.width)")
       ->check(CLI::Range(1, 65536));
   cmd.add_option("--height", height, "Image height in pixels (overrides image.height)")
@@ -94,6 +101,7 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.render = v.render;
   loaded.camera = std::move(v.camera);
   loaded.camera_toml = std::move(v.camera_toml);
+  loaded.effective_toml = std::move(v.effective_toml);
   loaded.frame = frame;
 }
 
@@ -107,6 +115,9 @@ int run_guarded(const std::function<int()>& body) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
   } catch (const ImageReadError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kBadInput;
+  } catch (const CheckpointError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
   } catch (const ImageIoError& e) {

@@ -14,13 +14,15 @@
 
 namespace anamorph::app {
 
-enum ExitCode { kOk = 0, kFailure = 1, kBadInput = 2 };
+// kInterrupted: SIGINT or SIGTERM during a render; the image so far was written beside the
+// output ("<name>.partial.<ext>") and, with --checkpoint, the render can be resumed.
+enum ExitCode { kOk = 0, kFailure = 1, kBadInput = 2, kInterrupted = 3 };
 
 struct SceneOptions {
   std::string scene;
   std::optional<int> width, height;
   std::vector<std::string> set;
-  void add_to(CLI::App& cmd);
+  void add_to(CLI::App& cmd, bool required = true);
   std::vector<std::string> overrides() const;  // --set plus --width/--height as overrides
 };
 
@@ -53,6 +55,7 @@ int run_guarded(const std::function<int()>& body);
 // The command line as typed, for metadata.
 std::string command_line();
 void set_command_line(int argc, char** argv);
+const std::vector<std::string>& command_args();  // argv[1..], as given
 
 void add_render(CLI::App& app, std::function<int()>& run);
 void add_info(CLI::App& app, std::function<int()>& run);

@@ -136,7 +136,8 @@ CheckpointIdentity flatten_toml(const std::string& toml_text, const std::string&
 }
 
 std::string identity_changes(const CheckpointIdentity& saved, const CheckpointIdentity& now) {
-  const std::map<std::string, std::string> a(saved.begin(), saved.end()), b(now.begin(), now.end());
+  std::map<std::string, std::string> a(saved.begin(), saved.end()), b(now.begin(), now.end());
+  a.erase("command"), b.erase("command");  // how the render was started: kept, not compared
   std::vector<std::string> changes;
   const auto shown = [](const std::string& v) { return v.size() <= 40 && v.find('\n') == v.npos; };
   for (const auto& [k, v] : a) {

@@ -33,7 +33,9 @@ struct CheckpointError : std::runtime_error {
 using CheckpointIdentity = std::vector<std::pair<std::string, std::string>>;
 // The scene's effective TOML flattened to dotted keys ("camera.fov = 90"), for an identity.
 CheckpointIdentity flatten_toml(const std::string& toml_text, const std::string& prefix = "");
-// "" when equal; otherwise what changed, e.g. "render.spp was 16, is 32; camera.fov changed".
+// "" when equal; otherwise what changed (the entry "command", the arguments that started the
+// render, is kept for resuming and not compared), e.g. "render.spp was 16, is 32; camera.fov
+// changed".
 std::string identity_changes(const CheckpointIdentity& saved, const CheckpointIdentity& now);
 
 // A pass render's tile after a pass: its sums, raw.

@@ -85,7 +85,6 @@ struct Renderer::Run {
   RenderStats stats;
 
   bool cancelled() const { return is_set(opt.cancel); }
-  bool stopping() const { return is_set(opt.cancel) || is_set(opt.stop); }
 
   // A tile's work is done: its statistics into the render's, progress to the caller.
   void tile_done(const TileStats& st, uint64_t work, int pass, int passes) {
@@ -152,7 +151,7 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
 
   run.arena.execute([&] {
     parallel_in_order(0, grid.count(), [&](size_t ti) {
-      if ((ti < skip.size() && skip[ti]) || run.stopping()) return;
+      if ((ti < skip.size() && skip[ti]) || run.cancelled()) return;
       auto tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
       TileStats st;
       if (adaptive)
@@ -163,7 +162,7 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
       if (!run.cancelled()) sink(ti, std::move(tile));
     });
   });
-  run.stats.cancelled = run.stopping();
+  run.stats.cancelled = run.cancelled();
   return run.finish();
 }
 
@@ -219,7 +218,7 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
     const bool resumed_pass = resume && pass == first;
     run.arena.execute([&] {
       parallel_in_order(0, grid.count(), [&](size_t ti) {
-        if (run.stopping()) return;
+        if (run.cancelled()) return;
         TileBuffer& tile = film.tile(ti);
         const uint64_t work = tile.rect().pixels() * (s_end - s_begin);
         if (resumed_pass && resume->tile_pass[ti] >= int(pass)) {
@@ -232,7 +231,7 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
         if (!run.cancelled() && opt.on_tile_pass) opt.on_tile_pass(ti, int(pass), tile);
       });
     });
-    if (run.stopping()) {
+    if (run.cancelled()) {
       run.stats.cancelled = true;
       break;
     }

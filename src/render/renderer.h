@@ -43,7 +43,6 @@ struct RenderOptions {
   std::function<void(const Progress&)> on_progress;    // called from worker threads, serialised
   std::function<void(const Film&, int pass)> on_pass;  // after each progressive pass
   const std::atomic<bool>* cancel = nullptr;  // stop within a packet; tiles in flight are lost
-  const std::atomic<bool>* stop = nullptr;    // finish the tiles in flight, start no others
   bool progressive = true;                    // passes of 1, 1, 2, 4, ... samples
   // Pass renders, for checkpoints: a tile finished pass `pass` (called from its worker thread),
   // and pass `pass` is about to run over the pixels `active` leaves on. `resume` continues.
@@ -59,7 +58,7 @@ struct RenderStats {
   uint64_t rays = 0, samples = 0;
   uint64_t nan_samples = 0;                     // non-finite radiance, dropped
   int nan_x = -1, nan_y = -1, nan_sample = -1;  // the first one in (y, x, sample) order
-  bool cancelled = false;                       // by `cancel` or `stop`: the image is incomplete
+  bool cancelled = false;                       // by `cancel`: the image is incomplete
   double mrays_per_second() const { return seconds > 0 ? rays / seconds * 1e-6 : 0; }
 };
 

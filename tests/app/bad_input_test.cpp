@@ -188,7 +188,8 @@ TEST(BadInput, SigtermEndsAProcessBlockedWhileLoading) {
 }
 
 // Rendering: one tile of a million samples per pixel (the probe's --spp 1048576 took 14 s to
-// stop, checked between tiles only); it must stop within a packet and write nothing.
+// stop, checked between tiles only); it must stop within a packet, leave the output unwritten
+// and say where the image so far is (exit 3: interrupted).
 TEST(BadInput, SigtermStopsARenderInsideATile) {
   Scratch s;
   const std::string scene = s.write(
@@ -199,9 +200,10 @@ TEST(BadInput, SigtermStopsARenderInsideATile) {
   const int code = signal_after({"render", scene, "-q", "-o", out.string(), "--spp", "1048576"},
                                 std::chrono::milliseconds(1000), SIGTERM, s.dir / "log");
   const std::string log = test::read_text(s.dir / "log");
-  EXPECT_EQ(code, 1) << log;
+  EXPECT_EQ(code, 3) << log;
   EXPECT_NE(log.find("interrupted: " + out.string() + " not written"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(out));
+  EXPECT_TRUE(fs::exists(s.dir / "out.partial.png"));
 }
 
 TEST(BadInput, TruncatedObjWarns) {
@@ -270,7 +272,7 @@ TEST(BadInput, InterruptedFramesSayWhichWereWritten) {
   int status = 0;
   waitpid(pid, &status, 0);
   const std::string out = test::read_text(log);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << out;
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << out;
   EXPECT_TRUE(fs::exists(s.dir / "f_0.png"));
   EXPECT_FALSE(fs::exists(s.dir / "f_1.png"));
   EXPECT_NE(out.find("f_1.png not written"), std::string::npos) << out;

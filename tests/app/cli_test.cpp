@@ -142,7 +142,8 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   waitpid(pid, &status, 0);
   EXPECT_TRUE(WIFSIGNALED(status)) << "the render finished before it was killed";
   EXPECT_EQ(test::read_text(out), before) << "the previous image must survive byte for byte";
-  // SIGINT: the renderer stops, writes nothing and says so.
+  // SIGINT: the renderer stops, leaves the output alone, puts the image so far beside it and
+  // exits 3 (interrupted).
   const pid_t pid2 = fork();
   if (pid2 == 0) {
     const std::string bin = test::binary().string();
@@ -153,8 +154,9 @@ TEST(Cli, KilledRenderLeavesTheOldFileIntact) {
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   kill(pid2, SIGINT);
   waitpid(pid2, &status, 0);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3);
   EXPECT_EQ(test::read_text(out), before);
+  EXPECT_TRUE(fs::exists(d / "out.partial.png"));
   fs::remove_all(d);
 }
 

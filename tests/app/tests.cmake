@@ -14,3 +14,7 @@ anamorph_add_test(test_table_camera
   ${CMAKE_CURRENT_LIST_DIR}/table_camera_test.cpp
 )
 add_dependencies(test_table_camera anamorph)
+anamorph_add_test(test_checkpoint
+  ${CMAKE_CURRENT_LIST_DIR}/checkpoint_test.cpp
+)
+add_dependencies(test_checkpoint anamorph)

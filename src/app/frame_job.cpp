@@ -1,0 +1,192 @@
+#include "app/frame_job.h"
+
+#include <fmt/format.h>
+
+#include "app/common.h"
+#include "render/frame_output.h"
+
+namespace anamorph::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kPartial = ".partial";
+
+[[noreturn]] void damaged(const fs::path& file, const std::string& why) {
+  throw CheckpointError(fmt::format("checkpoint '{}' is damaged: {}", file.string(), why));
+}
+
+// A checkpoint of another render is refused, naming what differs.
+std::unique_ptr<CheckpointReader> open_checkpoint(const FrameJob& job,
+                                                  const CheckpointIdentity& id) {
+  if (job.checkpoint.empty() || !fs::exists(job.checkpoint)) return nullptr;
+  auto reader = std::make_unique<CheckpointReader>(job.checkpoint);
+  const std::string diff = identity_changes(reader->identity(), id);
+  if (!diff.empty())
+    throw CheckpointError(
+        fmt::format("checkpoint '{}' belongs to another render: {} (delete it to start over)",
+                    job.checkpoint.string(), diff));
+  return reader;
+}
+
+FrameOutputSpec output_spec(const FrameJob& job) {
+  const RenderSettings& rs = job.scene.render;
+  return {rs.width, rs.height, rs.tile_size, job.aovs, job.png, job.exr, job.metadata};
+}
+
+RenderOptions render_options(const FrameJob& job) {
+  RenderOptions opt;
+  opt.threads = job.threads;
+  opt.aovs = job.aovs;
+  opt.cancel = &interrupt_flag();
+  opt.on_progress = job.on_progress;
+  opt.progressive = false;
+  return opt;
+}
+
+// The files in place; the checkpoint and any image so far of an earlier attempt are out of date.
+void finish(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWriter> ck) {
+  out.commit();
+  ck.reset();
+  std::error_code ec;
+  if (!job.checkpoint.empty()) fs::remove(job.checkpoint, ec);
+  for (const fs::path& p : {job.png, job.exr})
+    if (!p.empty()) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
+}
+
+// Uniform and lattice sampling: every tile complete, straight into the files and the checkpoint.
+FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
+  FrameResult r;
+  auto reader = open_checkpoint(job, id);
+  FrameOutput out(output_spec(job));
+  const bool png = !job.png.empty(), exr = !job.exr.empty();
+  const size_t nf = aov_floats(job.aovs);
+  std::vector<uint8_t> skip(out.grid().count(), 0);
+  if (reader) {
+    reader->read({[&](ResolvedTile&& t) {
+                    if (t.index >= skip.size() || skip[t.index])
+                      damaged(job.checkpoint, "a tile twice");
+                    const size_t n = out.grid().rect(t.index).pixels();
+                    if (t.rgba8.size() != (png ? n * 4 : 0) || t.rgba.size() != (exr ? n * 4 : 0) ||
+                        t.aov.size() != (exr ? n * nf : 0))
+                      damaged(job.checkpoint, "a tile of the wrong size");
+                    skip[t.index] = 1;
+                    ++r.resumed_tiles;
+                    out.add(std::move(t));
+                  },
+                  nullptr, nullptr});
+    r.resumed = true;
+  }
+  std::unique_ptr<CheckpointWriter> ck;
+  if (!job.checkpoint.empty())
+    ck = std::make_unique<CheckpointWriter>(job.checkpoint, id, job.checkpoint_every,
+                                            reader ? reader->end() : 0);
+  reader.reset();
+  r.stats = job.renderer.render_tiles(out.grid(), render_options(job), skip,
+                                      [&](size_t i, std::unique_ptr<TileBuffer> t) {
+                                        ResolvedTile rt = resolve(i, *t, png, exr);
+                                        t.reset();
+                                        if (ck) ck->add_tile(rt);
+                                        out.add(std::move(rt));
+                                      });
+  if (r.stats.cancelled) {
+    out.commit_partial(kPartial);
+    r.interrupted = true;
+    return r;
+  }
+  finish(job, out, std::move(ck));
+  return r;
+}
+
+// Per-pixel adaptive sampling: a film in passes (the stopping rule looks across tiles). The
+// checkpoint is rewritten at each pass start (every tile's sums and the pass's active pixels)
+// and gets each tile's sums as it finishes the pass.
+FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
+  FrameResult r;
+  const RenderSettings& rs = job.scene.render;
+  Film film(rs.width, rs.height, job.aovs, rs.tile_size);
+  const size_t tiles = film.grid().count();
+  std::vector<int> tile_pass(tiles, -1);
+  PassResume resume;
+  bool have_pass = false;
+  auto reader = open_checkpoint(job, id);
+  if (reader) {
+    const size_t nf = aov_floats(job.aovs);
+    reader->read({nullptr,
+                  [&](PassTile&& t) {
+                    if (t.index >= tiles) damaged(job.checkpoint, "a tile outside the image");
+                    TileBuffer& b = film.tile(t.index);
+                    if (t.sums.size() != b.sums().size() || t.aov.size() != b.sums().size() * nf)
+                      damaged(job.checkpoint, "a tile of the wrong size");
+                    b.sums() = std::move(t.sums);
+                    b.aov_sums() = std::move(t.aov);
+                    tile_pass[t.index] = t.pass;
+                    ++r.resumed_tiles;
+                  },
+                  [&](int pass, std::vector<uint8_t>&& active) {
+                    if (active.size() != size_t(rs.width) * size_t(rs.height) || pass < 0)
+                      damaged(job.checkpoint, "a pass record of the wrong size");
+                    resume.pass = pass;
+                    resume.active = std::move(active);
+                    have_pass = true;
+                  }});
+    r.resumed = have_pass;
+  }
+  std::unique_ptr<CheckpointWriter> ck;
+  if (!job.checkpoint.empty())
+    ck = std::make_unique<CheckpointWriter>(job.checkpoint, id, job.checkpoint_every,
+                                            have_pass ? reader->end() : 0);
+  reader.reset();
+  resume.tile_pass = tile_pass;
+  RenderOptions opt = render_options(job);
+  opt.progressive = true;
+  if (have_pass) opt.resume = &resume;
+  opt.on_pass_start = [&](int pass, const std::vector<uint8_t>& active) {
+    if (!ck) return;
+    ck->restart();
+    for (size_t i = 0; i < tiles; ++i)
+      if (tile_pass[i] >= 0) ck->add_pass_tile(tile_pass[i], i, *film.tile_if_any(i));
+    ck->add_pass_start(pass, active);
+  };
+  opt.on_tile_pass = [&](size_t i, int pass, const TileBuffer& tile) {
+    tile_pass[i] = pass;
+    if (ck) ck->add_pass_tile(pass, i, tile);
+  };
+  r.stats = job.renderer.render(film, opt);
+  FrameOutput out(output_spec(job));
+  for (size_t i = 0; i < tiles; ++i)
+    if (const TileBuffer* t = film.tile_if_any(i))
+      out.add(resolve(i, *t, !job.png.empty(), !job.exr.empty()));
+  if (r.stats.cancelled) {
+    out.commit_partial(kPartial);
+    r.interrupted = true;
+    return r;
+  }
+  finish(job, out, std::move(ck));
+  return r;
+}
+
+}  // namespace
+
+CheckpointIdentity frame_identity(const FrameJob& job) {
+  CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION},
+                           {"output.png", job.png.string()},
+                           {"output.exr", job.exr.string()},
+                           {"frame", fmt::format("{}", job.scene.frame)}};
+  std::string aovs;
+  for (Aov a : job.aovs) aovs += std::string(aovs.empty() ? "" : ",") + aov_info(a).name;
+  id.emplace_back("aovs", aovs);
+  for (auto& e : flatten_toml(job.scene.effective_toml)) id.push_back(std::move(e));
+  std::string args;
+  for (const std::string& a : command_args()) args += a + '\0';
+  id.emplace_back("command", args);
+  return id;
+}
+
+FrameResult render_to_files(const FrameJob& job) {
+  const CheckpointIdentity id = frame_identity(job);
+  return Renderer::streams(job.scene.render) ? render_streamed(job, id) : render_passes(job, id);
+}
+
+}  // namespace anamorph::app

@@ -1,0 +1,282 @@
+// Checkpoint and resume (`render --checkpoint`, `--resume`), interruption and --skip-existing:
+// renders killed at random moments (SIGKILL: no chance to save anything but what the log already
+// holds) and resumed must end bit-identical to an uninterrupted render, in every layer.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "app/cli_util.h"
+#include "io/image_io.h"
+#include "test_util.h"
+
+namespace anamorph {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Scratch {
+  fs::path dir = fs::temp_directory_path() / ("anamorph_ckpt_" + std::to_string(getpid()));
+  Scratch() { fs::create_directories(dir); }
+  ~Scratch() { fs::remove_all(dir); }
+};
+
+std::string demo_scene() { return (test::source_dir() / "examples/apps/domemaster.toml").string(); }
+
+// Starts `anamorph ARGS`, kills it with `sig` after `delay` unless it ended first; its exit code
+// (-1 when killed by the signal).
+int run_killed(const std::vector<std::string>& args, std::chrono::milliseconds delay, int sig,
+               const fs::path& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string bin = test::binary().string();
+    std::vector<char*> argv{const_cast<char*>(bin.c_str())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (!freopen(log.c_str(), "w", stderr) || !freopen("/dev/null", "w", stdout)) _exit(126);
+    execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  const auto end = Clock::now() + delay;
+  int status = 0;
+  while (Clock::now() < end) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  kill(pid, sig);
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string join(const std::vector<std::string>& args) {
+  std::string s;
+  for (const auto& a : args) s += "'" + a + "' ";
+  return s;
+}
+
+// Every channel of two EXRs equal, bit for bit; names the first difference.
+void expect_same_exr(const fs::path& a, const fs::path& b) {
+  int wa = 0, ha = 0, wb = 0, hb = 0;
+  const auto ca = read_exr_channels(a, &wa, &ha), cb = read_exr_channels(b, &wb, &hb);
+  ASSERT_EQ(wa, wb);
+  ASSERT_EQ(ha, hb);
+  ASSERT_EQ(ca.size(), cb.size());
+  for (const auto& [name, values] : ca) {
+    ASSERT_TRUE(cb.count(name)) << name;
+    const auto& other = cb.at(name);
+    for (size_t i = 0; i < values.size(); ++i)
+      if (std::memcmp(&values[i], &other[i], sizeof(float)) != 0) {
+        ADD_FAILURE() << "channel " << name << " differs at pixel " << i % size_t(wa) << ","
+                      << i / size_t(wa) << ": " << values[i] << " vs " << other[i];
+        return;
+      }
+  }
+}
+
+// The pixels of two PNGs (decoded RGBA) equal.
+void expect_same_png(const fs::path& a, const fs::path& b) {
+  const Image ia = read_image(a, false), ib = read_image(b, false);
+  ASSERT_EQ(ia.width, ib.width);
+  ASSERT_EQ(ia.height, ib.height);
+  for (size_t i = 0; i < ia.pixels.size(); ++i)
+    if (ia.pixels[i] != ib.pixels[i]) {
+      ADD_FAILURE() << "PNG value " << i << " differs: " << ia.pixels[i] << " vs " << ib.pixels[i];
+      return;
+    }
+}
+
+struct Case {
+  const char* name;
+  std::vector<std::string> settings;
+  std::string aovs;
+};
+
+// Renders `c` uninterrupted, then `kills` times: started with a checkpoint, SIGKILLed at a random
+// moment within the reference's time, resumed by the same command (repeatedly, if the resumed
+// run is killed too), and compared with the reference in every layer.
+void kill_and_resume(const Case& c, const std::string& ext, int kills) {
+  Scratch s;
+  const fs::path ref = s.dir / ("ref" + ext), out = s.dir / ("out" + ext),
+                 ck = s.dir / "render.ckpt", log = s.dir / "log";
+  std::vector<std::string> base{"render", demo_scene(), "-q", "--threads", "2"};
+  base.insert(base.end(), c.settings.begin(), c.settings.end());
+  if (!c.aovs.empty()) base.insert(base.end(), {"--aov", c.aovs});
+  std::vector<std::string> ref_args = base;
+  ref_args.insert(ref_args.end(), {"-o", ref.string()});
+  const auto t0 = Clock::now();
+  const test::CliResult r = test::run_cli(join(ref_args), 300);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0);
+  std::vector<std::string> args = base;
+  args.insert(args.end(), {"-o", out.string(), "--checkpoint", ck.string()});
+  std::mt19937 rng(12345);
+  int resumed = 0;
+  for (int k = 0; k < kills; ++k) {
+    fs::remove(out);
+    fs::remove(ck);
+    const auto delay = std::chrono::milliseconds(std::uniform_int_distribution<int>(
+        int(took.count() / 10), int(took.count() * 9 / 10))(rng));
+    const int code = run_killed(args, delay, SIGKILL, log);
+    SCOPED_TRACE(fmt::format("{}: killed after {} ms (reference {} ms), exit {}", c.name,
+                             delay.count(), took.count(), code));
+    // Killed after its output appeared (and before it removed its checkpoint): the output is
+    // complete; otherwise there is none.
+    if (code == -1 && fs::exists(out)) {
+      if (ext == ".exr") expect_same_exr(ref, out);
+    }
+    // Resumed by the same command; a second kill half-way through the rest on the first round.
+    if (k == 0 && code == -1) run_killed(args, delay / 2, SIGKILL, log);
+    const bool had_checkpoint = fs::exists(ck);
+    std::vector<std::string> loud = args;
+    loud.erase(std::find(loud.begin(), loud.end(), "-q"));
+    const test::CliResult done = test::run_cli(join(loud), 300);
+    ASSERT_EQ(done.code, 0) << done.out;
+    if (had_checkpoint) {
+      EXPECT_NE(done.out.find("resumed from"), std::string::npos) << done.out;
+      std::printf("after %d ms: %s", int(delay.count()),
+                  done.out.substr(0, done.out.find('\n') + 1).c_str());
+      std::fflush(stdout);  // (before the next fork duplicates the buffer)
+      ++resumed;
+    }
+    EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
+    if (ext == ".exr") {
+      expect_same_exr(ref, out);
+    } else {
+      expect_same_png(ref, out);
+      if (!c.aovs.empty())
+        expect_same_exr(fs::path(ref).replace_extension(".exr"),
+                        fs::path(out).replace_extension(".exr"));
+    }
+  }
+  EXPECT_GT(resumed, 0);
+}
+
+TEST(Checkpoint, PathTracingUniformKilledAndResumedIsBitIdentical) {
+  kill_and_resume({"path uniform",
+                   {"--width", "128", "--height", "128", "--integrator", "path", "--spp", "192",
+                    "--set", "render.tile_size=16"},
+                   "albedo,normal,depth,id,spp"},
+                  ".exr", 3);
+}
+
+TEST(Checkpoint, PathTracingAdaptiveKilledAndResumedIsBitIdentical) {
+  kill_and_resume({"path per-pixel adaptive",
+                   {"--width", "128", "--height", "128", "--integrator", "path", "--set",
+                    "render.antialias=\"pixel\"", "--set", "render.max_spp=512", "--set",
+                    "render.noise_threshold=0.005"},
+                   "albedo,normal,spp"},
+                  ".exr", 3);
+}
+
+TEST(Checkpoint, WhittedLatticeKilledAndResumedIsBitIdentical) {
+  kill_and_resume({"whitted lattice",
+                   {"--width", "768", "--height", "768", "--set", "render.aa_threshold=0.02",
+                    "--set", "render.tile_size=24"},
+                   "normal,id"},
+                  ".png", 3);
+}
+
+// SIGINT: the image so far beside the output, a checkpoint, exit 3; --resume finishes it.
+TEST(Checkpoint, InterruptWritesTheImageSoFarAndResumeFinishes) {
+  Scratch s;
+  const fs::path ref = s.dir / "ref.png", out = s.dir / "out.png", ck = s.dir / "r.ckpt";
+  const std::vector<std::string> base{
+      "render",       demo_scene(), "-q",    "--width", "128",       "--height", "128",
+      "--integrator", "path",       "--spp", "256",     "--threads", "2"};
+  auto ref_args = base;
+  ref_args.insert(ref_args.end(), {"-o", ref.string()});
+  const auto t0 = Clock::now();
+  ASSERT_EQ(test::run_cli(join(ref_args), 300).code, 0);
+  const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0);
+  auto args = base;
+  args.insert(args.end(), {"-o", out.string(), "--checkpoint", ck.string()});
+  const int code = run_killed(args, took / 2, SIGINT, s.dir / "log");
+  const std::string log = test::read_text(s.dir / "log");
+  ASSERT_EQ(code, 3) << log;
+  EXPECT_NE(log.find("the image so far is in " + (s.dir / "out.partial.png").string()),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("anamorph render --resume " + ck.string()), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out));
+  ASSERT_TRUE(fs::exists(s.dir / "out.partial.png"));
+  // The image so far: some tiles rendered (opaque), the rest transparent.
+  const Image partial = read_image(s.dir / "out.partial.png", false);
+  size_t opaque = 0, clear = 0;
+  for (size_t i = 3; i < partial.pixels.size(); i += 4) (partial.pixels[i] > 0 ? opaque : clear)++;
+  EXPECT_GT(opaque, 0u);
+  EXPECT_GT(clear, 0u);
+  const test::CliResult done = test::run_cli("render --resume " + ck.string(), 300);
+  ASSERT_EQ(done.code, 0) << done.out;
+  expect_same_png(ref, out);
+  EXPECT_FALSE(fs::exists(ck));
+  EXPECT_FALSE(fs::exists(s.dir / "out.partial.png")) << "a finished render keeps no partial image";
+}
+
+// A checkpoint of another render is refused, naming what changed; a damaged one too.
+TEST(Checkpoint, ChangedSceneOrSettingsAreRefused) {
+  Scratch s;
+  const fs::path out = s.dir / "out.png", ck = s.dir / "r.ckpt";
+  const std::string base = "render " + demo_scene() +
+                           " -q --width 96 --height 96 --integrator path --spp 512 -o " +
+                           out.string() + " --checkpoint " + ck.string();
+  ASSERT_EQ(
+      run_killed({"render", demo_scene(), "-q", "--width", "96", "--height", "96", "--integrator",
+                  "path", "--spp", "512", "-o", out.string(), "--checkpoint", ck.string()},
+                 std::chrono::milliseconds(400), SIGINT, s.dir / "log"),
+      3)
+      << test::read_text(s.dir / "log");
+  const test::CliResult spp = test::run_cli(
+      "render " + demo_scene() + " -q --width 96 --height 96 --integrator path --spp 256 -o " +
+      out.string() + " --checkpoint " + ck.string());
+  EXPECT_EQ(spp.code, 2) << spp.out;
+  EXPECT_NE(spp.out.find("render.spp was 512, is 256"), std::string::npos) << spp.out;
+  const test::CliResult fov = test::run_cli(base + " --set camera.fov=170");
+  EXPECT_EQ(fov.code, 2) << fov.out;
+  EXPECT_NE(fov.out.find("camera.fov"), std::string::npos) << fov.out;
+  EXPECT_FALSE(fs::exists(out));
+  std::ofstream(s.dir / "junk.ckpt") << "not a checkpoint";
+  const test::CliResult junk = test::run_cli("render --resume " + (s.dir / "junk.ckpt").string());
+  EXPECT_EQ(junk.code, 2) << junk.out;
+  EXPECT_NE(junk.out.find("is not an anamorph checkpoint"), std::string::npos) << junk.out;
+  // Cut in the middle of a record: the good records before it still count.
+  fs::resize_file(ck, fs::file_size(ck) - 7);
+  const test::CliResult cut = test::run_cli(base);
+  EXPECT_EQ(cut.code, 0) << cut.out;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+// --frames with --skip-existing renders only the frames that are not there yet; a frame file
+// appears only when complete.
+TEST(Checkpoint, SkipExistingRendersOnlyMissingFrames) {
+  Scratch s;
+  const std::string scene = (s.dir / "anim.toml").string();
+  std::ofstream(scene) << "[image]\nwidth = 16\nheight = 16\n[camera]\nlook_from = [0, 1, 4]\n"
+                          "look_at = [0, 0, 0]\n[[object]]\ntype = \"sphere\"\n[[animate]]\n"
+                          "key = \"camera.fov\"\nkeys = [[0, 30], [3, 60]]\n";
+  const std::string pattern = (s.dir / "f_%d.png").string();
+  ASSERT_EQ(test::run_cli("render " + scene + " -q --frames 1:1 -o " + pattern).code, 0);
+  const auto before = fs::last_write_time(s.dir / "f_1.png");
+  const test::CliResult r =
+      test::run_cli("render " + scene + " --frames 0:3 --skip-existing -o " + pattern);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("f_1.png exists: skipped"), std::string::npos) << r.out;
+  EXPECT_EQ(fs::last_write_time(s.dir / "f_1.png"), before);
+  for (int f = 0; f < 4; ++f) EXPECT_TRUE(fs::exists(s.dir / ("f_" + std::to_string(f) + ".png")));
+  const test::CliResult bad = test::run_cli("render " + scene + " --frames 0:3 -o " + pattern +
+                                            " --checkpoint " + (s.dir / "one.ckpt").string());
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("needs a frame-number pattern"), std::string::npos) << bad.out;
+}
+
+}  // namespace
+}  // namespace anamorph
