@@ -233,6 +233,12 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     }
     if (!job.exr.empty() && !job.png.empty() && !a.quiet)
       fmt::print("AOVs written to {}\n", job.exr.string());
+    if (r.time_limited && !a.quiet)
+      fmt::print("{}: time limit of {} s reached after {}; {}\n", out.string(),
+                 scene.render.time_limit, r.reached,
+                 checkpoint.empty() ? "render with --checkpoint FILE to be able to continue"
+                                    : fmt::format("continue with: anamorph render --resume {}",
+                                                  checkpoint.string()));
   }
   if (!a.quiet) {
     const double per_pixel =
@@ -255,9 +261,10 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
   return kOk;
 }
 
-// A frame already rendered: its file is there (files appear only when complete) and readable.
-bool frame_exists(const fs::path& out) {
-  if (!fs::is_regular_file(out)) return false;
+// A frame already rendered: its file is there (files appear only when complete) and readable, and
+// no checkpoint of it is left (a time limit's image keeps one, to continue from).
+bool frame_exists(const fs::path& out, const fs::path& checkpoint) {
+  if (!fs::is_regular_file(out) || (!checkpoint.empty() && fs::exists(checkpoint))) return false;
   try {
     return read_metadata(out).count("anamorph.command") > 0;
   } catch (const std::exception&) {
@@ -274,8 +281,10 @@ int resume(const std::string& file) {
     if (k == "command")
       for (size_t s = 0, e; s < v.size(); s = e + 1)
         args.push_back(v.substr(s, (e = v.find('\0', s)) - s));
-  if (args.empty() || args[0] != "render")
+  if (args.empty() || args[0] != "render" ||
+      std::find(args.begin(), args.end(), "--resume") != args.end())
     throw CheckpointError(fmt::format("checkpoint '{}' does not say how it was started", file));
+  set_command_args(args);
   const bool frames = std::find(args.begin(), args.end(), "--frames") != args.end();
   if (frames && std::find(args.begin(), args.end(), "--skip-existing") == args.end())
     args.push_back("--skip-existing");
@@ -341,7 +350,7 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --video needs --frames A:B\n");
       return kBadInput;
     }
-    if (a.skip_existing && frame_exists(out)) {
+    if (a.skip_existing && frame_exists(out, a.checkpoint)) {
       if (!a.quiet) fmt::print("{} exists: skipped\n", out);
       return kOk;
     }
@@ -393,7 +402,9 @@ int run(const RenderArgs& a) {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;
   for (int f = first; f <= last; ++f) {
-    if (a.skip_existing && frame_exists(fmt::sprintf(out, f))) {
+    if (a.skip_existing &&
+        frame_exists(fmt::sprintf(out, f),
+                     a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f))) {
       if (!a.quiet) fmt::print("{} exists: skipped\n", fmt::sprintf(out, f));
       continue;
     }

@@ -55,6 +55,7 @@ void set_command_line(int argc, char** argv) {
 }
 std::string command_line() { return g_command_line; }
 const std::vector<std::string>& command_args() { return g_args; }
+void set_command_args(std::vector<std::string> args) { g_args = std::move(args); }
 
 void SceneOptions::add_to(CLI::App& cmd, bool required) {
   cmd.add_option("scene", scene, "Scene file (TOML)")->required(required);

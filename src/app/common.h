@@ -56,6 +56,8 @@ int run_guarded(const std::function<int()>& body);
 std::string command_line();
 void set_command_line(int argc, char** argv);
 const std::vector<std::string>& command_args();  // argv[1..], as given
+// A resumed render's arguments are the ones that started it (what its checkpoint names again).
+void set_command_args(std::vector<std::string> args);
 
 void add_render(CLI::App& app, std::function<int()>& run);
 void add_info(CLI::App& app, std::function<int()>& run);

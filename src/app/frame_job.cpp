@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "app/common.h"
 #include "render/frame_output.h"
 
@@ -45,12 +47,17 @@ RenderOptions render_options(const FrameJob& job) {
   return opt;
 }
 
-// The files in place; the checkpoint and any image so far of an earlier attempt are out of date.
-void finish(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWriter> ck) {
-  out.commit();
+// The files in place; any image so far of an earlier attempt is out of date, and so is the
+// checkpoint unless a time limit stopped the render (then it continues the render).
+void finish(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWriter> ck,
+            bool time_limited) {
+  if (time_limited)
+    out.commit_incomplete();
+  else
+    out.commit();
   ck.reset();
   std::error_code ec;
-  if (!job.checkpoint.empty()) fs::remove(job.checkpoint, ec);
+  if (!job.checkpoint.empty() && !time_limited) fs::remove(job.checkpoint, ec);
   for (const fs::path& p : {job.png, job.exr})
     if (!p.empty()) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
 }
@@ -95,11 +102,15 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
     r.interrupted = true;
     return r;
   }
-  finish(job, out, std::move(ck));
+  r.time_limited = r.stats.time_limited;
+  if (r.time_limited)
+    r.reached = fmt::format("{} of {} tiles", out.tiles_added(), out.grid().count());
+  finish(job, out, std::move(ck), r.time_limited);
   return r;
 }
 
-// Per-pixel adaptive sampling: a film in passes (the stopping rule looks across tiles). The
+// Per-pixel adaptive sampling (the stopping rule looks across tiles) and time-limited uniform
+// sampling: a film in passes. The
 // checkpoint is rewritten at each pass start (every tile's sums and the pass's active pixels)
 // and gets each tile's sums as it finishes the pass.
 FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
@@ -121,11 +132,12 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
                       damaged(job.checkpoint, "a tile of the wrong size");
                     b.sums() = std::move(t.sums);
                     b.aov_sums() = std::move(t.aov);
+                    if (tile_pass[t.index] < 0) ++r.resumed_tiles;
                     tile_pass[t.index] = t.pass;
-                    ++r.resumed_tiles;
                   },
                   [&](int pass, std::vector<uint8_t>&& active) {
-                    if (active.size() != size_t(rs.width) * size_t(rs.height) || pass < 0)
+                    const size_t pixels = size_t(rs.width) * size_t(rs.height);
+                    if (active.size() != (Renderer::streams(rs) ? 0 : pixels) || pass < 0)
                       damaged(job.checkpoint, "a pass record of the wrong size");
                     resume.pass = pass;
                     resume.active = std::move(active);
@@ -163,11 +175,24 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
     r.interrupted = true;
     return r;
   }
-  finish(job, out, std::move(ck));
+  r.time_limited = r.stats.time_limited;
+  if (r.time_limited) {
+    const int pass = r.stats.pass;
+    const auto done =
+        size_t(std::count_if(tile_pass.begin(), tile_pass.end(), [&](int p) { return p >= pass; }));
+    r.reached = done == 0 ? fmt::format("{} of {} passes", pass, r.stats.passes)
+                          : fmt::format("pass {} of {} in {} of {} tiles", pass + 1, r.stats.passes,
+                                        done, tiles);
+  }
+  finish(job, out, std::move(ck), r.time_limited);
   return r;
 }
 
 }  // namespace
+
+bool renders_in_passes(const RenderSettings& rs) {
+  return !Renderer::streams(rs) || (rs.time_limit > 0 && !rs.adaptive());
+}
 
 CheckpointIdentity frame_identity(const FrameJob& job) {
   CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION},
@@ -186,7 +211,7 @@ CheckpointIdentity frame_identity(const FrameJob& job) {
 
 FrameResult render_to_files(const FrameJob& job) {
   const CheckpointIdentity id = frame_identity(job);
-  return Renderer::streams(job.scene.render) ? render_streamed(job, id) : render_passes(job, id);
+  return renders_in_passes(job.scene.render) ? render_passes(job, id) : render_streamed(job, id);
 }
 
 }  // namespace anamorph::app

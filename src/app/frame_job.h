@@ -32,12 +32,21 @@ struct FrameJob {
 struct FrameResult {
   RenderStats stats;
   bool interrupted = false;
+  // Stopped by render.time_limit: the files hold the image so far (whole tiles), the checkpoint
+  // is kept, and `reached` says how far it got, e.g. "pass 3 of 6 in 40 of 64 tiles".
+  bool time_limited = false;
+  std::string reached;
   bool resumed = false;
   size_t resumed_tiles = 0;
 };
 
 // What a checkpoint of this frame must match: the scene as rendered, outputs and AOVs.
 CheckpointIdentity frame_identity(const FrameJob& job);
+
+// Whether the frame renders in passes over a film kept whole (per-pixel adaptive sampling, and
+// uniform sampling with a time limit, so that stopping leaves every pixel with samples) rather
+// than streaming each finished tile into the files.
+bool renders_in_passes(const RenderSettings& rs);
 
 // Renders the frame into its files. Interrupted: the image so far goes to "<name>.partial.<ext>"
 // and the checkpoint (if any) is left to resume; otherwise the files appear and the checkpoint

@@ -19,22 +19,6 @@ using io_detail::fail_read;
 
 namespace {
 
-// Attributes every scanline EXR header carries; a metadata key with one of these names would
-// be read back as the standard attribute, so it is refused.
-constexpr const char* kReservedAttributes[] = {"channels",
-                                               "compression",
-                                               "dataWindow",
-                                               "displayWindow",
-                                               "lineOrder",
-                                               "pixelAspectRatio",
-                                               "screenWindowCenter",
-                                               "screenWindowWidth",
-                                               "tiles",
-                                               "name",
-                                               "type",
-                                               "version",
-                                               "chunkCount"};
-
 std::string take_error(const char* err, const char* fallback) {
   std::string msg = err ? err : fallback;
   if (err) FreeEXRErrorMessage(err);

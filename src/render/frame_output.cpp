@@ -148,6 +148,11 @@ fs::path FrameOutput::with_suffix(const fs::path& p, const std::string& suffix) 
   return out;
 }
 
+void FrameOutput::commit_incomplete() {
+  flush_all_missing();
+  commit();
+}
+
 void FrameOutput::commit_partial(const std::string& suffix) {
   flush_all_missing();
   if (png_) png_->commit_as(with_suffix(spec_.png, suffix));

@@ -44,6 +44,8 @@ class FrameOutput {
   size_t tiles_added() const;
   // Every tile added: the files appear under their names.
   void commit();
+  // The image under the files' names with any tiles missing transparent (a time limit's image).
+  void commit_incomplete();
   // The image so far (missing tiles transparent, AOVs "nothing") under each file's name with
   // `suffix` before the extension, e.g. "frame.partial.png".
   void commit_partial(const std::string& suffix);

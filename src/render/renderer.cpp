@@ -80,11 +80,29 @@ struct Renderer::Run {
   const RenderJob job;
   const TileSampler sampler;
   tbb::task_arena arena;
+  const double time_limit = ctx.scene.render.time_limit;
+  std::atomic<size_t> started{0};
+  std::atomic<bool> out_of_time{false};
   std::mutex mu;
   uint64_t work_done = 0, rays_done = 0, work_total = 1;
   RenderStats stats;
 
   bool cancelled() const { return is_set(opt.cancel); }
+
+  // render.time_limit: whether another tile may start. The first tile of a run always may, so a
+  // resumed render always gets further.
+  bool may_start_tile() {
+    if (time_limit > 0 && started.load(std::memory_order_relaxed) > 0 &&
+        seconds_since(t0) > time_limit) {
+      out_of_time.store(true, std::memory_order_relaxed);
+      return false;
+    }
+    started.fetch_add(1, std::memory_order_relaxed);
+    return true;
+  }
+  bool past_time_limit() const {
+    return time_limit > 0 && started.load() > 0 && seconds_since(t0) > time_limit;
+  }
 
   // A tile's work is done: its statistics into the render's, progress to the caller.
   void tile_done(const TileStats& st, uint64_t work, int pass, int passes) {
@@ -151,7 +169,7 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
 
   run.arena.execute([&] {
     parallel_in_order(0, grid.count(), [&](size_t ti) {
-      if ((ti < skip.size() && skip[ti]) || run.cancelled()) return;
+      if ((ti < skip.size() && skip[ti]) || run.cancelled() || !run.may_start_tile()) return;
       auto tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
       TileStats st;
       if (adaptive)
@@ -163,6 +181,7 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
     });
   });
   run.stats.cancelled = run.cancelled();
+  run.stats.time_limited = run.out_of_time;
   return run.finish();
 }
 
@@ -174,7 +193,7 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
     film.clear();
     RenderStats st = render_tiles(film.grid(), opt, {},
                                   [&](size_t i, auto tile) { film.put(i, std::move(tile)); });
-    if (!st.cancelled && opt.on_pass) opt.on_pass(film, 0);
+    if (!st.cancelled && !st.time_limited && opt.on_pass) opt.on_pass(film, 0);
     return st;
   }
   return render_passes(film, opt);
@@ -198,6 +217,7 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
   std::vector<uint8_t> active;
   if (per_pixel) active.assign(size_t(film.width()) * size_t(film.height()), 1);
   const PassResume* resume = opt.resume;
+  run.stats.passes = int(ends.size());
   size_t first = 0;
   if (resume) {
     first = size_t(resume->pass);
@@ -219,28 +239,38 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
     run.arena.execute([&] {
       parallel_in_order(0, grid.count(), [&](size_t ti) {
         if (run.cancelled()) return;
-        TileBuffer& tile = film.tile(ti);
-        const uint64_t work = tile.rect().pixels() * (s_end - s_begin);
+        const uint64_t work = grid.rect(ti).pixels() * (s_end - s_begin);
         if (resumed_pass && resume->tile_pass[ti] >= int(pass)) {
           run.tile_done({}, work, int(pass), int(ends.size()));
           return;
         }
+        if (!run.may_start_tile()) return;
+        TileBuffer& tile = film.tile(ti);
         TileStats st;
         run.sampler.sample(range, tile, st);
         run.tile_done(st, work, int(pass), int(ends.size()));
         if (!run.cancelled() && opt.on_tile_pass) opt.on_tile_pass(ti, int(pass), tile);
       });
     });
+    run.stats.pass = int(pass);
     if (run.cancelled()) {
       run.stats.cancelled = true;
       break;
     }
+    if (run.out_of_time) {  // tiles of this pass left out
+      run.stats.time_limited = true;
+      break;
+    }
     if (opt.on_pass) opt.on_pass(film, int(pass));
     if (per_pixel) {
-      if (rs.time_limit > 0 && seconds_since(run.t0) > rs.time_limit) break;
       size_t still_active = 0;
       run.arena.execute([&] { still_active = update_active(film, stop_rule, &active); });
       if (still_active == 0) break;
+    }
+    if (pass + 1 < ends.size() && run.past_time_limit()) {  // the next pass starts when resumed
+      run.stats.time_limited = true;
+      run.stats.pass = int(pass) + 1;
+      break;
     }
   }
   return run.finish();

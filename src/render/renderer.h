@@ -2,6 +2,9 @@
 // honouring cancellation. Deterministic: each sample draws from an RNG seeded by (pixel, sample
 // index, seed), so the result is the same for any thread count, tile size or interruption.
 //
+// render.time_limit stops any render at whole tiles (never inside one), after at least one tile,
+// so a render resumed again and again always finishes.
+//
 // Two ways to render. render_tiles() renders each tile with all its samples and hands it over:
 // memory follows the tiles in flight (what `anamorph render` streams into files). render() keeps
 // a whole frame in a Film, in progressive passes (previews, per-pixel adaptive sampling, whose
@@ -59,6 +62,10 @@ struct RenderStats {
   uint64_t nan_samples = 0;                     // non-finite radiance, dropped
   int nan_x = -1, nan_y = -1, nan_sample = -1;  // the first one in (y, x, sample) order
   bool cancelled = false;                       // by `cancel`: the image is incomplete
+  // Stopped by render.time_limit: no tile starts after the limit (tiles in flight finish), so
+  // every tile holds whole passes; a pass render stopped in pass `pass` of `passes`.
+  bool time_limited = false;
+  int pass = 0, passes = 1;
   double mrays_per_second() const { return seconds > 0 ? rays / seconds * 1e-6 : 0; }
 };
 

@@ -91,7 +91,8 @@ class TileBuffer {
 
   const PixelSum& at(int x, int y) const { return px_[index(x, y)]; }
   PixelSum& at(int x, int y) { return px_[index(x, y)]; }
-  const float* aov_at(int x, int y) const { return &aov_[index(x, y) * aov_floats_]; }
+  // data() + offset, not &aov_[i]: with no AOVs the vector is empty and [0] would bind a null.
+  const float* aov_at(int x, int y) const { return aov_.data() + index(x, y) * aov_floats_; }
   size_t aov_floats() const { return aov_floats_; }
 
   // Raw storage, for checkpoints: the pixel sums and the AOV sums, row-major over the rect.

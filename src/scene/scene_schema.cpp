@@ -85,7 +85,9 @@ const ParamSpec kRender[] = {
     {"noise_threshold", ParamType::Number, "0.01",
      "Pixel: the estimated relative error at which a pixel stops.", 0, kInf},
     {"time_limit", ParamType::Number, "0",
-     "Pixel: stop after this long (0 = no limit; a limit breaks determinism).", 0, kInf, {},
+     "A time budget (0 = none): no tile starts after it, so the image holds whole tiles (uniform "
+     "sampling renders in progressive passes then, every pixel sampled after the first); with "
+     "--checkpoint, --resume continues to the uninterrupted render's exact image.", 0, kInf, {},
      false, false, "seconds"},
 };
 // clang-format on

@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -184,6 +186,105 @@ TEST(Checkpoint, WhittedLatticeKilledAndResumedIsBitIdentical) {
                     "--set", "render.tile_size=24"},
                    "normal,id"},
                   ".png", 3);
+}
+
+// render.time_limit: each run stops at whole tiles after its budget (a quarter of the reference's
+// whole-process time, so the count of runs does not depend on the build's speed), writes the image
+// so far and keeps the checkpoint; `--resume` runs go further until the render completes, and the
+// result is the uninterrupted render's, bit for bit.
+void budget_and_resume(const Case& c, const std::string& ext) {
+  Scratch s;
+  const fs::path ref = s.dir / ("ref" + ext), out = s.dir / ("out" + ext), ck = s.dir / "r.ckpt";
+  std::vector<std::string> base{"render", demo_scene(), "--threads", "2"};
+  base.insert(base.end(), c.settings.begin(), c.settings.end());
+  if (!c.aovs.empty()) base.insert(base.end(), {"--aov", c.aovs});
+  auto ref_args = base;
+  ref_args.insert(ref_args.end(), {"-q", "-o", ref.string()});
+  const auto t0 = Clock::now();
+  ASSERT_EQ(test::run_cli(join(ref_args), 300).code, 0);
+  const double limit = std::max(0.05, std::chrono::duration<double>(Clock::now() - t0).count() / 4);
+  auto args = base;
+  args.insert(args.end(), {"-o", out.string(), "--checkpoint", ck.string(), "--set",
+                           fmt::format("render.time_limit={:.3f}", limit)});
+  test::CliResult r = test::run_cli(join(args), 300);
+  int runs = 1, limited = 0;
+  for (;; ++runs) {
+    ASSERT_EQ(r.code, 0) << r.out;
+    ASSERT_TRUE(fs::exists(out)) << "run " << runs << " wrote no image: " << r.out;
+    if (r.out.find("time limit of") == std::string::npos) break;
+    ++limited;
+    ASSERT_TRUE(fs::exists(ck)) << r.out;
+    EXPECT_NE(r.out.find("continue with: anamorph render --resume " + ck.string()),
+              std::string::npos)
+        << r.out;
+    if (runs == 1) std::printf("%s: first run: %s", c.name, r.out.c_str());
+    ASSERT_LT(runs, 200) << "the render does not get further";
+    r = test::run_cli("render --resume " + ck.string(), 300);
+  }
+  std::printf("%s: %d runs of %.3f s each at most\n", c.name, runs, limit);
+  std::fflush(stdout);
+  EXPECT_GE(limited, 1) << "no run was stopped by the time limit: the test tested nothing";
+  EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
+  if (ext == ".exr") {
+    expect_same_exr(ref, out);
+  } else {
+    expect_same_png(ref, out);
+    if (!c.aovs.empty())
+      expect_same_exr(fs::path(ref).replace_extension(".exr"),
+                      fs::path(out).replace_extension(".exr"));
+  }
+}
+
+TEST(TimeLimit, PathTracingUniformStopsAndResumesToTheSameBits) {
+  budget_and_resume({"path uniform",
+                     {"--width", "96", "--height", "96", "--integrator", "path", "--spp", "128",
+                      "--set", "render.tile_size=16"},
+                     "albedo,normal,spp"},
+                    ".exr");
+}
+
+TEST(TimeLimit, PathTracingAdaptiveStopsAndResumesToTheSameBits) {
+  budget_and_resume({"path per-pixel adaptive",
+                     {"--width", "96", "--height", "96", "--integrator", "path", "--set",
+                      "render.antialias=\"pixel\"", "--set", "render.max_spp=256", "--set",
+                      "render.noise_threshold=0.005", "--set", "render.tile_size=16"},
+                     "albedo,spp"},
+                    ".exr");
+}
+
+TEST(TimeLimit, WhittedLatticeStopsAndResumesToTheSameBits) {
+  budget_and_resume({"whitted lattice",
+                     {"--width", "512", "--height", "512", "--set", "render.aa_threshold=0.02",
+                      "--set", "render.tile_size=16"},
+                     "normal"},
+                    ".png");
+}
+
+// A time limit without a checkpoint: the image so far is the result, and the user is told how to
+// be able to continue next time.
+TEST(TimeLimit, WithoutCheckpointTheImageSoFarIsTheResult) {
+  Scratch s;
+  const fs::path out = s.dir / "out.png";
+  const test::CliResult r = test::run_cli(
+      "render " + demo_scene() +
+          " --width 96 --height 96 --integrator path --spp 100000 --set render.time_limit=0.3 "
+          "--threads 2 -o " +
+          out.string(),
+      300);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("time limit of 0.3 s reached after"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("render with --checkpoint FILE to be able to continue"), std::string::npos)
+      << r.out;
+  // Progressive passes: the first (1 sample a pixel) covers the frame, so every pixel inside the
+  // domemaster's image circle has samples.
+  const Image img = read_image(out, false);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double dx = x + 0.5 - img.width / 2.0, dy = y + 0.5 - img.height / 2.0;
+      if (std::hypot(dx, dy) >= 0.45 * img.width) continue;
+      ASSERT_GT(img.pixels[(size_t(y) * size_t(img.width) + size_t(x)) * 4 + 3], 0.0f)
+          << "pixel " << x << "," << y << " has no samples";
+    }
 }
 
 // SIGINT: the image so far beside the output, a checkpoint, exit 3; --resume finishes it.
