@@ -11,12 +11,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <thread>
 
 #include "app/common.h"
 #include "app/frame_job.h"
 #include "io/image_io.h"
 #include "render/coin_layer.h"
 #include "render/frame_output.h"
+#include "render/memory_estimate.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_schema.h"
@@ -261,6 +263,36 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
   return kOk;
 }
 
+// Whether the machine can hold the render; if not, says why (the caller exits 2 before any
+// allocation or output file).
+bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<Aov>& aovs,
+                    const std::string& out) {
+  const RenderSettings& rs = scene.render;
+  RenderShape shape;
+  shape.width = rs.width;
+  shape.height = rs.height;
+  shape.tile_size = rs.tile_size;
+  shape.threads = a.threads.value_or(0) > 0 ? *a.threads : int(std::thread::hardware_concurrency());
+  shape.aov_floats = aov_floats(aovs);
+  shape.whole_film = a.coins_overlay || renders_in_passes(rs);
+  shape.active_mask = !Renderer::streams(rs);
+  shape.png = lower_extension(out) == ".png";
+  shape.exr = !shape.png || !aovs.empty();
+  shape.output_image = a.coins_overlay;
+  const MemoryNeed need = estimate_render_memory(scene, shape);
+  const uint64_t available = available_memory();
+  if (available == 0 || need.total() <= available) return true;
+  fmt::print(stderr,
+             "error: {}: this render needs about {} ({}), but {} is available; lower the "
+             "resolution or the AOVs{}\n",
+             out, format_bytes(need.total()), need.describe(), format_bytes(available),
+             shape.whole_film && !a.coins_overlay
+                 ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
+                   "streams tiles to the file instead of keeping the frame)"
+                 : "");
+  return false;
+}
+
 // A frame already rendered: its file is there (files appear only when complete) and readable, and
 // no checkpoint of it is left (a time limit's image keeps one, to continue from).
 bool frame_exists(const fs::path& out, const fs::path& checkpoint) {
@@ -355,6 +387,7 @@ int run(const RenderArgs& a) {
       return kOk;
     }
     const Scene scene = load(args.scene, extra, 0);
+    if (!fits_in_memory(args, scene, aovs, out)) return kBadInput;
     const Renderer renderer(scene);
     return render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every);
   }
@@ -408,14 +441,16 @@ int run(const RenderArgs& a) {
       if (!a.quiet) fmt::print("{} exists: skipped\n", fmt::sprintf(out, f));
       continue;
     }
+    const std::string file = fmt::sprintf(out, f);
     if (scene && animates_view_only(*scene)) {
       load_view_into(args.scene, extra, f, *scene);
+      if (!fits_in_memory(args, *scene, aovs, file)) return kBadInput;
     } else {
       renderer.reset();  // (it refers to the scene)
       scene = std::make_unique<Scene>(load(args.scene, extra, f));
+      if (!fits_in_memory(args, *scene, aovs, file)) return kBadInput;
       renderer = std::make_unique<Renderer>(*scene);
     }
-    const std::string file = fmt::sprintf(out, f);
     const int rc =
         render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every);

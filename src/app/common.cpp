@@ -7,9 +7,11 @@
 
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "io/image_io.h"
 #include "render/checkpoint.h"
+#include "render/memory_estimate.h"
 #include "scene/loaders.h"
 #include "scene/scene_loader.h"
 #include "scene/toml_reader.h"
@@ -123,6 +125,11 @@ int run_guarded(const std::function<int()>& body) {
     return kBadInput;
   } catch (const ImageIoError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
+    return kFailure;
+  } catch (const std::bad_alloc&) {
+    // What the up-front estimate did not foresee (a scene's models, another process's growth).
+    fmt::print(stderr, "error: out of memory (the machine has {} available now)\n",
+               format_bytes(available_memory()));
     return kFailure;
   } catch (const std::exception& e) {
     fmt::print(stderr, "error: {}\n", e.what());

@@ -16,20 +16,24 @@ struct CliResult {
   std::string out;  // stdout and stderr together
 };
 
-// `anamorph ARGS`; with limit_seconds > 0, under `timeout -s KILL`, so a hang fails the test
-// instead of stalling the suite.
-inline CliResult run_cli(const std::string& args, int limit_seconds = 0) {
-  const std::string prefix =
-      limit_seconds > 0 ? "timeout -s KILL " + std::to_string(limit_seconds) + " " : "";
-  const std::string cmd = prefix + binary().string() + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
+// A shell command line (sh -c), its exit code and output.
+inline CliResult run_shell(const std::string& command, bool killed_is_137 = false) {
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   std::string out;
   std::array<char, 4096> buf;
   size_t n;
   while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
   const int status = pclose(p);
-  const bool exited = WIFEXITED(status) && !(limit_seconds > 0 && WEXITSTATUS(status) == 137);
+  const bool exited = WIFEXITED(status) && !(killed_is_137 && WEXITSTATUS(status) == 137);
   return {exited ? WEXITSTATUS(status) : -1, out};
+}
+
+// `anamorph ARGS`; with limit_seconds > 0, under `timeout -s KILL`, so a hang fails the test
+// instead of stalling the suite.
+inline CliResult run_cli(const std::string& args, int limit_seconds = 0) {
+  const std::string prefix =
+      limit_seconds > 0 ? "timeout -s KILL " + std::to_string(limit_seconds) + " " : "";
+  return run_shell(prefix + binary().string() + " " + args, limit_seconds > 0);
 }
 
 }  // namespace anamorph::test

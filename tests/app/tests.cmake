@@ -18,3 +18,7 @@ anamorph_add_test(test_checkpoint
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint_test.cpp
 )
 add_dependencies(test_checkpoint anamorph)
+anamorph_add_test(test_memory
+  ${CMAKE_CURRENT_LIST_DIR}/memory_test.cpp
+)
+add_dependencies(test_memory anamorph)

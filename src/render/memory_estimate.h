@@ -1,0 +1,39 @@
+// What a render will allocate, estimated before it does, against what the machine can give: a
+// frame too big for the machine is refused up front with the reason (exit 2), never a
+// std::bad_alloc half-way through. The figures follow the layouts in docs/architecture.md
+// ("Film"): exact for the film and the strips, approximate for the acceleration structure.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace anamorph {
+
+struct Scene;
+
+struct RenderShape {
+  int width = 0, height = 0, tile_size = 32, threads = 1;
+  size_t aov_floats = 0;     // per pixel
+  bool whole_film = false;   // the frame kept in a film (pass renders), not streamed tiles
+  bool active_mask = false;  // per-pixel adaptive sampling's one byte a pixel
+  bool png = false, exr = false;
+  bool output_image = false;  // a whole output image as well (the coin overlay)
+};
+
+struct MemoryNeed {
+  std::vector<std::pair<std::string, uint64_t>> parts;  // what, bytes
+  uint64_t total() const;
+  std::string describe() const;  // "film 64.0 GiB (65536 x 65536 pixels x 32 B), ..."
+};
+
+MemoryNeed estimate_render_memory(const Scene& scene, const RenderShape& shape);
+
+// Bytes this process can still allocate without swapping: MemAvailable, lowered by an address-
+// space or data limit (ulimit -v/-d) if one is set. 0 when unknown.
+uint64_t available_memory();
+
+std::string format_bytes(uint64_t bytes);  // "1.5 GiB", "27.0 MiB", "512 B"
+
+}  // namespace anamorph
