@@ -100,102 +100,138 @@ void AdaptiveGrid::distortion_map(int x0, int y0, int x1, int y1, AdaptiveWorksp
     }
 }
 
-void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
-                               const EvalBatch& eval, const Emit& emit, uint64_t& rays,
-                               uint64_t& samples) const {
-  const int L = steps_;
-  const int nx = (x1 - x0) * L + 1, ny = (y1 - y0) * L + 1;
-  if (ws.points.size() < size_t(nx) * ny) ws.points.resize(size_t(nx) * ny);
-  if (++ws.tile == 0) {  // the counter wrapped: forget everything once
-    std::fill(ws.points.begin(), ws.points.end(), AdaptiveWorkspace::Point{});
-    ws.tile = 1, ws.stamp = 0;
-  }
-  const uint32_t tile = ws.tile;
-  const double su = 1.0 / (double(w_) * L), sv = 1.0 / (double(h_) * L);
-  const uint64_t row = uint64_t(w_) * L + 1;
-  const auto store = [tile](AdaptiveWorkspace::Point& p, const SampleResult& r) {
-    p.nan = !is_finite(r.L);
-    p.L = p.nan ? Color{} : r.L;
-    p.alpha = float(r.alpha);
-    p.tile = tile;
-    p.stamp = 0;  // counted by no pixel yet (stamps start at 1)
-  };
-  const auto at = [&](int lx, int ly) -> AdaptiveWorkspace::Point& {
-    return ws.points[size_t(ly) * nx + lx];
-  };
+namespace {
 
-  // Pixel corners (cx, cy) in [x0, x1] x [y0, y1], in 4x4 blocks aligned to the image: camera
-  // batches and ray packets, and the same lanes in every tile that needs the block. Lanes of
-  // another tile's corners are masked off (a tile's last column and row of corners start a block
-  // of their own: without the mask a 32-pixel tile shaded 81 blocks, 1296 corners, for 1089).
+// The largest spread of a channel (compared as displayed, clamped at 1) or of coverage.
+double contrast(const AdaptiveWorkspace::Point* c[4]) {
+  const auto spread = [](double a, double b, double d, double e) {
+    const double lo = std::min(std::min(a, b), std::min(d, e));
+    const double hi = std::max(std::max(a, b), std::max(d, e));
+    return hi - lo;
+  };
+  const auto ch = [&](double Color::*m) {
+    return spread(std::min(1.0, c[0]->L.*m), std::min(1.0, c[1]->L.*m), std::min(1.0, c[2]->L.*m),
+                  std::min(1.0, c[3]->L.*m));
+  };
+  const double worst = std::max(std::max(ch(&Color::x), ch(&Color::y)), ch(&Color::z));
+  return std::max(worst, spread(c[0]->alpha, c[1]->alpha, c[2]->alpha, c[3]->alpha));
+}
+
+}  // namespace
+
+// One tile of the lattice: its points in `ws`, evaluated in camera batches through `eval`.
+// Three stages, in order: corners(), refine(), resolve().
+struct AdaptiveGrid::TileRun {
+  TileRun(const AdaptiveGrid& g, int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
+          const EvalBatch& eval, uint64_t& rays, uint64_t& samples)
+      : g(g),
+        x0(x0),
+        y0(y0),
+        x1(x1),
+        y1(y1),
+        L(g.steps_),
+        nx((x1 - x0) * L + 1),
+        ny((y1 - y0) * L + 1),
+        ws(ws),
+        eval(eval),
+        rays(rays),
+        samples(samples),
+        su(1.0 / (double(g.w_) * L)),
+        sv(1.0 / (double(g.h_) * L)),
+        row(uint64_t(g.w_) * L + 1) {
+    if (ws.points.size() < size_t(nx) * ny) ws.points.resize(size_t(nx) * ny);
+    if (++ws.tile == 0) {  // the counter wrapped: forget everything once
+      std::fill(ws.points.begin(), ws.points.end(), AdaptiveWorkspace::Point{});
+      ws.tile = 1, ws.stamp = 0;
+    }
+    tile = ws.tile;
+  }
+
+  const AdaptiveGrid& g;
+  const int x0, y0, x1, y1, L, nx, ny;
+  AdaptiveWorkspace& ws;
+  const EvalBatch& eval;
+  uint64_t &rays, &samples;
+  const double su, sv;
+  const uint64_t row;
+  uint32_t tile = 0;
+  // One camera batch.
   Vec2 uv[kCameraBatch];
   uint64_t keys[kCameraBatch];
   double fps[kCameraBatch];
   bool use[kCameraBatch];
   SampleResult out[kCameraBatch];
   CameraRayBatch cam;
-  if (distortion_) ws.corners.resize(size_t(x1 - x0 + 1) * (y1 - y0 + 1));
+
+  AdaptiveWorkspace::Point& at(int lx, int ly) const { return ws.points[size_t(ly) * nx + lx]; }
+  int forced_depth(int x, int y) const {
+    return int(ws.forced[size_t(y - y0) * (x1 - x0) + (x - x0)]);
+  }
+  void store(AdaptiveWorkspace::Point& p, const SampleResult& r) const {
+    p.nan = !is_finite(r.L);
+    p.L = p.nan ? Color{} : r.L;
+    p.alpha = float(r.alpha);
+    p.tile = tile;
+    p.stamp = 0;  // counted by no pixel yet (stamps start at 1)
+  }
+  bool splits(int lx, int ly, int size, int forced) const {
+    if (size <= 1) return false;
+    if (forced > 0) return true;
+    const AdaptiveWorkspace::Point* c[4] = {&at(lx, ly), &at(lx + size, ly), &at(lx, ly + size),
+                                            &at(lx + size, ly + size)};
+    return contrast(c) > g.threshold_;
+  }
+  // The coarsest level whose lattice holds a lattice coordinate (0 = pixel corners).
+  int level_of(uint64_t c) const {
+    int k = g.depth_;
+    while (k > 0 && c % 2 == 0) c /= 2, --k;
+    return k;
+  }
+
+  void corners();
+  void refine();
+  void evaluate_pending();
+  void resolve(const Emit& emit);
+};
+
+// Pixel corners (cx, cy) in [x0, x1] x [y0, y1], in 4x4 blocks aligned to the image: camera
+// batches and ray packets, and the same lanes in every tile that needs the block. Lanes of another
+// tile's corners are masked off (a tile's last column and row of corners start a block of their
+// own: without the mask a 32-pixel tile shaded 81 blocks, 1296 corners, for 1089). With the
+// distortion map on, the corners' ray fields are kept for it.
+void AdaptiveGrid::TileRun::corners() {
+  if (g.distortion_) ws.corners.resize(size_t(x1 - x0 + 1) * (y1 - y0 + 1));
   for (int by = y0 / 4 * 4; by <= y1; by += 4)
     for (int bx = x0 / 4 * 4; bx <= x1; bx += 4) {
       for (int k = 0; k < kCameraBatch; ++k) {
         const int cx = bx + (k & 3), cy = by + (k >> 2);
         const uint64_t gx = uint64_t(cx) * L, gy = uint64_t(cy) * L;
-        use[k] = cx <= w_ && cy <= h_ && cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1;
+        use[k] = cx <= g.w_ && cy <= g.h_ && cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1;
         uv[k] = use[k] ? Vec2{gx * su, gy * sv} : Vec2{0.5, 0.5};
         keys[k] = mix64(gy * row + gx);
         fps[k] = 1;
         samples += use[k];
       }
-      eval(uv, keys, fps, use, out, rays, distortion_ ? &cam : nullptr);
+      eval(uv, keys, fps, use, out, rays, g.distortion_ ? &cam : nullptr);
       for (int k = 0; k < kCameraBatch; ++k) {
         const int cx = bx + (k & 3), cy = by + (k >> 2);
         if (!use[k]) continue;
         store(at((cx - x0) * L, (cy - y0) * L), out[k]);
-        if (distortion_)
-          corner_geometry(cam, k, distance_, w_, h_,
+        if (g.distortion_)
+          corner_geometry(cam, k, g.distance_, g.w_, g.h_,
                           &ws.corners[size_t(cy - y0) * (x1 - x0 + 1) + (cx - x0)]);
       }
     }
-  distortion_map(x0, y0, x1, y1, ws);
-  const auto forced_depth = [&](int x, int y) {
-    return int(ws.forced[size_t(y - y0) * (x1 - x0) + (x - x0)]);
-  };
+}
 
-  // The largest spread of a channel (compared as displayed, clamped at 1) or of coverage.
-  const auto contrast = [](const AdaptiveWorkspace::Point* c[4]) {
-    const auto spread = [](double a, double b, double d, double e) {
-      const double lo = std::min(std::min(a, b), std::min(d, e));
-      const double hi = std::max(std::max(a, b), std::max(d, e));
-      return hi - lo;
-    };
-    const auto ch = [&](double Color::*m) {
-      return spread(std::min(1.0, c[0]->L.*m), std::min(1.0, c[1]->L.*m), std::min(1.0, c[2]->L.*m),
-                    std::min(1.0, c[3]->L.*m));
-    };
-    const double worst = std::max(std::max(ch(&Color::x), ch(&Color::y)), ch(&Color::z));
-    return std::max(worst, spread(c[0]->alpha, c[1]->alpha, c[2]->alpha, c[3]->alpha));
-  };
-  const auto splits = [&](int lx, int ly, int size, int forced) {
-    if (size <= 1) return false;
-    if (forced > 0) return true;
-    const AdaptiveWorkspace::Point* c[4] = {&at(lx, ly), &at(lx + size, ly), &at(lx, ly + size),
-                                            &at(lx + size, ly + size)};
-    return contrast(c) > threshold_;
-  };
-  // The coarsest level whose lattice holds a lattice coordinate (0 = pixel corners).
-  const auto level_of = [&](uint64_t g) {
-    int k = depth_;
-    while (k > 0 && g % 2 == 0) g /= 2, --k;
-    return k;
-  };
-
-  // Level by level: the squares that split ask for their edge midpoints and center; those are
-  // evaluated in batches before the next level looks at them.
+// Level by level: the squares that split ask for their edge midpoints and center; those are
+// evaluated in batches before the next level looks at them. Whether each pixel splits at all is
+// kept for resolve() (most pixels do not).
+void AdaptiveGrid::TileRun::refine() {
   ws.level.clear();
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x)
       ws.level.push_back({(x - x0) * L, (y - y0) * L, L, forced_depth(x, y)});
-  // Whether each pixel splits at all, kept for the final pass (most pixels do not).
   ws.pixel_splits.assign(ws.level.size(), 0);
   bool first = true;
   while (!ws.level.empty()) {
@@ -220,30 +256,38 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       for (int k = 0; k < 4; ++k)
         ws.next_level.push_back({q.lx + (k & 1) * h, q.ly + (k >> 1) * h, h, q.forced - 1});
     }
-    for (size_t b = 0; b < ws.pending.size(); b += kCameraBatch) {
-      const int m = int(std::min<size_t>(kCameraBatch, ws.pending.size() - b));
-      for (int k = 0; k < kCameraBatch; ++k) {
-        use[k] = k < m;
-        if (!use[k]) {
-          uv[k] = {0.5, 0.5}, keys[k] = 0, fps[k] = 1;
-          continue;
-        }
-        const uint32_t i = ws.pending[b + size_t(k)];
-        const uint64_t gx = uint64_t(x0) * L + i % uint32_t(nx),
-                       gy = uint64_t(y0) * L + i / uint32_t(nx);
-        uv[k] = {gx * su, gy * sv};
-        keys[k] = mix64(gy * row + gx);
-        fps[k] = 1.0 / double(1 << std::max(level_of(gx), level_of(gy)));
-      }
-      eval(uv, keys, fps, use, out, rays, nullptr);
-      for (int k = 0; k < m; ++k) store(ws.points[ws.pending[b + size_t(k)]], out[k]);
-      samples += uint64_t(m);
-    }
+    evaluate_pending();
     ws.level.swap(ws.next_level);
     first = false;
   }
+}
 
-  // Every point is known now: each pixel's mean over its squares, splitting as above.
+// The points one level asked for, in camera batches; each filters textures over the spacing of
+// the coarsest level it belongs to.
+void AdaptiveGrid::TileRun::evaluate_pending() {
+  for (size_t b = 0; b < ws.pending.size(); b += kCameraBatch) {
+    const int m = int(std::min<size_t>(kCameraBatch, ws.pending.size() - b));
+    for (int k = 0; k < kCameraBatch; ++k) {
+      use[k] = k < m;
+      if (!use[k]) {
+        uv[k] = {0.5, 0.5}, keys[k] = 0, fps[k] = 1;
+        continue;
+      }
+      const uint32_t i = ws.pending[b + size_t(k)];
+      const uint64_t gx = uint64_t(x0) * L + i % uint32_t(nx),
+                     gy = uint64_t(y0) * L + i / uint32_t(nx);
+      uv[k] = {gx * su, gy * sv};
+      keys[k] = mix64(gy * row + gx);
+      fps[k] = 1.0 / double(1 << std::max(level_of(gx), level_of(gy)));
+    }
+    eval(uv, keys, fps, use, out, rays, nullptr);
+    for (int k = 0; k < m; ++k) store(ws.points[ws.pending[b + size_t(k)]], out[k]);
+    samples += uint64_t(m);
+  }
+}
+
+// Every point is known now: each pixel's mean over its squares, splitting as refine() did.
+void AdaptiveGrid::TileRun::resolve(const Emit& emit) {
   uint32_t& stamp = ws.stamp;
   PixelResult acc;
   const auto point = [&](int lx, int ly) -> const AdaptiveWorkspace::Point& {
@@ -284,7 +328,6 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
     col = sum * 0.25;
     alpha = asum * 0.25;
   };
-
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
       if (++stamp == 0) ++stamp;  // 0 marks points no pixel counted yet
@@ -297,6 +340,16 @@ void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace
       acc.L = premul;  // the film's sums are coverage-weighted colour
       emit(x, y, acc);
     }
+}
+
+void AdaptiveGrid::render_tile(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws,
+                               const EvalBatch& eval, const Emit& emit, uint64_t& rays,
+                               uint64_t& samples) const {
+  TileRun run(*this, x0, y0, x1, y1, ws, eval, rays, samples);
+  run.corners();
+  distortion_map(x0, y0, x1, y1, ws);
+  run.refine();
+  run.resolve(emit);
 }
 
 size_t update_active(const Film& film, const StopRule& rule, std::vector<uint8_t>* active) {

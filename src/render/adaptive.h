@@ -85,6 +85,7 @@ class AdaptiveGrid {
                    const Emit& emit, uint64_t& rays, uint64_t& samples) const;
 
  private:
+  struct TileRun;
   // Levels each pixel of the tile is split to before contrast is looked at, from its corners.
   void distortion_map(int x0, int y0, int x1, int y1, AdaptiveWorkspace& ws) const;
 

@@ -65,7 +65,7 @@ struct Cursor {
     const auto n = get<uint64_t>();
     if (n > (s.size() - at) / sizeof(T)) need(s.size() + 1);
     std::vector<T> v(n);
-    std::memcpy(v.data(), s.data() + at, n * sizeof(T));
+    if (n) std::memcpy(v.data(), s.data() + at, n * sizeof(T));  // (data() of none may be null)
     at += n * sizeof(T);
     return v;
   }
