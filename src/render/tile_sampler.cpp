@@ -1,6 +1,7 @@
 #include "render/tile_sampler.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "render/sampler.h"
 
@@ -48,29 +49,38 @@ void TileSampler::build_fixed(const SampleRange& r, const TileRect& t, int x, in
 
 void TileSampler::build_random(const SampleRange& r, const TileRect& t, int x, int y, uint32_t s,
                                Packet& p) const {
-  const uint64_t seed = job_.rs.seed;
   for (int k = 0; k < kPacket; ++k) {
     p.x[k] = x + (k & 3);
     p.y[k] = y + (k >> 2);
     p.use[k] = lane_on(r, t, p.x[k], p.y[k]);
-    CameraSample& cs = p.cs[k];
-    cs = CameraSample{};  // unused lanes get a harmless sample; their rays are masked out
-    if (!p.use[k]) continue;
-    Rng& rng = p.rng[k];
-    rng = Rng::for_sample(uint32_t(p.x[k]), uint32_t(p.y[k]), s, seed);
-    if (qmc_) rng.qmc(s, mix64((uint64_t(p.y[k]) << 32 | uint32_t(p.x[k])) ^ seed), kQmcDims);
-    Vec2 off;
-    if (qmc_)
-      rng.uniform2(off.x, off.y);
-    else
-      off = pixel_offset(job_.rs.sampler, rng);
-    if (gaussian_) off = gaussian_offset(off, job_.rs.filter_radius) + Vec2{0.5, 0.5};
-    cs.uv = {std::clamp((p.x[k] + off.x) / job_.W, 0.0, 1.0),
-             std::clamp((p.y[k] + off.y) / job_.H, 0.0, 1.0)};
-    if (lens_time_) {
-      rng.uniform2(cs.lens.x, cs.lens.y);
-      cs.time = rng.uniform();
-    }
+    fill_lane(p, k, s);
+  }
+}
+
+void TileSampler::fill_lane(Packet& p, int k, uint32_t s) const {
+  CameraSample& cs = p.cs[k];
+  cs = CameraSample{};  // unused lanes get a harmless sample; their rays are masked out
+  if (!p.use[k]) return;
+  if (!needs_rng_) {
+    cs.uv = {std::clamp((p.x[k] + fixed_offset_.x) / job_.W, 0.0, 1.0),
+             std::clamp((p.y[k] + fixed_offset_.y) / job_.H, 0.0, 1.0)};
+    return;
+  }
+  const uint64_t seed = job_.rs.seed;
+  Rng& rng = p.rng[k];
+  rng = Rng::for_sample(uint32_t(p.x[k]), uint32_t(p.y[k]), s, seed);
+  if (qmc_) rng.qmc(s, mix64((uint64_t(p.y[k]) << 32 | uint32_t(p.x[k])) ^ seed), kQmcDims);
+  Vec2 off;
+  if (qmc_)
+    rng.uniform2(off.x, off.y);
+  else
+    off = pixel_offset(job_.rs.sampler, rng);
+  if (gaussian_) off = gaussian_offset(off, job_.rs.filter_radius) + Vec2{0.5, 0.5};
+  cs.uv = {std::clamp((p.x[k] + off.x) / job_.W, 0.0, 1.0),
+           std::clamp((p.y[k] + off.y) / job_.H, 0.0, 1.0)};
+  if (lens_time_) {
+    rng.uniform2(cs.lens.x, cs.lens.y);
+    cs.time = rng.uniform();
   }
 }
 
@@ -101,6 +111,10 @@ void TileSampler::trace(Packet& p, uint32_t s, double footprint, TileBuffer& til
 }
 
 void TileSampler::sample(const SampleRange& r, TileBuffer& tile, TileStats& st) const {
+  if (r.active) {
+    sample_listed(r, tile, st);
+    return;
+  }
   const TileRect& t = tile.rect();
   Packet p;
   // Cancellation is checked for every packet, so a tile of a million samples per pixel (or of
@@ -115,6 +129,35 @@ void TileSampler::sample(const SampleRange& r, TileBuffer& tile, TileStats& st) 
           build_fixed(r, t, x, y, p);
         trace(p, s, r.footprint, tile, st);
       }
+}
+
+// Per-pixel adaptive sampling leaves a few pixels of a tile on after the first passes: traced in
+// 4x4 blocks, most lanes of a packet would be off and cost as much as on. The pixels still on
+// are listed in block order (neighbours stay in one packet) and packed 16 to a packet. Each
+// pixel's samples still arrive in sample order, so its sums are the same bits.
+void TileSampler::sample_listed(const SampleRange& r, TileBuffer& tile, TileStats& st) const {
+  const TileRect& t = tile.rect();
+  std::vector<int> xs, ys;
+  for (int by = t.y0; by < t.y1; by += 4)
+    for (int bx = t.x0; bx < t.x1; bx += 4)
+      for (int k = 0; k < kPacket; ++k)
+        if (lane_on(r, t, bx + (k & 3), by + (k >> 2))) {
+          xs.push_back(bx + (k & 3));
+          ys.push_back(by + (k >> 2));
+        }
+  Packet p;
+  const size_t n = xs.size();
+  for (uint32_t s = r.begin; s < r.end && !job_.cancelled(); ++s)
+    for (size_t i = 0; i < n && !job_.cancelled(); i += kPacket) {
+      for (int k = 0; k < kPacket; ++k) {
+        const size_t j = i + size_t(k);
+        p.use[k] = j < n;
+        p.x[k] = p.use[k] ? xs[j] : t.x0;
+        p.y[k] = p.use[k] ? ys[j] : t.y0;
+        fill_lane(p, k, s);
+      }
+      trace(p, s, r.footprint, tile, st);
+    }
 }
 
 }  // namespace anamorph

@@ -1,4 +1,5 @@
-// Sample passes over one tile: camera samples built in 4x4 packets (the packet builder), traced
+// Sample passes over one tile: camera samples built in 4x4 packets (the packet builder; the
+// pixels per-pixel adaptive sampling leaves on are packed 16 to a packet instead), traced
 // as one Embree packet, finished by the job and summed into the tile's buffer. Internal to the
 // renderer.
 #pragma once
@@ -53,6 +54,10 @@ class TileSampler {
   void build_fixed(const SampleRange& r, const TileRect& t, int x, int y, Packet& p) const;
   void build_random(const SampleRange& r, const TileRect& t, int x, int y, uint32_t s,
                     Packet& p) const;
+  // Lane k's camera sample (and random numbers) for sample s of pixel (p.x[k], p.y[k]).
+  void fill_lane(Packet& p, int k, uint32_t s) const;
+  // The pixels `active` leaves on, packed 16 to a packet whatever their positions.
+  void sample_listed(const SampleRange& r, TileBuffer& tile, TileStats& st) const;
   void trace(Packet& p, uint32_t s, double footprint, TileBuffer& tile, TileStats& st) const;
 
   const RenderJob& job_;
