@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <memory>
 #include <numeric>
 
 #include "app/common.h"
+#include "render/frame_output.h"
 #include "render/renderer.h"
 
 namespace anamorph::app {
@@ -23,15 +25,27 @@ int run(const BenchArgs& a) {
   const Renderer renderer(scene);
   RenderOptions opt;
   opt.threads = a.threads.value_or(0);
-  opt.progressive = false;
   const int warm = a.frames[0], measured = a.frames[1];
   std::vector<double> mrays;
-  // One film for every frame, as a viewer reuses its frame buffer (a new 100 MB film per frame
-  // would time the kernel's page clearing). Each render overwrites every pixel with its first
-  // sample, so the film needs no clearing in between either, as the viewer's frame buffer.
-  Film film(scene.render.width, scene.render.height, {});
+  // One 8-bit RGBA frame buffer for every frame, as the viewer keeps one: each finished tile is
+  // resolved into it and freed, so memory is the frame buffer and the tiles in flight.
+  const int W = scene.render.width, H = scene.render.height;
+  const TileGrid grid(W, H, scene.render.tile_size);
+  std::vector<unsigned char> frame(size_t(W) * size_t(H) * 4);
+  const TileSink to_frame = [&](size_t i, std::unique_ptr<TileBuffer> tile) {
+    const ResolvedTile t = resolve(i, *tile, true, false);
+    const TileRect& r = tile->rect();
+    const size_t row = size_t(r.x1 - r.x0) * 4;
+    for (int y = r.y0; y < r.y1; ++y)
+      std::copy_n(t.rgba8.begin() + ptrdiff_t(size_t(y - r.y0) * row), row,
+                  frame.begin() + ptrdiff_t((size_t(y) * size_t(W) + size_t(r.x0)) * 4));
+  };
+  // Per-pixel adaptive sampling looks across tiles: that one renders into a film.
+  std::unique_ptr<Film> film;
+  if (!Renderer::streams(scene.render)) film = std::make_unique<Film>(W, H, std::vector<Aov>{});
   for (int f = 0; f < warm + measured; ++f) {
-    const RenderStats st = renderer.render(film, opt);
+    const RenderStats st =
+        film ? renderer.render(*film, opt) : renderer.render_tiles(grid, opt, {}, to_frame);
     if (f >= warm) mrays.push_back(st.mrays_per_second());
     fmt::print("frame {:3}: {:8.3f} Mrays/s{}\n", f, st.mrays_per_second(),
                f < warm ? " (warm-up)" : "");
