@@ -32,7 +32,7 @@ int run(const BenchArgs& a) {
   const int W = scene.render.width, H = scene.render.height;
   const TileGrid grid(W, H, scene.render.tile_size);
   std::vector<unsigned char> frame(size_t(W) * size_t(H) * 4);
-  const TileSink to_frame = [&](size_t i, std::unique_ptr<TileBuffer> tile) {
+  const TileSink to_frame = [&](size_t i, std::unique_ptr<TileBuffer>& tile) {
     const ResolvedTile t = resolve(i, *tile, true, false);
     const TileRect& r = tile->rect();
     const size_t row = size_t(r.x1 - r.x0) * 4;

@@ -91,9 +91,8 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
                                             reader ? reader->end() : 0);
   reader.reset();
   r.stats = job.renderer.render_tiles(out.grid(), render_options(job), skip,
-                                      [&](size_t i, std::unique_ptr<TileBuffer> t) {
+                                      [&](size_t i, std::unique_ptr<TileBuffer>& t) {
                                         ResolvedTile rt = resolve(i, *t, png, exr);
-                                        t.reset();
                                         if (ck) ck->add_tile(rt);
                                         out.add(std::move(rt));
                                       });

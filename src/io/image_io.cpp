@@ -148,15 +148,36 @@ struct Srgb8Table {
   }
 };
 
-}  // namespace
-
-unsigned char linear_to_srgb8(float v) {
+const Srgb8Table& srgb8_table() {
   static const Srgb8Table T;
+  return T;
+}
+
+inline unsigned char srgb8(const Srgb8Table& T, float v) {
   if (!(v >= std::bit_cast<float>(Srgb8Table::kLowBits))) return 0;  // NaN, negative, tiny
   if (v >= 1.0f) return 255;
   const uint32_t b = (std::bit_cast<uint32_t>(v) - Srgb8Table::kLowBits) >> Srgb8Table::kShift;
   const int code = T.start[b];
   return static_cast<unsigned char>(code + (v >= T.t[size_t(code) + 1] ? 1 : 0));
+}
+
+// unit_to_byte without the libm call: floor(x + 0.5) in double is exact for x = c * 255 in
+// [0, 255], and equals lround there.
+inline unsigned char unit_byte(float v) {
+  const float c = v > 0.0f ? std::min(v, 1.0f) : 0.0f;
+  return static_cast<unsigned char>(double(c * 255.0f) + 0.5);
+}
+
+}  // namespace
+
+unsigned char linear_to_srgb8(float v) { return srgb8(srgb8_table(), v); }
+
+void encode_rgba8(const float* rgba, size_t n, unsigned char* out) {
+  const Srgb8Table& T = srgb8_table();
+  for (size_t i = 0; i < n; ++i, rgba += 4, out += 4) {
+    for (int c = 0; c < 3; ++c) out[c] = srgb8(T, rgba[c]);
+    out[3] = unit_byte(rgba[3]);
+  }
 }
 
 float srgb_to_linear(float v) {

@@ -54,6 +54,8 @@ struct Rgba8Image {
 };
 // One RGBA pixel (straight colour, linear) as a PNG stores it.
 void encode_rgba8(const float* rgba, unsigned char* out);
+// `n` pixels at once, the same bytes (one call per row: the table is looked up once).
+void encode_rgba8(const float* rgba, size_t n, unsigned char* out);
 
 // Chooses the format by extension (.png, .exr). PNG writes only layers[0].
 void write_image(const std::filesystem::path& file, const OutputImage& img);

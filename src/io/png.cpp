@@ -174,10 +174,7 @@ std::string inflate(const unsigned char* p, size_t n, const fs::path& file) {
 
 }  // namespace
 
-void encode_rgba8(const float* rgba, unsigned char* out) {
-  for (int c = 0; c < 3; ++c) out[c] = linear_to_srgb8(rgba[c]);
-  out[3] = io_detail::unit_to_byte(rgba[3]);
-}
+void encode_rgba8(const float* rgba, unsigned char* out) { encode_rgba8(rgba, 1, out); }
 
 void write_png(const fs::path& file, const OutputImage& img) {
   io_detail::check_output(img, file);

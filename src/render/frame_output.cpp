@@ -15,16 +15,18 @@ ResolvedTile resolve(size_t index, const TileBuffer& tile, bool png, bool exr) {
   const size_t n = r.pixels(), nf = tile.aov_floats();
   if (png) out.rgba8.resize(n * 4);
   if (exr) out.rgba.resize(n * 4), out.aov.resize(n * nf);
+  const size_t w = size_t(r.x1 - r.x0);
+  std::vector<float> row(w * 4);
   size_t i = 0;
-  for (int y = r.y0; y < r.y1; ++y)
-    for (int x = r.x0; x < r.x1; ++x, ++i) {
-      float px[4];
-      tile.beauty_rgba(x, y, px);
-      if (png) encode_rgba8(px, &out.rgba8[i * 4]);
-      if (!exr) continue;
-      std::copy(px, px + 4, &out.rgba[i * 4]);
-      if (nf) tile.aov_values(x, y, &out.aov[i * nf]);
-    }
+  for (int y = r.y0; y < r.y1; ++y, i += w) {
+    for (int x = r.x0; x < r.x1; ++x) tile.beauty_rgba(x, y, &row[size_t(x - r.x0) * 4]);
+    if (png) encode_rgba8(row.data(), w, &out.rgba8[i * 4]);
+    if (!exr) continue;
+    std::copy(row.begin(), row.end(), out.rgba.begin() + ptrdiff_t(i * 4));
+    if (nf)
+      for (int x = r.x0; x < r.x1; ++x)
+        tile.aov_values(x, y, &out.aov[(i + size_t(x - r.x0)) * nf]);
+  }
   return out;
 }
 

@@ -162,6 +162,7 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
     adaptive = std::make_unique<AdaptiveGrid>(*scene_.camera, grid.width, grid.height, rs,
                                               accel_->bounds());
   tbb::enumerable_thread_specific<AdaptiveWorkspace> spaces;
+  tbb::enumerable_thread_specific<std::unique_ptr<TileBuffer>> spare;  // tiles the sink left
   const uint64_t per_pixel = lattice ? 1 : uint64_t(rs.spp);
   run.work_total = uint64_t(grid.width) * uint64_t(grid.height) * per_pixel;
   for (size_t i = 0; i < skip.size(); ++i)
@@ -170,14 +171,18 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
   run.arena.execute([&] {
     parallel_in_order(0, grid.count(), [&](size_t ti) {
       if ((ti < skip.size() && skip[ti]) || run.cancelled() || !run.may_start_tile()) return;
-      auto tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
+      std::unique_ptr<TileBuffer>& tile = spare.local();
+      if (tile)
+        tile->reset(grid.rect(ti));
+      else
+        tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
       TileStats st;
       if (adaptive)
         render_lattice_tile(*adaptive, run.job, spaces.local(), *tile, st);
       else
         run.sampler.sample({0, uint32_t(rs.spp), run.job.uniform_scale, nullptr}, *tile, st);
       run.tile_done(st, tile->rect().pixels() * per_pixel, 0, 1);
-      if (!run.cancelled()) sink(ti, std::move(tile));
+      if (!run.cancelled()) sink(ti, tile);
     });
   });
   run.stats.cancelled = run.cancelled();
@@ -191,8 +196,9 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   if (!per_pixel && (!opt.progressive || rs.adaptive())) {
     // One pass: each tile complete, straight into the film.
     film.clear();
-    RenderStats st = render_tiles(film.grid(), opt, {},
-                                  [&](size_t i, auto tile) { film.put(i, std::move(tile)); });
+    RenderStats st = render_tiles(
+        film.grid(), opt, {},
+        [&](size_t i, std::unique_ptr<TileBuffer>& tile) { film.put(i, std::move(tile)); });
     if (!st.cancelled && !st.time_limited && opt.on_pass) opt.on_pass(film, 0);
     return st;
   }

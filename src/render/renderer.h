@@ -70,7 +70,8 @@ struct RenderStats {
 };
 
 // A finished tile, from a worker thread (several at once, in roughly increasing index order).
-using TileSink = std::function<void(size_t index, std::unique_ptr<TileBuffer> tile)>;
+// The sink may take the buffer (move it out); one it leaves is reused for the thread's next tile.
+using TileSink = std::function<void(size_t index, std::unique_ptr<TileBuffer>& tile)>;
 
 class Renderer {
  public:

@@ -75,6 +75,12 @@ TileBuffer::TileBuffer(const TileRect& rect, const std::vector<Aov>& aovs)
       px_(rect.pixels()),
       aov_(rect.pixels() * aov_floats_) {}
 
+void TileBuffer::reset(const TileRect& rect) {
+  rect_ = rect;
+  px_.assign(rect.pixels(), PixelSum{});
+  aov_.assign(rect.pixels() * aov_floats_, 0.0f);
+}
+
 void TileBuffer::set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a) {
   PixelSum& p = at(x, y);
   p = PixelSum{};
@@ -123,15 +129,6 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
         break;
     }
   }
-}
-
-void TileBuffer::beauty_rgba(int x, int y, float* out) const {
-  const PixelSum& p = at(x, y);
-  const float n = p.n ? float(p.n) : 1.0f;
-  // Straight (un-premultiplied) colour: no-ray samples are transparent, not black.
-  const float inv = p.alpha > 0 ? 1.0f / p.alpha : 0.0f;
-  for (int c = 0; c < 3; ++c) out[c] = p.rgb[c] * inv;
-  out[3] = p.alpha / n;
 }
 
 void TileBuffer::aov_values(int x, int y, float* out) const {

@@ -69,6 +69,9 @@ static_assert(sizeof(PixelSum) == 32);
 class TileBuffer {
  public:
   TileBuffer(const TileRect& rect, const std::vector<Aov>& aovs);
+  // Zeroed for another rectangle, keeping the storage (a thread's next tile: no allocation, and
+  // the memory is still in cache).
+  void reset(const TileRect& rect);
   const TileRect& rect() const { return rect_; }
   const std::vector<Aov>& aovs() const { return aovs_; }
 
@@ -103,7 +106,15 @@ class TileBuffer {
 
   // Resolved values of one pixel: beauty as straight RGBA (no-ray samples are transparent, not
   // black), and each AOV layer's channels in aov_table order.
-  void beauty_rgba(int x, int y, float* out) const;
+  // Straight (un-premultiplied) colour: no-ray samples are transparent, not black. Inline: it
+  // runs for every pixel written.
+  void beauty_rgba(int x, int y, float* out) const {
+    const PixelSum& p = at(x, y);
+    const float n = p.n ? float(p.n) : 1.0f;
+    const float inv = p.alpha > 0 ? 1.0f / p.alpha : 0.0f;
+    for (int c = 0; c < 3; ++c) out[c] = p.rgb[c] * inv;
+    out[3] = p.alpha / n;
+  }
   void aov_values(int x, int y, float* out) const;  // aov_floats() values
   // Standard error of the pixel's mean luminance (per-pixel adaptive sampling).
   double standard_error(int x, int y) const;
