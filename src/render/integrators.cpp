@@ -24,7 +24,10 @@ bool visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint
 class Whitted final : public Integrator {
  public:
   explicit Whitted(const RenderContext& ctx) : Integrator(ctx) {
-    for (const Material& m : ctx.scene.materials) see_through_ |= m.transmission > 0;
+    for (const Material& m : ctx.scene.materials) {
+      see_through_ |= m.transmission > 0;
+      textured_.push_back(m.textured());
+    }
   }
 
   Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
@@ -41,7 +44,8 @@ class Whitted final : public Integrator {
     if (!h) return lights.has_environment() ? lights.environment(dir) : Color{};
     const Vec3 wo = -dir;
     const Material& m = ctx_.scene.materials[h->material];
-    const TexCoord tc = texcoord_at(*h, fp);
+    // (Constant textures never read their coordinates: not worth computing for them.)
+    const TexCoord tc = textured_[h->material] ? texcoord_at(*h, fp) : TexCoord{};
     const Bsdf b = make_bsdf(m, *h, wo, tc, nullptr);
     Color L = lights.emitted(*h, wo);
     // The classic ambient term: the environment's mean radiance on the diffuse part, unshadowed.
@@ -127,7 +131,8 @@ class Whitted final : public Integrator {
                  depth + 1, weight, rays);
   }
 
-  bool see_through_ = false;  // some material transmits: shadow rays may pass surfaces
+  bool see_through_ = false;       // some material transmits: shadow rays may pass surfaces
+  std::vector<uint8_t> textured_;  // per material: Material::textured()
 };
 
 // ---- Path tracing ----------------------------------------------------------------------------

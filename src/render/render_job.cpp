@@ -56,10 +56,13 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
   uniform_scale = footprint_scale(uint32_t(rs.spp));
   du = 1.0 / W;
   dv = 1.0 / H;
-  for (const Material& m : s.materials)
-    textured.push_back(m.base_color.kind != Texture::Kind::Constant || m.has_normal_map ||
-                       m.metallic_roughness.kind != Texture::Kind::Constant ||
-                       m.emission.kind != Texture::Kind::Constant);
+  for (const Material& m : s.materials) textured.push_back(m.textured());
+  for (size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    const bool goes_on = rs.integrator != IntegratorKind::Whitted || m.transmission > 0 ||
+                         m.reflectivity > 0 || m.model != Material::Model::Whitted;
+    needs_footprint.push_back(textured[i] || (mode == RenderMode::Radiance && goes_on));
+  }
   const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
   hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
                                (mode == RenderMode::Albedo && !any_texture));

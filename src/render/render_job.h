@@ -44,6 +44,9 @@ struct RenderJob {
   // Uniform sampling: each sample's share of a pixel, as a footprint scale (1/sqrt(spp)).
   double uniform_scale;
   std::vector<uint8_t> textured;  // per material: some texture is not a constant
+  // Per material: a hit on it needs the pixel's footprint (a texture filters over it, or rays go
+  // on from it and carry it along; Whitted's rays go on only from mirrors and glass).
+  std::vector<uint8_t> needs_footprint;
   const std::atomic<bool>* cancel;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
@@ -65,7 +68,7 @@ struct RenderJob {
     Footprint fp;
     // Footprints only matter where something is filtered: textures, or rays that go on (their
     // ray cones carry it to textures further along).
-    if (hit && (mode == RenderMode::Radiance || textured[hit->material]))
+    if (hit && needs_footprint[hit->material])
       fp = footprint_at(cam_ray(), du * footprint, dv * footprint, *hit);
     if (want_aovs && hit) fill_aovs(ray, *hit, fp, out.aov);
     out.L = mode == RenderMode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays)

@@ -37,6 +37,12 @@ struct Material {
   double alpha_cutoff = 0.5;
   bool double_sided = true;
 
+  // Some texture is not a constant: shading reads texture coordinates (and their footprint).
+  bool textured() const {
+    return base_color.kind != Texture::Kind::Constant || has_normal_map ||
+           metallic_roughness.kind != Texture::Kind::Constant ||
+           emission.kind != Texture::Kind::Constant;
+  }
   bool is_emissive() const {
     return emission.kind != Texture::Kind::Constant || max_component(emission.value) > 0;
   }
