@@ -15,6 +15,7 @@
 
 #include "app/common.h"
 #include "app/frame_job.h"
+#include "app/tile_stats.h"
 #include "io/image_io.h"
 #include "render/coin_layer.h"
 #include "render/frame_output.h"
@@ -43,6 +44,7 @@ struct RenderArgs {
   bool quiet = false;
   std::string checkpoint;  // --checkpoint FILE (a frame pattern with --frames)
   std::string checkpoint_every = "60s";
+  std::string stats;   // --stats FILE (a frame pattern with --frames)
   std::string resume;  // --resume FILE
   bool skip_existing = false;
 };
@@ -175,7 +177,8 @@ int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer&
 // Renders one frame to `out`; returns an exit code.
 int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
                  const std::vector<Aov>& aovs, double frame, const fs::path& out,
-                 const std::string& prefix, const fs::path& checkpoint, double checkpoint_every) {
+                 const std::string& prefix, const fs::path& checkpoint, double checkpoint_every,
+                 const fs::path& stats) {
   const bool bar = !a.quiet && isatty(STDERR_FILENO);
   auto last = std::chrono::steady_clock::now();
   std::function<void(const Progress&)> on_progress;
@@ -187,12 +190,14 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
       print_progress(p, prefix);
     };
   RenderStats st;
+  std::vector<TileTiming> tile_times;
   if (a.coins_overlay) {
     RenderOptions opt;
     opt.threads = a.threads.value_or(0);
     opt.aovs = aovs;
     opt.cancel = &interrupt_flag();
     opt.on_progress = on_progress;
+    if (!stats.empty()) opt.tile_times = &tile_times;
     const int rc = render_with_overlay(a, scene, renderer, aovs, frame, out, opt, &st);
     if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
     if (rc != kOk) return rc;
@@ -206,7 +211,8 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  checkpoint,
                  checkpoint_every,
                  a.threads.value_or(0),
-                 on_progress};
+                 on_progress,
+                 stats.empty() ? nullptr : &tile_times};
     if (lower_extension(out) == ".png") {
       job.png = out;
       // AOVs go beside a PNG, with the beauty, into an EXR of the same name.
@@ -241,6 +247,10 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  checkpoint.empty() ? "render with --checkpoint FILE to be able to continue"
                                     : fmt::format("continue with: anamorph render --resume {}",
                                                   checkpoint.string()));
+  }
+  if (!stats.empty()) {
+    write_tile_stats(stats, scene, frame, a.threads.value_or(0), st, std::move(tile_times));
+    if (!a.quiet) fmt::print("tile costs written to {}\n", stats.string());
   }
   if (!a.quiet) {
     const double per_pixel =
@@ -389,7 +399,7 @@ int run(const RenderArgs& a) {
     const Scene scene = load(args.scene, extra, 0);
     if (!fits_in_memory(args, scene, aovs, out)) return kBadInput;
     const Renderer renderer(scene);
-    return render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every);
+    return render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every, a.stats);
   }
 
   // A sequence: frames A..B inclusive, written through a printf pattern.
@@ -432,6 +442,13 @@ int run(const RenderArgs& a) {
                a.checkpoint);
     return kBadInput;
   }
+  if (!a.stats.empty() && !has_frame_pattern(a.stats)) {
+    fmt::print(stderr,
+               "error: --stats {}: with --frames each frame has its file, so the name needs a "
+               "frame-number pattern, e.g. stats_%04d.json\n",
+               a.stats);
+    return kBadInput;
+  }
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;
   for (int f = first; f <= last; ++f) {
@@ -453,7 +470,8 @@ int run(const RenderArgs& a) {
     }
     const int rc =
         render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f),
-                     a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every);
+                     a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every,
+                     a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f));
     if (rc != kOk) {
       if (f > first)
         fmt::print(stderr, "frames {}..{} were written; frame {} and later were not\n", first,
@@ -516,6 +534,9 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--checkpoint", a->checkpoint,
                   "Keep a checkpoint here while rendering (with --frames, a pattern such as "
                   "ckpt/frame_%04d.ckpt); an existing one of the same render is resumed");
+  cmd->add_option("--stats", a->stats,
+                  "Write every tile's cost (time, samples, rays) as JSON, for planning cluster "
+                  "renders (a frame pattern with --frames, e.g. stats_%04d.json)");
   cmd->add_option("--checkpoint-every", a->checkpoint_every,
                   "How often the checkpoint is forced to disk: 60s (default), 5m, 1h");
   cmd->add_option("--resume", a->resume,

@@ -43,6 +43,7 @@ RenderOptions render_options(const FrameJob& job) {
   opt.aovs = job.aovs;
   opt.cancel = &interrupt_flag();
   opt.on_progress = job.on_progress;
+  opt.tile_times = job.tile_times;
   opt.progressive = false;
   return opt;
 }

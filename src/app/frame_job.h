@@ -27,6 +27,7 @@ struct FrameJob {
   double checkpoint_every = 60;      // seconds between fsyncs of the checkpoint
   int threads = 0;
   std::function<void(const Progress&)> on_progress;
+  std::vector<TileTiming>* tile_times = nullptr;  // --stats
 };
 
 struct FrameResult {

@@ -120,6 +120,22 @@ struct Renderer::Run {
     opt.on_progress(p);
   }
 
+  // A tile's cost, for --stats. `begin`: when it started.
+  void record_time(size_t index, int pass, std::chrono::steady_clock::time_point begin,
+                   const TileStats& st) {
+    if (!opt.tile_times) return;
+    const auto end = std::chrono::steady_clock::now();
+    TileTiming t;
+    t.index = index;
+    t.pass = pass;
+    t.start = std::chrono::duration<double>(begin - t0).count();
+    t.seconds = std::chrono::duration<double>(end - begin).count();
+    t.samples = st.samples;
+    t.rays = st.rays;
+    const std::lock_guard<std::mutex> lock(mu);
+    opt.tile_times->push_back(t);
+  }
+
   void merge(const TileStats& st) {
     stats.rays += st.rays;
     stats.samples += st.samples;
@@ -177,10 +193,12 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
       else
         tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
       TileStats st;
+      const auto begin = std::chrono::steady_clock::now();
       if (adaptive)
         render_lattice_tile(*adaptive, run.job, spaces.local(), *tile, st);
       else
         run.sampler.sample({0, uint32_t(rs.spp), run.job.uniform_scale, nullptr}, *tile, st);
+      run.record_time(ti, 0, begin, st);
       run.tile_done(st, tile->rect().pixels() * per_pixel, 0, 1);
       if (!run.cancelled()) sink(ti, tile);
     });
@@ -253,7 +271,9 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
         if (!run.may_start_tile()) return;
         TileBuffer& tile = film.tile(ti);
         TileStats st;
+        const auto begin = std::chrono::steady_clock::now();
         run.sampler.sample(range, tile, st);
+        run.record_time(ti, int(pass), begin, st);
         run.tile_done(st, work, int(pass), int(ends.size()));
         if (!run.cancelled() && opt.on_tile_pass) opt.on_tile_pass(ti, int(pass), tile);
       });

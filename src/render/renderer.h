@@ -40,6 +40,14 @@ struct PassResume {
   std::vector<int> tile_pass;
 };
 
+// One tile's work (`render --stats`: per-tile costs, for planning cluster renders).
+struct TileTiming {
+  size_t index = 0;
+  int pass = 0;
+  double start = 0, seconds = 0;  // since the render began, and how long the tile took
+  uint64_t samples = 0, rays = 0;
+};
+
 struct RenderOptions {
   int threads = 0;  // 0 = all cores
   std::vector<Aov> aovs;
@@ -52,6 +60,7 @@ struct RenderOptions {
   std::function<void(size_t tile, int pass, const TileBuffer&)> on_tile_pass;
   std::function<void(int pass, const std::vector<uint8_t>& active)> on_pass_start;
   const PassResume* resume = nullptr;
+  std::vector<TileTiming>* tile_times = nullptr;  // when set, every tile rendered is appended
 };
 
 struct RenderStats {

@@ -68,6 +68,16 @@ int run_killed(const std::vector<std::string>& args, std::chrono::milliseconds d
       args, [end] { return Clock::now() >= end; }, sig, log);
 }
 
+// Whether checkpoint `ck` holds a record besides its identity: it has grown past the size it had
+// when first seen (`first`, 0 until then; the identity is written first, alone).
+bool has_tile(const fs::path& ck, uintmax_t* first) {
+  std::error_code ec;
+  const uintmax_t size = fs::file_size(ck, ec);
+  if (ec || size == 0) return false;
+  if (*first == 0) *first = size;
+  return size > *first;
+}
+
 std::string join(const std::vector<std::string>& args) {
   std::string s;
   for (const auto& a : args) s += "'" + a + "' ";
@@ -134,9 +144,15 @@ void kill_and_resume(const Case& c, const std::string& ext, int kills) {
   for (int k = 0; k < kills; ++k) {
     fs::remove(out);
     fs::remove(ck);
+    // Killed at a random moment, but not before the checkpoint holds a tile (on a loaded or
+    // sanitized build, startup can take most of the reference's time: a kill before any tile
+    // would test nothing).
     const auto delay = std::chrono::milliseconds(std::uniform_int_distribution<int>(
-        int(took.count() / 10), int(took.count() * 9 / 10))(rng));
-    const int code = run_killed(args, delay, SIGKILL, log);
+        int(took.count() / 10), int(took.count() * 6 / 10))(rng));
+    const auto kill_at = Clock::now() + delay;
+    uintmax_t identity_size = 0;
+    const auto due = [&] { return has_tile(ck, &identity_size) && Clock::now() >= kill_at; };
+    const int code = run_signalled(args, due, SIGKILL, log);
     SCOPED_TRACE(fmt::format("{}: killed after {} ms (reference {} ms), exit {}", c.name,
                              delay.count(), took.count(), code));
     // Killed after its output appeared (and before it removed its checkpoint): the output is
@@ -349,17 +365,11 @@ TEST(Checkpoint, ChangedSceneOrSettingsAreRefused) {
   // Interrupted once the checkpoint holds a tile besides its identity (whatever the build's
   // speed), so that cutting its end below leaves good records.
   uintmax_t identity_size = 0;
-  const auto has_tile = [&] {
-    std::error_code ec;
-    const uintmax_t size = fs::file_size(ck, ec);
-    if (ec || size == 0) return false;
-    if (identity_size == 0) identity_size = size;
-    return size > identity_size;
-  };
+  const auto tile_written = [&] { return has_tile(ck, &identity_size); };
   ASSERT_EQ(run_signalled(
                 {"render", demo_scene(), "-q", "--width", "96", "--height", "96", "--integrator",
                  "path", "--spp", "512", "-o", out.string(), "--checkpoint", ck.string()},
-                has_tile, SIGINT, s.dir / "log"),
+                tile_written, SIGINT, s.dir / "log"),
             3)
       << test::read_text(s.dir / "log");
   const test::CliResult spp = test::run_cli(

@@ -22,3 +22,7 @@ anamorph_add_test(test_memory
   ${CMAKE_CURRENT_LIST_DIR}/memory_test.cpp
 )
 add_dependencies(test_memory anamorph)
+anamorph_add_test(test_tile_stats
+  ${CMAKE_CURRENT_LIST_DIR}/tile_stats_test.cpp
+)
+add_dependencies(test_tile_stats anamorph)
