@@ -180,3 +180,14 @@ def test_a_progress_callback_cannot_render_its_own_scene():
     with pytest.raises(RuntimeError, match="own render's progress callback"):
         scene.render(width=320, height=240, spp=64, progress=again)
     assert scene.render(width=4, height=3)["rgba"].shape == (3, 4, 4)
+
+
+def test_a_time_limit_stops_at_whole_passes_with_every_pixel_sampled():
+    # 100000 samples a pixel would take hours; the budget stops the progressive passes after
+    # whole tiles, and the first pass (one sample a pixel) covers the image.
+    scene = anamorph.load(DEMO, set={"render.time_limit": 0.3})
+    img = scene.render(width=96, height=64, integrator="path", spp=100000, aovs=["spp"])
+    spp = img["spp"]
+    assert spp.min() >= 1, "a pixel without samples"
+    assert spp.max() < 100000, "the time limit did not stop the render"
+    assert (img["rgba"][..., 3] > 0).all()
