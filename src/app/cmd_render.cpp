@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <thread>
+#include <tuple>
 
 #include "app/common.h"
 #include "app/frame_job.h"
@@ -433,22 +434,19 @@ int run(const RenderArgs& a) {
                "or drop --video; the frames alone need nothing else)\n");
     return kBadInput;
   }
+  // With --frames each frame has its own checkpoint and stats file: their names need a pattern.
+  for (const auto& [option, name, example] :
+       {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
+        std::tuple{"--stats", a.stats, "stats_%04d.json"}})
+    if (!name.empty() && !has_frame_pattern(name)) {
+      fmt::print(stderr,
+                 "error: {} {}: with --frames each frame has its own file, so the name needs a "
+                 "frame-number pattern, e.g. {}\n",
+                 option, name, example);
+      return kBadInput;
+    }
   // When the keys change only camera, image or render settings, the frames share the first
   // one's geometry, lights and acceleration structure: only the view is read again.
-  if (!a.checkpoint.empty() && !has_frame_pattern(a.checkpoint)) {
-    fmt::print(stderr,
-               "error: --checkpoint {}: with --frames each frame has its checkpoint, so the name "
-               "needs a frame-number pattern, e.g. render_%04d.ckpt\n",
-               a.checkpoint);
-    return kBadInput;
-  }
-  if (!a.stats.empty() && !has_frame_pattern(a.stats)) {
-    fmt::print(stderr,
-               "error: --stats {}: with --frames each frame has its file, so the name needs a "
-               "frame-number pattern, e.g. stats_%04d.json\n",
-               a.stats);
-    return kBadInput;
-  }
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;
   for (int f = first; f <= last; ++f) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 
 #include "app/common.h"
 #include "render/frame_output.h"
@@ -63,6 +64,27 @@ void finish(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWri
     if (!p.empty()) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
 }
 
+// The checkpoint written from here on: a new one, or the one read continued after `append_at`.
+std::unique_ptr<CheckpointWriter> open_writer(const FrameJob& job, const CheckpointIdentity& id,
+                                              uint64_t append_at) {
+  if (job.checkpoint.empty()) return nullptr;
+  return std::make_unique<CheckpointWriter>(job.checkpoint, id, job.checkpoint_every, append_at);
+}
+
+// The frame's end. Interrupted: the image so far as NAME.partial.EXT. Otherwise the files, and
+// when a time limit stopped the render, `reached()` says how far it got.
+void conclude(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWriter> ck,
+              FrameResult& r, const std::function<std::string()>& reached) {
+  if (r.stats.cancelled) {
+    out.commit_partial(kPartial);
+    r.interrupted = true;
+    return;
+  }
+  r.time_limited = r.stats.time_limited;
+  if (r.time_limited) r.reached = reached();
+  finish(job, out, std::move(ck), r.time_limited);
+}
+
 // Uniform and lattice sampling: every tile complete, straight into the files and the checkpoint.
 FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   FrameResult r;
@@ -86,10 +108,7 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
                   nullptr, nullptr});
     r.resumed = true;
   }
-  std::unique_ptr<CheckpointWriter> ck;
-  if (!job.checkpoint.empty())
-    ck = std::make_unique<CheckpointWriter>(job.checkpoint, id, job.checkpoint_every,
-                                            reader ? reader->end() : 0);
+  std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, reader ? reader->end() : 0);
   reader.reset();
   r.stats = job.renderer.render_tiles(out.grid(), render_options(job), skip,
                                       [&](size_t i, std::unique_ptr<TileBuffer>& t) {
@@ -97,22 +116,14 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
                                         if (ck) ck->add_tile(rt);
                                         out.add(std::move(rt));
                                       });
-  if (r.stats.cancelled) {
-    out.commit_partial(kPartial);
-    r.interrupted = true;
-    return r;
-  }
-  r.time_limited = r.stats.time_limited;
-  if (r.time_limited)
-    r.reached = fmt::format("{} of {} tiles", out.tiles_added(), out.grid().count());
-  finish(job, out, std::move(ck), r.time_limited);
+  conclude(job, out, std::move(ck), r,
+           [&] { return fmt::format("{} of {} tiles", out.tiles_added(), out.grid().count()); });
   return r;
 }
 
 // Per-pixel adaptive sampling (the stopping rule looks across tiles) and time-limited uniform
-// sampling: a film in passes. The
-// checkpoint is rewritten at each pass start (every tile's sums and the pass's active pixels)
-// and gets each tile's sums as it finishes the pass.
+// sampling: a film in passes. The checkpoint is rewritten at each pass start (every tile's sums and
+// the pass's active pixels) and gets each tile's sums as it finishes the pass.
 FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   FrameResult r;
   const RenderSettings& rs = job.scene.render;
@@ -145,10 +156,7 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
                   }});
     r.resumed = have_pass;
   }
-  std::unique_ptr<CheckpointWriter> ck;
-  if (!job.checkpoint.empty())
-    ck = std::make_unique<CheckpointWriter>(job.checkpoint, id, job.checkpoint_every,
-                                            have_pass ? reader->end() : 0);
+  std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, have_pass ? reader->end() : 0);
   reader.reset();
   resume.tile_pass = tile_pass;
   RenderOptions opt = render_options(job);
@@ -170,21 +178,14 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   for (size_t i = 0; i < tiles; ++i)
     if (const TileBuffer* t = film.tile_if_any(i))
       out.add(resolve(i, *t, !job.png.empty(), !job.exr.empty()));
-  if (r.stats.cancelled) {
-    out.commit_partial(kPartial);
-    r.interrupted = true;
-    return r;
-  }
-  r.time_limited = r.stats.time_limited;
-  if (r.time_limited) {
+  conclude(job, out, std::move(ck), r, [&] {
     const int pass = r.stats.pass;
     const auto done =
         size_t(std::count_if(tile_pass.begin(), tile_pass.end(), [&](int p) { return p >= pass; }));
-    r.reached = done == 0 ? fmt::format("{} of {} passes", pass, r.stats.passes)
-                          : fmt::format("pass {} of {} in {} of {} tiles", pass + 1, r.stats.passes,
-                                        done, tiles);
-  }
-  finish(job, out, std::move(ck), r.time_limited);
+    return done == 0 ? fmt::format("{} of {} passes", pass, r.stats.passes)
+                     : fmt::format("pass {} of {} in {} of {} tiles", pass + 1, r.stats.passes,
+                                   done, tiles);
+  });
   return r;
 }
 

@@ -92,8 +92,7 @@ struct Renderer::Run {
   // render.time_limit: whether another tile may start. The first tile of a run always may, so a
   // resumed render always gets further.
   bool may_start_tile() {
-    if (time_limit > 0 && started.load(std::memory_order_relaxed) > 0 &&
-        seconds_since(t0) > time_limit) {
+    if (past_time_limit()) {
       out_of_time.store(true, std::memory_order_relaxed);
       return false;
     }

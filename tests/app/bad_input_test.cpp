@@ -51,16 +51,7 @@ std::string mesh_scene(const Scratch& s, const fs::path& model) {
 // -1 when it did not exit by itself; stderr goes to `log`.
 int signal_after(const std::vector<std::string>& args, std::chrono::milliseconds delay, int sig,
                  const fs::path& log, std::chrono::seconds limit = std::chrono::seconds(60)) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string bin = test::binary().string();
-    std::vector<char*> argv{const_cast<char*>(bin.c_str())};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    if (!freopen(log.c_str(), "w", stderr)) _exit(126);
-    execv(bin.c_str(), argv.data());
-    _exit(127);
-  }
+  const pid_t pid = test::spawn(args, log, true);
   std::this_thread::sleep_for(delay);
   kill(pid, sig);
   const auto end = std::chrono::steady_clock::now() + limit;

@@ -40,16 +40,7 @@ std::string demo_scene() { return (test::source_dir() / "examples/apps/domemaste
 // ended first; its exit code (-1 when killed by the signal).
 int run_signalled(const std::vector<std::string>& args, const std::function<bool()>& when, int sig,
                   const fs::path& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string bin = test::binary().string();
-    std::vector<char*> argv{const_cast<char*>(bin.c_str())};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    if (!freopen(log.c_str(), "w", stderr) || !freopen("/dev/null", "w", stdout)) _exit(126);
-    execv(bin.c_str(), argv.data());
-    _exit(127);
-  }
+  const pid_t pid = test::spawn(args, log);
   int status = 0;
   while (!when()) {
     if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -121,6 +112,20 @@ struct Case {
   std::string aovs;
 };
 
+// Every layer of the render `out` equals the reference `ref`: the EXR, or the PNG and, with AOVs,
+// the EXR beside it.
+void expect_same_outputs(const fs::path& ref, const fs::path& out, const std::string& ext,
+                         bool aovs) {
+  if (ext == ".exr") {
+    expect_same_exr(ref, out);
+    return;
+  }
+  expect_same_png(ref, out);
+  if (aovs)
+    expect_same_exr(fs::path(ref).replace_extension(".exr"),
+                    fs::path(out).replace_extension(".exr"));
+}
+
 // Renders `c` uninterrupted, then `kills` times: started with a checkpoint, SIGKILLed at a random
 // moment within the reference's time, resumed by the same command (repeatedly, if the resumed
 // run is killed too), and compared with the reference in every layer.
@@ -175,14 +180,7 @@ void kill_and_resume(const Case& c, const std::string& ext, int kills) {
       ++resumed;
     }
     EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
-    if (ext == ".exr") {
-      expect_same_exr(ref, out);
-    } else {
-      expect_same_png(ref, out);
-      if (!c.aovs.empty())
-        expect_same_exr(fs::path(ref).replace_extension(".exr"),
-                        fs::path(out).replace_extension(".exr"));
-    }
+    expect_same_outputs(ref, out, ext, !c.aovs.empty());
   }
   EXPECT_GT(resumed, 0);
 }
@@ -257,14 +255,7 @@ void budget_and_resume(const Case& c, const std::string& ext) {
   std::fflush(stdout);
   EXPECT_GE(limited, 1) << "no run was stopped by the time limit: the test tested nothing";
   EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
-  if (ext == ".exr") {
-    expect_same_exr(ref, out);
-  } else {
-    expect_same_png(ref, out);
-    if (!c.aovs.empty())
-      expect_same_exr(fs::path(ref).replace_extension(".exr"),
-                      fs::path(out).replace_extension(".exr"));
-  }
+  expect_same_outputs(ref, out, ext, !c.aovs.empty());
 }
 
 TEST(TimeLimit, PathTracingUniformStopsAndResumesToTheSameBits) {

@@ -2,10 +2,13 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "test_util.h"
 
@@ -26,6 +29,24 @@ inline CliResult run_shell(const std::string& command, bool killed_is_137 = fals
   const int status = pclose(p);
   const bool exited = WIFEXITED(status) && !(killed_is_137 && WEXITSTATUS(status) == 137);
   return {exited ? WEXITSTATUS(status) : -1, out};
+}
+
+// Starts `anamorph ARGS` in the background (to signal it while it runs): stderr goes to `log`,
+// stdout too unless `keep_stdout`. Returns its pid.
+inline pid_t spawn(const std::vector<std::string>& args, const std::filesystem::path& log,
+                   bool keep_stdout = false) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string bin = binary().string();
+    std::vector<char*> argv{const_cast<char*>(bin.c_str())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (!freopen(log.c_str(), "w", stderr)) _exit(126);
+    if (!keep_stdout && !freopen("/dev/null", "w", stdout)) _exit(126);
+    execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
 }
 
 // `anamorph ARGS`; with limit_seconds > 0, under `timeout -s KILL`, so a hang fails the test
