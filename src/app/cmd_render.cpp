@@ -17,6 +17,9 @@
 #include "app/common.h"
 #include "app/frame_job.h"
 #include "app/tile_stats.h"
+#include "dist/head.h"
+#include "dist/worker.h"
+#include "dist/world.h"
 #include "io/image_io.h"
 #include "render/coin_layer.h"
 #include "render/frame_output.h"
@@ -179,7 +182,7 @@ int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer&
 int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
                  const std::vector<Aov>& aovs, double frame, const fs::path& out,
                  const std::string& prefix, const fs::path& checkpoint, double checkpoint_every,
-                 const fs::path& stats) {
+                 const fs::path& stats, TileFarm* farm) {
   const bool bar = !a.quiet && isatty(STDERR_FILENO);
   auto last = std::chrono::steady_clock::now();
   std::function<void(const Progress&)> on_progress;
@@ -198,6 +201,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     opt.aovs = aovs;
     opt.cancel = &interrupt_flag();
     opt.on_progress = on_progress;
+    opt.farm = farm;
     if (!stats.empty()) opt.tile_times = &tile_times;
     const int rc = render_with_overlay(a, scene, renderer, aovs, frame, out, opt, &st);
     if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
@@ -213,7 +217,8 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  checkpoint_every,
                  a.threads.value_or(0),
                  on_progress,
-                 stats.empty() ? nullptr : &tile_times};
+                 stats.empty() ? nullptr : &tile_times,
+                 farm};
     if (lower_extension(out) == ".png") {
       job.png = out;
       // AOVs go beside a PNG, with the beauty, into an EXR of the same name.
@@ -339,6 +344,24 @@ int resume(const std::string& file) {
   return runner ? runner() : kBadInput;
 }
 
+// A worker rank of an MPI job: loads the frames the head names (as the head does, so the scene
+// is the same) and renders the tiles it is handed.
+int serve(const RenderArgs& a, const std::vector<std::string>& extra,
+          const std::vector<Aov>& aovs) {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Renderer> renderer;
+  return dist::serve_tiles(a.threads.value_or(0), aovs, [&](double frame) {
+    if (scene && animates_view_only(*scene)) {
+      load_view_into(a.scene, extra, frame, *scene);
+    } else {
+      renderer.reset();  // (it refers to the scene)
+      scene = std::make_unique<Scene>(load(a.scene, extra, frame));
+      renderer = std::make_unique<Renderer>(*scene);
+    }
+    return dist::WorkerFrame{renderer.get(), scene->render.width, scene->render.height};
+  });
+}
+
 int run(const RenderArgs& a) {
   if (!a.resume.empty()) {
     if (!a.scene.scene.empty()) {
@@ -388,6 +411,12 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
     return kBadInput;
   }
+  // Under MPI the head (rank 0) goes on below, handing tiles to the workers through `farm`.
+  std::unique_ptr<dist::HeadFarm> farm;
+  if (dist::World::size() > 1) {
+    if (dist::World::rank() > 0) return serve(args, extra, aovs);
+    farm = std::make_unique<dist::HeadFarm>(aovs, &interrupt_flag());
+  }
   if (a.frames.empty()) {
     if (!a.video.empty()) {
       fmt::print(stderr, "error: --video needs --frames A:B\n");
@@ -400,7 +429,11 @@ int run(const RenderArgs& a) {
     const Scene scene = load(args.scene, extra, 0);
     if (!fits_in_memory(args, scene, aovs, out)) return kBadInput;
     const Renderer renderer(scene);
-    return render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every, a.stats);
+    if (farm) farm->begin_frame(0);
+    const int rc = render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every,
+                                a.stats, farm.get());
+    if (farm && rc == kInterrupted) dist::World::abort_on_exit(rc);  // a worker may be gone
+    return rc;
   }
 
   // A sequence: frames A..B inclusive, written through a printf pattern.
@@ -466,10 +499,12 @@ int run(const RenderArgs& a) {
       if (!fits_in_memory(args, *scene, aovs, file)) return kBadInput;
       renderer = std::make_unique<Renderer>(*scene);
     }
+    if (farm) farm->begin_frame(f);
     const int rc =
         render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every,
-                     a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f));
+                     a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f), farm.get());
+    if (farm && rc == kInterrupted) dist::World::abort_on_exit(rc);  // a worker may be gone
     if (rc != kOk) {
       if (f > first)
         fmt::print(stderr, "frames {}..{} were written; frame {} and later were not\n", first,

@@ -45,6 +45,7 @@ RenderOptions render_options(const FrameJob& job) {
   opt.cancel = &interrupt_flag();
   opt.on_progress = job.on_progress;
   opt.tile_times = job.tile_times;
+  opt.farm = job.farm;
   opt.progressive = false;
   return opt;
 }

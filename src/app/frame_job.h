@@ -28,6 +28,7 @@ struct FrameJob {
   int threads = 0;
   std::function<void(const Progress&)> on_progress;
   std::vector<TileTiming>* tile_times = nullptr;  // --stats
+  TileFarm* farm = nullptr;                       // under MPI: the workers render the tiles
 };
 
 struct FrameResult {

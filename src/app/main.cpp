@@ -1,12 +1,15 @@
 // anamorph: a ray tracer built around a programmable distortion camera.
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <functional>
 
 #include "app/common.h"
+#include "dist/world.h"
 
 int main(int argc, char** argv) {
   using namespace anamorph::app;
+  const anamorph::dist::World world(&argc, &argv);  // MPI, under mpirun
   set_command_line(argc, argv);
   install_interrupt_handlers();
   CLI::App app{"anamorph " ANAMORPH_VERSION
@@ -28,6 +31,11 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);
+    return kBadInput;
+  }
+  if (anamorph::dist::World::size() > 1 && !app.got_subcommand("render")) {
+    if (anamorph::dist::World::rank() == 0)
+      std::fputs("error: only `anamorph render` runs across MPI ranks\n", stderr);
     return kBadInput;
   }
   return run_guarded(run);

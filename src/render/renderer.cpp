@@ -12,7 +12,8 @@
 #include "math/parallel.h"
 #include "render/lights.h"
 #include "render/render_job.h"
-#include "render/tile_sampler.h"
+#include "render/tile_farm.h"
+#include "render/tile_session.h"
 
 namespace anamorph {
 
@@ -37,50 +38,21 @@ std::vector<uint32_t> pass_ends(uint32_t spp, uint32_t first, bool progressive) 
   return ends;
 }
 
-// One tile of the paper's adaptive supersampling, into `tile`. AOVs come from one sample at each
-// pixel's center (averaging lattice points' ids or normals across an edge means nothing).
-void render_lattice_tile(const AdaptiveGrid& grid, const RenderJob& job, AdaptiveWorkspace& ws,
-                         TileBuffer& tile, TileStats& st) {
-  const AdaptiveGrid::EvalBatch eval = [&](const Vec2* uv, const uint64_t* keys,
-                                           const double* footprints, const bool* use,
-                                           SampleResult* out, uint64_t& rays, CameraRayBatch* cam) {
-    job.lattice_samples(uv, keys, footprints, use, out, rays, cam);
-  };
-  const bool aovs = !tile.aovs().empty();
-  const TileRect& r = tile.rect();
-  grid.render_tile(
-      r.x0, r.y0, r.x1, r.y1, ws, eval,
-      [&](int x, int y, const PixelResult& p) {
-        AovSample a;
-        if (aovs) {
-          Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), job.rs.seed);
-          a = job.sample_at({(x + 0.5) / job.W, (y + 0.5) / job.H}, rng, st.rays).aov;
-        }
-        if (p.nans) st.nan(x, y, 0);
-        tile.set(x, y, p.L, p.alpha, p.samples, a);
-      },
-      st.rays, st.samples);
-}
-
 }  // namespace
 
 // Everything one render call shares: the job, the threads, progress and statistics.
 struct Renderer::Run {
   Run(const Renderer& r, const RenderOptions& o, int W, int H)
       : opt(o),
-        ctx{r.scene_, *r.accel_, *r.lights_, r.scene_.render.max_depth, r.scene_.render.bailout,
-            o.cancel},
-        job(r.scene_, *r.accel_, ctx, W, H, !o.aovs.empty()),
-        sampler(job),
-        arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic) {}
+        session(r, !o.aovs.empty(), W, H, o.cancel),
+        arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic),
+        time_limit(r.scene_.render.time_limit) {}
 
   const RenderOptions& opt;
   const std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-  const RenderContext ctx;
-  const RenderJob job;
-  const TileSampler sampler;
+  const TileSession session;
   tbb::task_arena arena;
-  const double time_limit = ctx.scene.render.time_limit;
+  const double time_limit;
   std::atomic<size_t> started{0};
   std::atomic<bool> out_of_time{false};
   std::mutex mu;
@@ -124,11 +96,16 @@ struct Renderer::Run {
                    const TileStats& st) {
     if (!opt.tile_times) return;
     const auto end = std::chrono::steady_clock::now();
+    record_time(index, pass, std::chrono::duration<double>(end - begin).count(), st);
+  }
+  // A tile rendered elsewhere (a farm), which took `seconds` there and has just come back.
+  void record_time(size_t index, int pass, double seconds, const TileStats& st) {
+    if (!opt.tile_times) return;
     TileTiming t;
     t.index = index;
     t.pass = pass;
-    t.start = std::chrono::duration<double>(begin - t0).count();
-    t.seconds = std::chrono::duration<double>(end - begin).count();
+    t.start = std::max(0.0, seconds_since(t0) - seconds);
+    t.seconds = seconds;
     t.samples = st.samples;
     t.rays = st.rays;
     const std::lock_guard<std::mutex> lock(mu);
@@ -167,41 +144,49 @@ bool Renderer::streams(const RenderSettings& rs) {
 
 RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& opt,
                                    const std::vector<uint8_t>& skip, const TileSink& sink) const {
-  const RenderSettings& rs = scene_.render;
   Run run(*this, opt, grid.width, grid.height);
-  const bool lattice = rs.adaptive() && rs.antialias == Antialias::Lattice;
-  // The paper's adaptive supersampling: corners shared between pixels, squares split where they
-  // differ, stretched pixels split from the start.
-  std::unique_ptr<AdaptiveGrid> adaptive;
-  if (lattice)
-    adaptive = std::make_unique<AdaptiveGrid>(*scene_.camera, grid.width, grid.height, rs,
-                                              accel_->bounds());
-  tbb::enumerable_thread_specific<AdaptiveWorkspace> spaces;
-  tbb::enumerable_thread_specific<std::unique_ptr<TileBuffer>> spare;  // tiles the sink left
-  const uint64_t per_pixel = lattice ? 1 : uint64_t(rs.spp);
+  const uint64_t per_pixel = run.session.whole_work_per_pixel();
   run.work_total = uint64_t(grid.width) * uint64_t(grid.height) * per_pixel;
-  for (size_t i = 0; i < skip.size(); ++i)
-    if (skip[i]) run.work_done += grid.rect(i).pixels() * per_pixel;
+  const auto skipped = [&](size_t ti) { return ti < skip.size() && skip[ti]; };
+  for (size_t i = 0; i < grid.count(); ++i)
+    if (skipped(i)) run.work_done += grid.rect(i).pixels() * per_pixel;
 
-  run.arena.execute([&] {
-    parallel_in_order(0, grid.count(), [&](size_t ti) {
-      if ((ti < skip.size() && skip[ti]) || run.cancelled() || !run.may_start_tile()) return;
-      std::unique_ptr<TileBuffer>& tile = spare.local();
-      if (tile)
-        tile->reset(grid.rect(ti));
-      else
-        tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
-      TileStats st;
-      const auto begin = std::chrono::steady_clock::now();
-      if (adaptive)
-        render_lattice_tile(*adaptive, run.job, spaces.local(), *tile, st);
-      else
-        run.sampler.sample({0, uint32_t(rs.spp), run.job.uniform_scale, nullptr}, *tile, st);
-      run.record_time(ti, 0, begin, st);
-      run.tile_done(st, tile->rect().pixels() * per_pixel, 0, 1);
-      if (!run.cancelled()) sink(ti, tile);
+  if (opt.farm) {
+    size_t ti = 0;
+    opt.farm->run(
+        [&]() -> std::optional<FarmTile> {
+          while (ti < grid.count() && skipped(ti)) ++ti;
+          if (ti == grid.count() || run.cancelled() || !run.may_start_tile()) return {};
+          const size_t i = ti++;
+          FarmTile t;
+          t.index = i;
+          t.rect = grid.rect(i);
+          return t;
+        },
+        [&](FarmResult& r) {
+          run.record_time(r.index, 0, r.seconds, r.stats);
+          run.tile_done(r.stats, r.tile->rect().pixels() * per_pixel, 0, 1);
+          if (!run.cancelled()) sink(r.index, r.tile);
+        });
+  } else {
+    tbb::enumerable_thread_specific<std::unique_ptr<TileBuffer>> spare;  // tiles the sink left
+    run.arena.execute([&] {
+      parallel_in_order(0, grid.count(), [&](size_t ti) {
+        if (skipped(ti) || run.cancelled() || !run.may_start_tile()) return;
+        std::unique_ptr<TileBuffer>& tile = spare.local();
+        if (tile)
+          tile->reset(grid.rect(ti));
+        else
+          tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
+        TileStats st;
+        const auto begin = std::chrono::steady_clock::now();
+        run.session.whole(*tile, st);
+        run.record_time(ti, 0, begin, st);
+        run.tile_done(st, tile->rect().pixels() * per_pixel, 0, 1);
+        if (!run.cancelled()) sink(ti, tile);
+      });
     });
-  });
+  }
   run.stats.cancelled = run.cancelled();
   run.stats.time_limited = run.out_of_time;
   return run.finish();
@@ -255,28 +240,48 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
     // Texture footprints: with per-pixel adaptive sampling a pixel that takes this pass's samples
     // ends with at least s_end of them, and each sample stands for that share of the pixel (a
     // function of the sample index alone, so tiles and threads agree).
-    const SampleRange range{s_begin, s_end,
-                            per_pixel ? RenderJob::footprint_scale(s_end) : run.job.uniform_scale,
-                            per_pixel ? &active : nullptr};
+    const SampleRange range{
+        s_begin, s_end,
+        per_pixel ? RenderJob::footprint_scale(s_end) : run.session.job().uniform_scale,
+        per_pixel ? &active : nullptr};
     const bool resumed_pass = resume && pass == first;
-    run.arena.execute([&] {
-      parallel_in_order(0, grid.count(), [&](size_t ti) {
-        if (run.cancelled()) return;
-        const uint64_t work = grid.rect(ti).pixels() * (s_end - s_begin);
-        if (resumed_pass && resume->tile_pass[ti] >= int(pass)) {
-          run.tile_done({}, work, int(pass), int(ends.size()));
-          return;
-        }
-        if (!run.may_start_tile()) return;
-        TileBuffer& tile = film.tile(ti);
-        TileStats st;
-        const auto begin = std::chrono::steady_clock::now();
-        run.sampler.sample(range, tile, st);
-        run.record_time(ti, int(pass), begin, st);
-        run.tile_done(st, work, int(pass), int(ends.size()));
-        if (!run.cancelled() && opt.on_tile_pass) opt.on_tile_pass(ti, int(pass), tile);
+    const int passes = int(ends.size());
+    // Tiles the checkpoint holds after this pass already count as done.
+    const auto done_before = [&](size_t ti) {
+      if (!resumed_pass || resume->tile_pass[ti] < int(pass)) return false;
+      run.tile_done({}, grid.rect(ti).pixels() * (s_end - s_begin), int(pass), passes);
+      return true;
+    };
+    const auto tile_back = [&](size_t ti, const TileStats& st) {
+      run.tile_done(st, grid.rect(ti).pixels() * (s_end - s_begin), int(pass), passes);
+      if (!run.cancelled() && opt.on_tile_pass) opt.on_tile_pass(ti, int(pass), film.tile(ti));
+    };
+    if (opt.farm) {
+      size_t ti = 0;
+      opt.farm->run(
+          [&]() -> std::optional<FarmTile> {
+            while (ti < grid.count() && done_before(ti)) ++ti;
+            if (ti == grid.count() || run.cancelled() || !run.may_start_tile()) return {};
+            const size_t i = ti++;
+            return FarmTile{i, grid.rect(i), grid.width, false, range, &film.tile(i)};  // a pass
+          },
+          [&](FarmResult& r) {
+            run.record_time(r.index, int(pass), r.seconds, r.stats);
+            film.put(r.index, std::move(r.tile));
+            tile_back(r.index, r.stats);
+          });
+    } else {
+      run.arena.execute([&] {
+        parallel_in_order(0, grid.count(), [&](size_t ti) {
+          if (run.cancelled() || done_before(ti) || !run.may_start_tile()) return;
+          TileStats st;
+          const auto begin = std::chrono::steady_clock::now();
+          run.session.samples(range, film.tile(ti), st);
+          run.record_time(ti, int(pass), begin, st);
+          tile_back(ti, st);
+        });
       });
-    });
+    }
     run.stats.pass = int(pass);
     if (run.cancelled()) {
       run.stats.cancelled = true;

@@ -24,6 +24,7 @@ namespace anamorph {
 
 class Accel;
 class Lights;
+class TileFarm;
 
 struct Progress {
   double fraction = 0;  // of all samples
@@ -61,6 +62,9 @@ struct RenderOptions {
   std::function<void(int pass, const std::vector<uint8_t>& active)> on_pass_start;
   const PassResume* resume = nullptr;
   std::vector<TileTiming>* tile_times = nullptr;  // when set, every tile rendered is appended
+  // When set, tiles are rendered by other processes (dist/: MPI ranks) instead of this one's
+  // threads; the result is the same.
+  TileFarm* farm = nullptr;
 };
 
 struct RenderStats {
@@ -97,6 +101,7 @@ class Renderer {
   const Accel& accel() const { return *accel_; }
 
  private:
+  friend class TileSession;
   struct Run;
   RenderStats render_passes(Film& film, const RenderOptions& opt) const;
   const Scene& scene_;

@@ -16,4 +16,5 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/shading.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_buffer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_sampler.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tile_session.cpp
 )

@@ -1,0 +1,209 @@
+#include "dist/worker.h"
+
+#include <fmt/format.h>
+#include <mpi.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <list>
+#include <mutex>
+#include <thread>
+
+#include "dist/wire.h"
+#include "render/tile_session.h"
+
+namespace anamorph::dist {
+
+namespace {
+
+// Tiles handed to this rank, rendered by its threads; results wait here for the MPI thread.
+class TilePool {
+ public:
+  TilePool(int threads, const std::vector<Aov>& aovs) : aovs_(aovs) {
+    for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { work(); });
+  }
+  ~TilePool() {
+    {
+      const std::lock_guard<std::mutex> lock(mu_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : threads_) t.join();
+  }
+  // A new frame: only once every tile of the last one went back (the head hands out a frame's
+  // tiles after the previous frame's are all in).
+  void set_frame(std::unique_ptr<TileSession> session, int width, int height) {
+    const std::lock_guard<std::mutex> lock(mu_);
+    session_ = std::move(session);
+    width_ = width;
+    height_ = height;
+    active_.clear();
+  }
+  // Called by the MPI thread only.
+  void add(WorkMessage m) {
+    const TileRect& r = m.rect;
+    if (!session_) throw std::runtime_error("a tile before its frame");
+    if (r.x1 > width_ || r.y1 > height_) throw std::runtime_error("a tile outside the image");
+    if (!m.active.empty()) {
+      // The tile's part of the frame's mask. Allocated whole at the frame's first pass tile and
+      // never resized, so threads reading other tiles' parts meanwhile are safe.
+      if (active_.empty()) active_.assign(size_t(width_) * size_t(height_), 0);
+      for (int y = r.y0; y < r.y1; ++y)
+        std::copy_n(m.active.begin() + ptrdiff_t(y - r.y0) * r.width(), r.width(),
+                    active_.begin() + ptrdiff_t(y) * width_ + r.x0);
+    }
+    {
+      const std::lock_guard<std::mutex> lock(mu_);
+      queue_.push_back(std::move(m));
+      ++in_flight_;
+    }
+    wake_.notify_one();
+  }
+  // Results ready to send: (tag, bytes).
+  std::vector<std::pair<int, std::vector<char>>> take_results() {
+    const std::lock_guard<std::mutex> lock(mu_);
+    std::vector<std::pair<int, std::vector<char>>> r;
+    r.swap(results_);
+    in_flight_ -= r.size();
+    return r;
+  }
+  bool idle() {
+    const std::lock_guard<std::mutex> lock(mu_);
+    return in_flight_ == 0;
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      WorkMessage m;
+      const TileSession* session = nullptr;
+      const std::vector<uint8_t>* active = nullptr;
+      {
+        std::unique_lock<std::mutex> lock(mu_);
+        wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+        if (stop_) return;
+        m = std::move(queue_.front());
+        queue_.pop_front();
+        session = session_.get();
+        active = m.active.empty() ? nullptr : &active_;
+      }
+      std::pair<int, std::vector<char>> result;
+      try {
+        result = {kResult, render(m, *session, active)};
+      } catch (const std::exception& e) {
+        const std::string what = e.what();
+        result = {kError, std::vector<char>(what.begin(), what.end())};
+      }
+      const std::lock_guard<std::mutex> lock(mu_);
+      results_.push_back(std::move(result));
+    }
+  }
+
+  std::vector<char> render(WorkMessage& m, const TileSession& session,
+                           const std::vector<uint8_t>* active) const {
+    TileBuffer tile(m.rect, aovs_);
+    TileStats st;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (m.whole) {
+      session.whole(tile, st);
+    } else {
+      if (m.aov.size() != tile.aov_sums().size())
+        throw std::runtime_error("a tile's AOV sums do not fit its rectangle");
+      tile.sums() = std::move(m.sums);
+      tile.aov_sums() = std::move(m.aov);
+      session.samples({m.begin, m.end, m.footprint, active}, tile, st);
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return encode_result(m.index, tile, st, seconds);
+  }
+
+  const std::vector<Aov>& aovs_;
+  std::mutex mu_;
+  std::condition_variable wake_;
+  std::deque<WorkMessage> queue_;
+  std::vector<std::pair<int, std::vector<char>>> results_;
+  size_t in_flight_ = 0;
+  bool stop_ = false;
+  std::unique_ptr<TileSession> session_;
+  int width_ = 0, height_ = 0;
+  std::vector<uint8_t> active_;
+  std::vector<std::thread> threads_;
+};
+
+struct Send {
+  std::vector<char> bytes;
+  MPI_Request request = MPI_REQUEST_NULL;
+};
+
+void send(std::list<Send>& sends, int tag, std::vector<char> bytes) {
+  Send& s = sends.emplace_back();
+  s.bytes = std::move(bytes);
+  MPI_Isend(s.bytes.data(), int(s.bytes.size()), MPI_BYTE, 0, tag, MPI_COMM_WORLD, &s.request);
+}
+
+void reap(std::list<Send>& sends) {
+  for (auto it = sends.begin(); it != sends.end();) {
+    int finished = 0;
+    MPI_Test(&it->request, &finished, MPI_STATUS_IGNORE);
+    it = finished ? sends.erase(it) : std::next(it);
+  }
+}
+
+}  // namespace
+
+int serve_tiles(int threads, const std::vector<Aov>& aovs,
+                const std::function<WorkerFrame(double frame)>& load) {
+  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  TilePool pool(threads, aovs);
+  std::list<Send> sends;
+  // Two tiles per thread: one rendering, one waiting, so no thread waits for the head.
+  const auto room = uint32_t(2 * threads);
+  MPI_Send(&room, 1, MPI_UINT32_T, 0, kReady, MPI_COMM_WORLD);
+  int code = 0;
+  for (bool stop = false; !stop;) {
+    bool busy = false;
+    for (auto& [tag, r] : pool.take_results()) {
+      send(sends, tag, std::move(r));
+      busy = true;
+    }
+    reap(sends);
+    int flag = 0;
+    MPI_Status st;
+    MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+    if (flag) {
+      busy = true;
+      int count = 0;
+      MPI_Get_count(&st, MPI_BYTE, &count);
+      std::vector<char> bytes(size_t(std::max(count, 0)));
+      MPI_Recv(bytes.data(), count, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      try {
+        if (st.MPI_TAG == kStop) {
+          stop = true;
+        } else if (st.MPI_TAG == kFrame) {
+          WireReader r(bytes.data(), bytes.size());
+          pool.set_frame(nullptr, 0, 0);  // the last frame's session goes before its scene
+          const WorkerFrame f = load(r.get<double>());
+          pool.set_frame(
+              std::make_unique<TileSession>(*f.renderer, !aovs.empty(), f.width, f.height), f.width,
+              f.height);
+        } else if (st.MPI_TAG == kWork) {
+          pool.add(decode_work(bytes.data(), bytes.size()));
+        }
+      } catch (const std::exception& e) {
+        int rank = 0;
+        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+        fmt::print(stderr, "error: rank {}: {}\n", rank, e.what());
+        const std::string what = e.what();
+        send(sends, kError, std::vector<char>(what.begin(), what.end()));
+        code = 1;
+      }
+    }
+    if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  while (!sends.empty()) reap(sends);
+  return code;
+}
+
+}  // namespace anamorph::dist

@@ -1,0 +1,70 @@
+#include "render/tile_session.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "accel/accel.h"
+#include "render/adaptive.h"
+#include "render/lights.h"
+#include "render/renderer.h"
+
+namespace anamorph {
+
+namespace {
+
+// One tile of the paper's adaptive supersampling, into `tile`. AOVs come from one sample at each
+// pixel's center (averaging lattice points' ids or normals across an edge means nothing).
+void render_lattice_tile(const AdaptiveGrid& grid, const RenderJob& job, AdaptiveWorkspace& ws,
+                         TileBuffer& tile, TileStats& st) {
+  const AdaptiveGrid::EvalBatch eval = [&](const Vec2* uv, const uint64_t* keys,
+                                           const double* footprints, const bool* use,
+                                           SampleResult* out, uint64_t& rays, CameraRayBatch* cam) {
+    job.lattice_samples(uv, keys, footprints, use, out, rays, cam);
+  };
+  const bool aovs = !tile.aovs().empty();
+  const TileRect& r = tile.rect();
+  grid.render_tile(
+      r.x0, r.y0, r.x1, r.y1, ws, eval,
+      [&](int x, int y, const PixelResult& p) {
+        AovSample a;
+        if (aovs) {
+          Rng rng(mix64(uint64_t(y) * 0x9E3779B97F4A7C15ULL + uint64_t(x)), job.rs.seed);
+          a = job.sample_at({(x + 0.5) / job.W, (y + 0.5) / job.H}, rng, st.rays).aov;
+        }
+        if (p.nans) st.nan(x, y, 0);
+        tile.set(x, y, p.L, p.alpha, p.samples, a);
+      },
+      st.rays, st.samples);
+}
+
+}  // namespace
+
+struct TileSession::Workspaces {
+  tbb::enumerable_thread_specific<AdaptiveWorkspace> local;
+};
+
+TileSession::TileSession(const Renderer& r, bool aovs, int width, int height,
+                         const std::atomic<bool>* cancel)
+    : rs_(r.scene_.render),
+      ctx_{r.scene_, *r.accel_, *r.lights_, rs_.max_depth, rs_.bailout, cancel},
+      job_(r.scene_, *r.accel_, ctx_, width, height, aovs),
+      sampler_(job_),
+      spaces_(std::make_unique<Workspaces>()) {
+  // The paper's adaptive supersampling: corners shared between pixels, squares split where they
+  // differ, stretched pixels split from the start.
+  if (rs_.adaptive() && rs_.antialias == Antialias::Lattice)
+    lattice_ =
+        std::make_unique<AdaptiveGrid>(*r.scene_.camera, width, height, rs_, r.accel_->bounds());
+}
+
+TileSession::~TileSession() = default;
+
+void TileSession::whole(TileBuffer& tile, TileStats& st) const {
+  if (lattice_)
+    render_lattice_tile(*lattice_, job_, spaces_->local.local(), tile, st);
+  else
+    sampler_.sample({0, uint32_t(rs_.spp), job_.uniform_scale, nullptr}, tile, st);
+}
+
+uint64_t TileSession::whole_work_per_pixel() const { return lattice_ ? 1 : uint64_t(rs_.spp); }
+
+}  // namespace anamorph
