@@ -46,7 +46,8 @@ void write_tile_stats(const std::filesystem::path& file, const Scene& scene, dou
                     {"start", t.start},
                     {"seconds", t.seconds},
                     {"samples", t.samples},
-                    {"rays", t.rays}});
+                    {"rays", t.rays},
+                    {"rank", t.rank}});
   }
   j["tiles"] = std::move(list);
   const std::string text = j.dump(1) + "\n";

@@ -81,6 +81,7 @@ bool HeadFarm::receive(const std::function<void(FarmResult&)>& done, size_t& out
   if (st.MPI_TAG != kResult)
     throw std::runtime_error(fmt::format("rank {} sent message {}", st.MPI_SOURCE, st.MPI_TAG));
   FarmResult r = decode_result(bytes.data(), bytes.size(), aovs_);
+  r.rank = st.MPI_SOURCE;
   ++room_[size_t(st.MPI_SOURCE - 1)];
   --out;
   done(r);

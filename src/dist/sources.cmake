@@ -9,11 +9,11 @@ if(ANAMORPH_MPI AND MPI_CXX_FOUND)
               ${CMAKE_CURRENT_LIST_DIR}/worker.cpp ${CMAKE_CURRENT_LIST_DIR}/wire.cpp
               ${CMAKE_CURRENT_LIST_DIR}/world_mpi.cpp)
   target_link_libraries(anamorph_dist PUBLIC MPI::MPI_CXX)
-  set(ANAMORPH_HAVE_MPI ON)
+  set(ANAMORPH_HAVE_MPI ON CACHE INTERNAL "")
 else()
   add_library(anamorph_dist STATIC ${CMAKE_CURRENT_LIST_DIR}/no_mpi.cpp
               ${CMAKE_CURRENT_LIST_DIR}/wire.cpp)
-  set(ANAMORPH_HAVE_MPI OFF)
+  set(ANAMORPH_HAVE_MPI OFF CACHE INTERNAL "")
 endif()
 target_link_libraries(anamorph_dist PUBLIC anamorph_core PRIVATE anamorph_warnings)
 message(STATUS "anamorph: rendering across MPI ranks: ${ANAMORPH_HAVE_MPI}")

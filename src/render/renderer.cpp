@@ -99,9 +99,10 @@ struct Renderer::Run {
     record_time(index, pass, std::chrono::duration<double>(end - begin).count(), st);
   }
   // A tile rendered elsewhere (a farm), which took `seconds` there and has just come back.
-  void record_time(size_t index, int pass, double seconds, const TileStats& st) {
+  void record_time(size_t index, int pass, double seconds, const TileStats& st, int rank = 0) {
     if (!opt.tile_times) return;
     TileTiming t;
+    t.rank = rank;
     t.index = index;
     t.pass = pass;
     t.start = std::max(0.0, seconds_since(t0) - seconds);
@@ -164,7 +165,7 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
           return t;
         },
         [&](FarmResult& r) {
-          run.record_time(r.index, 0, r.seconds, r.stats);
+          run.record_time(r.index, 0, r.seconds, r.stats, r.rank);
           run.tile_done(r.stats, r.tile->rect().pixels() * per_pixel, 0, 1);
           if (!run.cancelled()) sink(r.index, r.tile);
         });
@@ -266,7 +267,7 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
             return FarmTile{i, grid.rect(i), grid.width, false, range, &film.tile(i)};  // a pass
           },
           [&](FarmResult& r) {
-            run.record_time(r.index, int(pass), r.seconds, r.stats);
+            run.record_time(r.index, int(pass), r.seconds, r.stats, r.rank);
             film.put(r.index, std::move(r.tile));
             tile_back(r.index, r.stats);
           });

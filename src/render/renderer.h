@@ -47,6 +47,7 @@ struct TileTiming {
   int pass = 0;
   double start = 0, seconds = 0;  // since the render began, and how long the tile took
   uint64_t samples = 0, rays = 0;
+  int rank = 0;  // the MPI rank that rendered it (0: this process)
 };
 
 struct RenderOptions {

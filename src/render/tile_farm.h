@@ -33,6 +33,7 @@ struct FarmResult {
   std::unique_ptr<TileBuffer> tile;
   TileStats stats;
   double seconds = 0;
+  int rank = 0;  // the process that rendered it (an MPI rank)
 };
 
 class TileFarm {

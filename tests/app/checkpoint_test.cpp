@@ -19,11 +19,17 @@
 #include <thread>
 
 #include "app/cli_util.h"
+#include "app/same_images.h"
 #include "io/image_io.h"
 #include "test_util.h"
 
 namespace anamorph {
 namespace {
+
+using test::expect_same_exr;
+using test::expect_same_outputs;
+using test::expect_same_png;
+using test::join;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -69,62 +75,11 @@ bool has_tile(const fs::path& ck, uintmax_t* first) {
   return size > *first;
 }
 
-std::string join(const std::vector<std::string>& args) {
-  std::string s;
-  for (const auto& a : args) s += "'" + a + "' ";
-  return s;
-}
-
-// Every channel of two EXRs equal, bit for bit; names the first difference.
-void expect_same_exr(const fs::path& a, const fs::path& b) {
-  int wa = 0, ha = 0, wb = 0, hb = 0;
-  const auto ca = read_exr_channels(a, &wa, &ha), cb = read_exr_channels(b, &wb, &hb);
-  ASSERT_EQ(wa, wb);
-  ASSERT_EQ(ha, hb);
-  ASSERT_EQ(ca.size(), cb.size());
-  for (const auto& [name, values] : ca) {
-    ASSERT_TRUE(cb.count(name)) << name;
-    const auto& other = cb.at(name);
-    for (size_t i = 0; i < values.size(); ++i)
-      if (std::memcmp(&values[i], &other[i], sizeof(float)) != 0) {
-        ADD_FAILURE() << "channel " << name << " differs at pixel " << i % size_t(wa) << ","
-                      << i / size_t(wa) << ": " << values[i] << " vs " << other[i];
-        return;
-      }
-  }
-}
-
-// The pixels of two PNGs (decoded RGBA) equal.
-void expect_same_png(const fs::path& a, const fs::path& b) {
-  const Image ia = read_image(a, false), ib = read_image(b, false);
-  ASSERT_EQ(ia.width, ib.width);
-  ASSERT_EQ(ia.height, ib.height);
-  for (size_t i = 0; i < ia.pixels.size(); ++i)
-    if (ia.pixels[i] != ib.pixels[i]) {
-      ADD_FAILURE() << "PNG value " << i << " differs: " << ia.pixels[i] << " vs " << ib.pixels[i];
-      return;
-    }
-}
-
 struct Case {
   const char* name;
   std::vector<std::string> settings;
   std::string aovs;
 };
-
-// Every layer of the render `out` equals the reference `ref`: the EXR, or the PNG and, with AOVs,
-// the EXR beside it.
-void expect_same_outputs(const fs::path& ref, const fs::path& out, const std::string& ext,
-                         bool aovs) {
-  if (ext == ".exr") {
-    expect_same_exr(ref, out);
-    return;
-  }
-  expect_same_png(ref, out);
-  if (aovs)
-    expect_same_exr(fs::path(ref).replace_extension(".exr"),
-                    fs::path(out).replace_extension(".exr"));
-}
 
 // Renders `c` uninterrupted, then `kills` times: started with a checkpoint, SIGKILLed at a random
 // moment within the reference's time, resumed by the same command (repeatedly, if the resumed

@@ -19,6 +19,13 @@ struct CliResult {
   std::string out;  // stdout and stderr together
 };
 
+// Arguments quoted for a shell command line.
+inline std::string join(const std::vector<std::string>& args) {
+  std::string s;
+  for (const auto& a : args) s += "'" + a + "' ";
+  return s;
+}
+
 // A shell command line (sh -c), its exit code and output.
 inline CliResult run_shell(const std::string& command, bool killed_is_137 = false) {
   FILE* p = popen((command + " 2>&1").c_str(), "r");

@@ -26,3 +26,9 @@ anamorph_add_test(test_tile_stats
   ${CMAKE_CURRENT_LIST_DIR}/tile_stats_test.cpp
 )
 add_dependencies(test_tile_stats anamorph)
+anamorph_add_test(test_mpi
+  ${CMAKE_CURRENT_LIST_DIR}/mpi_test.cpp
+)
+target_link_libraries(test_mpi PRIVATE anamorph_dist)
+target_compile_definitions(test_mpi PRIVATE ANAMORPH_HAVE_MPI=$<BOOL:${ANAMORPH_HAVE_MPI}>)
+add_dependencies(test_mpi anamorph)
