@@ -64,14 +64,29 @@ bool parse_duration(const std::string& text, double* seconds) {
   return scale > 0;
 }
 
-void print_progress(const Progress& p, const std::string& prefix) {
+// Where a frame stands in its job: frame `index` (from 0) of `count`, the job started at `t0`.
+struct JobPlace {
+  int index = 0, count = 1;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+};
+
+// The frame's bar, its ETA and, in a sequence, the whole job's ETA (frames left at the pace so
+// far).
+void print_progress(const Progress& p, const std::string& prefix, const JobPlace& job) {
   const int width = 30;
   const int filled = int(p.fraction * width);
   const double mrays = p.seconds > 0 ? p.rays / p.seconds * 1e-6 : 0;
   const double eta = p.fraction > 0 ? p.seconds * (1 - p.fraction) / p.fraction : 0;
-  fmt::print(stderr, "\r{}[{}{}] {:5.1f}%  {:7.2f} Mrays/s  ETA {:.0f}s   ", prefix,
+  std::string whole;
+  if (job.count > 1) {
+    const double done = job.index + p.fraction,
+                 spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - job.t0)
+                             .count();
+    whole = done > 0 ? fmt::format(", job {:.0f}s", spent * (job.count - done) / done) : "";
+  }
+  fmt::print(stderr, "\r{}[{}{}] {:5.1f}%  {:7.2f} Mrays/s  ETA {:.0f}s{}   ", prefix,
              std::string(size_t(filled), '#'), std::string(size_t(width - filled), ' '),
-             100 * p.fraction, mrays, eta);
+             100 * p.fraction, mrays, eta, whole);
 }
 
 std::string lower_extension(const fs::path& p) {
@@ -182,16 +197,20 @@ int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer&
 int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
                  const std::vector<Aov>& aovs, double frame, const fs::path& out,
                  const std::string& prefix, const fs::path& checkpoint, double checkpoint_every,
-                 const fs::path& stats, TileFarm* farm) {
+                 const fs::path& stats, TileFarm* farm, const JobPlace& place = {}) {
   const bool bar = !a.quiet && isatty(STDERR_FILENO);
+  // An MPI job's output goes to a log (mpirun forwards it through pipes): a line every 10 s.
+  const bool lines = !a.quiet && !bar && farm;
   auto last = std::chrono::steady_clock::now();
   std::function<void(const Progress&)> on_progress;
-  if (bar)
-    on_progress = [&](const Progress& p) {
+  if (bar || lines)
+    on_progress = [&, bar](const Progress& p) {
       const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::milliseconds(100) && p.fraction < 1) return;
+      if (now - last < std::chrono::milliseconds(bar ? 100 : 10000) && (!bar || p.fraction < 1))
+        return;
       last = now;
-      print_progress(p, prefix);
+      print_progress(p, prefix, place);
+      if (!bar) fmt::print(stderr, "\n");
     };
   RenderStats st;
   std::vector<TileTiming> tile_times;
@@ -238,11 +257,14 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     if (r.interrupted) {
       const fs::path partial =
           FrameOutput::with_suffix(job.png.empty() ? job.exr : job.png, ".partial");
-      fmt::print(stderr, "interrupted: {} not written; the image so far is in {}{}\n", out.string(),
-                 partial.string(),
-                 checkpoint.empty() ? ""
-                                    : fmt::format("; resume with: anamorph render --resume {}",
-                                                  checkpoint.string()));
+      fmt::print(
+          stderr, "interrupted: {} not written; the image so far is in {}{}\n", out.string(),
+          partial.string(),
+          checkpoint.empty() ? ""
+          : farm             ? fmt::format("; the finished tiles are in {}: run the same mpirun "
+                                                       "command again to resume",
+                                           checkpoint.string())
+                 : fmt::format("; resume with: anamorph render --resume {}", checkpoint.string()));
       return kInterrupted;
     }
     if (!job.exr.empty() && !job.png.empty() && !a.quiet)
@@ -482,11 +504,14 @@ int run(const RenderArgs& a) {
   // one's geometry, lights and acceleration structure: only the view is read again.
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;
-  for (int f = first; f <= last; ++f) {
+  JobPlace place;
+  place.count = last - first + 1;
+  for (int f = first; f <= last; ++f, ++place.index) {
     if (a.skip_existing &&
         frame_exists(fmt::sprintf(out, f),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f))) {
       if (!a.quiet) fmt::print("{} exists: skipped\n", fmt::sprintf(out, f));
+      --place.count, --place.index;  // (the job's ETA counts the frames it renders)
       continue;
     }
     const std::string file = fmt::sprintf(out, f);
@@ -501,9 +526,10 @@ int run(const RenderArgs& a) {
     }
     if (farm) farm->begin_frame(f);
     const int rc =
-        render_frame(args, *scene, *renderer, aovs, f, file, fmt::format("frame {} ", f),
+        render_frame(args, *scene, *renderer, aovs, f, file,
+                     fmt::format("frame {} ({} of {}) ", f, f - first + 1, last - first + 1),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every,
-                     a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f), farm.get());
+                     a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f), farm.get(), place);
     if (farm && rc == kInterrupted) dist::World::abort_on_exit(rc);  // a worker may be gone
     if (rc != kOk) {
       if (f > first)
