@@ -80,7 +80,16 @@ bool HeadFarm::receive(const std::function<void(FarmResult&)>& done, size_t& out
         fmt::format("rank {}: {}", st.MPI_SOURCE, std::string(bytes.begin(), bytes.end())));
   if (st.MPI_TAG != kResult)
     throw std::runtime_error(fmt::format("rank {} sent message {}", st.MPI_SOURCE, st.MPI_TAG));
-  FarmResult r = decode_result(bytes.data(), bytes.size(), aovs_);
+  WireReader peek(bytes.data(), bytes.size());
+  const auto index = peek.get<uint64_t>();
+  FarmResult r;
+  const auto pass = passes_out_.find(index);
+  if (pass == passes_out_.end()) {
+    r = decode_result(bytes.data(), bytes.size(), aovs_);
+  } else {
+    r = decode_result(bytes.data(), bytes.size(), aovs_, pass->second.first, pass->second.second);
+    passes_out_.erase(pass);
+  }
   r.rank = st.MPI_SOURCE;
   ++room_[size_t(st.MPI_SOURCE - 1)];
   --out;
@@ -106,6 +115,8 @@ void HeadFarm::run(const std::function<std::optional<FarmTile>()>& next,
         break;
       }
       send(int(w + 1), kWork, encode_work(*t));
+      if (!t->whole)
+        passes_out_[t->index] = {t->sums, mask_slice(t->range.active, t->image_width, t->rect)};
       --room_[w];
       ++out;
     }

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <list>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -40,6 +41,8 @@ class HeadFarm final : public TileFarm {
   const std::atomic<bool>* cancel_;
   std::vector<int> room_;  // tiles each worker (rank i + 1) can take now
   std::list<Send> sends_;
+  // Pass tiles out: where each one's result goes and which of its pixels travel.
+  std::map<size_t, std::pair<TileBuffer*, std::vector<uint8_t>>> passes_out_;
 };
 
 }  // namespace anamorph::dist

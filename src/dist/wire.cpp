@@ -19,31 +19,70 @@ TileRect get_rect(WireReader& r) {
   return t;
 }
 
+// The sums of the pixels `mask` leaves on (all when empty), in order, onto the wire.
+void put_sums(WireWriter& w, const TileBuffer& tile, const std::vector<uint8_t>& mask) {
+  const size_t nf = tile.aov_floats();
+  if (mask.empty()) {
+    w.put_array(tile.sums().data(), tile.sums().size());
+    w.put_array(tile.aov_sums().data(), tile.aov_sums().size());
+    return;
+  }
+  std::vector<PixelSum> sums;
+  std::vector<float> aov;
+  for (size_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) {
+      sums.push_back(tile.sums()[i]);
+      aov.insert(aov.end(), tile.aov_sums().begin() + ptrdiff_t(i * nf),
+                 tile.aov_sums().begin() + ptrdiff_t((i + 1) * nf));
+    }
+  w.put_array(sums.data(), sums.size());
+  w.put_array(aov.data(), aov.size());
+}
+
+// Sums in the order put_sums wrote them, back into the pixels `mask` leaves on.
+void scatter(const std::vector<PixelSum>& sums, const std::vector<float>& aov,
+             const std::vector<uint8_t>& mask, TileBuffer& tile) {
+  const size_t nf = tile.aov_floats();
+  const size_t on =
+      mask.empty() ? tile.sums().size() : size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
+  if (sums.size() != on || aov.size() != on * nf)
+    throw std::runtime_error("a tile's sums do not fit its pixels");
+  for (size_t i = 0, k = 0; i < tile.sums().size(); ++i) {
+    if (!mask.empty() && !mask[i]) continue;
+    tile.sums()[i] = sums[k];
+    std::copy_n(aov.begin() + ptrdiff_t(k * nf), nf, tile.aov_sums().begin() + ptrdiff_t(i * nf));
+    ++k;
+  }
+}
+
 }  // namespace
+
+std::vector<uint8_t> mask_slice(const std::vector<uint8_t>* active, int image_width,
+                                const TileRect& rect) {
+  std::vector<uint8_t> slice;
+  if (!active) return slice;
+  slice.reserve(rect.pixels());
+  for (int y = rect.y0; y < rect.y1; ++y) {
+    const auto row = active->begin() + ptrdiff_t(y) * image_width;
+    slice.insert(slice.end(), row + rect.x0, row + rect.x1);
+  }
+  return slice;
+}
 
 std::vector<char> encode_work(const FarmTile& t) {
   WireWriter w;
-  const TileRect& rect = t.rect;
   w.put(uint64_t(t.index));
-  put_rect(w, rect);
+  put_rect(w, t.rect);
   w.put(uint8_t(t.whole));
   if (!t.whole) {
     w.put(t.range.begin);
     w.put(t.range.end);
     w.put(t.range.footprint);
-    const auto& s = t.sums->sums();
-    const auto& a = t.sums->aov_sums();
-    w.put_array(s.data(), s.size());
-    w.put_array(a.data(), a.size());
-    std::vector<uint8_t> active;
-    if (t.range.active) {
-      active.reserve(rect.pixels());
-      for (int y = rect.y0; y < rect.y1; ++y) {
-        const auto row = t.range.active->begin() + ptrdiff_t(y) * t.image_width;
-        active.insert(active.end(), row + rect.x0, row + rect.x1);
-      }
-    }
-    w.put_array(active.data(), active.size());
+    const std::vector<uint8_t> mask = mask_slice(t.range.active, t.image_width, t.rect);
+    w.put_array(mask.data(), mask.size());
+    // Before the first pass every sum is zero: nothing to send.
+    w.put(uint8_t(t.range.begin > 0));
+    if (t.range.begin > 0) put_sums(w, *t.sums, mask);
   }
   return std::move(w.bytes());
 }
@@ -58,37 +97,45 @@ WorkMessage decode_work(const char* data, size_t size) {
     m.begin = r.get<uint32_t>();
     m.end = r.get<uint32_t>();
     m.footprint = r.get<double>();
-    r.get_array(m.sums);
-    r.get_array(m.aov);
     r.get_array(m.active);
-    if (m.sums.size() != m.rect.pixels() ||
-        (!m.active.empty() && m.active.size() != m.rect.pixels()))
-      throw std::runtime_error("a tile's sums do not fit its rectangle");
+    if (!m.active.empty() && m.active.size() != m.rect.pixels())
+      throw std::runtime_error("a tile's mask does not fit its rectangle");
+    if (r.get<uint8_t>()) {
+      r.get_array(m.sums);
+      r.get_array(m.aov);
+    }
   }
   if (!r.done()) throw std::runtime_error("a work message with bytes left over");
   return m;
 }
 
-std::vector<char> encode_result(size_t index, const TileBuffer& tile, const TileStats& st,
+void unpack_work(WorkMessage& m, TileBuffer& tile) {
+  if (m.begin > 0) scatter(m.sums, m.aov, m.active, tile);
+}
+
+std::vector<char> encode_result(size_t index, const TileBuffer& tile, bool whole,
+                                const std::vector<uint8_t>& mask, const TileStats& st,
                                 double seconds) {
   WireWriter w;
   w.put(uint64_t(index));
   put_rect(w, tile.rect());
+  w.put(uint8_t(whole));
   w.put(st.rays);
   w.put(st.samples);
   w.put(st.nans);
   for (int v : {st.nan_x, st.nan_y, st.nan_s}) w.put(int32_t(v));
   w.put(seconds);
-  w.put_array(tile.sums().data(), tile.sums().size());
-  w.put_array(tile.aov_sums().data(), tile.aov_sums().size());
+  put_sums(w, tile, whole ? std::vector<uint8_t>() : mask);
   return std::move(w.bytes());
 }
 
-FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs) {
+FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs,
+                         TileBuffer* into, const std::vector<uint8_t>& mask) {
   WireReader r(data, size);
   FarmResult out;
   out.index = r.get<uint64_t>();
   const TileRect rect = get_rect(r);
+  const bool whole = r.get<uint8_t>() != 0;
   out.stats.rays = r.get<uint64_t>();
   out.stats.samples = r.get<uint64_t>();
   out.stats.nans = r.get<uint64_t>();
@@ -96,13 +143,21 @@ FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& 
   out.stats.nan_y = r.get<int32_t>();
   out.stats.nan_s = r.get<int32_t>();
   out.seconds = r.get<double>();
-  out.tile = std::make_unique<TileBuffer>(rect, aovs);
-  r.get_array(out.tile->sums());
-  r.get_array(out.tile->aov_sums());
-  if (out.tile->sums().size() != rect.pixels() ||
-      out.tile->aov_sums().size() != rect.pixels() * out.tile->aov_floats())
-    throw std::runtime_error("a tile's sums do not fit its rectangle");
+  std::vector<PixelSum> sums;
+  std::vector<float> aov;
+  r.get_array(sums);
+  r.get_array(aov);
   if (!r.done()) throw std::runtime_error("a result message with bytes left over");
+  if (whole != (into == nullptr)) throw std::runtime_error("a result of another kind of tile");
+  if (whole) {
+    out.tile = std::make_unique<TileBuffer>(rect, aovs);
+    scatter(sums, aov, {}, *out.tile);
+  } else {
+    const TileRect& t = into->rect();
+    if (t.x0 != rect.x0 || t.y0 != rect.y0 || t.x1 != rect.x1 || t.y1 != rect.y1)
+      throw std::runtime_error("a result for another rectangle");
+    scatter(sums, aov, mask, *into);
+  }
   return out;
 }
 

@@ -3,6 +3,7 @@
 // on machines of one architecture (an MPI job), so numbers travel in native byte order.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -71,26 +72,38 @@ class WireReader {
   const char* end_;
 };
 
-// A tile as the head hands it out: which one, its rectangle, and for a pass its sums so far and
-// its part of the active mask.
+// A tile as the head hands it out. A pass of a pass render moves only the pixels that take
+// samples in it (those its part of the active mask leaves on, or all without a mask), and their
+// sums so far only after the first pass: after a few passes of per-pixel adaptive sampling most
+// pixels have stopped, and the traffic shrinks with them.
 struct WorkMessage {
   size_t index = 0;
   TileRect rect;
   bool whole = true;
   uint32_t begin = 0, end = 0;
   double footprint = 1;
-  std::vector<PixelSum> sums;
+  std::vector<uint8_t> active;  // the rect's part of the mask, row by row (empty: all pixels on)
+  std::vector<PixelSum> sums;   // the sampled pixels' sums so far, in order (empty: all zero)
   std::vector<float> aov;
-  std::vector<uint8_t> active;  // the rect's pixels, row by row (empty: all on)
 };
+
+// The tile's part of a frame-wide mask, row by row (empty when `active` is null).
+std::vector<uint8_t> mask_slice(const std::vector<uint8_t>* active, int image_width,
+                                const TileRect& rect);
 
 std::vector<char> encode_work(const FarmTile& t);
 WorkMessage decode_work(const char* data, size_t size);
+// The worker's buffer for a pass: zero, with the sampled pixels' sums so far in place.
+void unpack_work(WorkMessage& m, TileBuffer& tile);
 
-// A rendered tile on its way back.
-std::vector<char> encode_result(size_t index, const TileBuffer& tile, const TileStats& st,
+// A rendered tile on its way back: a whole tile every pixel, a pass the pixels `mask` leaves on
+// (empty: all).
+std::vector<char> encode_result(size_t index, const TileBuffer& tile, bool whole,
+                                const std::vector<uint8_t>& mask, const TileStats& st,
                                 double seconds);
-// Into a buffer of the tile's rectangle with the head's AOVs.
-FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs);
+// A whole tile into a new buffer with the head's AOVs; a pass into `into` (the head's tile, of
+// which the message carries the pixels `mask` leaves on).
+FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs,
+                         TileBuffer* into = nullptr, const std::vector<uint8_t>& mask = {});
 
 }  // namespace anamorph::dist

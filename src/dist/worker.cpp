@@ -108,15 +108,12 @@ class TilePool {
     if (m.whole) {
       session.whole(tile, st);
     } else {
-      if (m.aov.size() != tile.aov_sums().size())
-        throw std::runtime_error("a tile's AOV sums do not fit its rectangle");
-      tile.sums() = std::move(m.sums);
-      tile.aov_sums() = std::move(m.aov);
+      unpack_work(m, tile);
       session.samples({m.begin, m.end, m.footprint, active}, tile, st);
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return encode_result(m.index, tile, st, seconds);
+    return encode_result(m.index, tile, m.whole, m.active, st, seconds);
   }
 
   const std::vector<Aov>& aovs_;

@@ -258,17 +258,26 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
       if (!run.cancelled() && opt.on_tile_pass) opt.on_tile_pass(ti, int(pass), film.tile(ti));
     };
     if (opt.farm) {
+      // Tiles with no pixel left to sample are done here: nothing to send.
+      const auto idle = [&](size_t ti) {
+        if (!per_pixel) return false;
+        const TileRect r = grid.rect(ti);
+        for (int y = r.y0; y < r.y1; ++y)
+          for (int x = r.x0; x < r.x1; ++x)
+            if (active[size_t(y) * size_t(grid.width) + size_t(x)]) return false;
+        tile_back(ti, {});
+        return true;
+      };
       size_t ti = 0;
       opt.farm->run(
           [&]() -> std::optional<FarmTile> {
-            while (ti < grid.count() && done_before(ti)) ++ti;
+            while (ti < grid.count() && !run.cancelled() && (done_before(ti) || idle(ti))) ++ti;
             if (ti == grid.count() || run.cancelled() || !run.may_start_tile()) return {};
             const size_t i = ti++;
             return FarmTile{i, grid.rect(i), grid.width, false, range, &film.tile(i)};  // a pass
           },
           [&](FarmResult& r) {
             run.record_time(r.index, int(pass), r.seconds, r.stats, r.rank);
-            film.put(r.index, std::move(r.tile));
             tile_back(r.index, r.stats);
           });
     } else {

@@ -20,17 +20,18 @@ struct FarmTile {
   size_t index = 0;
   TileRect rect;
   int image_width = 0;  // of `range.active`, the whole image's mask
-  // Whole tiles: every sample (uniform, or the adaptive lattice) into a zeroed buffer. Otherwise
-  // one pass of a pass render: `range`'s samples added to `sums`, the tile's sums so far.
+  // Whole tiles: every sample (uniform, or the adaptive lattice) into a new buffer. Otherwise
+  // one pass of a pass render: `range`'s samples added to `sums`, the tile's sums so far, in
+  // place (it must stay put until the tile is back).
   bool whole = true;
   SampleRange range;
-  const TileBuffer* sums = nullptr;
+  TileBuffer* sums = nullptr;
 };
 
 // A tile back from the farm, with what it cost where it ran.
 struct FarmResult {
   size_t index = 0;
-  std::unique_ptr<TileBuffer> tile;
+  std::unique_ptr<TileBuffer> tile;  // a whole tile (a pass's result is in FarmTile::sums)
   TileStats stats;
   double seconds = 0;
   int rank = 0;  // the process that rendered it (an MPI rank)

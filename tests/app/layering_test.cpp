@@ -1,5 +1,5 @@
 // The source folders form layers: a folder includes headers of its own and of the folders below
-// it, never of one above (math < params, model, io < camera < scene < accel < render < app).
+// it, never of one above (math < params, model, io < camera < scene < accel < render < dist < app).
 // A lower folder that reached up would drag the loaders into the camera, or the scene into image
 // I/O, and every user of the lower one would need the higher one too.
 #include <gtest/gtest.h>
@@ -27,7 +27,8 @@ const std::map<std::string, std::set<std::string>> kMayInclude = {
     {"scene", {"math", "params", "model", "io", "camera", "scene"}},
     {"accel", {"math", "params", "model", "io", "camera", "scene", "accel"}},
     {"render", {"math", "params", "model", "io", "camera", "scene", "accel", "render"}},
-    {"app", {"math", "params", "model", "io", "camera", "scene", "accel", "render", "app"}},
+    {"dist", {"math", "params", "model", "io", "camera", "scene", "accel", "render", "dist"}},
+    {"app", {"math", "params", "model", "io", "camera", "scene", "accel", "render", "dist", "app"}},
 };
 
 TEST(Layering, NoFolderIncludesAHigherOne) {

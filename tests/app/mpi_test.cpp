@@ -233,56 +233,87 @@ TEST(Mpi, KilledRankEndsTheJobAndTheSameCommandResumes) {
   test::expect_same_outputs(ref, out, ".png", false);
 }
 
-// The messages between head and workers carry every bit of a tile.
-TEST(MpiWire, WorkAndResultRoundTrip) {
-  const TileRect rect{4, 2, 7, 4};  // 3 x 2 pixels of a 10-pixel-wide image
-  TileBuffer sums(rect, {Aov::Albedo});
-  for (size_t i = 0; i < sums.sums().size(); ++i) {
-    sums.sums()[i].rgb[0] = float(i) + 0.25f;
-    sums.sums()[i].n = uint32_t(i * 3);
+bool same_sum(const PixelSum& a, const PixelSum& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// A 3 x 2 tile at (4, 2) of a 10-pixel-wide image, with distinct sums in every pixel.
+TileBuffer numbered_tile() {
+  TileBuffer t(TileRect{4, 2, 7, 4}, {Aov::Albedo});
+  for (size_t i = 0; i < t.sums().size(); ++i) {
+    t.sums()[i].rgb[0] = float(i) + 0.25f;
+    t.sums()[i].n = uint32_t(i * 3 + 1);
   }
-  for (size_t i = 0; i < sums.aov_sums().size(); ++i) sums.aov_sums()[i] = float(i) * 0.5f;
+  for (size_t i = 0; i < t.aov_sums().size(); ++i) t.aov_sums()[i] = float(i) * 0.5f + 1;
+  return t;
+}
+
+// A pass tile travels with its part of the mask and the sums of only the pixels it leaves on;
+// those come back into the head's tile, bit for bit, and the others stay as they were.
+TEST(MpiWire, PassTilesMoveOnlyTheirActivePixels) {
+  TileBuffer head = numbered_tile();
   std::vector<uint8_t> active(10 * 5, 0);
-  active[2 * 10 + 5] = 1;  // (5, 2)
-  active[3 * 10 + 6] = 1;  // (6, 3)
-  active[3 * 10 + 7] = 1;  // (7, 3): outside the rect
-  FarmTile t;
-  t.index = 9;
-  t.rect = rect;
-  t.image_width = 10;
-  t.whole = false;
-  t.range = {4, 8, 0.125, &active};
-  t.sums = &sums;
+  active[2 * 10 + 5] = 1;  // (5, 2): tile pixel 1
+  active[3 * 10 + 6] = 1;  // (6, 3): tile pixel 5
+  active[3 * 10 + 7] = 1;  // (7, 3): outside the tile
+  FarmTile t{9, head.rect(), 10, false, {4, 8, 0.125, &active}, &head};
   const std::vector<char> bytes = dist::encode_work(t);
-  const dist::WorkMessage m = dist::decode_work(bytes.data(), bytes.size());
+  dist::WorkMessage m = dist::decode_work(bytes.data(), bytes.size());
   EXPECT_EQ(m.index, 9u);
-  EXPECT_EQ(m.rect.x0, 4);
-  EXPECT_EQ(m.rect.y1, 4);
   EXPECT_FALSE(m.whole);
   EXPECT_EQ(m.begin, 4u);
   EXPECT_EQ(m.end, 8u);
   EXPECT_EQ(m.footprint, 0.125);
   EXPECT_EQ(m.active, (std::vector<uint8_t>{0, 1, 0, 0, 0, 1}));
-  ASSERT_EQ(m.sums.size(), 6u);
-  EXPECT_EQ(std::memcmp(m.sums.data(), sums.sums().data(), 6 * sizeof(PixelSum)), 0);
-  EXPECT_EQ(m.aov, sums.aov_sums());
+  ASSERT_EQ(m.sums.size(), 2u) << "only the active pixels' sums travel";
+  TileBuffer worker(m.rect, {Aov::Albedo});
+  dist::unpack_work(m, worker);
+  for (size_t i = 0; i < 6; ++i) {
+    const bool on = i == 1 || i == 5;
+    EXPECT_TRUE(same_sum(worker.sums()[i], on ? head.sums()[i] : PixelSum{})) << i;
+    EXPECT_EQ(worker.aov_sums()[i * 3], on ? head.aov_sums()[i * 3] : 0.0f) << i;
+  }
   for (size_t cut : {size_t(0), size_t(10), bytes.size() - 1})
     EXPECT_THROW(dist::decode_work(bytes.data(), cut), std::runtime_error) << cut;
 
+  // The worker's samples land on the active pixels; back at the head, only those change.
+  worker.sums()[1].rgb[1] = 7;
+  worker.sums()[5].spp = 99;
+  worker.aov_sums()[5 * 3 + 2] = -3;
   TileStats st;
   st.rays = 123;
-  st.samples = 45;
   st.nan(5, 3, 2);
-  const std::vector<char> back = dist::encode_result(9, sums, st, 0.5);
-  const FarmResult r = dist::decode_result(back.data(), back.size(), {Aov::Albedo});
+  const std::vector<char> back = dist::encode_result(9, worker, false, m.active, st, 0.5);
+  const TileBuffer before = head;
+  const FarmResult r =
+      dist::decode_result(back.data(), back.size(), {Aov::Albedo}, &head, m.active);
   EXPECT_EQ(r.index, 9u);
   EXPECT_EQ(r.seconds, 0.5);
   EXPECT_EQ(r.stats.rays, 123u);
-  EXPECT_EQ(r.stats.nans, 1u);
   EXPECT_EQ(r.stats.nan_x, 5);
+  EXPECT_EQ(r.tile, nullptr);
+  for (size_t i = 0; i < 6; ++i)
+    EXPECT_TRUE(same_sum(head.sums()[i], (i == 1 || i == 5) ? worker.sums()[i] : before.sums()[i]))
+        << i;
+  EXPECT_EQ(head.aov_sums()[5 * 3 + 2], -3.0f);
+  EXPECT_EQ(head.aov_sums()[0], before.aov_sums()[0]);
+  // A whole-tile decode of a pass result, or a mask of another size, is refused.
+  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}), std::runtime_error);
+  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}, &head, {1, 1}),
+               std::runtime_error);
+
+  // The first pass sends no sums (they are all zero).
+  t.range.begin = 0;
+  const std::vector<char> first = dist::encode_work(t);
+  EXPECT_TRUE(dist::decode_work(first.data(), first.size()).sums.empty());
+}
+
+TEST(MpiWire, WholeTilesComeBackWithEveryPixel) {
+  const TileBuffer tile = numbered_tile();
+  const std::vector<char> back = dist::encode_result(3, tile, true, {}, TileStats{}, 1.5);
+  const FarmResult r = dist::decode_result(back.data(), back.size(), {Aov::Albedo});
+  ASSERT_NE(r.tile, nullptr);
   EXPECT_EQ(r.tile->rect().x1, 7);
-  EXPECT_EQ(std::memcmp(r.tile->sums().data(), sums.sums().data(), 6 * sizeof(PixelSum)), 0);
-  EXPECT_EQ(r.tile->aov_sums(), sums.aov_sums());
+  for (size_t i = 0; i < 6; ++i) EXPECT_TRUE(same_sum(r.tile->sums()[i], tile.sums()[i])) << i;
+  EXPECT_EQ(r.tile->aov_sums(), tile.aov_sums());
   // A result of other AOVs than the head's does not fit.
   EXPECT_THROW(dist::decode_result(back.data(), back.size(), {}), std::runtime_error);
 }
