@@ -43,8 +43,12 @@ void put_sums(WireWriter& w, const TileBuffer& tile, const std::vector<uint8_t>&
 void scatter(const std::vector<PixelSum>& sums, const std::vector<float>& aov,
              const std::vector<uint8_t>& mask, TileBuffer& tile) {
   const size_t nf = tile.aov_floats();
+  if (!mask.empty() && mask.size() != tile.sums().size())
+    throw std::runtime_error("a tile's mask does not fit its rectangle");
   const size_t on =
-      mask.empty() ? tile.sums().size() : size_t(std::count(mask.begin(), mask.end(), uint8_t(1)));
+      mask.empty()
+          ? tile.sums().size()
+          : size_t(std::count_if(mask.begin(), mask.end(), [](uint8_t m) { return m != 0; }));
   if (sums.size() != on || aov.size() != on * nf)
     throw std::runtime_error("a tile's sums do not fit its pixels");
   for (size_t i = 0, k = 0; i < tile.sums().size(); ++i) {
