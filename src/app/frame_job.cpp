@@ -111,12 +111,11 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   }
   std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, reader ? reader->end() : 0);
   reader.reset();
-  r.stats = job.renderer.render_tiles(out.grid(), render_options(job), skip,
-                                      [&](size_t i, std::unique_ptr<TileBuffer>& t) {
-                                        ResolvedTile rt = resolve(i, *t, png, exr);
-                                        if (ck) ck->add_tile(rt);
-                                        out.add(std::move(rt));
-                                      });
+  r.stats = job.renderer.render_resolved(out.grid(), render_options(job), skip, png, exr,
+                                         [&](ResolvedTile&& rt) {
+                                           if (ck) ck->add_tile(rt);
+                                           out.add(std::move(rt));
+                                         });
   conclude(job, out, std::move(ck), r,
            [&] { return fmt::format("{} of {} tiles", out.tiles_added(), out.grid().count()); });
   return r;

@@ -15,7 +15,7 @@ namespace {
 
 // Nothing arrived: a short nap instead of spinning (Open MPI's blocking calls spin and would take
 // a core from the render threads of a worker on the same machine).
-void nap() { std::this_thread::sleep_for(std::chrono::microseconds(100)); }
+void nap() { std::this_thread::sleep_for(std::chrono::microseconds(250)); }
 
 }  // namespace
 
@@ -80,16 +80,12 @@ bool HeadFarm::receive(const std::function<void(FarmResult&)>& done, size_t& out
         fmt::format("rank {}: {}", st.MPI_SOURCE, std::string(bytes.begin(), bytes.end())));
   if (st.MPI_TAG != kResult)
     throw std::runtime_error(fmt::format("rank {} sent message {}", st.MPI_SOURCE, st.MPI_TAG));
-  WireReader peek(bytes.data(), bytes.size());
-  const auto index = peek.get<uint64_t>();
-  FarmResult r;
-  const auto pass = passes_out_.find(index);
-  if (pass == passes_out_.end()) {
-    r = decode_result(bytes.data(), bytes.size(), aovs_);
-  } else {
-    r = decode_result(bytes.data(), bytes.size(), aovs_, pass->second.first, pass->second.second);
-    passes_out_.erase(pass);
-  }
+  const auto sent = out_.find(result_index(bytes.data(), bytes.size()));
+  if (sent == out_.end())
+    throw std::runtime_error(fmt::format("rank {} sent a tile it was not given", st.MPI_SOURCE));
+  FarmResult r =
+      decode_result(bytes.data(), bytes.size(), aovs_, sent->second.first, sent->second.second);
+  out_.erase(sent);
   r.rank = st.MPI_SOURCE;
   ++room_[size_t(st.MPI_SOURCE - 1)];
   --out;
@@ -115,8 +111,7 @@ void HeadFarm::run(const std::function<std::optional<FarmTile>()>& next,
         break;
       }
       send(int(w + 1), kWork, encode_work(*t));
-      if (!t->whole)
-        passes_out_[t->index] = {t->sums, mask_slice(t->range.active, t->image_width, t->rect)};
+      out_[t->index] = {*t, mask_slice(t->range.active, t->image_width, t->rect)};
       --room_[w];
       ++out;
     }

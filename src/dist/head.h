@@ -1,5 +1,5 @@
 // The head rank's side of a render across MPI ranks: a work queue. Tiles are handed out one at a
-// time to whichever worker has room (each takes two per thread, so it never waits for the next),
+// time to whichever worker has room (each takes four per thread, so it never waits for the next),
 // and come back with their sums; the head puts them in the film or the files as a local render
 // would. A queue on the head rather than static ownership plus stealing: a distorted camera's
 // tile costs differ by orders of magnitude (a fisheye's corners cost nothing, a coin's region
@@ -41,8 +41,8 @@ class HeadFarm final : public TileFarm {
   const std::atomic<bool>* cancel_;
   std::vector<int> room_;  // tiles each worker (rank i + 1) can take now
   std::list<Send> sends_;
-  // Pass tiles out: where each one's result goes and which of its pixels travel.
-  std::map<size_t, std::pair<TileBuffer*, std::vector<uint8_t>>> passes_out_;
+  // Tiles out, as handed out, with the pixels of a pass tile that travel.
+  std::map<size_t, std::pair<FarmTile, std::vector<uint8_t>>> out_;
 };
 
 }  // namespace anamorph::dist

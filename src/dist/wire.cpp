@@ -78,7 +78,10 @@ std::vector<char> encode_work(const FarmTile& t) {
   w.put(uint64_t(t.index));
   put_rect(w, t.rect);
   w.put(uint8_t(t.whole));
-  if (!t.whole) {
+  if (t.whole) {
+    w.put(uint8_t(t.png));
+    w.put(uint8_t(t.exr));
+  } else {
     w.put(t.range.begin);
     w.put(t.range.end);
     w.put(t.range.footprint);
@@ -97,7 +100,10 @@ WorkMessage decode_work(const char* data, size_t size) {
   m.index = r.get<uint64_t>();
   m.rect = get_rect(r);
   m.whole = r.get<uint8_t>() != 0;
-  if (!m.whole) {
+  if (m.whole) {
+    m.png = r.get<uint8_t>() != 0;
+    m.exr = r.get<uint8_t>() != 0;
+  } else {
     m.begin = r.get<uint32_t>();
     m.end = r.get<uint32_t>();
     m.footprint = r.get<double>();
@@ -117,29 +123,64 @@ void unpack_work(WorkMessage& m, TileBuffer& tile) {
   if (m.begin > 0) scatter(m.sums, m.aov, m.active, tile);
 }
 
-std::vector<char> encode_result(size_t index, const TileBuffer& tile, bool whole,
-                                const std::vector<uint8_t>& mask, const TileStats& st,
-                                double seconds) {
-  WireWriter w;
+namespace {
+
+enum Kind : uint8_t { kPassSums = 0, kWholeSums = 1, kResolved = 2 };
+
+void put_header(WireWriter& w, size_t index, const TileRect& rect, Kind kind, const TileStats& st,
+                double seconds) {
   w.put(uint64_t(index));
-  put_rect(w, tile.rect());
-  w.put(uint8_t(whole));
+  put_rect(w, rect);
+  w.put(uint8_t(kind));
   w.put(st.rays);
   w.put(st.samples);
   w.put(st.nans);
   for (int v : {st.nan_x, st.nan_y, st.nan_s}) w.put(int32_t(v));
   w.put(seconds);
+}
+
+template <class T>
+std::vector<T> get_sized(WireReader& r, size_t expected, const char* what) {
+  std::vector<T> v;
+  r.get_array(v);
+  if (v.size() != expected)
+    throw std::runtime_error(std::string("a resolved tile's ") + what + " do not fit its pixels");
+  return v;
+}
+
+}  // namespace
+
+std::vector<char> encode_result(size_t index, const TileBuffer& tile, bool whole,
+                                const std::vector<uint8_t>& mask, const TileStats& st,
+                                double seconds) {
+  WireWriter w;
+  put_header(w, index, tile.rect(), whole ? kWholeSums : kPassSums, st, seconds);
   put_sums(w, tile, whole ? std::vector<uint8_t>() : mask);
   return std::move(w.bytes());
 }
 
+std::vector<char> encode_resolved(const ResolvedTile& tile, const TileRect& rect,
+                                  const TileStats& st, double seconds) {
+  WireWriter w;
+  put_header(w, tile.index, rect, kResolved, st, seconds);
+  w.put_array(tile.rgba8.data(), tile.rgba8.size());
+  w.put_array(tile.rgba.data(), tile.rgba.size());
+  w.put_array(tile.aov.data(), tile.aov.size());
+  return std::move(w.bytes());
+}
+
+size_t result_index(const char* data, size_t size) {
+  WireReader r(data, size);
+  return r.get<uint64_t>();
+}
+
 FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs,
-                         TileBuffer* into, const std::vector<uint8_t>& mask) {
+                         const FarmTile& sent, const std::vector<uint8_t>& mask) {
   WireReader r(data, size);
   FarmResult out;
   out.index = r.get<uint64_t>();
   const TileRect rect = get_rect(r);
-  const bool whole = r.get<uint8_t>() != 0;
+  const auto kind = Kind(r.get<uint8_t>());
   out.stats.rays = r.get<uint64_t>();
   out.stats.samples = r.get<uint64_t>();
   out.stats.nans = r.get<uint64_t>();
@@ -147,21 +188,33 @@ FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& 
   out.stats.nan_y = r.get<int32_t>();
   out.stats.nan_s = r.get<int32_t>();
   out.seconds = r.get<double>();
-  std::vector<PixelSum> sums;
-  std::vector<float> aov;
-  r.get_array(sums);
-  r.get_array(aov);
-  if (!r.done()) throw std::runtime_error("a result message with bytes left over");
-  if (whole != (into == nullptr)) throw std::runtime_error("a result of another kind of tile");
-  if (whole) {
-    out.tile = std::make_unique<TileBuffer>(rect, aovs);
-    scatter(sums, aov, {}, *out.tile);
+  const TileRect& t = sent.rect;
+  if (out.index != sent.index || t.x0 != rect.x0 || t.y0 != rect.y0 || t.x1 != rect.x1 ||
+      t.y1 != rect.y1)
+    throw std::runtime_error("a result for another tile");
+  const Kind expected = !sent.whole ? kPassSums : (sent.png || sent.exr) ? kResolved : kWholeSums;
+  if (kind != expected) throw std::runtime_error("a result of another kind of tile");
+  if (kind == kResolved) {
+    const size_t n = rect.pixels();
+    ResolvedTile rt;
+    rt.index = out.index;
+    rt.rgba8 = get_sized<unsigned char>(r, sent.png ? 4 * n : 0, "colours");
+    rt.rgba = get_sized<float>(r, sent.exr ? 4 * n : 0, "colours");
+    rt.aov = get_sized<float>(r, sent.exr ? aov_floats(aovs) * n : 0, "layers");
+    out.resolved = std::move(rt);
   } else {
-    const TileRect& t = into->rect();
-    if (t.x0 != rect.x0 || t.y0 != rect.y0 || t.x1 != rect.x1 || t.y1 != rect.y1)
-      throw std::runtime_error("a result for another rectangle");
-    scatter(sums, aov, mask, *into);
+    std::vector<PixelSum> sums;
+    std::vector<float> aov;
+    r.get_array(sums);
+    r.get_array(aov);
+    if (kind == kWholeSums) {
+      out.tile = std::make_unique<TileBuffer>(rect, aovs);
+      scatter(sums, aov, {}, *out.tile);
+    } else {
+      scatter(sums, aov, mask, *sent.sums);
+    }
   }
+  if (!r.done()) throw std::runtime_error("a result message with bytes left over");
   return out;
 }
 

@@ -80,6 +80,7 @@ struct WorkMessage {
   size_t index = 0;
   TileRect rect;
   bool whole = true;
+  bool png = false, exr = false;  // a whole tile resolved to these formats (FarmTile)
   uint32_t begin = 0, end = 0;
   double footprint = 1;
   std::vector<uint8_t> active;  // the rect's part of the mask, row by row (empty: all pixels on)
@@ -101,9 +102,15 @@ void unpack_work(WorkMessage& m, TileBuffer& tile);
 std::vector<char> encode_result(size_t index, const TileBuffer& tile, bool whole,
                                 const std::vector<uint8_t>& mask, const TileStats& st,
                                 double seconds);
-// A whole tile into a new buffer with the head's AOVs; a pass into `into` (the head's tile, of
-// which the message carries the pixels `mask` leaves on).
+// A whole tile resolved where it was rendered.
+std::vector<char> encode_resolved(const ResolvedTile& tile, const TileRect& rect,
+                                  const TileStats& st, double seconds);
+// The result of tile `sent` (as the head handed it out): a whole tile into a new buffer with the
+// head's AOVs, or resolved; a pass into `sent.sums` (the head's tile), of which the message
+// carries the pixels `mask` leaves on. Throws when it does not fit what was sent.
 FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs,
-                         TileBuffer* into = nullptr, const std::vector<uint8_t>& mask = {});
+                         const FarmTile& sent, const std::vector<uint8_t>& mask = {});
+// The tile index a result is for.
+size_t result_index(const char* data, size_t size);
 
 }  // namespace anamorph::dist

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <mpi.h>
+#include <sched.h>
 
 #include <chrono>
 #include <condition_variable>
@@ -72,6 +73,13 @@ class TilePool {
     const std::lock_guard<std::mutex> lock(mu_);
     return in_flight_ == 0;
   }
+  // Waits until a result is ready or `timeout` passes (the MPI thread's nap: woken at once by a
+  // finished tile, so results leave without delay, while messages from the head wait at most
+  // the timeout; the tiles queued here cover it).
+  void wait_for_result(std::chrono::microseconds timeout) {
+    std::unique_lock<std::mutex> lock(mu_);
+    done_.wait_for(lock, timeout, [&] { return !results_.empty(); });
+  }
 
  private:
   void work() {
@@ -95,8 +103,11 @@ class TilePool {
         const std::string what = e.what();
         result = {kError, std::vector<char>(what.begin(), what.end())};
       }
-      const std::lock_guard<std::mutex> lock(mu_);
-      results_.push_back(std::move(result));
+      {
+        const std::lock_guard<std::mutex> lock(mu_);
+        results_.push_back(std::move(result));
+      }
+      done_.notify_one();
     }
   }
 
@@ -107,6 +118,11 @@ class TilePool {
     const auto t0 = std::chrono::steady_clock::now();
     if (m.whole) {
       session.whole(tile, st);
+      if (m.png || m.exr) {
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return encode_resolved(resolve(m.index, tile, m.png, m.exr), m.rect, st, seconds);
+      }
     } else {
       unpack_work(m, tile);
       session.samples({m.begin, m.end, m.footprint, active}, tile, st);
@@ -118,7 +134,7 @@ class TilePool {
 
   const std::vector<Aov>& aovs_;
   std::mutex mu_;
-  std::condition_variable wake_;
+  std::condition_variable wake_, done_;
   std::deque<WorkMessage> queue_;
   std::vector<std::pair<int, std::vector<char>>> results_;
   size_t in_flight_ = 0;
@@ -148,15 +164,33 @@ void reap(std::list<Send>& sends) {
   }
 }
 
+// The CPUs this process may run on: mpirun binds ranks to cores by default (one core each when
+// there are two ranks or fewer), which would squeeze a rank's render threads onto one core.
+int cpus_allowed() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return int(std::thread::hardware_concurrency());
+  return std::max(1, CPU_COUNT(&set));
+}
+
 }  // namespace
 
 int serve_tiles(int threads, const std::vector<Aov>& aovs,
                 const std::function<WorkerFrame(double frame)>& load) {
-  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  const int cpus = cpus_allowed();
+  if (threads <= 0) threads = cpus;  // as a process's task arena would
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (threads > cpus)
+    fmt::print(stderr,
+               "warning: rank {} renders with {} threads but is bound to {} CPU{}: give mpirun "
+               "--bind-to none (or --map-by slot:PE={})\n",
+               rank, threads, cpus, cpus == 1 ? "" : "s", threads);
   TilePool pool(threads, aovs);
   std::list<Send> sends;
-  // Two tiles per thread: one rendering, one waiting, so no thread waits for the head.
-  const auto room = uint32_t(2 * threads);
+  // Four tiles per thread: one rendering and three waiting, so no thread waits for the head while
+  // a request travels (each side looks at MPI every few hundred microseconds when idle).
+  const auto room = uint32_t(4 * threads);
   MPI_Send(&room, 1, MPI_UINT32_T, 0, kReady, MPI_COMM_WORLD);
   int code = 0;
   for (bool stop = false; !stop;) {
@@ -189,15 +223,13 @@ int serve_tiles(int threads, const std::vector<Aov>& aovs,
           pool.add(decode_work(bytes.data(), bytes.size()));
         }
       } catch (const std::exception& e) {
-        int rank = 0;
-        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
         fmt::print(stderr, "error: rank {}: {}\n", rank, e.what());
         const std::string what = e.what();
         send(sends, kError, std::vector<char>(what.begin(), what.end()));
         code = 1;
       }
     }
-    if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(100));
+    if (!busy) pool.wait_for_result(std::chrono::microseconds(500));
   }
   while (!sends.empty()) reap(sends);
   return code;

@@ -145,6 +145,21 @@ bool Renderer::streams(const RenderSettings& rs) {
 
 RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& opt,
                                    const std::vector<uint8_t>& skip, const TileSink& sink) const {
+  return whole_tiles(grid, opt, skip, false, false, sink, nullptr);
+}
+
+RenderStats Renderer::render_resolved(const TileGrid& grid, const RenderOptions& opt,
+                                      const std::vector<uint8_t>& skip, bool png, bool exr,
+                                      const std::function<void(ResolvedTile&&)>& sink) const {
+  return whole_tiles(
+      grid, opt, skip, png, exr,
+      [&](size_t i, std::unique_ptr<TileBuffer>& t) { sink(resolve(i, *t, png, exr)); }, sink);
+}
+
+RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt,
+                                  const std::vector<uint8_t>& skip, bool png, bool exr,
+                                  const TileSink& sink,
+                                  const std::function<void(ResolvedTile&&)>& resolved) const {
   Run run(*this, opt, grid.width, grid.height);
   const uint64_t per_pixel = run.session.whole_work_per_pixel();
   run.work_total = uint64_t(grid.width) * uint64_t(grid.height) * per_pixel;
@@ -162,12 +177,18 @@ RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& op
           FarmTile t;
           t.index = i;
           t.rect = grid.rect(i);
+          t.png = png && resolved;
+          t.exr = exr && resolved;
           return t;
         },
         [&](FarmResult& r) {
           run.record_time(r.index, 0, r.seconds, r.stats, r.rank);
-          run.tile_done(r.stats, r.tile->rect().pixels() * per_pixel, 0, 1);
-          if (!run.cancelled()) sink(r.index, r.tile);
+          run.tile_done(r.stats, grid.rect(r.index).pixels() * per_pixel, 0, 1);
+          if (run.cancelled()) return;
+          if (r.resolved)
+            resolved(std::move(*r.resolved));
+          else
+            sink(r.index, r.tile);
         });
   } else {
     tbb::enumerable_thread_specific<std::unique_ptr<TileBuffer>> spare;  // tiles the sink left

@@ -18,6 +18,7 @@
 
 #include "render/adaptive.h"
 #include "render/film.h"
+#include "render/frame_output.h"
 #include "scene/scene.h"
 
 namespace anamorph {
@@ -97,6 +98,11 @@ class Renderer {
   // samples, handed to `sink` as it completes. Only for settings streams() accepts.
   RenderStats render_tiles(const TileGrid& grid, const RenderOptions& opt,
                            const std::vector<uint8_t>& skip, const TileSink& sink) const;
+  // The same, each tile resolved to the output files' formats where it was rendered (on this
+  // process's threads, or on a farm's workers, which then send 4 or 16 bytes a pixel, not 32).
+  RenderStats render_resolved(const TileGrid& grid, const RenderOptions& opt,
+                              const std::vector<uint8_t>& skip, bool png, bool exr,
+                              const std::function<void(ResolvedTile&&)>& sink) const;
   // Whether a tile can be rendered alone: all but per-pixel adaptive sampling.
   static bool streams(const RenderSettings& rs);
   const Accel& accel() const { return *accel_; }
@@ -104,6 +110,10 @@ class Renderer {
  private:
   friend class TileSession;
   struct Run;
+  RenderStats whole_tiles(const TileGrid& grid, const RenderOptions& opt,
+                          const std::vector<uint8_t>& skip, bool png, bool exr,
+                          const TileSink& sink,
+                          const std::function<void(ResolvedTile&&)>& resolved) const;
   RenderStats render_passes(Film& film, const RenderOptions& opt) const;
   const Scene& scene_;
   std::unique_ptr<Accel> accel_;

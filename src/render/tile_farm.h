@@ -11,6 +11,7 @@
 #include <optional>
 #include <vector>
 
+#include "render/frame_output.h"
 #include "render/tile_buffer.h"
 #include "render/tile_sampler.h"
 
@@ -26,12 +27,16 @@ struct FarmTile {
   bool whole = true;
   SampleRange range;
   TileBuffer* sums = nullptr;
+  // Whole tiles for output files: resolved where rendered into the files' formats (8-bit sRGB for
+  // a PNG, floats for an EXR), 4 or 16 bytes a pixel to send instead of 32 of sums.
+  bool png = false, exr = false;
 };
 
 // A tile back from the farm, with what it cost where it ran.
 struct FarmResult {
   size_t index = 0;
-  std::unique_ptr<TileBuffer> tile;  // a whole tile (a pass's result is in FarmTile::sums)
+  std::unique_ptr<TileBuffer> tile;      // a whole tile (a pass's result is in FarmTile::sums)
+  std::optional<ResolvedTile> resolved;  // instead, when FarmTile::png or exr
   TileStats stats;
   double seconds = 0;
   int rank = 0;  // the process that rendered it (an MPI rank)

@@ -283,8 +283,7 @@ TEST(MpiWire, PassTilesMoveOnlyTheirActivePixels) {
   st.nan(5, 3, 2);
   const std::vector<char> back = dist::encode_result(9, worker, false, m.active, st, 0.5);
   const TileBuffer before = head;
-  const FarmResult r =
-      dist::decode_result(back.data(), back.size(), {Aov::Albedo}, &head, m.active);
+  const FarmResult r = dist::decode_result(back.data(), back.size(), {Aov::Albedo}, t, m.active);
   EXPECT_EQ(r.index, 9u);
   EXPECT_EQ(r.seconds, 0.5);
   EXPECT_EQ(r.stats.rays, 123u);
@@ -295,9 +294,16 @@ TEST(MpiWire, PassTilesMoveOnlyTheirActivePixels) {
         << i;
   EXPECT_EQ(head.aov_sums()[5 * 3 + 2], -3.0f);
   EXPECT_EQ(head.aov_sums()[0], before.aov_sums()[0]);
-  // A whole-tile decode of a pass result, or a mask of another size, is refused.
-  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}), std::runtime_error);
-  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}, &head, {1, 1}),
+  // Read as a whole tile's result, for another tile, or with a mask of another size: refused.
+  FarmTile whole = t;
+  whole.whole = true;
+  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}, whole),
+               std::runtime_error);
+  FarmTile other = t;
+  other.index = 8;
+  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}, other, m.active),
+               std::runtime_error);
+  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {Aov::Albedo}, t, {1, 1}),
                std::runtime_error);
 
   // The first pass sends no sums (they are all zero).
@@ -306,16 +312,33 @@ TEST(MpiWire, PassTilesMoveOnlyTheirActivePixels) {
   EXPECT_TRUE(dist::decode_work(first.data(), first.size()).sums.empty());
 }
 
-TEST(MpiWire, WholeTilesComeBackWithEveryPixel) {
+TEST(MpiWire, WholeTilesComeBackWithEveryPixelOrResolved) {
   const TileBuffer tile = numbered_tile();
+  FarmTile sent;
+  sent.index = 3;
+  sent.rect = tile.rect();
   const std::vector<char> back = dist::encode_result(3, tile, true, {}, TileStats{}, 1.5);
-  const FarmResult r = dist::decode_result(back.data(), back.size(), {Aov::Albedo});
+  const FarmResult r = dist::decode_result(back.data(), back.size(), {Aov::Albedo}, sent);
   ASSERT_NE(r.tile, nullptr);
   EXPECT_EQ(r.tile->rect().x1, 7);
   for (size_t i = 0; i < 6; ++i) EXPECT_TRUE(same_sum(r.tile->sums()[i], tile.sums()[i])) << i;
   EXPECT_EQ(r.tile->aov_sums(), tile.aov_sums());
   // A result of other AOVs than the head's does not fit.
-  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {}), std::runtime_error);
+  EXPECT_THROW(dist::decode_result(back.data(), back.size(), {}, sent), std::runtime_error);
+
+  // Resolved where rendered: the output's bytes, exactly as resolving at the head would give.
+  sent.png = sent.exr = true;
+  const ResolvedTile local = resolve(3, tile, true, true);
+  const std::vector<char> bytes = dist::encode_resolved(local, tile.rect(), TileStats{}, 0.25);
+  const FarmResult rr = dist::decode_result(bytes.data(), bytes.size(), {Aov::Albedo}, sent);
+  ASSERT_TRUE(rr.resolved.has_value());
+  EXPECT_EQ(rr.resolved->rgba8, local.rgba8);
+  EXPECT_EQ(rr.resolved->rgba, local.rgba);
+  EXPECT_EQ(rr.resolved->aov, local.aov);
+  // Sent for a PNG only, the EXR's floats do not fit.
+  sent.exr = false;
+  EXPECT_THROW(dist::decode_result(bytes.data(), bytes.size(), {Aov::Albedo}, sent),
+               std::runtime_error);
 }
 
 }  // namespace
