@@ -47,7 +47,8 @@ void write_tile_stats(const std::filesystem::path& file, const Scene& scene, dou
                     {"seconds", t.seconds},
                     {"samples", t.samples},
                     {"rays", t.rays},
-                    {"rank", t.rank}});
+                    {"rank", t.rank},
+                    {"pass_samples", t.pass_samples}});
   }
   j["tiles"] = std::move(list);
   const std::string text = j.dump(1) + "\n";

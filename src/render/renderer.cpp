@@ -57,6 +57,7 @@ struct Renderer::Run {
   std::atomic<bool> out_of_time{false};
   std::mutex mu;
   uint64_t work_done = 0, rays_done = 0, work_total = 1;
+  uint32_t pass_samples = 0;  // samples per pixel of the pass running (0: whole tiles)
   RenderStats stats;
 
   bool cancelled() const { return is_set(opt.cancel); }
@@ -103,6 +104,7 @@ struct Renderer::Run {
     if (!opt.tile_times) return;
     TileTiming t;
     t.rank = rank;
+    t.pass_samples = pass_samples;
     t.index = index;
     t.pass = pass;
     t.start = std::max(0.0, seconds_since(t0) - seconds);
@@ -268,6 +270,7 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
         per_pixel ? &active : nullptr};
     const bool resumed_pass = resume && pass == first;
     const int passes = int(ends.size());
+    run.pass_samples = s_end - s_begin;
     // Tiles the checkpoint holds after this pass already count as done.
     const auto done_before = [&](size_t ti) {
       if (!resumed_pass || resume->tile_pass[ti] < int(pass)) return false;

@@ -49,6 +49,9 @@ struct TileTiming {
   double start = 0, seconds = 0;  // since the render began, and how long the tile took
   uint64_t samples = 0, rays = 0;
   int rank = 0;  // the MPI rank that rendered it (0: this process)
+  // A pass render: samples each pixel the pass left on took (samples / pass_samples of the
+  // tile's pixels took part); 0 for a whole tile.
+  uint32_t pass_samples = 0;
 };
 
 struct RenderOptions {
