@@ -1,5 +1,7 @@
 #include "app/common.h"
 
+#include "dist/world.h"
+
 #include <fmt/format.h>
 
 #include <signal.h>
@@ -87,8 +89,10 @@ std::vector<std::string> with_extra(const SceneOptions& o, const std::vector<std
   return ov;
 }
 
+// A worker rank of an MPI job loads the head's scene: only the head prints its warnings.
 Scene warned(Scene s) {
-  for (const auto& w : s.warnings) fmt::print(stderr, "warning: {}\n", w);
+  if (dist::World::rank() == 0)
+    for (const auto& w : s.warnings) fmt::print(stderr, "warning: {}\n", w);
   return s;
 }
 

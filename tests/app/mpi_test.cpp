@@ -162,6 +162,49 @@ TEST(Mpi, TilesAreSpreadOverTheWorkersOnDemand) {
   EXPECT_GT(per_rank[2], 0) << "rank 2 rendered no tile";
 }
 
+// A pass render (per-pixel adaptive path tracing) under a time limit across ranks: each run
+// stops handing out tiles after its budget and keeps the checkpoint (the head's film after each
+// tile's pass); runs of the same resumed command go further until the render completes, with
+// the bits of one uninterrupted process.
+TEST(Mpi, TimeLimitedPassRenderResumesToTheSameBits) {
+  REQUIRE_MPI();
+  Scratch s;
+  const fs::path ref = s.dir / "ref.exr", out = s.dir / "out.exr", ck = s.dir / "r.ckpt";
+  const std::vector<std::string> base{"render",       example("examples/apps/domemaster.toml"),
+                                      "--width",      "96",
+                                      "--height",     "96",
+                                      "--integrator", "path",
+                                      "--set",        "render.antialias=\"pixel\"",
+                                      "--set",        "render.max_spp=256",
+                                      "--set",        "render.noise_threshold=0.005",
+                                      "--set",        "render.tile_size=16",
+                                      "--aov",        "albedo,spp"};
+  const auto t0 = std::chrono::steady_clock::now();
+  const test::CliResult r0 = test::run_cli(join(base) + " -q -o " + ref.string(), 600);
+  ASSERT_EQ(r0.code, 0) << r0.out;
+  const double limit = std::max(
+      0.05, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 4);
+  const std::string mpirun =
+      "timeout -s KILL 600 " + std::string(kMpirun) + "3 " + test::binary().string() + " ";
+  test::CliResult r =
+      test::run_shell(mpirun + join(base) + " -o " + out.string() + " --checkpoint " + ck.string() +
+                      " --set render.time_limit=" + std::to_string(limit));
+  int runs = 1, limited = 0;
+  for (;; ++runs) {
+    ASSERT_EQ(r.code, 0) << r.out;
+    ASSERT_TRUE(fs::exists(out)) << "run " << runs << " wrote no image: " << r.out;
+    if (r.out.find("time limit of") == std::string::npos) break;
+    ++limited;
+    ASSERT_TRUE(fs::exists(ck)) << r.out;
+    ASSERT_LT(runs, 200) << "the render does not get further";
+    r = test::run_shell(mpirun + "render --resume " + ck.string());
+  }
+  std::printf("%d runs of %.3f s each at most\n", runs, limit);
+  EXPECT_GE(limited, 1) << "no run was stopped by the time limit: the test tested nothing";
+  EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
+  test::expect_same_exr(ref, out);
+}
+
 // The pid of rank `rank` of the job whose processes carry `marker` in their environment.
 pid_t find_rank(int rank, const std::string& marker) {
   const std::string want_rank = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);
