@@ -24,17 +24,22 @@ namespace {
 std::string g_command_line;
 std::atomic<bool> g_interrupted{false};
 std::atomic<bool> g_render_phase{false};
+// A worker rank of an MPI job stops without a word: mpirun says why the job ended.
+volatile sig_atomic_t g_silent_interrupt = 0;
 
 void on_interrupt(int) {
   if (g_render_phase.load() && !g_interrupted.exchange(true)) return;
   // Async-signal-safe from here on: write(2) and _exit(2) only.
   static const char kMsg[] = "\ninterrupted\n";
-  [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, kMsg, sizeof kMsg - 1);
+  if (!g_silent_interrupt) {
+    [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, kMsg, sizeof kMsg - 1);
+  }
   _exit(kFailure);
 }
 }  // namespace
 
 void install_interrupt_handlers() {
+  g_silent_interrupt = dist::World::rank() > 0;
   struct sigaction sa {};
   sa.sa_handler = on_interrupt;
   sigemptyset(&sa.sa_mask);

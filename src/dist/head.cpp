@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "dist/wire.h"
+#include "dist/world.h"
 
 namespace anamorph::dist {
 
@@ -38,6 +39,12 @@ HeadFarm::HeadFarm(std::vector<Aov> aovs, const std::atomic<bool>* cancel)
 
 HeadFarm::~HeadFarm() {
   if (cancel_ && cancel_->load()) return;  // World aborts the job: a worker may be gone
+  if (!out_.empty()) {
+    // An error ended the render with tiles out (a worker's error, or the head's): their results
+    // would never be received, and a worker waiting to send one would never stop. Abort the job.
+    World::abort_on_exit(1);
+    return;
+  }
   for (int i = 1; i <= workers(); ++i) send(i, kStop, {});
   while (sends_pending()) nap();
 }
