@@ -366,6 +366,12 @@ int resume(const std::string& file) {
   return runner ? runner() : kBadInput;
 }
 
+// The head rank of an MPI job renders nothing itself: it builds no acceleration structure.
+std::unique_ptr<Renderer> make_renderer(const Scene& scene, const TileFarm* farm) {
+  return farm ? std::make_unique<Renderer>(scene, Renderer::FarmOnly{})
+              : std::make_unique<Renderer>(scene);
+}
+
 // A worker rank of an MPI job: loads the frames the head names (as the head does, so the scene
 // is the same) and renders the tiles it is handed.
 int serve(const RenderArgs& a, const std::vector<std::string>& extra,
@@ -450,9 +456,9 @@ int run(const RenderArgs& a) {
     }
     const Scene scene = load(args.scene, extra, 0);
     if (!fits_in_memory(args, scene, aovs, out)) return kBadInput;
-    const Renderer renderer(scene);
+    const std::unique_ptr<Renderer> renderer = make_renderer(scene, farm.get());
     if (farm) farm->begin_frame(0);
-    const int rc = render_frame(args, scene, renderer, aovs, 0, out, "", a.checkpoint, every,
+    const int rc = render_frame(args, scene, *renderer, aovs, 0, out, "", a.checkpoint, every,
                                 a.stats, farm.get());
     if (farm && rc == kInterrupted) dist::World::abort_on_exit(rc);  // a worker may be gone
     return rc;
@@ -522,7 +528,7 @@ int run(const RenderArgs& a) {
       renderer.reset();  // (it refers to the scene)
       scene = std::make_unique<Scene>(load(args.scene, extra, f));
       if (!fits_in_memory(args, *scene, aovs, file)) return kBadInput;
-      renderer = std::make_unique<Renderer>(*scene);
+      renderer = make_renderer(*scene, farm.get());
     }
     if (farm) farm->begin_frame(f);
     const int rc =

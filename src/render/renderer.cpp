@@ -44,13 +44,21 @@ std::vector<uint32_t> pass_ends(uint32_t spp, uint32_t first, bool progressive) 
 struct Renderer::Run {
   Run(const Renderer& r, const RenderOptions& o, int W, int H)
       : opt(o),
-        session(r, !o.aovs.empty(), W, H, o.cancel),
+        session(local_session(r, o, W, H)),
         arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic),
         time_limit(r.scene_.render.time_limit) {}
 
+  // The tiles' shared state, for rendering here (none when a farm renders them).
+  static std::unique_ptr<const TileSession> local_session(const Renderer& r, const RenderOptions& o,
+                                                          int W, int H) {
+    if (o.farm) return nullptr;
+    if (!r.accel_) throw std::logic_error("this renderer hands all its tiles to a farm");
+    return std::make_unique<const TileSession>(r, !o.aovs.empty(), W, H, o.cancel);
+  }
+
   const RenderOptions& opt;
   const std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-  const TileSession session;
+  const std::unique_ptr<const TileSession> session;
   tbb::task_arena arena;
   const double time_limit;
   std::atomic<size_t> started{0};
@@ -139,6 +147,8 @@ Renderer::Renderer(const Scene& scene)
       accel_(std::make_unique<Accel>(scene)),
       lights_(std::make_unique<Lights>(scene, *accel_)) {}
 
+Renderer::Renderer(const Scene& scene, FarmOnly) : scene_(scene) {}
+
 Renderer::~Renderer() = default;
 
 bool Renderer::streams(const RenderSettings& rs) {
@@ -163,7 +173,7 @@ RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt
                                   const TileSink& sink,
                                   const std::function<void(ResolvedTile&&)>& resolved) const {
   Run run(*this, opt, grid.width, grid.height);
-  const uint64_t per_pixel = run.session.whole_work_per_pixel();
+  const uint64_t per_pixel = TileSession::whole_work_per_pixel(scene_.render);
   run.work_total = uint64_t(grid.width) * uint64_t(grid.height) * per_pixel;
   const auto skipped = [&](size_t ti) { return ti < skip.size() && skip[ti]; };
   for (size_t i = 0; i < grid.count(); ++i)
@@ -204,7 +214,7 @@ RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt
           tile = std::make_unique<TileBuffer>(grid.rect(ti), opt.aovs);
         TileStats st;
         const auto begin = std::chrono::steady_clock::now();
-        run.session.whole(*tile, st);
+        run.session->whole(*tile, st);
         run.record_time(ti, 0, begin, st);
         run.tile_done(st, tile->rect().pixels() * per_pixel, 0, 1);
         if (!run.cancelled()) sink(ti, tile);
@@ -264,10 +274,9 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
     // Texture footprints: with per-pixel adaptive sampling a pixel that takes this pass's samples
     // ends with at least s_end of them, and each sample stands for that share of the pixel (a
     // function of the sample index alone, so tiles and threads agree).
-    const SampleRange range{
-        s_begin, s_end,
-        per_pixel ? RenderJob::footprint_scale(s_end) : run.session.job().uniform_scale,
-        per_pixel ? &active : nullptr};
+    const SampleRange range{s_begin, s_end,
+                            RenderJob::footprint_scale(per_pixel ? s_end : uint32_t(rs.spp)),
+                            per_pixel ? &active : nullptr};
     const bool resumed_pass = resume && pass == first;
     const int passes = int(ends.size());
     run.pass_samples = s_end - s_begin;
@@ -310,7 +319,7 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
           if (run.cancelled() || done_before(ti) || !run.may_start_tile()) return;
           TileStats st;
           const auto begin = std::chrono::steady_clock::now();
-          run.session.samples(range, film.tile(ti), st);
+          run.session->samples(range, film.tile(ti), st);
           run.record_time(ti, int(pass), begin, st);
           tile_back(ti, st);
         });

@@ -94,6 +94,11 @@ using TileSink = std::function<void(size_t index, std::unique_ptr<TileBuffer>& t
 class Renderer {
  public:
   explicit Renderer(const Scene& scene);  // builds the acceleration structure and lights
+  // A renderer whose tiles are all rendered elsewhere (RenderOptions::farm: the head rank of an
+  // MPI job). It builds nothing, so the head spends neither the acceleration structure's memory
+  // nor its build time; rendering without a farm throws std::logic_error.
+  struct FarmOnly {};
+  Renderer(const Scene& scene, FarmOnly);
   ~Renderer();
   // A whole frame into `film` (cleared first unless opt.resume), in progressive passes.
   RenderStats render(Film& film, const RenderOptions& opt) const;

@@ -65,6 +65,8 @@ void TileSession::whole(TileBuffer& tile, TileStats& st) const {
     sampler_.sample({0, uint32_t(rs_.spp), job_.uniform_scale, nullptr}, tile, st);
 }
 
-uint64_t TileSession::whole_work_per_pixel() const { return lattice_ ? 1 : uint64_t(rs_.spp); }
+uint64_t TileSession::whole_work_per_pixel(const RenderSettings& rs) {
+  return rs.adaptive() && rs.antialias == Antialias::Lattice ? 1 : uint64_t(rs.spp);
+}
 
 }  // namespace anamorph

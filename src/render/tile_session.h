@@ -32,7 +32,7 @@ class TileSession {
     sampler_.sample(range, tile, st);
   }
   // Camera samples one pixel of a whole tile stands for in a render's progress.
-  uint64_t whole_work_per_pixel() const;
+  static uint64_t whole_work_per_pixel(const RenderSettings& rs);
   const RenderJob& job() const { return job_; }
 
  private:
