@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <functional>
+#include <string>
 
 #include "app/common.h"
 #include "dist/world.h"
@@ -14,7 +15,8 @@ int main(int argc, char** argv) {
   install_interrupt_handlers();
   CLI::App app{"anamorph " ANAMORPH_VERSION
                " - a ray tracer built around a programmable distortion camera"};
-  app.set_version_flag("--version", "anamorph " ANAMORPH_VERSION);
+  app.set_version_flag("--version", std::string("anamorph " ANAMORPH_VERSION " (MPI: ") +
+                                        anamorph::dist::mpi_library() + ")");
   app.require_subcommand(1);
   std::function<int()> run;
   add_render(app, run);

@@ -12,6 +12,7 @@
 namespace anamorph::dist {
 
 bool built_with_mpi() { return false; }
+std::string mpi_library() { return "none"; }
 
 World::World(int*, char***) {
   const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");

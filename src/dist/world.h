@@ -3,10 +3,14 @@
 // The other ranks are workers: each loads the scene itself and renders the tiles it is given.
 #pragma once
 
+#include <string>
+
 namespace anamorph::dist {
 
 // Whether this build has MPI (found at configure time).
 bool built_with_mpi();
+// The MPI library, as `--version` reports it: "Open MPI v4.1.4", or "none".
+std::string mpi_library();
 
 // MPI's lifetime. When the process was started by mpirun or srun and the build has MPI, MPI is
 // initialised here and finalised by the destructor; otherwise this is a single process, rank 0

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "dist/world.h"
@@ -23,6 +24,15 @@ bool started_by_launcher() {
 }  // namespace
 
 bool built_with_mpi() { return true; }
+
+std::string mpi_library() {
+  char text[MPI_MAX_LIBRARY_VERSION_STRING];
+  int length = 0;
+  MPI_Get_library_version(text, &length);  // (callable before MPI_Init)
+  std::string v(text, size_t(std::max(length, 0)));
+  v = v.substr(0, v.find_first_of(",\n"));  // "Open MPI v4.1.4, package: ..." -> the name
+  return v.empty() ? "MPI" : v;
+}
 
 World::World(int* argc, char*** argv) {
   if (!started_by_launcher()) return;

@@ -205,6 +205,15 @@ TEST(Mpi, TimeLimitedPassRenderResumesToTheSameBits) {
   test::expect_same_exr(ref, out);
 }
 
+TEST(Mpi, VersionNamesTheMpiLibrary) {
+  const test::CliResult r = test::run_cli("--version");
+  ASSERT_EQ(r.code, 0) << r.out;
+  if (ANAMORPH_HAVE_MPI)
+    EXPECT_NE(r.out.find("(MPI: Open MPI v"), std::string::npos) << r.out;
+  else
+    EXPECT_NE(r.out.find("(MPI: none)"), std::string::npos) << r.out;
+}
+
 // The pid of rank `rank` of the job whose processes carry `marker` in their environment.
 pid_t find_rank(int rank, const std::string& marker) {
   const std::string want_rank = "OMPI_COMM_WORLD_RANK=" + std::to_string(rank);
