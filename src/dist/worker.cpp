@@ -173,56 +173,74 @@ int cpus_allowed() {
   return std::max(1, CPU_COUNT(&set));
 }
 
-}  // namespace
-
-int serve_tiles(int threads, const std::vector<Aov>& aovs,
-                const std::function<WorkerFrame(double frame)>& load) {
+// The number of threads to render with, warning when mpirun bound the rank to fewer CPUs.
+int render_threads(int threads, int rank) {
   const int cpus = cpus_allowed();
-  if (threads <= 0) threads = cpus;  // as a process's task arena would
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (threads <= 0) return cpus;  // as a process's task arena would
   if (threads > cpus)
     fmt::print(stderr,
                "warning: rank {} renders with {} threads but is bound to {} CPU{}: give mpirun "
                "--bind-to none (or --map-by slot:PE={})\n",
                rank, threads, cpus, cpus == 1 ? "" : "s", threads);
+  return threads;
+}
+
+// The next message from the head, if one has arrived: its tag and bytes.
+bool receive(int& tag, std::vector<char>& bytes) {
+  int flag = 0;
+  MPI_Status st;
+  MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+  if (!flag) return false;
+  int count = 0;
+  MPI_Get_count(&st, MPI_BYTE, &count);
+  bytes.assign(size_t(std::max(count, 0)), 0);
+  MPI_Recv(bytes.data(), count, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  tag = st.MPI_TAG;
+  return true;
+}
+
+// A new frame: its scene loaded, its tiles' shared state built.
+void load_frame(const std::vector<char>& bytes, TilePool& pool, const std::vector<Aov>& aovs,
+                const std::function<WorkerFrame(double frame)>& load) {
+  WireReader r(bytes.data(), bytes.size());
+  pool.set_frame(nullptr, 0, 0);  // the last frame's session goes before its scene
+  const WorkerFrame f = load(r.get<double>());
+  pool.set_frame(std::make_unique<TileSession>(*f.renderer, !aovs.empty(), f.width, f.height),
+                 f.width, f.height);
+}
+
+}  // namespace
+
+int serve_tiles(int threads, const std::vector<Aov>& aovs,
+                const std::function<WorkerFrame(double frame)>& load) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  threads = render_threads(threads, rank);
   TilePool pool(threads, aovs);
   std::list<Send> sends;
   // Four tiles per thread: one rendering and three waiting, so no thread waits for the head while
   // a request travels (each side looks at MPI every few hundred microseconds when idle).
   const auto room = uint32_t(4 * threads);
   MPI_Send(&room, 1, MPI_UINT32_T, 0, kReady, MPI_COMM_WORLD);
-  int code = 0;
+  int code = 0, tag = 0;
+  std::vector<char> bytes;
   for (bool stop = false; !stop;) {
     bool busy = false;
-    for (auto& [tag, r] : pool.take_results()) {
-      send(sends, tag, std::move(r));
+    for (auto& [result_tag, r] : pool.take_results()) {
+      send(sends, result_tag, std::move(r));
       busy = true;
     }
     reap(sends);
-    int flag = 0;
-    MPI_Status st;
-    MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
-    if (flag) {
+    if (receive(tag, bytes)) {
       busy = true;
-      int count = 0;
-      MPI_Get_count(&st, MPI_BYTE, &count);
-      std::vector<char> bytes(size_t(std::max(count, 0)));
-      MPI_Recv(bytes.data(), count, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       try {
-        if (st.MPI_TAG == kStop) {
+        if (tag == kStop)
           stop = true;
-        } else if (st.MPI_TAG == kFrame) {
-          WireReader r(bytes.data(), bytes.size());
-          pool.set_frame(nullptr, 0, 0);  // the last frame's session goes before its scene
-          const WorkerFrame f = load(r.get<double>());
-          pool.set_frame(
-              std::make_unique<TileSession>(*f.renderer, !aovs.empty(), f.width, f.height), f.width,
-              f.height);
-        } else if (st.MPI_TAG == kWork) {
+        else if (tag == kFrame)
+          load_frame(bytes, pool, aovs, load);
+        else if (tag == kWork)
           pool.add(decode_work(bytes.data(), bytes.size()));
-        }
-      } catch (const std::exception& e) {
+      } catch (const std::exception& e) {  // the head ends the job with the message
         fmt::print(stderr, "error: rank {}: {}\n", rank, e.what());
         const std::string what = e.what();
         send(sends, kError, std::vector<char>(what.begin(), what.end()));
