@@ -372,21 +372,35 @@ std::unique_ptr<Renderer> make_renderer(const Scene& scene, const TileFarm* farm
               : std::make_unique<Renderer>(scene);
 }
 
+// The scene of a sequence's current frame and its renderer. When the keys change only camera,
+// image or render settings, the frames share the first one's geometry, lights and acceleration
+// structure: only the view is read again. The head and the workers of an MPI job load frames
+// through this alike.
+struct FrameScene {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Renderer> renderer;
+  // Loads `frame`; true when it needs a new renderer (the old one is gone then).
+  bool load_frame(const SceneOptions& o, const std::vector<std::string>& extra, double frame) {
+    if (scene && animates_view_only(*scene)) {
+      load_view_into(o, extra, frame, *scene);
+      return false;
+    }
+    renderer.reset();  // (it refers to the scene)
+    scene = std::make_unique<Scene>(load(o, extra, frame));
+    return true;
+  }
+};
+
 // A worker rank of an MPI job: loads the frames the head names (as the head does, so the scene
 // is the same) and renders the tiles it is handed.
 int serve(const RenderArgs& a, const std::vector<std::string>& extra,
           const std::vector<Aov>& aovs) {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Renderer> renderer;
+  FrameScene current;
   return dist::serve_tiles(a.threads.value_or(0), aovs, [&](double frame) {
-    if (scene && animates_view_only(*scene)) {
-      load_view_into(a.scene, extra, frame, *scene);
-    } else {
-      renderer.reset();  // (it refers to the scene)
-      scene = std::make_unique<Scene>(load(a.scene, extra, frame));
-      renderer = std::make_unique<Renderer>(*scene);
-    }
-    return dist::WorkerFrame{renderer.get(), scene->render.width, scene->render.height};
+    if (current.load_frame(a.scene, extra, frame))
+      current.renderer = std::make_unique<Renderer>(*current.scene);
+    const RenderSettings& rs = current.scene->render;
+    return dist::WorkerFrame{current.renderer.get(), rs.width, rs.height};
   });
 }
 
@@ -506,10 +520,7 @@ int run(const RenderArgs& a) {
                  option, name, example);
       return kBadInput;
     }
-  // When the keys change only camera, image or render settings, the frames share the first
-  // one's geometry, lights and acceleration structure: only the view is read again.
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Renderer> renderer;
+  FrameScene current;
   JobPlace place;
   place.count = last - first + 1;
   for (int f = first; f <= last; ++f, ++place.index) {
@@ -521,18 +532,12 @@ int run(const RenderArgs& a) {
       continue;
     }
     const std::string file = fmt::sprintf(out, f);
-    if (scene && animates_view_only(*scene)) {
-      load_view_into(args.scene, extra, f, *scene);
-      if (!fits_in_memory(args, *scene, aovs, file)) return kBadInput;
-    } else {
-      renderer.reset();  // (it refers to the scene)
-      scene = std::make_unique<Scene>(load(args.scene, extra, f));
-      if (!fits_in_memory(args, *scene, aovs, file)) return kBadInput;
-      renderer = make_renderer(*scene, farm.get());
-    }
+    const bool fresh = current.load_frame(args.scene, extra, f);
+    if (!fits_in_memory(args, *current.scene, aovs, file)) return kBadInput;
+    if (fresh) current.renderer = make_renderer(*current.scene, farm.get());
     if (farm) farm->begin_frame(f);
     const int rc =
-        render_frame(args, *scene, *renderer, aovs, f, file,
+        render_frame(args, *current.scene, *current.renderer, aovs, f, file,
                      fmt::format("frame {} ({} of {}) ", f, f - first + 1, last - first + 1),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f), every,
                      a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f), farm.get(), place);

@@ -117,8 +117,9 @@ void HeadFarm::run(const std::function<std::optional<FarmTile>()>& next,
         more = false;
         break;
       }
-      send(int(w + 1), kWork, encode_work(*t));
-      out_[t->index] = {*t, mask_slice(t->range.active, t->image_width, t->rect)};
+      std::vector<uint8_t> mask = mask_slice(t->range.active, t->image_width, t->rect);
+      send(int(w + 1), kWork, encode_work(*t, mask));
+      out_[t->index] = {*t, std::move(mask)};
       --room_[w];
       ++out;
     }

@@ -73,7 +73,7 @@ std::vector<uint8_t> mask_slice(const std::vector<uint8_t>* active, int image_wi
   return slice;
 }
 
-std::vector<char> encode_work(const FarmTile& t) {
+std::vector<char> encode_work(const FarmTile& t, const std::vector<uint8_t>& mask) {
   WireWriter w;
   w.put(uint64_t(t.index));
   put_rect(w, t.rect);
@@ -85,7 +85,6 @@ std::vector<char> encode_work(const FarmTile& t) {
     w.put(t.range.begin);
     w.put(t.range.end);
     w.put(t.range.footprint);
-    const std::vector<uint8_t> mask = mask_slice(t.range.active, t.image_width, t.rect);
     w.put_array(mask.data(), mask.size());
     // Before the first pass every sum is zero: nothing to send.
     w.put(uint8_t(t.range.begin > 0));

@@ -92,7 +92,8 @@ struct WorkMessage {
 std::vector<uint8_t> mask_slice(const std::vector<uint8_t>* active, int image_width,
                                 const TileRect& rect);
 
-std::vector<char> encode_work(const FarmTile& t);
+// `mask`: the tile's part of the pass's mask (mask_slice), kept by the head to read the result.
+std::vector<char> encode_work(const FarmTile& t, const std::vector<uint8_t>& mask);
 WorkMessage decode_work(const char* data, size_t size);
 // The worker's buffer for a pass: zero, with the sampled pixels' sums so far in place.
 void unpack_work(WorkMessage& m, TileBuffer& tile);

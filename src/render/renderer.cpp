@@ -189,8 +189,8 @@ RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt
           FarmTile t;
           t.index = i;
           t.rect = grid.rect(i);
-          t.png = png && resolved;
-          t.exr = exr && resolved;
+          t.png = png;
+          t.exr = exr;
           return t;
         },
         [&](FarmResult& r) {

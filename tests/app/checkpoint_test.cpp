@@ -18,6 +18,7 @@
 #include <random>
 #include <thread>
 
+#include "app/budget_runs.h"
 #include "app/cli_util.h"
 #include "app/same_images.h"
 #include "io/image_io.h"
@@ -196,24 +197,20 @@ void budget_and_resume(const Case& c, const std::string& ext) {
   auto args = base;
   args.insert(args.end(), {"-o", out.string(), "--checkpoint", ck.string(), "--set",
                            fmt::format("render.time_limit={:.3f}", limit)});
-  test::CliResult r = test::run_cli(join(args), 300);
-  int runs = 1, limited = 0;
-  for (;; ++runs) {
-    ASSERT_EQ(r.code, 0) << r.out;
-    ASSERT_TRUE(fs::exists(out)) << "run " << runs << " wrote no image: " << r.out;
-    if (r.out.find("time limit of") == std::string::npos) break;
-    ++limited;
-    ASSERT_TRUE(fs::exists(ck)) << r.out;
-    EXPECT_NE(r.out.find("continue with: anamorph render --resume " + ck.string()),
-              std::string::npos)
-        << r.out;
-    if (runs == 1) std::printf("%s: first run: %s", c.name, r.out.c_str());
-    ASSERT_LT(runs, 200) << "the render does not get further";
-    r = test::run_cli("render --resume " + ck.string(), 300);
-  }
-  std::printf("%s: %d runs of %.3f s each at most\n", c.name, runs, limit);
+  test::BudgetRuns n;
+  test::resume_until_complete(
+      test::run_cli(join(args), 300), out, ck,
+      [&] { return test::run_cli("render --resume " + ck.string(), 300); }, &n,
+      [&](const test::CliResult& r, int run) {
+        EXPECT_NE(r.out.find("continue with: anamorph render --resume " + ck.string()),
+                  std::string::npos)
+            << r.out;
+        if (run == 1) std::printf("%s: first run: %s", c.name, r.out.c_str());
+      });
+  if (::testing::Test::HasFatalFailure()) return;
+  std::printf("%s: %d runs of %.3f s each at most\n", c.name, n.runs, limit);
   std::fflush(stdout);
-  EXPECT_GE(limited, 1) << "no run was stopped by the time limit: the test tested nothing";
+  EXPECT_GE(n.limited, 1) << "no run was stopped by the time limit: the test tested nothing";
   EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
   expect_same_outputs(ref, out, ext, !c.aovs.empty());
 }

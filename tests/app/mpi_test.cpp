@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/budget_runs.h"
 #include "app/cli_util.h"
 #include "app/same_images.h"
 #include "dist/wire.h"
@@ -186,21 +187,15 @@ TEST(Mpi, TimeLimitedPassRenderResumesToTheSameBits) {
       0.05, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 4);
   const std::string mpirun =
       "timeout -s KILL 600 " + std::string(kMpirun) + "3 " + test::binary().string() + " ";
-  test::CliResult r =
+  const test::CliResult r =
       test::run_shell(mpirun + join(base) + " -o " + out.string() + " --checkpoint " + ck.string() +
                       " --set render.time_limit=" + std::to_string(limit));
-  int runs = 1, limited = 0;
-  for (;; ++runs) {
-    ASSERT_EQ(r.code, 0) << r.out;
-    ASSERT_TRUE(fs::exists(out)) << "run " << runs << " wrote no image: " << r.out;
-    if (r.out.find("time limit of") == std::string::npos) break;
-    ++limited;
-    ASSERT_TRUE(fs::exists(ck)) << r.out;
-    ASSERT_LT(runs, 200) << "the render does not get further";
-    r = test::run_shell(mpirun + "render --resume " + ck.string());
-  }
-  std::printf("%d runs of %.3f s each at most\n", runs, limit);
-  EXPECT_GE(limited, 1) << "no run was stopped by the time limit: the test tested nothing";
+  test::BudgetRuns n;
+  test::resume_until_complete(
+      r, out, ck, [&] { return test::run_shell(mpirun + "render --resume " + ck.string()); }, &n);
+  if (HasFatalFailure()) return;
+  std::printf("%d runs of %.3f s each at most\n", n.runs, limit);
+  EXPECT_GE(n.limited, 1) << "no run was stopped by the time limit: the test tested nothing";
   EXPECT_FALSE(fs::exists(ck)) << "the checkpoint outlived its render";
   test::expect_same_exr(ref, out);
 }
@@ -307,7 +302,7 @@ TEST(MpiWire, PassTilesMoveOnlyTheirActivePixels) {
   active[3 * 10 + 6] = 1;  // (6, 3): tile pixel 5
   active[3 * 10 + 7] = 1;  // (7, 3): outside the tile
   FarmTile t{9, head.rect(), 10, false, {4, 8, 0.125, &active}, &head};
-  const std::vector<char> bytes = dist::encode_work(t);
+  const std::vector<char> bytes = dist::encode_work(t, dist::mask_slice(&active, 10, t.rect));
   dist::WorkMessage m = dist::decode_work(bytes.data(), bytes.size());
   EXPECT_EQ(m.index, 9u);
   EXPECT_FALSE(m.whole);
@@ -360,7 +355,7 @@ TEST(MpiWire, PassTilesMoveOnlyTheirActivePixels) {
 
   // The first pass sends no sums (they are all zero).
   t.range.begin = 0;
-  const std::vector<char> first = dist::encode_work(t);
+  const std::vector<char> first = dist::encode_work(t, dist::mask_slice(&active, 10, t.rect));
   EXPECT_TRUE(dist::decode_work(first.data(), first.size()).sums.empty());
 }
 
