@@ -28,8 +28,10 @@ def describe_param(spec: Mapping[str, Any]) -> str:
     facts = [spec["type"].lower()]
     if spec["unit"]:
         facts.append(spec["unit"])
-    lo, hi = spec["min"], spec["max"]
-    if lo != float("-inf") or hi != float("inf"):
+    lo, hi = spec["min"], spec["max"]  # None: unbounded
+    if lo is not None or hi is not None:
+        lo = float("-inf") if lo is None else lo
+        hi = float("inf") if hi is None else hi
         left = "(" if spec["min_exclusive"] else "["
         right = ")" if spec["max_exclusive"] else "]"
         facts.append(f"in {left}{lo:g}, {hi:g}{right}")

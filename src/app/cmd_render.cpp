@@ -151,16 +151,6 @@ OutputImage with_overlay(const OutputImage& img, const ImageLayer& coins) {
   return o;
 }
 
-std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame) {
-  std::map<std::string, std::string> metadata;
-  metadata["anamorph.version"] = ANAMORPH_VERSION;
-  metadata["anamorph.command"] = command_line();
-  metadata["anamorph.scene"] = scene.path;
-  metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
-  if (!scene.animated.empty()) metadata["anamorph.frame"] = fmt::format("{}", frame);
-  return metadata;
-}
-
 // The coin overlay needs the whole beauty image: that render keeps its frame in a film.
 int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer& renderer,
                         const std::vector<Aov>& aovs, double frame, const fs::path& out,

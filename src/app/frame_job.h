@@ -42,6 +42,9 @@ struct FrameResult {
   size_t resumed_tiles = 0;
 };
 
+// The files' metadata: version, command line, scene, camera, frame.
+std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame);
+
 // What a checkpoint of this frame must match: the scene as rendered, outputs and AOVs.
 CheckpointIdentity frame_identity(const FrameJob& job);
 

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   add_bench(app, run);
   add_compare(app, run);
   add_schema(app, run);
+  add_serve(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

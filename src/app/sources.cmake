@@ -10,4 +10,5 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_compare.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_formfactors.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_schema.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cmd_serve.cpp
 )

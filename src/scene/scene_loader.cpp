@@ -12,6 +12,7 @@
 #include "scene/camera_reader.h"
 #include "scene/load_common.h"
 #include "scene/loaders.h"
+#include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
 
 namespace anamorph {
@@ -95,15 +96,10 @@ void anchor_paths(toml::node& n, const fs::path& dir) {
 constexpr int kMaxIncludeDepth = 16;
 constexpr int kMaxIncludedFiles = 1000;
 
-toml::table load_with_includes(const fs::path& file, int depth, int* files_read) {
-  if (depth > kMaxIncludeDepth)
-    throw SceneError({file.string()}, "include", "includes nested too deeply (a cycle?)");
-  if (++*files_read > kMaxIncludedFiles)
-    throw SceneError({file.string()}, "include",
-                     fmt::format("more than {} files included in all (a cycle, or includes that "
-                                 "fan out level after level?)",
-                                 kMaxIncludedFiles));
-  toml::table t = parse_toml_file(file);
+toml::table load_with_includes(const fs::path& file, int depth, int* files_read);
+
+// `t`, read from `file`, with its `include`s merged in (their entries first).
+toml::table merge_includes(toml::table t, const fs::path& file, int depth, int* files_read) {
   const toml::node* inc = t.get("include");
   if (!inc) return t;
   std::vector<std::string> files;
@@ -131,60 +127,20 @@ toml::table load_with_includes(const fs::path& file, int depth, int* files_read)
   return merged;
 }
 
+toml::table load_with_includes(const fs::path& file, int depth, int* files_read) {
+  if (depth > kMaxIncludeDepth)
+    throw SceneError({file.string()}, "include", "includes nested too deeply (a cycle?)");
+  if (++*files_read > kMaxIncludedFiles)
+    throw SceneError({file.string()}, "include",
+                     fmt::format("more than {} files included in all (a cycle, or includes that "
+                                 "fan out level after level?)",
+                                 kMaxIncludedFiles));
+  return merge_includes(parse_toml_file(file), file, depth, files_read);
+}
+
 toml::table load_with_includes(const fs::path& file) {
   int files_read = 0;
   return load_with_includes(file, 0, &files_read);
-}
-
-toml::table parse_value_text(const std::string& text) {
-  try {
-    return toml::parse("v = " + text);
-  } catch (const toml::parse_error&) {
-    toml::table t;
-    t.insert("v", text);  // a bare word: a string
-    return t;
-  }
-}
-
-// Sets the value at a dotted path; numeric parts index arrays (arrays of tables and plain
-// arrays alike, e.g. camera.coin.0.strength or camera.org.points.1.2).
-void set_path(toml::table& root, const std::string& key, const toml::node& value,
-              const SourceLoc& where) {
-  std::vector<std::string> parts;
-  for (size_t s = 0, e; s <= key.size(); s = e + 1) {
-    e = key.find('.', s);
-    if (e == std::string::npos) e = key.size();
-    parts.push_back(key.substr(s, e - s));
-  }
-  auto index = [&](const toml::array& a, const std::string& p) {
-    char* end = nullptr;
-    const long idx = std::strtol(p.c_str(), &end, 10);
-    if (p.empty() || *end || idx < 0 || size_t(idx) >= a.size())
-      throw SceneError(
-          where, key,
-          fmt::format("'{}' is not a valid index (the array has {} entries)", p, a.size()));
-    return size_t(idx);
-  };
-  toml::node* cur = &root;
-  for (size_t i = 0; i + 1 < parts.size(); ++i) {
-    const std::string& p = parts[i];
-    if (toml::array* a = cur->as_array()) {
-      cur = a->get(index(*a, p));
-    } else if (toml::table* t = cur->as_table()) {
-      if (!t->contains(p)) t->insert(p, toml::table{});
-      cur = t->get(p);
-    } else {
-      throw SceneError(where, key, fmt::format("'{}' is not a table or an array", p));
-    }
-  }
-  if (toml::array* a = cur->as_array()) {
-    const size_t i = index(*a, parts.back());
-    a->replace(a->cbegin() + long(i), value);
-  } else if (toml::table* t = cur->as_table()) {
-    t->insert_or_assign(parts.back(), value);
-  } else {
-    throw SceneError(where, key, "can only set keys of tables or entries of arrays");
-  }
 }
 
 void apply_override(toml::table& root, const std::string& kv) {
@@ -686,8 +642,9 @@ Scene load_view(const fs::path& file, const std::vector<std::string>& overrides,
   return build_scene(load_with_includes(file), file, overrides, frame, &loaded);
 }
 
-Scene load_scene_from_string(const std::string& text, const fs::path& name,
-                             const std::vector<std::string>& overrides, double frame) {
+namespace {
+
+toml::table parse_scene_text(const std::string& text, const fs::path& name) {
   toml::table t;
   try {
     t = toml::parse(text, name.string());
@@ -695,7 +652,21 @@ Scene load_scene_from_string(const std::string& text, const fs::path& name,
     SourceLoc l{name.string(), int(e.source().begin.line), int(e.source().begin.column)};
     throw SceneError(l, "", fmt::format("TOML syntax error: {}", e.description()));
   }
-  return build_scene(std::move(t), name, overrides, frame);
+  int files_read = 1;
+  return merge_includes(std::move(t), name, 0, &files_read);
+}
+
+}  // namespace
+
+Scene load_scene_from_string(const std::string& text, const fs::path& name,
+                             const std::vector<std::string>& overrides, double frame) {
+  return build_scene(parse_scene_text(text, name), name, overrides, frame);
+}
+
+Scene load_view_from_string(const std::string& text, const fs::path& name,
+                            const std::vector<std::string>& overrides, double frame,
+                            const Scene& loaded) {
+  return build_scene(parse_scene_text(text, name), name, overrides, frame, &loaded);
 }
 
 }  // namespace anamorph

@@ -16,7 +16,7 @@ namespace anamorph {
 Scene load_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {},
                  double frame = 0);
 
-// Same, from TOML text (`name` is used in messages and to resolve relative paths).
+// Same, from TOML text (`name` is used in messages and to resolve relative paths and includes).
 Scene load_scene_from_string(const std::string& text, const std::filesystem::path& name,
                              const std::vector<std::string>& overrides = {}, double frame = 0);
 
@@ -31,5 +31,9 @@ bool animates_view_only(const Scene& s);
 // materials, lights or environment: its camera and settings go with `loaded`'s.
 Scene load_view(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                 double frame, const Scene& loaded);
+// Same, from TOML text (the editor: a document whose edits change only the view).
+Scene load_view_from_string(const std::string& text, const std::filesystem::path& name,
+                            const std::vector<std::string>& overrides, double frame,
+                            const Scene& loaded);
 
 }  // namespace anamorph

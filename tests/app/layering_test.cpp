@@ -1,5 +1,6 @@
 // The source folders form layers: a folder includes headers of its own and of the folders below
-// it, never of one above (math < params, model, io < camera < scene < accel < render < dist < app).
+// it, never of one above (math < params, model, io < camera < scene < accel < render < dist,
+// server < app).
 // A lower folder that reached up would drag the loaders into the camera, or the scene into image
 // I/O, and every user of the lower one would need the higher one too.
 #include <gtest/gtest.h>
@@ -28,7 +29,10 @@ const std::map<std::string, std::set<std::string>> kMayInclude = {
     {"accel", {"math", "params", "model", "io", "camera", "scene", "accel"}},
     {"render", {"math", "params", "model", "io", "camera", "scene", "accel", "render"}},
     {"dist", {"math", "params", "model", "io", "camera", "scene", "accel", "render", "dist"}},
-    {"app", {"math", "params", "model", "io", "camera", "scene", "accel", "render", "dist", "app"}},
+    {"server", {"math", "params", "model", "io", "camera", "scene", "accel", "render", "server"}},
+    {"app",
+     {"math", "params", "model", "io", "camera", "scene", "accel", "render", "dist", "server",
+      "app"}},
 };
 
 TEST(Layering, NoFolderIncludesAHigherOne) {

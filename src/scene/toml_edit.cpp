@@ -1,0 +1,98 @@
+#include "scene/toml_edit.h"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <vector>
+
+namespace anamorph {
+
+namespace {
+
+std::vector<std::string> split_key(const std::string& key) {
+  std::vector<std::string> parts;
+  for (size_t s = 0, e; s <= key.size(); s = e + 1) {
+    e = key.find('.', s);
+    if (e == std::string::npos) e = key.size();
+    parts.push_back(key.substr(s, e - s));
+  }
+  return parts;
+}
+
+// The entry an array index names, or -1.
+long array_index(const toml::array& a, const std::string& p) {
+  char* end = nullptr;
+  const long idx = std::strtol(p.c_str(), &end, 10);
+  return p.empty() || *end || idx < 0 || size_t(idx) >= a.size() ? -1 : idx;
+}
+
+}  // namespace
+
+toml::table parse_value_text(const std::string& text) {
+  try {
+    return toml::parse("v = " + text);
+  } catch (const toml::parse_error&) {
+    toml::table t;
+    t.insert("v", text);  // a bare word: a string
+    return t;
+  }
+}
+
+void set_path(toml::table& root, const std::string& key, const toml::node& value,
+              const SourceLoc& where) {
+  const std::vector<std::string> parts = split_key(key);
+  auto index = [&](const toml::array& a, const std::string& p) {
+    const long idx = array_index(a, p);
+    if (idx < 0)
+      throw SceneError(
+          where, key,
+          fmt::format("'{}' is not a valid index (the array has {} entries)", p, a.size()));
+    return size_t(idx);
+  };
+  toml::node* cur = &root;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    if (toml::array* a = cur->as_array()) {
+      cur = a->get(index(*a, p));
+    } else if (toml::table* t = cur->as_table()) {
+      if (!t->contains(p)) t->insert(p, toml::table{});
+      cur = t->get(p);
+    } else {
+      throw SceneError(where, key, fmt::format("'{}' is not a table or an array", p));
+    }
+  }
+  if (toml::array* a = cur->as_array()) {
+    const size_t i = index(*a, parts.back());
+    a->replace(a->cbegin() + long(i), value);
+  } else if (toml::table* t = cur->as_table()) {
+    t->insert_or_assign(parts.back(), value);
+  } else {
+    throw SceneError(where, key, "can only set keys of tables or entries of arrays");
+  }
+}
+
+bool remove_path(toml::table& root, const std::string& key) {
+  const std::vector<std::string> parts = split_key(key);
+  toml::node* cur = &root;
+  for (size_t i = 0; cur && i + 1 < parts.size(); ++i) {
+    if (toml::array* a = cur->as_array()) {
+      const long idx = array_index(*a, parts[i]);
+      cur = idx < 0 ? nullptr : a->get(size_t(idx));
+    } else if (toml::table* t = cur->as_table()) {
+      cur = t->get(parts[i]);
+    } else {
+      cur = nullptr;
+    }
+  }
+  if (!cur) return false;
+  if (toml::array* a = cur->as_array()) {
+    const long idx = array_index(*a, parts.back());
+    if (idx < 0) return false;
+    a->erase(a->cbegin() + idx);
+    return true;
+  }
+  if (toml::table* t = cur->as_table()) return t->erase(parts.back()) > 0;
+  return false;
+}
+
+}  // namespace anamorph

@@ -1,0 +1,26 @@
+// Editing a scene's TOML tree by dotted keys: what `--set` overrides, [[animate]] keys and the
+// editor's edits have in common. Numeric parts index arrays (arrays of tables and plain arrays
+// alike): camera.coin.0.strength, camera.org.points.1.2.
+#pragma once
+
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "scene/toml_reader.h"
+
+namespace anamorph {
+
+// A value as TOML text in a one-key table { v = ... }; text that is not TOML (a bare word) is
+// taken as a string.
+toml::table parse_value_text(const std::string& text);
+
+// Sets the value at `key`, creating tables on the way; an index must name an existing entry.
+// Errors are SceneErrors at `where` naming `key`.
+void set_path(toml::table& root, const std::string& key, const toml::node& value,
+              const SourceLoc& where);
+
+// Removes the key or array entry at `key`; false when there was none.
+bool remove_path(toml::table& root, const std::string& key);
+
+}  // namespace anamorph

@@ -1,0 +1,379 @@
+#include "server/editor.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "accel/accel.h"
+#include "io/image_io.h"
+#include "render/renderer.h"
+#include "scene/loaders.h"
+#include "scene/scene_loader.h"
+#include "scene/toml_edit.h"
+#include "scene/toml_reader.h"
+
+namespace anamorph::server {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+Json toml_to_json(const toml::table& t) {
+  std::ostringstream os;
+  os << toml::json_formatter(t);
+  return Json::parse(os.str());
+}
+
+EditError bad(std::string message, std::string key = {}) {
+  return {400, std::move(message), std::move(key)};
+}
+
+// `p` is `folder` or inside it (both canonical, or as near as the file system allows).
+bool inside(const fs::path& p, const fs::path& folder) {
+  const fs::path rel = p.lexically_relative(folder);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
+// Every file a scene tree names (`include` and each `file` value), as written.
+void files_named(const toml::node& n, std::string_view key, std::vector<std::string>* out) {
+  if (const toml::table* t = n.as_table()) {
+    for (const auto& [k, v] : *t) files_named(v, k.str(), out);
+  } else if (const toml::array* a = n.as_array()) {
+    for (const auto& e : *a) files_named(e, key, out);
+  } else if (n.is_string() && (key == "file" || key == "include")) {
+    out->push_back(*n.value<std::string>());
+  }
+}
+
+fs::path private_folder() {
+  std::random_device rd;
+  const fs::path p = fs::temp_directory_path() /
+                     ("anamorph-serve-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
+  fs::create_directories(p);
+  return p;
+}
+
+}  // namespace
+
+struct Editor::Render {
+  fs::path folder = private_folder();
+  std::thread thread;
+  mutable std::mutex mu;
+  std::string state = "idle";  // idle, running, done, failed
+  double fraction = 0, seconds = 0;
+  std::string error;
+  int64_t version = 0;
+  bool png = false, exr = false;
+  ~Render() {
+    if (thread.joinable()) thread.join();
+    std::error_code ec;
+    fs::remove_all(folder, ec);
+  }
+};
+
+Editor::Editor(fs::path scene_file, FinalRenderer final_renderer)
+    : folder_(fs::weakly_canonical(fs::absolute(scene_file)).parent_path()),
+      doc_(scene_file),
+      final_renderer_(std::move(final_renderer)),
+      render_(std::make_unique<Render>()) {
+  std::vector<std::string> warnings;
+  std::unique_ptr<Scene> s = load(doc_.table(), false, &warnings);
+  warnings_ = warnings;
+  preview_.show(doc_.version(), std::move(s), false);
+}
+
+Editor::~Editor() = default;
+
+std::unique_ptr<Scene> Editor::load(const toml::table& t, bool view_only,
+                                    std::vector<std::string>* warnings) {
+  const std::string text = to_toml_text(t);
+  std::unique_ptr<Scene> s;
+  if (view_only && models_)
+    s = std::make_unique<Scene>(load_view_from_string(text, doc_.file(), {}, frame_, *models_));
+  else
+    s = std::make_unique<Scene>(load_scene_from_string(text, doc_.file(), {}, frame_));
+  if (!view_only || !models_) {
+    models_ = std::make_unique<Scene>();
+    models_->model_cameras = s->model_cameras;
+  }
+  *warnings = s->warnings;
+  return s;
+}
+
+std::optional<std::string> Editor::check_files(const toml::table& t) const {
+  std::vector<std::string> before, after;
+  files_named(doc_.table(), "", &before);
+  files_named(t, "", &after);
+  for (const std::string& f : after) {
+    if (std::find(before.begin(), before.end(), f) != before.end()) continue;
+    const fs::path p = fs::weakly_canonical(fs::path(f).is_absolute() ? fs::path(f) : folder_ / f);
+    if (!inside(p, folder_))
+      return "'" + f + "' is outside the scene's folder (" + folder_.string() +
+             "): the editor reads files only there";
+  }
+  return std::nullopt;
+}
+
+// Loads `next`, and when it loads, lets `commit` make it the document and shows it.
+EditOutcome Editor::show_new(const toml::table& next, const std::function<void()>& commit) {
+  EditOutcome out;
+  const bool view_only = models_ && differs_only_in_view(doc_.table(), next);
+  std::unique_ptr<Scene> s;
+  try {
+    s = load(next, view_only, &out.warnings);
+  } catch (const SceneError& e) {
+    out.error = bad(e.message, e.key);
+    return out;
+  } catch (const ParamError& e) {
+    out.error = bad(e.what(), e.key);
+    return out;
+  } catch (const std::exception& e) {  // a model or image that cannot be read, say
+    out.error = bad(e.what());
+    return out;
+  }
+  commit();
+  warnings_ = out.warnings;
+  out.version = doc_.version();
+  preview_.show(doc_.version(), std::move(s), view_only);
+  return out;
+}
+
+EditOutcome Editor::edit(std::span<const KeyEdit> edits, int64_t base_version) {
+  std::lock_guard lock(mu_);
+  if (base_version != doc_.version()) {
+    EditOutcome out;
+    out.error = EditError{409,
+                          "the scene changed (version " + std::to_string(doc_.version()) +
+                              ", the edit was made on " + std::to_string(base_version) +
+                              "): reload it and edit again",
+                          ""};
+    out.version = doc_.version();
+    return out;
+  }
+  toml::table next;
+  try {
+    next = doc_.edited(edits);
+  } catch (const SceneError& e) {
+    return {bad(e.message, e.key), doc_.version(), {}};
+  }
+  if (auto why = check_files(next)) return {bad(*why), doc_.version(), {}};
+  return show_new(next, [&] { doc_.commit(std::move(next)); });
+}
+
+EditOutcome Editor::undo() {
+  std::lock_guard lock(mu_);
+  if (!doc_.undo()) return {bad("nothing to undo"), doc_.version(), {}};
+  const toml::table then = doc_.table();
+  doc_.redo();  // back, so that show_new compares against what is shown
+  return show_new(then, [&] { doc_.undo(); });
+}
+
+EditOutcome Editor::redo() {
+  std::lock_guard lock(mu_);
+  if (!doc_.redo()) return {bad("nothing to redo"), doc_.version(), {}};
+  const toml::table then = doc_.table();
+  doc_.undo();
+  return show_new(then, [&] { doc_.redo(); });
+}
+
+EditOutcome Editor::set_frame(double frame) {
+  std::lock_guard lock(mu_);
+  const double before = frame_;
+  frame_ = frame;
+  // Only the view moves when every animated key is a view key; load() decides from the tree, so
+  // the whole scene is loaded again, and the preview keeps its geometry when nothing else moved.
+  EditOutcome out = show_new(doc_.table(), [&] { doc_.touch(); });
+  if (out.error) frame_ = before;
+  return out;
+}
+
+Json Editor::state() const {
+  std::lock_guard lock(mu_);
+  Json w = Json::array();
+  for (const std::string& s : warnings_) w.push_back(s);
+  return {{"version", doc_.version()},
+          {"file", doc_.file().filename().string()},
+          {"folder", folder_.string()},
+          {"text", doc_.text()},
+          {"document", toml_to_json(doc_.table())},
+          {"can_undo", doc_.can_undo()},
+          {"can_redo", doc_.can_redo()},
+          {"frame", frame_},
+          {"warnings", w}};
+}
+
+std::optional<PickResult> Editor::pick(Vec2 uv, int64_t version) {
+  PickResult r;
+  const bool ok = preview_.with_state(version, 10, [&](const Scene& s, const Renderer& renderer) {
+    CameraSample cs;
+    cs.uv = uv;
+    const std::optional<CameraRay> ray = s.camera->generate(cs);
+    if (!ray) return;
+    r.ray = true;
+    Hit h;
+    if (!renderer.accel().intersect(Ray{ray->org, ray->dir}, &h)) return;
+    r.hit = true;
+    r.position = h.p;
+    r.normal = h.ns;
+    r.distance = h.t;
+    r.object = h.object_id;
+  });
+  if (!ok) return std::nullopt;
+  return r;
+}
+
+std::optional<std::vector<Vec2>> Editor::project(const Vec3& p, int64_t version) {
+  std::vector<Vec2> uvs;
+  const bool ok = preview_.with_state(
+      version, 10, [&](const Scene& s, const Renderer&) { uvs = s.camera->project(p); });
+  if (!ok) return std::nullopt;
+  return uvs;
+}
+
+std::optional<std::vector<CoinSite>> Editor::coins(int64_t version) {
+  std::vector<CoinSite> sites;
+  const bool ok = preview_.with_state(version, 10, [&](const Scene& s, const Renderer&) {
+    const auto all = coin_sites(*s.camera);
+    sites.assign(all.begin(), all.end());
+  });
+  if (!ok) return std::nullopt;
+  return sites;
+}
+
+namespace {
+
+// The footprint of the beam one unit along each ray, at w x h pixel centers (NaN: no ray).
+std::vector<double> footprints(const Camera& cam, int w, int h) {
+  std::vector<double> a(size_t(w) * h, std::nan(""));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      CameraSample cs;
+      cs.uv = {(x + 0.5) / w, (y + 0.5) / h};
+      const std::optional<CameraRay> r = cam.generate(cs);
+      if (r) a[size_t(y) * w + x] = length(cross(r->dorg_du + r->ddir_du, r->dorg_dv + r->ddir_dv));
+    }
+  return a;
+}
+
+}  // namespace
+
+std::optional<std::vector<float>> Editor::magnification(int w, int h, int64_t version) {
+  std::unique_ptr<Scene> plain;  // the camera without its coins
+  {
+    std::lock_guard lock(mu_);
+    toml::table t = doc_.table();
+    if (remove_path(t, "camera.coin") && models_)
+      plain = std::make_unique<Scene>(
+          load_view_from_string(to_toml_text(t), doc_.file(), {}, frame_, *models_));
+  }
+  std::vector<double> a, ref;
+  const bool ok = preview_.with_state(
+      version, 10, [&](const Scene& s, const Renderer&) { a = footprints(*s.camera, w, h); });
+  if (!ok) return std::nullopt;
+  if (plain) {
+    ref = footprints(*plain->camera, w, h);
+  } else {
+    double sum = 0;
+    size_t n = 0;
+    for (double x : a)
+      if (std::isfinite(x) && x > 0) sum += x, ++n;
+    ref.assign(a.size(), n ? sum / n : 1);
+  }
+  std::vector<float> m(a.size());
+  for (size_t i = 0; i < a.size(); ++i)
+    m[i] = std::isfinite(a[i]) && a[i] > 0 && std::isfinite(ref[i])
+               ? float(std::sqrt(ref[i] / a[i]))
+               : std::nanf("");
+  return m;
+}
+
+std::optional<std::string> Editor::save(const std::string& name) {
+  std::lock_guard lock(mu_);
+  fs::path target = doc_.file();
+  if (!name.empty()) {
+    if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos ||
+        name == "." || name == "..")
+      return "save takes a file name in the scene's folder, without a path: '" + name + "'";
+    if (fs::path(name).extension() != ".toml") return "a scene file's name ends in .toml";
+    target = folder_ / name;
+  }
+  if (fs::is_symlink(target))
+    return "'" + target.filename().string() + "' is a symbolic link: the editor writes only " +
+           "plain files in the scene's folder";
+  const std::string text = doc_.text();
+  write_file_atomic(target, text.data(), text.size());
+  return std::nullopt;
+}
+
+std::optional<std::string> Editor::start_render(bool png, bool exr) {
+  if (!png && !exr) return "ask for a PNG, an EXR or both";
+  Render& r = *render_;
+  {
+    std::lock_guard rl(r.mu);
+    if (r.state == "running") return "a render is running";
+  }
+  if (r.thread.joinable()) r.thread.join();
+  FinalRenderJob job;
+  {
+    std::lock_guard lock(mu_);
+    job.text = doc_.text();
+    job.scene_file = doc_.file();
+    job.frame = frame_;
+    std::lock_guard rl(r.mu);
+    r.version = doc_.version();
+  }
+  const std::string stem = doc_.file().stem().string();
+  job.png = png ? r.folder / (stem + ".png") : fs::path();
+  job.exr = exr ? r.folder / (stem + ".exr") : fs::path();
+  for (const fs::path& p : {job.png, job.exr})
+    if (!p.empty()) fs::remove(p);
+  {
+    std::lock_guard rl(r.mu);
+    r.state = "running";
+    r.fraction = r.seconds = 0;
+    r.error.clear();
+    r.png = png;
+    r.exr = exr;
+  }
+  job.progress = [&r](double fraction, double seconds) {
+    std::lock_guard rl(r.mu);
+    r.fraction = fraction;
+    r.seconds = seconds;
+  };
+  r.thread = std::thread([this, job = std::move(job), &r] {
+    std::string error;
+    try {
+      final_renderer_(job);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    std::lock_guard rl(r.mu);
+    r.state = error.empty() ? "done" : "failed";
+    r.error = error;
+    if (error.empty()) r.fraction = 1;
+  });
+  return std::nullopt;
+}
+
+Json Editor::render_status() const {
+  const Render& r = *render_;
+  std::lock_guard rl(r.mu);
+  const double eta =
+      r.fraction > 0.01 && r.state == "running" ? r.seconds * (1 - r.fraction) / r.fraction : 0;
+  return {{"state", r.state},     {"fraction", r.fraction}, {"seconds", r.seconds}, {"eta", eta},
+          {"version", r.version}, {"error", r.error},       {"png", r.png},         {"exr", r.exr}};
+}
+
+std::optional<fs::path> Editor::render_result(const std::string& ext) const {
+  const Render& r = *render_;
+  std::lock_guard rl(r.mu);
+  if (r.state != "done" || (ext == "png" && !r.png) || (ext == "exr" && !r.exr) ||
+      (ext != "png" && ext != "exr"))
+    return std::nullopt;
+  return r.folder / (doc_.file().stem().string() + "." + ext);
+}
+
+}  // namespace anamorph::server

@@ -1,0 +1,115 @@
+// The editor's state behind the API: the document, the scene loaded from it (validated on every
+// edit, with the scene reader's own messages), the live preview, picking through the camera,
+// saving, and the final render.
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "camera/coins.h"
+#include "math/vec.h"
+#include "params/param_schema.h"
+#include "server/document.h"
+#include "server/preview.h"
+
+namespace anamorph::server {
+
+// Why an edit was refused: 400 (a bad key or value; `key` names it) or 409 (made against an older
+// version than the document's).
+struct EditError {
+  int status = 400;
+  std::string message;
+  std::string key;
+};
+
+struct EditOutcome {
+  std::optional<EditError> error;
+  int64_t version = 0;
+  std::vector<std::string> warnings;
+};
+
+// What the final render needs, given to the renderer the server was started with (the same code
+// as `anamorph render`): the document's text and where to write.
+struct FinalRenderJob {
+  std::string text;
+  std::filesystem::path scene_file;  // where relative paths resolve
+  double frame = 0;
+  std::filesystem::path png, exr;
+  std::function<void(double fraction, double seconds)> progress;
+};
+using FinalRenderer = std::function<void(const FinalRenderJob&)>;  // throws on failure
+
+struct PickResult {
+  bool ray = false, hit = false;
+  Vec3 position, normal;
+  double distance = 0;
+  uint32_t object = 0;
+};
+
+class Editor {
+ public:
+  // Loads the scene (throws SceneError / LoadError as `anamorph render` would).
+  Editor(std::filesystem::path scene_file, FinalRenderer final_renderer);
+  ~Editor();
+
+  const std::filesystem::path& scene_file() const { return doc_.file(); }
+  const std::filesystem::path& folder() const { return folder_; }
+  Preview& preview() { return preview_; }
+
+  // The document's state: version, text, tree as JSON, undo/redo, frame, warnings.
+  Json state() const;
+  EditOutcome edit(std::span<const KeyEdit> edits, int64_t base_version);
+  EditOutcome undo();
+  EditOutcome redo();
+  // The animation frame shown (the scene's [[animate]] keys evaluated there).
+  EditOutcome set_frame(double frame);
+
+  // The surface under image position (u, v) of the document version `version` (or newer).
+  std::optional<PickResult> pick(Vec2 uv, int64_t version);
+  // Every image position whose ray passes through `p`, with the camera shown.
+  std::optional<std::vector<Vec2>> project(const Vec3& p, int64_t version);
+
+  // The coins as the camera shown sees them: (uc, vc), radius, strength, ... per site.
+  std::optional<std::vector<CoinSite>> coins(int64_t version);
+  // How much the camera shown magnifies each of w x h image positions (pixel centers), row by
+  // row: the linear scale sqrt(A_ref / A) of the ray footprint A = |dP/du x dP/dv| (P = org + dir:
+  // the beam one unit along the ray) against the same camera without its coins, or, without
+  // coins, against the image's mean footprint. > 1 magnifies; NaN where there is no ray.
+  std::optional<std::vector<float>> magnification(int w, int h, int64_t version);
+
+  // Writes the document to `name` (relative to the scene's folder; "" = the scene file itself).
+  // Errors (a name outside the folder, through a symlink, not .toml) are returned.
+  std::optional<std::string> save(const std::string& name);
+
+  // The final render of the current document into a private folder; status as JSON.
+  std::optional<std::string> start_render(bool png, bool exr);
+  Json render_status() const;
+  std::optional<std::filesystem::path> render_result(const std::string& ext) const;
+
+ private:
+  struct Render;
+  std::unique_ptr<Scene> load(const toml::table& t, bool view_only,
+                              std::vector<std::string>* warnings);
+  EditOutcome show_new(const toml::table& next, const std::function<void()>& commit);
+  std::optional<std::string> check_files(const toml::table& t) const;
+
+  std::filesystem::path folder_;
+  mutable std::mutex mu_;  // doc_, frame_, model_cameras_, the render's start
+  Document doc_;
+  double frame_ = 0;
+  std::unique_ptr<Scene> models_;  // the model cameras of the geometry shown (load_view needs them)
+  std::vector<std::string> warnings_;
+  Preview preview_;
+  FinalRenderer final_renderer_;
+  std::unique_ptr<Render> render_;
+};
+
+}  // namespace anamorph::server

@@ -1,0 +1,140 @@
+// The editor page: wires the document, the live preview, the overlays, the panels and the
+// timeline together. See docs/editor.md.
+import { get, post } from './api.js';
+import { Doc } from './document.js';
+import { Preview } from './preview.js';
+import { Overlay } from './overlay.js';
+import { Panels } from './panels.js';
+import { Navigator } from './navigate.js';
+import { Timeline } from './timeline.js';
+
+const $ = (id) => document.getElementById(id);
+
+function toast(message, bad = false) {
+  const t = $('toast');
+  t.textContent = message;
+  t.className = bad ? 'bad' : '';
+  t.hidden = false;
+  clearTimeout(toast.timer);
+  toast.timer = setTimeout(() => (t.hidden = true), bad ? 7000 : 3500);
+}
+
+async function main() {
+  const decl = await get('/api/declarations');
+  const doc = new Doc();
+  await doc.reload();
+  const preview = new Preview($('image'), doc);
+  const nav = new Navigator(doc, decl);
+  let selectedCoin = -1;
+  const waiting = [];  // [version, resolve] of frameShown()
+  const timeline = new Timeline(doc, { time: $('time'), end: $('time-end'), play: $('play'), label: $('time-label'), keys: $('keys') },
+                                { toast, frameShown: (v) => new Promise((r) => waiting.push([v, r])) });
+  const hooks = {
+    keyframe: (k, v) => timeline.keyframe(k, v),
+    animated: (k) => timeline.animated(k),
+    animateFromZero: (k, v) => timeline.animateFromZero(k, v),
+    selectCoin: (i) => { selectedCoin = i; overlay.selected = i; overlay.draw(); },
+    selectedCoin: () => selectedCoin,
+    problem: (m) => toast(m, true),
+    navigate: (e, c) => nav.start(e, c),
+    dolly: (e) => nav.dolly(e),
+  };
+  const overlay = new Overlay($('overlay'), $('legend'), doc, preview, hooks);
+  const panels = new Panels($('panels'), decl, doc, hooks);
+  window.anamorphEditor = { doc, preview, overlay, panels, timeline };
+
+  const refresh = () => {
+    $('scene-name').textContent = `${doc.state.file} · v${doc.version}`;
+    $('undo').disabled = !doc.state.can_undo;
+    $('redo').disabled = !doc.state.can_redo;
+    panels.render();
+    timeline.update();
+  };
+  doc.addEventListener('change', refresh);
+  doc.addEventListener('problem', (e) => {
+    if (!panels.showError(e.detail.key, e.detail.message)) toast(e.detail.message, true);
+    else toast(`${e.detail.key}: ${e.detail.message}`, true);
+  });
+  doc.addEventListener('edited', (e) => { for (const w of e.detail.warnings || []) toast('⚠ ' + w); });
+  refresh();
+
+  // Frames: status line, overlays, and another tab's edits (a newer version) reloaded.
+  let overlayVersion = 0;
+  const recent = [];
+  preview.addEventListener('frame', (e) => {
+    const f = e.detail;
+    overlay.onFrame(f);
+    if (f.version > doc.version && !doc.inflight) doc.reload();
+    if (f.version !== overlayVersion) { overlayVersion = f.version; overlay.refresh(f.version); }
+    const now = performance.now();
+    recent.push(now);
+    while (recent.length && recent[0] < now - 1000) recent.shift();
+    $('st-frame').textContent = f.coarse ? `${f.width}×${f.height} first look` :
+      `${f.width}×${f.height} · pass ${f.pass} of ${f.passes}`;
+    $('st-speed').textContent = `${recent.length} frames/s · ${(f.seconds * 1000).toFixed(0)} ms since the change`;
+    for (let i = waiting.length - 1; i >= 0; --i)
+      if (f.version >= waiting[i][0]) { waiting[i][1](); waiting.splice(i, 1); }
+  });
+  preview.addEventListener('lost', () => { $('st-msg').textContent = 'server not reachable…'; $('st-msg').className = 'bad'; });
+  preview.run();
+
+  // The bar.
+  $('undo').onclick = () => doc.action('/api/undo');
+  $('redo').onclick = () => doc.action('/api/redo');
+  for (const b of document.querySelectorAll('#tools button'))
+    b.onclick = () => {
+      for (const o of document.querySelectorAll('#tools button')) o.classList.toggle('on', o === b);
+      overlay.setTool(b.dataset.tool);
+    };
+  $('ov-coins').onchange = (e) => { overlay.show.coins = e.target.checked; overlay.draw(); };
+  $('ov-rays').onchange = (e) => { overlay.show.rays = e.target.checked; overlay.draw(); };
+  $('ov-mag').onchange = async (e) => {
+    overlay.show.mag = e.target.checked;
+    if (overlay.show.mag) await overlay.fetchMagnification(doc.version);
+    overlay.draw();
+  };
+  $('preview-integrator').onchange = (e) => post('/api/preview', { integrator: e.target.value });
+  $('save').onclick = async () => {
+    const r = await doc.action('/api/save', {});
+    if (r) toast(`Saved ${r.saved}`);
+  };
+  document.addEventListener('keydown', (e) => {
+    if (!(e.ctrlKey || e.metaKey) || e.target.tagName === 'TEXTAREA' || e.target.tagName === 'INPUT') return;
+    if (e.key === 'z' || e.key === 'Z') { e.preventDefault(); doc.action(e.shiftKey ? '/api/redo' : '/api/undo'); }
+    if (e.key === 's') { e.preventDefault(); $('save').click(); }
+  });
+  renderDialog();
+}
+
+// The final render: progress and ETA while it runs, the files to download when done.
+function renderDialog() {
+  const d = $('render-dialog');
+  $('render').onclick = () => d.showModal();
+  $('r-close').onclick = () => d.close();
+  $('r-start').onclick = async () => {
+    try {
+      await post('/api/render', { png: $('r-png').checked, exr: $('r-exr').checked });
+    } catch (e) { $('r-status').textContent = e.message; return; }
+    $('r-links').textContent = '';
+    const poll = async () => {
+      const s = await get('/api/render');
+      $('r-bar').style.width = `${(s.fraction * 100).toFixed(1)}%`;
+      if (s.state === 'running') {
+        $('r-status').textContent = `${(s.fraction * 100).toFixed(1)} % · ${s.seconds.toFixed(1)} s` +
+          (s.eta > 0 ? ` · about ${s.eta.toFixed(0)} s to go` : '');
+        setTimeout(poll, 300);
+      } else if (s.state === 'done') {
+        $('r-status').textContent = `done in ${s.seconds.toFixed(1)} s (scene version ${s.version})`;
+        const links = [];
+        if (s.png) links.push('<a href="/api/render/result.png" download>PNG</a>');
+        if (s.exr) links.push('<a href="/api/render/result.exr" download>EXR</a>');
+        $('r-links').innerHTML = 'Download: ' + links.join(' · ');
+      } else {
+        $('r-status').textContent = `failed: ${s.error}`;
+      }
+    };
+    poll();
+  };
+}
+
+main().catch((e) => toast(`The editor could not start: ${e.message}`, true));
