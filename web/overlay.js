@@ -191,6 +191,7 @@ export class Overlay {
     const [u, v] = this.uv(e);
     const t = e.timeStamp;
     const p = await this.pick(u, v);
+    this.lastPick = { u, v, result: p };  // (what the browser tests compare)
     if (!p) return;
     if (!p.hit) { this.hooks.problem(p.ray ? 'No surface under the cursor: a coin needs a point of the scene.' : 'The camera has no ray there.'); return; }
     const coins = [...(this.doc.value('camera.coin') || [])];

@@ -105,7 +105,7 @@ export class Panels {
 
   // A preset keeps the keys the new one declares too (look_from, fov, ...) and drops the others.
   switchPreset(name, t) {
-    const keep = new Set([...this.decl.presets[name].params.map((s) => s.name),
+    const keep = new Set(['preset', 'coin', ...this.decl.presets[name].params.map((s) => s.name),
                           ...this.decl.camera.map((s) => s.name)]);
     const edits = [{ key: 'camera.preset', value: name }];
     for (const k of Object.keys(this.doc.value('camera') || {}))
@@ -117,7 +117,8 @@ export class Panels {
     const cam = this.doc.value('camera') || {};
     const common = new Set(this.decl.camera.map((s) => s.name));
     const edits = [];
-    for (const k of Object.keys(cam)) if (!common.has(k) || k === 'preset' || k === 'gltf_camera') edits.push({ key: `camera.${k}`, value: null });
+    for (const k of Object.keys(cam))
+      if (k !== 'coin' && (!common.has(k) || k === 'gltf_camera')) edits.push({ key: `camera.${k}`, value: null });
     if (mode === 'compose') {
       // The paper's first example: rays along the outward normals of a sphere around the eye.
       const eye = cam.look_from || [0, 0, 0];

@@ -338,7 +338,9 @@ HttpResponse Api::frame(const HttpRequest& q, const std::function<bool()>& clien
   double timeout = 20;
   try {
     if (q.query.count("after")) after = std::stoull(q.query.at("after"));
-    if (q.query.count("timeout")) timeout = std::clamp(std::stod(q.query.at("timeout")), 0.0, 60.0);
+    if (q.query.count("timeout")) timeout = std::stod(q.query.at("timeout"));
+    if (std::isnan(timeout)) throw std::invalid_argument("nan");  // (would never time out)
+    timeout = std::clamp(timeout, 0.0, 60.0);
   } catch (const std::exception&) {
     throw std::invalid_argument("?after= and ?timeout= take numbers");
   }

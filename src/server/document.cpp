@@ -34,8 +34,10 @@ std::string tidy_floats(const std::string& text) {
     const bool starts_number =
         std::isdigit(static_cast<unsigned char>(c)) ||
         (c == '-' && i + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[i + 1])));
-    const bool after_word = i > 0 && (std::isalnum(static_cast<unsigned char>(text[i - 1])) ||
-                                      text[i - 1] == '_' || text[i - 1] == '.');
+    // (after ':', the seconds of a time: 07:32:00.5 is no float)
+    const bool after_word =
+        i > 0 && (std::isalnum(static_cast<unsigned char>(text[i - 1])) || text[i - 1] == '_' ||
+                  text[i - 1] == '.' || text[i - 1] == ':');
     if (!starts_number || after_word) {
       out.push_back(c);
       ++i;
@@ -110,6 +112,23 @@ Document::Document(std::filesystem::path file) : file_(std::move(file)) {
 
 std::string Document::text() const { return tidy_floats(to_toml_text(table_)); }
 
+namespace {
+
+// Arrays of tables are written as [[key]] blocks, as scene files write coins, objects and
+// keyframes, not as one long line of inline tables (an edit sets them as inline ones).
+void block_arrays_of_tables(toml::node& n) {
+  if (toml::table* t = n.as_table()) {
+    for (auto&& [k, v] : *t) block_arrays_of_tables(v);
+  } else if (toml::array* a = n.as_array(); a && !a->empty() && a->is_array_of_tables()) {
+    for (auto& e : *a) {
+      e.as_table()->is_inline(false);
+      block_arrays_of_tables(e);
+    }
+  }
+}
+
+}  // namespace
+
 toml::table Document::edited(std::span<const KeyEdit> edits) const {
   toml::table t = table_;
   for (const KeyEdit& e : edits) {
@@ -119,6 +138,7 @@ toml::table Document::edited(std::span<const KeyEdit> edits) const {
     else
       remove_path(t, e.key);
   }
+  block_arrays_of_tables(t);
   return t;
 }
 

@@ -37,6 +37,9 @@ class Document {
   void touch() { ++version_; }
   bool can_undo() const { return !undo_.empty(); }
   bool can_redo() const { return !redo_.empty(); }
+  // The tree undo() / redo() would make the document (null when there is none), unchanged.
+  const toml::table* undo_target() const { return undo_.empty() ? nullptr : &undo_.back(); }
+  const toml::table* redo_target() const { return redo_.empty() ? nullptr : &redo_.back(); }
   bool undo();
   bool redo();
 

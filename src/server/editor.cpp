@@ -163,19 +163,18 @@ EditOutcome Editor::edit(std::span<const KeyEdit> edits, int64_t base_version) {
   return show_new(next, [&] { doc_.commit(std::move(next)); });
 }
 
+// (the document changes, and its version counts one, only when the state undone to loads)
 EditOutcome Editor::undo() {
   std::lock_guard lock(mu_);
-  if (!doc_.undo()) return {bad("nothing to undo"), doc_.version(), {}};
-  const toml::table then = doc_.table();
-  doc_.redo();  // back, so that show_new compares against what is shown
+  if (!doc_.can_undo()) return {bad("nothing to undo"), doc_.version(), {}};
+  const toml::table then = *doc_.undo_target();
   return show_new(then, [&] { doc_.undo(); });
 }
 
 EditOutcome Editor::redo() {
   std::lock_guard lock(mu_);
-  if (!doc_.redo()) return {bad("nothing to redo"), doc_.version(), {}};
-  const toml::table then = doc_.table();
-  doc_.undo();
+  if (!doc_.can_redo()) return {bad("nothing to redo"), doc_.version(), {}};
+  const toml::table then = *doc_.redo_target();
   return show_new(then, [&] { doc_.redo(); });
 }
 
@@ -294,8 +293,9 @@ std::optional<std::string> Editor::save(const std::string& name) {
   std::lock_guard lock(mu_);
   fs::path target = doc_.file();
   if (!name.empty()) {
-    if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos ||
-        name == "." || name == "..")
+    // (a NUL would end the name the system sees: "model.obj\0.toml" writes model.obj)
+    if (name.find_first_of(std::string("/\\\0", 3)) != std::string::npos || name == "." ||
+        name == "..")
       return "save takes a file name in the scene's folder, without a path: '" + name + "'";
     if (fs::path(name).extension() != ".toml") return "a scene file's name ends in .toml";
     target = folder_ / name;
