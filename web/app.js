@@ -33,7 +33,7 @@ async function main() {
     keyframe: (k, v) => timeline.keyframe(k, v),
     animated: (k) => timeline.animated(k),
     animateFromZero: (k, v) => timeline.animateFromZero(k, v),
-    selectCoin: (i) => { selectedCoin = i; overlay.selected = i; overlay.draw(); },
+    selectCoin: (i) => { selectedCoin = i; overlay.selected = i; overlay.draw(); panels.render(); },
     selectedCoin: () => selectedCoin,
     problem: (m) => toast(m, true),
     navigate: (e, c) => nav.start(e, c),

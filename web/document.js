@@ -17,7 +17,12 @@ export class Doc extends EventTarget {
   get tree() { return this.state ? this.state.document : {}; }
 
   async reload() {
-    this.state = await get('/api/state');
+    this.adopt(await get('/api/state'));
+  }
+
+  adopt(state) {
+    if (this.state && state.version < this.state.version) return;  // (an older answer)
+    this.state = state;
     this.dispatchEvent(new Event('change'));
   }
 
@@ -47,7 +52,7 @@ export class Doc extends EventTarget {
     try {
       const r = await post('/api/edit', { version: this.version, edits });
       this.inputTimes.push([input, r.version]);
-      await this.reload();
+      this.adopt(r.state);
       this.dispatchEvent(new CustomEvent('edited', { detail: { edits, warnings: r.warnings } }));
     } catch (e) {
       if (e instanceof ApiError && e.status === 409) {
@@ -67,7 +72,8 @@ export class Doc extends EventTarget {
     try {
       const r = await post(path, body);
       if (r.version !== undefined) this.inputTimes.push([performance.now(), r.version]);
-      await this.reload();
+      if (r.state) this.adopt(r.state);
+      else await this.reload();
       return r;
     } catch (e) {
       this.dispatchEvent(new CustomEvent('problem', { detail: { message: e.message, key: e.key } }));

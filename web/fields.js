@@ -39,9 +39,10 @@ function numberControl(spec, value, send) {
   if (spec.min !== null) box.min = spec.min;
   if (spec.max !== null) box.max = spec.max;
   const parts = [];
+  let slider = null;
   const bounded = spec.min !== null && spec.max !== null && spec.max - spec.min <= 1e5;
   if (bounded) {
-    const slider = el('input', { type: 'range', min: spec.min, max: spec.max,
+    slider = el('input', { type: 'range', min: spec.min, max: spec.max,
                                  step: integer ? 1 : (spec.max - spec.min) / 1000, value: value ?? spec.min });
     slider.addEventListener('input', (e) => {
       let x = Number(slider.value);
@@ -59,20 +60,25 @@ function numberControl(spec, value, send) {
   });
   parts.push(box);
   if (spec.unit) parts.push(el('span', { className: 'unit', textContent: spec.unit.replace('degrees', '°') }));
-  return { parts, box };
+  const set = (v) => {
+    box.value = v ?? '';
+    if (slider && v !== undefined) slider.value = v;
+  };
+  return { parts, box, set };
 }
 
 function vectorControl(spec, value, send) {
   const n = spec.type === '[a, b]' ? 2 : 3;
   const v = Array.isArray(value) ? [...value] : new Array(n).fill(0);
   const wrap = el('span', { className: 'vec' });
-  v.forEach((x, i) => {
+  const boxes = v.map((x, i) => {
     const box = el('input', { type: 'number', step: 'any', value: x });
     box.addEventListener('change', (e) => {
       v[i] = Number(box.value);
       send([...v], e.timeStamp);
     });
     wrap.append(box);
+    return box;
   });
   const parts = [wrap];
   if (spec.type === 'colour' && v.every((x) => x >= 0 && x <= 1)) {
@@ -84,7 +90,12 @@ function vectorControl(spec, value, send) {
     });
     parts.push(pick);
   }
-  return { parts };
+  const set = (x) => {
+    const w = typeof x === 'number' ? [x, x, x] : x;
+    if (!Array.isArray(w)) return;
+    w.forEach((c, i) => { if (boxes[i]) boxes[i].value = c; v[i] = c; });
+  };
+  return { parts, set };
 }
 
 // A field: label (with the doc as tooltip), control, reset button (removes the key: its default
@@ -103,17 +114,17 @@ export function field(spec, opts) {
   } else if (spec.type === 'bool') {
     const c = el('input', { type: 'checkbox', checked: !!value });
     c.addEventListener('change', (e) => send(c.checked, e.timeStamp));
-    ctl = { parts: [c] };
+    ctl = { parts: [c], set: (x) => { c.checked = !!x; } };
   } else if (spec.type === 'string' && spec.choices.length) {
     const s = el('select');
     for (const c of spec.choices) s.append(el('option', { value: c, textContent: c }));
     s.value = value ?? '';
     s.addEventListener('change', (e) => send(s.value, e.timeStamp));
-    ctl = { parts: [s] };
+    ctl = { parts: [s], set: (x) => { s.value = x ?? ''; } };
   } else if (spec.type === 'string') {
     const t = el('input', { type: 'text', value: value ?? '', placeholder: spec.default_note || '' });
     t.addEventListener('change', (e) => send(t.value, e.timeStamp));
-    ctl = { parts: [t] };
+    ctl = { parts: [t], set: (x) => { t.value = x ?? ''; } };
   } else if (spec.type === '[a, b]' || spec.type === '[x, y, z]' ||
              (spec.type === 'colour' && (Array.isArray(value) || typeof value === 'number'))) {
     const v = typeof value === 'number' ? [value, value, value] : value;
@@ -123,7 +134,7 @@ export function field(spec, opts) {
                                placeholder: spec.default_note || (spec.required ? 'required' : 'TOML') });
     t.addEventListener('change', (e) =>
       opts.send(t.value.trim() ? { key: opts.key, toml: t.value } : { key: opts.key, value: null }, e.timeStamp));
-    ctl = { parts: [t] };
+    ctl = { parts: [t], set: (x) => { t.value = x === undefined ? '' : tomlText(x); } };
   }
   const reset = el('button', { className: 'reset', textContent: '×', title: 'Back to the default (removes the key)' });
   reset.addEventListener('click', (e) => opts.send({ key: opts.key, value: null }, e.timeStamp));
@@ -138,6 +149,15 @@ export function field(spec, opts) {
   }
   row.append(label, c, reset);
   if (opts.error) row.append(el('div', { className: 'err', textContent: opts.error }));
+  // Shows the document's value again without rebuilding the row (the panels stay put while a
+  // slider is dragged); a row the user is working in is left alone.
+  c.addEventListener('pointerdown', () => (row.dataset.busy = '1'));
+  c.addEventListener('pointerup', () => delete row.dataset.busy);
+  row.refresh = (v) => {
+    row.classList.toggle('set', v !== undefined);
+    if (row.dataset.busy || row.contains(document.activeElement)) return;
+    ctl.set(v !== undefined ? v : defaultOf(spec));
+  };
   return row;
 }
 

@@ -45,7 +45,24 @@ export class Panels {
     return d;
   }
 
+  // What decides the panels' layout: a change of it rebuilds them, any other change updates the
+  // values in place.
+  signature() {
+    const d = this.doc;
+    return JSON.stringify([this.mode(), d.value('camera.preset'), d.value('camera.org.type'), d.value('camera.dir.type'),
+      (d.value('camera.coin') || []).length, [...this.errors], (d.value('animate') || []).map((a) => a.key),
+      this.hooks.selectedCoin(), d.state.text.length > 0 && d.state.file]);
+  }
+
   render() {
+    const sig = this.signature();
+    if (sig === this.lastSignature) {
+      for (const row of this.root.querySelectorAll('.field')) row.refresh(this.doc.value(row.dataset.key));
+      const text = this.root.querySelector('#scene-text');
+      if (text) text.value = this.doc.state.text;
+      return;
+    }
+    this.lastSignature = sig;
     const scroll = this.root.parentElement.scrollTop;
     this.root.replaceChildren(this.cameraPanel(), this.coinPanel(),
       this.panel('lens', 'Lens & shutter', 'every camera', ...this.fields(this.commonSpecs(), 'camera.')),

@@ -96,13 +96,15 @@ int64_t query_version(const HttpRequest& q) {
   }
 }
 
-HttpResponse outcome_response(const EditOutcome& o) {
+// The outcome with the document's state after it (the page needs no second request).
+HttpResponse outcome_response(const EditOutcome& o, const Editor& editor) {
   if (o.error) {
     Json j = {{"error", o.error->message}, {"version", o.version}};
     if (!o.error->key.empty()) j["key"] = o.error->key;
     return json_response(o.error->status, j);
   }
-  return json_response(200, {{"version", o.version}, {"warnings", o.warnings}});
+  return json_response(
+      200, {{"version", o.version}, {"warnings", o.warnings}, {"state", editor.state()}});
 }
 
 }  // namespace
@@ -209,12 +211,12 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
         k.value = toml_text(field(e, "value"));
       list.push_back(std::move(k));
     }
-    return outcome_response(editor_.edit(list, field(body, "version").get<int64_t>()));
+    return outcome_response(editor_.edit(list, field(body, "version").get<int64_t>()), editor_);
   }
-  if (post && p == "/api/undo") return outcome_response(editor_.undo());
-  if (post && p == "/api/redo") return outcome_response(editor_.redo());
+  if (post && p == "/api/undo") return outcome_response(editor_.undo(), editor_);
+  if (post && p == "/api/redo") return outcome_response(editor_.redo(), editor_);
   if (post && p == "/api/time")
-    return outcome_response(editor_.set_frame(number_in(body, "frame", -1e9, 1e9)));
+    return outcome_response(editor_.set_frame(number_in(body, "frame", -1e9, 1e9)), editor_);
   if (get && p == "/api/frame") return frame(q, client_gone);
   if (p == "/api/preview") {
     PreviewSettings s = editor_.preview().settings();

@@ -43,7 +43,7 @@ const frameOf = (v, final = false) => waitFor(page, `a frame of version ${v}`, (
   if (!window.anamorphEditor) return null;
   const f = window.anamorphEditor.preview.frame;
   const d = window.anamorphEditor.doc;
-  return f && f.version >= args.v && d.version >= args.v && !d.inflight && (!args.final || f.pass === f.passes) ? { version: f.version, pass: f.pass } : null;
+  return f && f.version >= args.v && d.version >= args.v && !d.inflight && (!args.final || (!f.coarse && f.pass === f.passes)) ? { version: f.version, pass: f.pass } : null;
 }, { v, final });
 // Clicks and waits for the document's next version to reach the page.
 async function clickAndWait(selector) {
