@@ -244,15 +244,22 @@ std::optional<std::vector<CoinSite>> Editor::coins(int64_t version) {
 
 namespace {
 
-// The footprint of the beam one unit along each ray, at w x h pixel centers (NaN: no ray).
-std::vector<double> footprints(const Camera& cam, int w, int h) {
+// The footprint of each ray's beam where it meets the scene, |dP/du x dP/dv| with
+// P = org + t dir at the hit distance t (1 for a ray that meets nothing), at w x h pixel centers
+// (NaN: no ray). A coin that pulls the origins toward its point magnifies there, not one unit
+// away, so the distance matters.
+std::vector<double> footprints(const Camera& cam, const Accel& accel, int w, int h) {
   std::vector<double> a(size_t(w) * h, std::nan(""));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       CameraSample cs;
       cs.uv = {(x + 0.5) / w, (y + 0.5) / h};
       const std::optional<CameraRay> r = cam.generate(cs);
-      if (r) a[size_t(y) * w + x] = length(cross(r->dorg_du + r->ddir_du, r->dorg_dv + r->ddir_dv));
+      if (!r) continue;
+      Hit hit;
+      const double t = accel.intersect(Ray{r->org, r->dir}, &hit) ? hit.t : 1;
+      a[size_t(y) * w + x] =
+          length(cross(r->dorg_du + t * r->ddir_du, r->dorg_dv + t * r->ddir_dv));
     }
   return a;
 }
@@ -269,12 +276,12 @@ std::optional<std::vector<float>> Editor::magnification(int w, int h, int64_t ve
           load_view_from_string(to_toml_text(t), doc_.file(), {}, frame_, *models_));
   }
   std::vector<double> a, ref;
-  const bool ok = preview_.with_state(
-      version, 10, [&](const Scene& s, const Renderer&) { a = footprints(*s.camera, w, h); });
+  const bool ok = preview_.with_state(version, 10, [&](const Scene& s, const Renderer& r) {
+    a = footprints(*s.camera, r.accel(), w, h);
+    if (plain) ref = footprints(*plain->camera, r.accel(), w, h);
+  });
   if (!ok) return std::nullopt;
-  if (plain) {
-    ref = footprints(*plain->camera, w, h);
-  } else {
+  if (!plain) {
     double sum = 0;
     size_t n = 0;
     for (double x : a)

@@ -80,9 +80,9 @@ class Editor {
   // The coins as the camera shown sees them: (uc, vc), radius, strength, ... per site.
   std::optional<std::vector<CoinSite>> coins(int64_t version);
   // How much the camera shown magnifies each of w x h image positions (pixel centers), row by
-  // row: the linear scale sqrt(A_ref / A) of the ray footprint A = |dP/du x dP/dv| (P = org + dir:
-  // the beam one unit along the ray) against the same camera without its coins, or, without
-  // coins, against the image's mean footprint. > 1 magnifies; NaN where there is no ray.
+  // row: the linear scale sqrt(A_ref / A) of the ray footprint A = |dP/du x dP/dv| (P = org +
+  // t dir, the beam where it meets the scene) against the same camera without its coins, or,
+  // without coins, against the image's mean footprint. > 1 magnifies; NaN where there is no ray.
   std::optional<std::vector<float>> magnification(int w, int h, int64_t version);
 
   // Writes the document to `name` (relative to the scene's folder; "" = the scene file itself).
