@@ -81,7 +81,7 @@ function vectorControl(spec, value, send) {
     return box;
   });
   const parts = [wrap];
-  if (spec.type === 'colour' && v.every((x) => x >= 0 && x <= 1)) {
+  if (spec.type.startsWith('colour') && v.every((x) => x >= 0 && x <= 1)) {
     const hex = '#' + v.map((x) => Math.round(x * 255).toString(16).padStart(2, '0')).join('');
     const pick = el('input', { type: 'color', value: hex });
     pick.addEventListener('input', (e) => {
@@ -126,7 +126,8 @@ export function field(spec, opts) {
     t.addEventListener('change', (e) => send(t.value, e.timeStamp));
     ctl = { parts: [t], set: (x) => { t.value = x ?? ''; } };
   } else if (spec.type === '[a, b]' || spec.type === '[x, y, z]' ||
-             (spec.type === 'colour' && (Array.isArray(value) || typeof value === 'number'))) {
+             ((spec.type === 'colour' || spec.type === 'colour or texture') &&
+              (Array.isArray(value) || typeof value === 'number'))) {
     const v = typeof value === 'number' ? [value, value, value] : value;
     ctl = vectorControl(spec, v, send);
   } else {

@@ -2,6 +2,7 @@
 // coins, the image and render tables, and the scene file as text. Everything is generated from
 // the declarations (/api/declarations) and the document; nothing here names a parameter.
 import { field, el, defaultOf } from './fields.js';
+import { scenePanels } from './scene_panels.js';
 
 const ANIMATABLE = new Set(['number', '[x, y, z]']);
 
@@ -51,6 +52,7 @@ export class Panels {
     const d = this.doc;
     return JSON.stringify([this.mode(), d.value('camera.preset'), d.value('camera.org.type'), d.value('camera.dir.type'),
       (d.value('camera.coin') || []).length, [...this.errors], (d.value('animate') || []).map((a) => a.key),
+      ...['material', 'object', 'light'].map((k) => (d.value(k) || []).map((e) => e.type ?? '')),
       this.hooks.selectedCoin(), d.state.text.length > 0 && d.state.file]);
   }
 
@@ -68,7 +70,7 @@ export class Panels {
       this.panel('lens', 'Lens & shutter', 'every camera', ...this.fields(this.commonSpecs(), 'camera.')),
       this.panel('image', 'Image', '', ...this.fields(this.decl.image, 'image.')),
       this.panel('render', 'Render', '', ...this.fields(this.decl.render, 'render.')),
-      this.filePanel());
+      ...scenePanels(this), this.filePanel());
     this.root.parentElement.scrollTop = scroll;
   }
 

@@ -46,13 +46,30 @@ Json forms(const Infos& infos) {
   return d;
 }
 
+// Every table of the scene format by its key: its documentation, whether it is an array of
+// tables ([[key]]), its selector key ("type") and the keys of each form.
+Json tables() {
+  Json d = Json::object();
+  for (const TableSchema* t : scene_tables()) {
+    Json variants = Json::object();
+    for (const TableVariant& v : t->variants)
+      variants[std::string(v.name)] = {{"doc", std::string(v.doc)}, {"params", specs(v.params)}};
+    d[std::string(t->key)] = {{"doc", std::string(t->doc)},
+                              {"array", t->array},
+                              {"selector", std::string(t->selector)},
+                              {"common", specs(t->common)},
+                              {"variants", variants}};
+  }
+  return d;
+}
+
 }  // namespace
 
 Json declarations_json() {
   return {{"presets", forms(camera_presets())},      {"org", forms(org_functions())},
           {"dir", forms(dir_functions())},           {"coin", specs(coin_params())},
           {"camera", specs(camera_common_params())}, {"image", specs(image_schema().common)},
-          {"render", specs(render_schema().common)}};
+          {"render", specs(render_schema().common)}, {"tables", tables()}};
 }
 
 }  // namespace anamorph

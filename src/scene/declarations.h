@@ -9,7 +9,9 @@
 namespace anamorph {
 
 // { "presets": {name: {doc, params: [...]}}, "org": {...}, "dir": {...}, "coin": [...],
-//   "camera": [...], "image": [...], "render": [...] }; unbounded ranges are null.
+//   "camera": [...], "image": [...], "render": [...], "tables": {key: {doc, array, selector,
+//   common: [...], variants: {name: {doc, params}}}} (every table of the scene format) };
+// unbounded ranges are null.
 Json declarations_json();
 
 }  // namespace anamorph
