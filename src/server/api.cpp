@@ -88,6 +88,17 @@ double number_in(const Json& body, const char* name, double lo, double hi) {
 
 Json vec3_json(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
 
+double query_number(const HttpRequest& q, const char* name, double fallback) {
+  double x = fallback;
+  try {
+    if (q.query.count(name)) x = std::stod(q.query.at(name));
+  } catch (const std::exception&) {
+    x = std::nan("");
+  }
+  if (!std::isfinite(x)) throw std::invalid_argument(std::string("?") + name + "= takes a number");
+  return x;
+}
+
 int64_t query_version(const HttpRequest& q) {
   try {
     return q.query.count("version") ? std::stoll(q.query.at("version")) : 0;
@@ -297,6 +308,20 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
     r.content_type = "application/octet-stream";  // float32, little-endian, row by row
     r.body.assign(reinterpret_cast<const char*>(m->data()), m->size() * sizeof(float));
     return r;
+  }
+  if (get && p == "/api/rays") {
+    const int nu = int(std::clamp(query_number(q, "nu", 24), 1.0, 256.0));
+    const int nv = int(std::clamp(query_number(q, "nv", 14), 1.0, 256.0));
+    const auto o = editor_.ray_overview(nu, nv, query_version(q));
+    if (!o) return error(503, "the preview is not ready");
+    Json org = Json::array(), dir = Json::array(), boxes = Json::array();
+    for (size_t i = 0; i < o->org.size(); ++i) {
+      org.push_back(o->valid[i] ? vec3_json(o->org[i]) : Json(nullptr));
+      dir.push_back(o->valid[i] ? vec3_json(o->dir[i]) : Json(nullptr));
+    }
+    for (const Bounds3& b : o->boxes) boxes.push_back({vec3_json(b.lo), vec3_json(b.hi)});
+    return json_response(200,
+                         {{"nu", nu}, {"nv", nv}, {"org", org}, {"dir", dir}, {"boxes", boxes}});
   }
   if (post && p == "/api/save") {
     const Json& name = field(body, "name");

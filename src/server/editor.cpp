@@ -296,6 +296,74 @@ std::optional<std::vector<float>> Editor::magnification(int w, int h, int64_t ve
   return m;
 }
 
+namespace {
+
+Bounds3 world_box(const Bounds3& object, const Transform& world_from_object) {
+  Bounds3 b;
+  for (int i = 0; i < 8; ++i)
+    b.extend(world_from_object.point({i & 1 ? object.hi.x : object.lo.x,
+                                      i & 2 ? object.hi.y : object.lo.y,
+                                      i & 4 ? object.hi.z : object.lo.z}));
+  return b;
+}
+
+// Object space bounds of an analytic shape (none for the infinite plane).
+std::optional<Bounds3> shape_box(const AnalyticShape& s) {
+  using K = AnalyticShape::Kind;
+  const double r = s.radius;
+  switch (s.kind) {
+    case K::Sphere:
+      return Bounds3{{-r, -r, -r}, {r, r, r}};
+    case K::Box:
+      return Bounds3{-0.5 * s.size, 0.5 * s.size};
+    case K::Cylinder:
+      return Bounds3{{-r, 0, -r}, {r, s.height, r}};
+    case K::Disk:
+      return Bounds3{{-r, 0, -r}, {r, 0, r}};
+    case K::Rectangle:
+      return Bounds3{{-0.5, 0, -0.5}, {0.5, 0, 0.5}};
+    case K::Plane:
+      break;
+  }
+  return std::nullopt;
+}
+
+std::vector<Bounds3> object_boxes(const Scene& s) {
+  std::vector<Bounds3> boxes;
+  std::vector<Bounds3> proto(s.prototypes.size());
+  for (size_t i = 0; i < s.prototypes.size(); ++i)
+    for (const TriangleMesh& m : s.prototypes[i].meshes)
+      for (const Vec3f& p : m.positions) proto[i].extend(Vec3{p.x, p.y, p.z});
+  for (const Instance& in : s.instances)
+    if (in.prototype < proto.size() && proto[in.prototype].lo.x <= proto[in.prototype].hi.x)
+      boxes.push_back(world_box(proto[in.prototype], in.world_from_object));
+  for (const AnalyticShape& sh : s.shapes)
+    if (auto b = shape_box(sh)) boxes.push_back(world_box(*b, sh.world_from_object));
+  return boxes;
+}
+
+}  // namespace
+
+std::optional<Editor::RayOverview> Editor::ray_overview(int nu, int nv, int64_t version) {
+  RayOverview o;
+  o.nu = nu;
+  o.nv = nv;
+  const bool ok = preview_.with_state(version, 10, [&](const Scene& s, const Renderer&) {
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        CameraSample cs;
+        cs.uv = {(i + 0.5) / nu, (j + 0.5) / nv};
+        const std::optional<CameraRay> r = s.camera->generate(cs);
+        o.org.push_back(r ? r->org : Vec3{});
+        o.dir.push_back(r ? r->dir : Vec3{});
+        o.valid.push_back(r ? 1 : 0);
+      }
+    o.boxes = object_boxes(s);
+  });
+  if (!ok) return std::nullopt;
+  return o;
+}
+
 std::optional<std::string> Editor::save(const std::string& name) {
   std::lock_guard lock(mu_);
   fs::path target = doc_.file();

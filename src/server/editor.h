@@ -85,6 +85,17 @@ class Editor {
   // without coins, against the image's mean footprint. > 1 magnifies; NaN where there is no ray.
   std::optional<std::vector<float>> magnification(int w, int h, int64_t version);
 
+  // The camera's rays at nu x nv image positions (cell centers, row by row) and the scene's
+  // objects as world-space boxes (infinite planes left out): the 3D overview of the image
+  // surface, its rays and the scene.
+  struct RayOverview {
+    int nu = 0, nv = 0;
+    std::vector<Vec3> org, dir;
+    std::vector<uint8_t> valid;
+    std::vector<Bounds3> boxes;
+  };
+  std::optional<RayOverview> ray_overview(int nu, int nv, int64_t version);
+
   // Writes the document to `name` (relative to the scene's folder; "" = the scene file itself).
   // Errors (a name outside the folder, through a symlink, not .toml) are returned.
   std::optional<std::string> save(const std::string& name);

@@ -1,0 +1,185 @@
+// The live preview's frames (long poll), picking and projecting through the scene's camera, the
+// preview's settings, and the final render.
+#include "server_fixture.h"
+
+#include <cmath>
+
+namespace anamorph::test {
+namespace {
+
+using PreviewTest = ServerTest;
+
+int64_t header_int(const Reply& r, const std::string& name) {
+  const std::string v = r.header(name);
+  return v.empty() ? -1 : std::stoll(v);
+}
+
+TEST_F(PreviewTest, FrameCarriesItsSizeVersionAndPixels) {
+  const Reply r = get("/api/frame?after=0");
+  ASSERT_EQ(r.status, 200) << r.body;
+  const int64_t w = header_int(r, "x-frame-width"), h = header_int(r, "x-frame-height");
+  EXPECT_GT(w, 0);
+  EXPECT_GT(h, 0);
+  EXPECT_LE(w, 64);
+  EXPECT_LE(h, 48);
+  EXPECT_EQ(header_int(r, "x-frame-version"), 1);
+  EXPECT_GE(header_int(r, "x-frame-seq"), 1);
+  EXPECT_EQ(int64_t(r.body.size()), w * h * 4) << w << " x " << h;
+  EXPECT_EQ(r.header("content-type"), "application/octet-stream");
+}
+
+TEST_F(PreviewTest, FramesOfAnEditFollow) {
+  Reply r = get("/api/frame?after=0");
+  ASSERT_EQ(r.status, 200);
+  int64_t seq = header_int(r, "x-frame-seq");
+  const Reply e = edit("camera.fov", 30, version());
+  ASSERT_EQ(e.status, 200) << e.body;
+  const int64_t v = body_of(e)["version"];
+  int64_t shown = -1;
+  // The frames of version 1 still in flight come first; the new version's within a bound.
+  for (int i = 0; i < 200 && shown != v; ++i) {
+    r = get("/api/frame?timeout=5&after=" + std::to_string(seq));
+    if (r.status != 200) break;  // (204: the preview rests)
+    EXPECT_GT(header_int(r, "x-frame-seq"), seq);
+    seq = header_int(r, "x-frame-seq");
+    shown = header_int(r, "x-frame-version");
+    EXPECT_EQ(int64_t(r.body.size()),
+              header_int(r, "x-frame-width") * header_int(r, "x-frame-height") * 4);
+  }
+  EXPECT_EQ(shown, v);
+  // The last pass of the new version is the full preview size.
+  auto last_pass = [](const Reply& f) {
+    return f.header("x-frame-coarse") == "0" &&
+           f.header("x-frame-pass") == f.header("x-frame-passes");
+  };
+  for (int i = 0; i < 200 && !last_pass(r); ++i) {
+    const Reply next = get("/api/frame?timeout=5&after=" + std::to_string(seq));
+    if (next.status != 200) break;
+    r = next;
+    seq = header_int(r, "x-frame-seq");
+  }
+  EXPECT_TRUE(last_pass(r)) << "pass " << r.header("x-frame-pass") << " of "
+                            << r.header("x-frame-passes") << ", coarse "
+                            << r.header("x-frame-coarse");
+  EXPECT_EQ(header_int(r, "x-frame-version"), v);
+  EXPECT_EQ(header_int(r, "x-frame-width"), 64);
+  EXPECT_EQ(header_int(r, "x-frame-height"), 48);
+}
+
+TEST_F(PreviewTest, NoNewFrameIs204) {
+  const Reply r = get("/api/frame?after=1000000000&timeout=0.2");
+  EXPECT_EQ(r.status, 204) << r.body;
+  EXPECT_TRUE(r.body.empty());
+  EXPECT_EQ(get("/api/frame?after=x").status, 400);
+  // (a NaN timeout would never run out)
+  const Reply nan = get("/api/frame?after=1000000000&timeout=nan");
+  EXPECT_EQ(nan.status, 400) << nan.body;
+}
+
+TEST_F(PreviewTest, ClientLeavingALongPollFreesItsConnection) {
+  ASSERT_TRUE(eventually([&] { return http->connections() == 0; }, 10)) << http->connections();
+  {
+    Connection c(port());
+    c.send({"GET",
+            "/api/frame?after=1000000000&timeout=30",
+            "",
+            {{"X-Anamorph-Token", kToken}},
+            true});
+    ASSERT_TRUE(eventually([&] { return http->connections() == 1; }, 10)) << http->connections();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // (the poll is waiting)
+    EXPECT_EQ(http->connections(), 1);
+  }  // (closes)
+  EXPECT_TRUE(eventually([&] { return http->connections() == 0; }, 5))
+      << http->connections() << " connections 5 s after the client left";
+  EXPECT_EQ(get("/api/state").status, 200);
+}
+
+TEST_F(PreviewTest, PickHitsTheSphereAndProjectsBack) {
+  const int64_t v = version();
+  const Reply r = post("/api/pick", json{{"u", 0.5}, {"v", 0.5}, {"version", v}});
+  ASSERT_EQ(r.status, 200) << r.body;
+  const json pick = body_of(r);
+  ASSERT_EQ(pick["hit"], true) << r.body;
+  EXPECT_EQ(pick["ray"], true) << r.body;
+  const json p = pick["position"];
+  const double dist =
+      std::sqrt(p[0].get<double>() * p[0].get<double>() + p[1].get<double>() * p[1].get<double>() +
+                p[2].get<double>() * p[2].get<double>());
+  EXPECT_NEAR(dist, 1.0, 1e-6) << p.dump();
+  EXPECT_NEAR(p[2].get<double>(), 1.0, 1e-6) << p.dump();  // the near side, facing the camera
+  EXPECT_NEAR(pick["distance"].get<double>(), 4.0, 1e-6) << r.body;
+
+  const Reply back = post("/api/project", json{{"position", p}, {"version", v}});
+  ASSERT_EQ(back.status, 200) << back.body;
+  const json uvs = body_of(back)["uv"];
+  ASSERT_FALSE(uvs.empty()) << back.body;
+  double nearest = 1e9;
+  for (const json& uv : uvs)
+    nearest = std::min(nearest, std::hypot(uv[0].get<double>() - 0.5, uv[1].get<double>() - 0.5));
+  EXPECT_LT(nearest, 1e-6) << back.body;
+}
+
+TEST_F(PreviewTest, PickSeesTheEditedScene) {
+  const Reply e = edit("object.0.center", json::array({0.0, 0.0, -1.0}), version());
+  ASSERT_EQ(e.status, 200) << e.body;
+  const Reply r =
+      post("/api/pick", json{{"u", 0.5}, {"v", 0.5}, {"version", body_of(e)["version"]}});
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_NEAR(body_of(r)["position"][2].get<double>(), 0.0, 1e-6) << r.body;
+}
+
+TEST_F(PreviewTest, PickOutsideTheImageIs400) {
+  for (const json& body :
+       {json{{"u", 1.5}, {"v", 0.5}}, json{{"u", -0.1}, {"v", 0.5}}, json{{"u", 0.5}, {"v", 2}},
+        json{{"u", "0.5"}, {"v", 0.5}}, json{{"v", 0.5}}}) {
+    const Reply r = post("/api/pick", body);
+    EXPECT_EQ(r.status, 400) << body.dump() << ": " << r.body;
+  }
+  const Reply r = post("/api/project", json{{"position", json::array({1, 2})}});
+  EXPECT_EQ(r.status, 400) << r.body;
+}
+
+TEST_F(PreviewTest, PreviewSettingsAreReflected) {
+  const Reply r = post("/api/preview", json{{"integrator", "albedo"}, {"max_spp", 2}});
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(body_of(r)["integrator"], "albedo") << r.body;
+  EXPECT_EQ(body_of(r)["max_spp"], 2) << r.body;
+  const Reply g = get("/api/preview");
+  EXPECT_EQ(body_of(g)["integrator"], "albedo") << g.body;
+  EXPECT_EQ(body_of(g)["max_spp"], 2) << g.body;
+
+  const Reply bad = post("/api/preview", json{{"integrator", "raymarcher"}});
+  EXPECT_EQ(bad.status, 400) << bad.body;
+  EXPECT_NE(body_of(bad).value("error", "").find("raymarcher"), std::string::npos) << bad.body;
+  EXPECT_EQ(post("/api/preview", json{{"integrator", 3}}).status, 400);
+  EXPECT_EQ(post("/api/preview", json{{"max_spp", 0}}).status, 400);
+  EXPECT_EQ(body_of(get("/api/preview"))["integrator"], "albedo");
+
+  const Reply scene = post("/api/preview", json{{"integrator", "scene"}});
+  EXPECT_EQ(body_of(scene)["integrator"], "scene") << scene.body;
+}
+
+TEST_F(PreviewTest, FinalRenderGivesAPng) {
+  EXPECT_EQ(get("/api/render/result.png").status, 404);
+  const Reply start = post("/api/render", json{{"png", true}});
+  ASSERT_EQ(start.status, 200) << start.body;
+  std::string last;
+  EXPECT_TRUE(eventually(
+      [&] {
+        last = get("/api/render").body;
+        const json s = json::parse(last, nullptr, false);
+        return s.is_object() && s.value("state", "") != "running";
+      },
+      60))
+      << last;
+  EXPECT_EQ(json::parse(last, nullptr, false).value("state", ""), "done") << last;
+  const Reply png = get("/api/render/result.png");
+  ASSERT_EQ(png.status, 200) << png.body.substr(0, 200);
+  EXPECT_EQ(png.header("content-type"), "image/png");
+  EXPECT_EQ(png.body.substr(0, 4), "\x89PNG");
+  EXPECT_EQ(get("/api/render/result.exr").status, 404);  // (none asked for)
+  EXPECT_EQ(post("/api/render", json{{"png", false}}).status, 409);
+}
+
+}  // namespace
+}  // namespace anamorph::test

@@ -1,0 +1,115 @@
+// The HTTP server alone, with handlers of the test's own: what it costs a client at most (idle
+// time, connections), handlers that throw or block, and URL decoding.
+#include <atomic>
+#include <chrono>
+#include <list>
+
+#include "http_client.h"
+#include "server/http_server.h"
+#include "server_fixture.h"
+
+namespace anamorph::test {
+namespace {
+
+using server::HttpOptions;
+using server::HttpRequest;
+using server::HttpResponse;
+using server::HttpServer;
+
+// Answers with the request's method, path and query.
+HttpResponse echo(const HttpRequest& q, const std::function<bool()>&) {
+  HttpResponse r;
+  r.content_type = "text/plain";
+  r.body = q.method + " " + q.path;
+  for (const auto& [k, v] : q.query) r.body += " " + k + "=" + v;
+  return r;
+}
+
+TEST(HttpServer, DecodesPathAndQuery) {
+  HttpServer http({}, echo);
+  const Reply r = fetch(http.port(), {"GET", "/a%20b/c?x=1+2&y=%26&z"});
+  EXPECT_EQ(r.status, 200);
+  EXPECT_EQ(r.body, "GET /a b/c x=1 2 y=& z=");
+}
+
+TEST(HttpServer, PercentDecode) {
+  std::string out;
+  EXPECT_TRUE(server::percent_decode("%41b+c%2f", &out, true));
+  EXPECT_EQ(out, "Ab c/");
+  EXPECT_TRUE(server::percent_decode("a+b", &out, false));
+  EXPECT_EQ(out, "a+b");
+  for (const std::string bad : {"%", "%4", "%zz", "a%4g", "%%41"})
+    EXPECT_FALSE(server::percent_decode(bad, &out, false)) << bad << " -> " << out;
+}
+
+TEST(HttpServer, HandlerThatThrowsIs500AndTheServerGoesOn) {
+  HttpServer http({}, [](const HttpRequest& q, const std::function<bool()>& gone) {
+    if (q.path == "/throw") throw std::runtime_error("boom");
+    return echo(q, gone);
+  });
+  const Reply r = fetch(http.port(), {"GET", "/throw"});
+  EXPECT_EQ(r.status, 500);
+  EXPECT_NE(r.body.find("boom"), std::string::npos) << r.body;
+  EXPECT_EQ(fetch(http.port(), {"GET", "/ok"}).status, 200);
+}
+
+TEST(HttpServer, IdleConnectionIsClosed) {
+  HttpOptions opt;
+  opt.idle_timeout_seconds = 1;
+  HttpServer http(opt, echo);
+  Connection c(http.port());
+  ASSERT_TRUE(eventually([&] { return http.connections() == 1; }, 10)) << http.connections();
+  EXPECT_TRUE(eventually([&] { return http.connections() == 0; }, 10))
+      << http.connections() << " connections after 10 s of silence";
+  EXPECT_EQ(c.receive().status, 0);  // (closed without an answer)
+}
+
+TEST(HttpServer, ConnectionsOverTheLimitAre503) {
+  HttpOptions opt;
+  opt.max_connections = 3;
+  HttpServer http(opt, echo);
+  {
+    std::list<Connection> held;
+    for (int i = 0; i < opt.max_connections; ++i) held.emplace_back(http.port());
+    ASSERT_TRUE(eventually([&] { return http.connections() == opt.max_connections; }, 10))
+        << http.connections();
+    const Reply r = fetch(http.port(), {"GET", "/"});
+    EXPECT_EQ(r.status, 503) << r.body;
+  }
+  ASSERT_TRUE(eventually([&] { return http.connections() == 0; }, 10)) << http.connections();
+  EXPECT_EQ(fetch(http.port(), {"GET", "/"}).status, 200);
+}
+
+TEST(HttpServer, StopEndsABlockedHandler) {
+  std::atomic<bool> waiting{false};
+  auto http = std::make_unique<HttpServer>(
+      HttpOptions{}, [&](const HttpRequest&, const std::function<bool()>& gone) {
+        waiting = true;
+        const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        while (!gone() && std::chrono::steady_clock::now() < end)
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        return HttpResponse{};
+      });
+  Connection c(http->port());
+  c.send({"GET", "/", "", {}, true});
+  ASSERT_TRUE(eventually([&] { return waiting.load(); }, 10));
+  const auto t0 = std::chrono::steady_clock::now();
+  http.reset();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 10) << "stop() waited for the handler";
+}
+
+TEST(HttpServer, RefusesAnAddressItCannotUse) {
+  HttpOptions opt;
+  const auto listen = [&] { HttpServer s(opt, echo); };
+  opt.host = "not-an-address";
+  EXPECT_THROW(listen(), std::runtime_error);
+  HttpServer first({}, echo);
+  opt.host = "127.0.0.1";
+  opt.port = first.port();
+  EXPECT_THROW(listen(), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace anamorph::test

@@ -1,0 +1,12 @@
+# The editor's server (src/server) in the test's own process, over loopback HTTP.
+anamorph_add_test(test_server
+  ${CMAKE_CURRENT_LIST_DIR}/api_security_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_edit_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_files_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_preview_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/document_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/http_server_test.cpp
+)
+# (the server is a library of its own; its headers name toml++ and nlohmann::json types)
+target_link_libraries(test_server PRIVATE anamorph_server nlohmann_json::nlohmann_json
+                      tomlplusplus::tomlplusplus)
