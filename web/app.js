@@ -7,6 +7,7 @@ import { Overlay } from './overlay.js';
 import { Panels } from './panels.js';
 import { Navigator } from './navigate.js';
 import { Timeline } from './timeline.js';
+import { Overview } from './overview.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -41,7 +42,8 @@ async function main() {
   };
   const overlay = new Overlay($('overlay'), $('legend'), doc, preview, hooks);
   const panels = new Panels($('panels'), decl, doc, hooks);
-  window.anamorphEditor = { doc, preview, overlay, panels, timeline };
+  const overview = new Overview($('overview'), doc, overlay.nets);
+  window.anamorphEditor = { doc, preview, overlay, panels, timeline, overview };
 
   const refresh = () => {
     $('scene-name').textContent = `${doc.state.file} · v${doc.version}`;
@@ -65,7 +67,11 @@ async function main() {
     const f = e.detail;
     overlay.onFrame(f);
     if (f.version > doc.version && !doc.inflight) doc.reload();
-    if (f.version !== overlayVersion) { overlayVersion = f.version; overlay.refresh(f.version); }
+    if (f.version !== overlayVersion) {
+      overlayVersion = f.version;
+      overlay.refresh(f.version);
+      overview.refresh(f.version);
+    }
     const now = performance.now();
     recent.push(now);
     while (recent.length && recent[0] < now - 1000) recent.shift();
@@ -93,6 +99,8 @@ async function main() {
     if (overlay.show.mag) await overlay.fetchMagnification(doc.version);
     overlay.draw();
   };
+  $('ov-net').onchange = (e) => { overlay.show.net = e.target.checked; overlay.draw(); };
+  $('ov-3d').onchange = (e) => { $('overview').hidden = !e.target.checked; overview.refresh(doc.version); };
   $('preview-integrator').onchange = (e) => post('/api/preview', { integrator: e.target.value });
   $('save').onclick = async () => {
     const r = await doc.action('/api/save', {});

@@ -3,6 +3,7 @@
 // place, move and shape coins through the camera's own rays (the server picks the surface under
 // the cursor with the distorted camera as it is).
 import { get, post } from './api.js';
+import { SurfaceNets } from './surface.js';
 
 const RAMP = [[40, 90, 200], [120, 170, 230], [235, 235, 235], [245, 170, 70], [215, 50, 40]];
 
@@ -17,7 +18,8 @@ export class Overlay {
     Object.assign(this, { canvas, legend, doc, preview, hooks });
     this.ctx = canvas.getContext('2d');
     this.sites = [];
-    this.show = { coins: true, rays: true, mag: false };
+    this.show = { coins: true, rays: true, mag: false, net: true };
+    this.nets = new SurfaceNets(doc);
     this.tool = 'navigate';
     this.selected = -1;
     this.mag = null;       // {w, h, data: Float32Array, version}
@@ -108,8 +110,9 @@ export class Overlay {
       ctx.imageSmoothingEnabled = false;
       ctx.drawImage(this.raysLayer, 0, 0, W, H);
     }
-    if (!this.show.coins) return;
     const s = W / canvas.getBoundingClientRect().width || 1;  // canvas pixels per CSS pixel
+    if (this.show.net) this.nets.draw(ctx, W, H, s);
+    if (!this.show.coins) return;
     for (const site of this.sites) {
       const x = site.uv[0] * W, y = site.uv[1] * H;
       const sel = site.coin === this.selected;
@@ -178,6 +181,11 @@ export class Overlay {
   }
 
   down(e) {
+    if (this.show.net && e.button === 0) {
+      const [u, v] = this.uv(e);
+      const n = this.nets.hit(u, v, this.canvas.getBoundingClientRect());
+      if (n) { this.dragNet(e, n); return; }
+    }
     const h = this.show.coins ? this.hit(e) : null;
     if (this.tool === 'coin' || (h && e.button === 0)) {
       if (h) this.dragCoin(e, h);
@@ -185,6 +193,27 @@ export class Overlay {
       return;
     }
     this.hooks.navigate(e, this.canvas);
+  }
+
+  // Drags a control point of a free-form image surface (surface.js says how it moves).
+  dragNet(down, h) {
+    const c = this.canvas;
+    c.setPointerCapture(down.pointerId);
+    c.classList.add('dragging');
+    const [u0, v0] = this.uv(down);
+    const key = `${h.net.key}.points.${h.i}.${h.j}`;
+    const move = (e) => {
+      const [u, v] = this.uv(e);
+      const p = this.nets.moved(h, u - u0, v - v0, e.shiftKey);
+      this.doc.edit([{ key, value: p.map((x) => Number(x.toPrecision(7))) }], e.timeStamp);
+    };
+    const up = () => {
+      c.classList.remove('dragging');
+      c.removeEventListener('pointermove', move);
+      c.removeEventListener('pointerup', up);
+    };
+    c.addEventListener('pointermove', move);
+    c.addEventListener('pointerup', up);
   }
 
   async addCoin(e) {
