@@ -117,26 +117,42 @@ async function main() {
 // The final render: progress and ETA while it runs, the files to download when done.
 function renderDialog() {
   const d = $('render-dialog');
-  $('render').onclick = () => d.showModal();
+  $('render').onclick = () => {
+    $('r-last').value = $('time-end').value;
+    $('r-seq').checked = !!(window.anamorphEditor.doc.value('animate') || []).length;
+    d.showModal();
+  };
   $('r-close').onclick = () => d.close();
   $('r-start').onclick = async () => {
     try {
-      await post('/api/render', { png: $('r-png').checked, exr: $('r-exr').checked });
+      const body = { png: $('r-png').checked, exr: $('r-exr').checked };
+      if ($('r-seq').checked) body.frames = [Number($('r-first').value), Number($('r-last').value)];
+      await post('/api/render', body);
     } catch (e) { $('r-status').textContent = e.message; return; }
     $('r-links').textContent = '';
     const poll = async () => {
       const s = await get('/api/render');
       $('r-bar').style.width = `${(s.fraction * 100).toFixed(1)}%`;
+      const frames = s.frames ? ` · frame ${Math.min(s.frames[1], s.frames[0] + s.frames_done)} of ${s.frames[0]}–${s.frames[1]}` : '';
       if (s.state === 'running') {
-        $('r-status').textContent = `${(s.fraction * 100).toFixed(1)} % · ${s.seconds.toFixed(1)} s` +
+        $('r-status').textContent = `${(s.fraction * 100).toFixed(1)} %${frames} · ${s.seconds.toFixed(1)} s` +
           (s.eta > 0 ? ` · about ${s.eta.toFixed(0)} s to go` : '');
         setTimeout(poll, 300);
       } else if (s.state === 'done') {
-        $('r-status').textContent = `done in ${s.seconds.toFixed(1)} s (scene version ${s.version})`;
-        const links = [];
-        if (s.png) links.push('<a href="/api/render/result.png" download>PNG</a>');
-        if (s.exr) links.push('<a href="/api/render/result.exr" download>EXR</a>');
-        $('r-links').innerHTML = 'Download: ' + links.join(' · ');
+        $('r-status').textContent = `done in ${s.seconds.toFixed(1)} s (scene version ${s.version}); the files are in ${s.folder}`;
+        $('r-links').replaceChildren('Download: ');
+        const link = (ext, f) => {
+          const a = document.createElement('a');
+          a.href = `/api/render/result.${ext}` + (f === undefined ? '' : `?frame=${f}`);
+          a.download = '';
+          a.textContent = f === undefined ? ext.toUpperCase() : `${f}`;
+          return a;
+        };
+        for (const ext of ['png', 'exr'].filter((x) => s[x])) {
+          if (!s.frames) { $('r-links').append(link(ext), ' '); continue; }
+          $('r-links').append(`${ext.toUpperCase()} frames `);
+          for (let f = s.frames[0]; f <= s.frames[1] && f < s.frames[0] + 50; ++f) $('r-links').append(link(ext, f), ' ');
+        }
       } else {
         $('r-status').textContent = `failed: ${s.error}`;
       }

@@ -333,17 +333,29 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
                                                      : editor_.scene_file().filename().string()}});
   }
   if (post && p == "/api/render") {
-    const Json& png = field(body, "png");
-    const Json& exr = field(body, "exr");
-    if (auto why = editor_.start_render(png.is_boolean() ? png.get<bool>() : true,
-                                        exr.is_boolean() && exr.get<bool>()))
-      return error(409, *why);
+    Editor::RenderRequest req;
+    if (field(body, "png").is_boolean()) req.png = field(body, "png").get<bool>();
+    if (field(body, "exr").is_boolean()) req.exr = field(body, "exr").get<bool>();
+    const Json& frames = field(body, "frames");
+    if (!frames.is_null()) {
+      if (!frames.is_array() || frames.size() != 2 || !frames[0].is_number_integer() ||
+          !frames[1].is_number_integer())
+        throw std::invalid_argument("'frames' is [first, last]");
+      req.frames = std::pair{frames[0].get<int>(), frames[1].get<int>()};
+    }
+    if (!req.png && !req.exr) throw std::invalid_argument("ask for a PNG, an EXR or both");
+    if (req.frames && (req.frames->first < 0 || req.frames->first > req.frames->second ||
+                       req.frames->second - req.frames->first > 100000))
+      throw std::invalid_argument("'frames' go from a first to a last frame (0 <= first <= last)");
+    if (auto why = editor_.start_render(req)) return error(409, *why);  // (one is running)
     return json_response(200, editor_.render_status());
   }
   if (get && p == "/api/render") return json_response(200, editor_.render_status());
   if (get && (p == "/api/render/result.png" || p == "/api/render/result.exr")) {
     const std::string ext = p.substr(p.size() - 3);
-    const auto file = editor_.render_result(ext);
+    std::optional<int> frame;
+    if (q.query.count("frame")) frame = int(std::clamp(query_number(q, "frame", 0), -1e9, 1e9));
+    const auto file = editor_.render_result(ext, frame);
     if (!file) return error(404, "no finished render with a " + ext + " file");
     std::ifstream in(*file, std::ios::binary);
     std::stringstream s;

@@ -1,5 +1,7 @@
 #include "server/editor.h"
 
+#include <fmt/format.h>
+
 #include <unistd.h>
 
 #include <chrono>
@@ -67,6 +69,10 @@ struct Editor::Render {
   std::string error;
   int64_t version = 0;
   bool png = false, exr = false;
+  bool sequence = false;  // frames first..last as NAME_%04d (else one frame, NAME)
+  int first = 0, last = 0, done_frames = 0;
+  std::string file_name(const std::string& stem, std::optional<int> frame,
+                        const std::string& ext) const;
   ~Render() {
     if (thread.joinable()) thread.join();
     std::error_code ec;
@@ -383,8 +389,17 @@ std::optional<std::string> Editor::save(const std::string& name) {
   return std::nullopt;
 }
 
-std::optional<std::string> Editor::start_render(bool png, bool exr) {
-  if (!png && !exr) return "ask for a PNG, an EXR or both";
+std::string Editor::Render::file_name(const std::string& stem, std::optional<int> frame,
+                                      const std::string& ext) const {
+  if (!sequence) return stem + "." + ext;
+  return fmt::format("{}_{:04d}.{}", stem, frame.value_or(first), ext);
+}
+
+std::optional<std::string> Editor::start_render(const RenderRequest& req) {
+  if (!req.png && !req.exr) return "ask for a PNG, an EXR or both";
+  if (req.frames && (req.frames->first > req.frames->second || req.frames->first < 0 ||
+                     req.frames->second - req.frames->first > 100000))
+    return "frames go from a first to a last frame (0 <= first <= last)";
   Render& r = *render_;
   {
     std::lock_guard rl(r.mu);
@@ -401,33 +416,46 @@ std::optional<std::string> Editor::start_render(bool png, bool exr) {
     r.version = doc_.version();
   }
   const std::string stem = doc_.file().stem().string();
-  job.png = png ? r.folder / (stem + ".png") : fs::path();
-  job.exr = exr ? r.folder / (stem + ".exr") : fs::path();
-  for (const fs::path& p : {job.png, job.exr})
-    if (!p.empty()) fs::remove(p);
   {
     std::lock_guard rl(r.mu);
+    for (const auto& e : fs::directory_iterator(r.folder)) fs::remove(e.path());
     r.state = "running";
     r.fraction = r.seconds = 0;
     r.error.clear();
-    r.png = png;
-    r.exr = exr;
+    r.png = req.png;
+    r.exr = req.exr;
+    r.sequence = bool(req.frames);
+    r.first = req.frames ? req.frames->first : int(job.frame);
+    r.last = req.frames ? req.frames->second : r.first;
+    r.done_frames = 0;
   }
-  job.progress = [&r](double fraction, double seconds) {
-    std::lock_guard rl(r.mu);
-    r.fraction = fraction;
-    r.seconds = seconds;
-  };
-  r.thread = std::thread([this, job = std::move(job), &r] {
+  r.thread = std::thread([this, job = std::move(job), &r, stem]() mutable {
+    const auto start = std::chrono::steady_clock::now();
+    const int count = r.last - r.first + 1;
     std::string error;
     try {
-      final_renderer_(job);
+      for (int f = r.first; f <= r.last; ++f) {
+        if (r.sequence) job.frame = f;
+        job.png = r.png ? r.folder / r.file_name(stem, f, "png") : fs::path();
+        job.exr = r.exr ? r.folder / r.file_name(stem, f, "exr") : fs::path();
+        const int done = f - r.first;
+        job.progress = [&r, start, done, count](double fraction, double) {
+          std::lock_guard rl(r.mu);
+          r.fraction = (done + fraction) / count;
+          r.seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        };
+        final_renderer_(job);
+        std::lock_guard rl(r.mu);
+        r.done_frames = done + 1;
+      }
     } catch (const std::exception& e) {
       error = e.what();
     }
     std::lock_guard rl(r.mu);
     r.state = error.empty() ? "done" : "failed";
     r.error = error;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (error.empty()) r.fraction = 1;
   });
   return std::nullopt;
@@ -438,17 +466,23 @@ Json Editor::render_status() const {
   std::lock_guard rl(r.mu);
   const double eta =
       r.fraction > 0.01 && r.state == "running" ? r.seconds * (1 - r.fraction) / r.fraction : 0;
-  return {{"state", r.state},     {"fraction", r.fraction}, {"seconds", r.seconds}, {"eta", eta},
-          {"version", r.version}, {"error", r.error},       {"png", r.png},         {"exr", r.exr}};
+  Json j = {{"state", r.state}, {"fraction", r.fraction}, {"seconds", r.seconds},
+            {"eta", eta},       {"version", r.version},   {"error", r.error},
+            {"png", r.png},     {"exr", r.exr},           {"folder", r.folder.string()}};
+  if (r.sequence) j["frames"] = {r.first, r.last}, j["frames_done"] = r.done_frames;
+  return j;
 }
 
-std::optional<fs::path> Editor::render_result(const std::string& ext) const {
+std::optional<fs::path> Editor::render_result(const std::string& ext,
+                                              std::optional<int> frame) const {
   const Render& r = *render_;
   std::lock_guard rl(r.mu);
-  if (r.state != "done" || (ext == "png" && !r.png) || (ext == "exr" && !r.exr) ||
-      (ext != "png" && ext != "exr"))
+  if ((ext == "png" && !r.png) || (ext == "exr" && !r.exr) || (ext != "png" && ext != "exr"))
     return std::nullopt;
-  return r.folder / (doc_.file().stem().string() + "." + ext);
+  const int f = frame.value_or(r.first);
+  if (r.sequence ? (f < r.first || f >= r.first + r.done_frames) : r.state != "done")
+    return std::nullopt;
+  return r.folder / r.file_name(doc_.file().stem().string(), f, ext);
 }
 
 }  // namespace anamorph::server

@@ -100,10 +100,17 @@ class Editor {
   // Errors (a name outside the folder, through a symlink, not .toml) are returned.
   std::optional<std::string> save(const std::string& name);
 
-  // The final render of the current document into a private folder; status as JSON.
-  std::optional<std::string> start_render(bool png, bool exr);
+  // The final render of the current document into a private folder, one frame (the one shown)
+  // or, with `frames`, a sequence (what `anamorph render --frames A:B` writes); status as JSON.
+  struct RenderRequest {
+    bool png = true, exr = false;
+    std::optional<std::pair<int, int>> frames;
+  };
+  std::optional<std::string> start_render(const RenderRequest& req);
   Json render_status() const;
-  std::optional<std::filesystem::path> render_result(const std::string& ext) const;
+  // A finished file: "png" or "exr", of frame `frame` of a sequence (default its first).
+  std::optional<std::filesystem::path> render_result(const std::string& ext,
+                                                     std::optional<int> frame = {}) const;
 
  private:
   struct Render;
