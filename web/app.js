@@ -104,7 +104,7 @@ async function main() {
   $('preview-integrator').onchange = (e) => post('/api/preview', { integrator: e.target.value });
   $('save').onclick = async () => {
     const r = await doc.action('/api/save', {});
-    if (r) toast(`Saved ${r.saved}`);
+    if (r) toast(`Saved ${r.saved}` + (r.normalized ? ' (written whole: its comments and layout could not be kept, see docs/editor.md)' : ', its comments and layout kept'));
   };
   document.addEventListener('keydown', (e) => {
     if (!(e.ctrlKey || e.metaKey) || e.target.tagName === 'TEXTAREA' || e.target.tagName === 'INPUT') return;

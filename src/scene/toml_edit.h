@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include <toml++/toml.h>
 
@@ -14,6 +15,10 @@ namespace anamorph {
 // A value as TOML text in a one-key table { v = ... }; text that is not TOML (a bare word) is
 // taken as a string.
 toml::table parse_value_text(const std::string& text);
+
+// Whether `s` is well-formed UTF-8 (what TOML text must be; a value that is not cannot be
+// written back to a scene file).
+bool valid_utf8(std::string_view s);
 
 // Sets the value at `key`, creating tables on the way; an index must name an existing entry.
 // Errors are SceneErrors at `where` naming `key`.

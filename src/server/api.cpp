@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -19,7 +20,8 @@ namespace {
 HttpResponse json_response(int status, const Json& j) {
   HttpResponse r;
   r.status = status;
-  r.body = j.dump();
+  // (A message may quote the request's bytes, which need not be UTF-8: replaced, not thrown.)
+  r.body = j.dump(-1, ' ', false, Json::error_handler_t::replace);
   return r;
 }
 
@@ -88,23 +90,30 @@ double number_in(const Json& body, const char* name, double lo, double hi) {
 
 Json vec3_json(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
 
+// ?name= as a finite number, all of its text ("12abc" is not 12), or `fallback` when absent.
 double query_number(const HttpRequest& q, const char* name, double fallback) {
-  double x = fallback;
-  try {
-    if (q.query.count(name)) x = std::stod(q.query.at(name));
-  } catch (const std::exception&) {
-    x = std::nan("");
-  }
-  if (!std::isfinite(x)) throw std::invalid_argument(std::string("?") + name + "= takes a number");
+  const auto it = q.query.find(name);
+  if (it == q.query.end()) return fallback;
+  const std::string& t = it->second;
+  double x = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+  if (t.empty() || ec != std::errc() || end != t.data() + t.size() || !std::isfinite(x))
+    throw std::invalid_argument(std::string("?") + name + "= takes a number (got '" + t + "')");
   return x;
 }
 
+// ?name= as a whole number in [lo, hi].
+int64_t query_integer(const HttpRequest& q, const char* name, int64_t fallback, int64_t lo,
+                      int64_t hi) {
+  const double x = query_number(q, name, double(fallback));
+  if (x != std::floor(x) || x < double(lo) || x > double(hi))
+    throw std::invalid_argument(std::string("?") + name + "= takes a whole number in [" +
+                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return int64_t(x);
+}
+
 int64_t query_version(const HttpRequest& q) {
-  try {
-    return q.query.count("version") ? std::stoll(q.query.at("version")) : 0;
-  } catch (const std::exception&) {
-    throw std::invalid_argument("?version= takes a number");
-  }
+  return query_integer(q, "version", 0, 0, int64_t(1) << 53);
 }
 
 // The outcome with the document's state after it (the page needs no second request).
@@ -294,14 +303,10 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
     return json_response(200, {{"sites", l}});
   }
   if (get && p == "/api/magnification") {
-    int w = 0, h = 0;
-    try {
-      w = std::stoi(q.query.count("width") ? q.query.at("width") : "0");
-      h = std::stoi(q.query.count("height") ? q.query.at("height") : "0");
-    } catch (const std::exception&) {
-    }
-    if (w < 1 || h < 1 || w > 1024 || h > 1024)
+    if (!q.query.count("width") || !q.query.count("height"))
       throw std::invalid_argument("?width= and ?height= must be in [1, 1024]");
+    const int w = int(query_integer(q, "width", 0, 1, 1024));
+    const int h = int(query_integer(q, "height", 0, 1, 1024));
     const auto m = editor_.magnification(w, h, query_version(q));
     if (!m) return error(503, "the preview is not ready");
     HttpResponse r;
@@ -330,7 +335,8 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
       return error(400, *why);
     return json_response(200,
                          {{"saved", name.is_string() ? name.get<std::string>()
-                                                     : editor_.scene_file().filename().string()}});
+                                                     : editor_.scene_file().filename().string()},
+                          {"normalized", editor_.last_save_normalized()}});
   }
   if (post && p == "/api/render") {
     Editor::RenderRequest req;
@@ -373,16 +379,8 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
 // The newest preview frame after ?after=SEQ, waiting up to ?timeout= seconds (default 20) for one:
 // 8-bit RGBA with its size and what it shows in headers; 204 when none came.
 HttpResponse Api::frame(const HttpRequest& q, const std::function<bool()>& client_gone) {
-  uint64_t after = 0;
-  double timeout = 20;
-  try {
-    if (q.query.count("after")) after = std::stoull(q.query.at("after"));
-    if (q.query.count("timeout")) timeout = std::stod(q.query.at("timeout"));
-    if (std::isnan(timeout)) throw std::invalid_argument("nan");  // (would never time out)
-    timeout = std::clamp(timeout, 0.0, 60.0);
-  } catch (const std::exception&) {
-    throw std::invalid_argument("?after= and ?timeout= take numbers");
-  }
+  const auto after = uint64_t(query_integer(q, "after", 0, 0, int64_t(1) << 53));
+  const double timeout = std::clamp(query_number(q, "timeout", 20), 0.0, 60.0);
   const auto f = editor_.preview().wait_frame(after, timeout, client_gone);
   HttpResponse r;
   if (!f) {

@@ -1,11 +1,15 @@
 #include "server/document.h"
 
+#include <fstream>
+#include <sstream>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 
 #include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
+#include "server/document_save.h"
 
 namespace anamorph::server {
 
@@ -102,15 +106,21 @@ toml::table without_view(const toml::table& t) {
 Document::Document(std::filesystem::path file) : file_(std::move(file)) {
   if (!std::filesystem::is_regular_file(file_))
     throw SceneError({file_.string()}, "", "scene file not found");
+  std::ifstream in(file_, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  original_text_ = ss.str();
   try {
-    table_ = toml::parse_file(file_.string());
+    table_ = toml::parse(original_text_, file_.string());
   } catch (const toml::parse_error& e) {
     SourceLoc l{file_.string(), int(e.source().begin.line), int(e.source().begin.column)};
     throw SceneError(l, "", std::string("TOML syntax error: ") + std::string(e.description()));
   }
 }
 
-std::string Document::text() const { return tidy_floats(to_toml_text(table_)); }
+SavedText Document::saved() const { return saved_text(original_text_, table_); }
+
+std::string Document::text() const { return saved().text; }
 
 namespace {
 
@@ -133,6 +143,8 @@ toml::table Document::edited(std::span<const KeyEdit> edits) const {
   toml::table t = table_;
   for (const KeyEdit& e : edits) {
     if (e.key.empty()) throw SceneError({file_.string()}, "", "an edit needs a key");
+    if (!valid_utf8(e.key) || (e.value && !valid_utf8(*e.value)))
+      throw SceneError({file_.string()}, e.key, "not valid UTF-8 (a scene file is UTF-8 text)");
     if (e.value)
       set_path(t, e.key, *parse_value_text(*e.value).get("v"), {file_.string()});
     else

@@ -12,6 +12,8 @@
 
 #include <toml++/toml.h>
 
+#include "server/document_save.h"
+
 namespace anamorph::server {
 
 // One change: `value` is TOML text (a bare word is a string); none removes the key.
@@ -27,8 +29,12 @@ class Document {
   const std::filesystem::path& file() const { return file_; }
   const toml::table& table() const { return table_; }
   int64_t version() const { return version_; }
-  // The document as the scene file it would save (TOML).
+  // The document as the scene file it would save: the file's own text with the edits spliced
+  // in (comments and layout kept), or rewritten whole when they do not fit (document_save.h).
+  SavedText saved() const;
   std::string text() const;
+  // The file now holds `text` (saved): later saves splice into it.
+  void saved_as_file(std::string text) { original_text_ = std::move(text); }
   // The tree after `edits`, in order (throws SceneError naming a key that cannot be set).
   toml::table edited(std::span<const KeyEdit> edits) const;
   // `next` becomes the document (a new version; what it replaced can be undone).
@@ -45,6 +51,7 @@ class Document {
 
  private:
   std::filesystem::path file_;
+  std::string original_text_;  // the file as read (or last saved)
   toml::table table_;
   int64_t version_ = 1;
   std::vector<toml::table> undo_, redo_;

@@ -277,9 +277,20 @@ std::optional<std::vector<float>> Editor::magnification(int w, int h, int64_t ve
   {
     std::lock_guard lock(mu_);
     toml::table t = doc_.table();
-    if (remove_path(t, "camera.coin") && models_)
+    if (remove_path(t, "camera.coin") && models_) {
+      // (and the keyframes of coin keys, which would name keys no longer there)
+      if (toml::array* anim = t["animate"].as_array()) {
+        for (size_t i = anim->size(); i-- > 0;) {
+          const toml::table* e = (*anim)[i].as_table();
+          const std::string key = e ? (*e)["key"].value_or(std::string()) : std::string();
+          if (key == "camera.coin" || key.rfind("camera.coin.", 0) == 0)
+            anim->erase(anim->cbegin() + long(i));
+        }
+        if (anim->empty()) t.erase("animate");
+      }
       plain = std::make_unique<Scene>(
           load_view_from_string(to_toml_text(t), doc_.file(), {}, frame_, *models_));
+    }
   }
   std::vector<double> a, ref;
   const bool ok = preview_.with_state(version, 10, [&](const Scene& s, const Renderer& r) {
@@ -384,8 +395,13 @@ std::optional<std::string> Editor::save(const std::string& name) {
   if (fs::is_symlink(target))
     return "'" + target.filename().string() + "' is a symbolic link: the editor writes only " +
            "plain files in the scene's folder";
-  const std::string text = doc_.text();
-  write_file_atomic(target, text.data(), text.size());
+  const SavedText saved = doc_.saved();
+  if (!saved.reads_back)
+    return "the scene cannot be written as TOML that reads back the same (a key with control "
+           "characters?): not saved";
+  write_file_atomic(target, saved.text.data(), saved.text.size());
+  if (target == doc_.file()) doc_.saved_as_file(saved.text);
+  last_save_normalized_ = saved.normalized;
   return std::nullopt;
 }
 

@@ -135,7 +135,8 @@ bool Preview::with_state(int64_t version, double timeout_s,
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
   {
     std::unique_lock lock(mu_);
-    while (applied_version_ < version) {
+    // (version 0, none asked for, still waits for the first state: documents start at 1)
+    while (applied_version_ < std::max<int64_t>(version, 1)) {
       if (stop_ || Clock::now() >= deadline) return false;
       cv_.wait_for(lock, std::chrono::milliseconds(20));
     }

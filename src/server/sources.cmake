@@ -17,9 +17,12 @@ add_custom_command(OUTPUT ${web_cpp}
 add_library(anamorph_server STATIC
   ${CMAKE_CURRENT_LIST_DIR}/http_server.cpp
   ${CMAKE_CURRENT_LIST_DIR}/document.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/document_save.cpp
   ${CMAKE_CURRENT_LIST_DIR}/preview.cpp
   ${CMAKE_CURRENT_LIST_DIR}/editor.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api.cpp
   ${web_cpp})
+# (its headers name toml++ and nlohmann::json types: their users compile them the same way)
 target_link_libraries(anamorph_server PUBLIC anamorph_core Boost::headers Threads::Threads
-                      PRIVATE anamorph_warnings nlohmann_json::nlohmann_json tomlplusplus::tomlplusplus)
+                      nlohmann_json::nlohmann_json tomlplusplus::tomlplusplus
+                      PRIVATE anamorph_warnings)

@@ -57,6 +57,20 @@ TEST_F(EditTest, NonFiniteAndEmptyEditsAre400) {
   EXPECT_EQ(version(), v);
 }
 
+// A malformed body's message quotes its bytes, which need not be UTF-8 (found by fuzz_api: the
+// answer's JSON could not be written, and the request got a 500 instead of its 400).
+TEST_F(EditTest, BodiesThatAreNotUtf8GetA400WithAMessage) {
+  const int64_t v = version();
+  for (const std::string& body :
+       {std::string("{\"version\": 1, \"e\xff\xfe\": [}"), std::string("\xc3\x28{\"version\": 1}"),
+        std::string("{\"version\":1,\"edits\":[{\"key\":\"a\x80\"}]}")}) {
+    const Reply r = post("/api/edit", body);
+    EXPECT_EQ(r.status, 400) << r.body;
+    EXPECT_FALSE(body_of(r).value("error", "").empty()) << r.body;
+  }
+  EXPECT_EQ(version(), v);
+}
+
 TEST_F(EditTest, StaleVersionIs409AndTheFirstWriterWins) {
   const int64_t v = version();
   // Two tabs loaded version v; the first one's edit goes in, the second's is refused.

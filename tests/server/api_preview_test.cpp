@@ -177,8 +177,8 @@ TEST_F(PreviewTest, FinalRenderGivesAPng) {
   ASSERT_EQ(png.status, 200) << png.body.substr(0, 200);
   EXPECT_EQ(png.header("content-type"), "image/png");
   EXPECT_EQ(png.body.substr(0, 4), "\x89PNG");
-  EXPECT_EQ(get("/api/render/result.exr").status, 404);  // (none asked for)
-  EXPECT_EQ(post("/api/render", json{{"png", false}}).status, 409);
+  EXPECT_EQ(get("/api/render/result.exr").status, 404);              // (none asked for)
+  EXPECT_EQ(post("/api/render", json{{"png", false}}).status, 400);  // (neither file asked for)
 }
 
 }  // namespace

@@ -4,7 +4,11 @@ anamorph_add_test(test_server
   ${CMAKE_CURRENT_LIST_DIR}/api_edit_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_files_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_preview_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_camera_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_declarations_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_fuzz_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/document_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/document_save_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/http_server_test.cpp
 )
 # (the server is a library of its own; its headers name toml++ and nlohmann::json types)

@@ -184,8 +184,12 @@ try {
     const saved = fs.readFileSync(path.join(dir, 'demo.toml'), 'utf8');
     fs.writeFileSync(path.join(outDir, 'saved.toml'), saved);
     assert.equal(saved, (await state()).text, 'the file holds the document');
-    for (const s of [/preset = ['"]fisheye['"]/, /\[\[camera\.coin\]\]/, /\[\[animate\]\]/])
+    for (const s of [/preset = "fisheye"/, /\[\[camera\.coin\]\]/, /\[\[animate\]\]/])
       assert.match(saved, s, 'the saved file holds the edits');
+    // The file's own text stays: every comment line of the demo is still there.
+    const original = fs.readFileSync(path.join(source, 'examples/demo.toml'), 'utf8');
+    for (const line of original.split('\n').filter((l) => l.startsWith('#')))
+      assert.ok(saved.includes(line), `the comment "${line}" was kept`);
     // The saved file is a scene the command line renders.
     run(['render', path.join(dir, 'demo.toml'), '--width', '96', '--height', '54', '-o', path.join(outDir, 'saved.png')]);
   });
