@@ -20,6 +20,7 @@ add_library(anamorph_server STATIC
   ${CMAKE_CURRENT_LIST_DIR}/document_save.cpp
   ${CMAKE_CURRENT_LIST_DIR}/preview.cpp
   ${CMAKE_CURRENT_LIST_DIR}/editor.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/editor_views.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api.cpp
   ${web_cpp})
 # (its headers name toml++ and nlohmann::json types: their users compile them the same way)
