@@ -58,7 +58,8 @@ export class Overlay {
       img.data.set([r, g, b, 150], i * 4);
     }
     c.getContext('2d').putImageData(img, 0, 0);
-    this.legend.innerHTML = '<div>magnification (linear, against the camera without coins)</div>' +
+    const against = this.sites.length ? 'against the camera without coins' : 'against the mean over the image';
+    this.legend.innerHTML = `<div>magnification (linear, ${against})</div>` +
       '<div class="ramp"></div><div class="ticks"><span>¼×</span><span>½×</span><span>1×</span><span>2×</span><span>4×</span></div>';
     this.legend.querySelector('.ramp').style.background =
       `linear-gradient(to right, ${RAMP.map((c) => `rgb(${c})`).join(', ')})`;

@@ -60,15 +60,17 @@ toml::table parse_toml_file(const fs::path& file) {
 }
 
 // Tables merge key by key, arrays of tables concatenate (base first), other values: `over` wins.
-void merge_into(toml::table& base, const toml::table& over) {
-  for (const auto& [k, v] : over) {
+// Nodes are moved, not copied: a moved node keeps its source (file, line, column), so an error in
+// an included file names that file (toml++ copies drop it).
+void merge_into(toml::table& base, toml::table&& over) {
+  for (auto&& [k, v] : over) {
     toml::node* b = base.get(k.str());
     if (b && b->is_table() && v.is_table()) {
-      merge_into(*b->as_table(), *v.as_table());
+      merge_into(*b->as_table(), std::move(*v.as_table()));
     } else if (b && b->is_array_of_tables() && v.is_array_of_tables()) {
-      for (const auto& e : *v.as_array()) b->as_array()->push_back(e);
+      for (auto& e : *v.as_array()) b->as_array()->push_back(std::move(e));
     } else {
-      base.insert_or_assign(k, v);
+      base.insert_or_assign(k, std::move(v));
     }
   }
 }
@@ -120,10 +122,10 @@ toml::table merge_includes(toml::table t, const fs::path& file, int depth, int* 
     if (!fs::exists(p)) r.fail("include", fmt::format("included file not found: {}", p.string()));
     toml::table inc_table = load_with_includes(p, depth + 1, files_read);
     anchor_paths(inc_table, p.parent_path());
-    merge_into(merged, inc_table);
+    merge_into(merged, std::move(inc_table));
   }
   t.erase("include");
-  merge_into(merged, t);
+  merge_into(merged, std::move(t));
   return merged;
 }
 

@@ -147,6 +147,16 @@ TEST(SceneParser, IncludesMergeTablesAndConcatenateArrays) {
   } catch (const SceneError& e) {
     expect_contains(e.what(), "bad.toml:2:1");  // errors point into the included file
   }
+  // ... values' errors too (merged nodes are moved, keeping their source; a copy loses it and the
+  // error used to say "--set").
+  std::ofstream(dir / "bad2.toml") << "[image]\nwidth = -3\n";
+  std::ofstream(dir / "main4.toml") << "include = \"bad2.toml\"\n";
+  try {
+    load_scene(dir / "main4.toml");
+    FAIL() << "expected an error";
+  } catch (const SceneError& e) {
+    expect_contains(e.what(), "bad2.toml:2:9: image.width");
+  }
   // Paths in an included file are relative to that file, wherever the including file is.
   fs::create_directories(dir / "sub" / "models");
   fs::copy_file(test::data_dir() / "models" / "shared_mesh.gltf",
