@@ -123,6 +123,7 @@ function renderDialog() {
     d.showModal();
   };
   $('r-close').onclick = () => d.close();
+  $('r-cancel').onclick = () => post('/api/render/cancel').catch((e) => ($('r-status').textContent = e.message));
   $('r-start').onclick = async () => {
     try {
       const body = { png: $('r-png').checked, exr: $('r-exr').checked };
@@ -134,6 +135,8 @@ function renderDialog() {
       const s = await get('/api/render');
       $('r-bar').style.width = `${(s.fraction * 100).toFixed(1)}%`;
       const frames = s.frames ? ` · frame ${Math.min(s.frames[1], s.frames[0] + s.frames_done)} of ${s.frames[0]}–${s.frames[1]}` : '';
+      $('r-cancel').hidden = s.state !== 'running';
+      $('r-start').disabled = s.state === 'running';
       if (s.state === 'running') {
         $('r-status').textContent = `${(s.fraction * 100).toFixed(1)} %${frames} · ${s.seconds.toFixed(1)} s` +
           (s.eta > 0 ? ` · about ${s.eta.toFixed(0)} s to go` : '');
@@ -153,6 +156,8 @@ function renderDialog() {
           $('r-links').append(`${ext.toUpperCase()} frames `);
           for (let f = s.frames[0]; f <= s.frames[1] && f < s.frames[0] + 50; ++f) $('r-links').append(link(ext, f), ' ');
         }
+      } else if (s.state === 'cancelled') {
+        $('r-status').textContent = `cancelled after ${s.seconds.toFixed(1)} s` + (s.frames ? ` (${s.frames_done} frames finished, in ${s.folder})` : '');
       } else {
         $('r-status').textContent = `failed: ${s.error}`;
       }

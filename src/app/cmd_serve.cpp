@@ -44,8 +44,9 @@ void final_render(const server::FinalRenderJob& j, int threads) {
                j.exr,   frame_metadata(scene, j.frame),
                {},      60,
                threads, [&](const Progress& p) { j.progress(p.fraction, p.seconds); }};
+  job.cancel = j.cancel;  // (the page's Cancel, or the server stopping)
   const FrameResult r = render_to_files(job);
-  if (r.interrupted) throw std::runtime_error("the render was interrupted");
+  if (r.interrupted) throw std::runtime_error("cancelled");
 }
 
 void open_browser(const std::string& url) {

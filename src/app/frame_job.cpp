@@ -42,7 +42,7 @@ RenderOptions render_options(const FrameJob& job) {
   RenderOptions opt;
   opt.threads = job.threads;
   opt.aovs = job.aovs;
-  opt.cancel = &interrupt_flag();
+  opt.cancel = job.cancel ? job.cancel : &interrupt_flag();
   opt.on_progress = job.on_progress;
   opt.tile_times = job.tile_times;
   opt.farm = job.farm;

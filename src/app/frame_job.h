@@ -3,6 +3,7 @@
 // interruption turned into the image so far plus a checkpoint to resume from.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -29,6 +30,8 @@ struct FrameJob {
   std::function<void(const Progress&)> on_progress;
   std::vector<TileTiming>* tile_times = nullptr;  // --stats
   TileFarm* farm = nullptr;                       // under MPI: the workers render the tiles
+  // Stops the render as SIGINT does (the image so far as NAME.partial.EXT); null: SIGINT's flag.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct FrameResult {

@@ -357,6 +357,10 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
     return json_response(200, editor_.render_status());
   }
   if (get && p == "/api/render") return json_response(200, editor_.render_status());
+  if (post && p == "/api/render/cancel") {
+    if (!editor_.cancel_render()) return error(409, "no render is running");
+    return json_response(200, editor_.render_status());
+  }
   if (get && (p == "/api/render/result.png" || p == "/api/render/result.exr")) {
     const std::string ext = p.substr(p.size() - 3);
     std::optional<int> frame;

@@ -69,7 +69,9 @@ struct Editor::Render {
   int first = 0, last = 0, done_frames = 0;
   std::string file_name(const std::string& stem, std::optional<int> frame,
                         const std::string& ext) const;
+  std::atomic<bool> cancel{false};
   ~Render() {
+    cancel = true;  // (a server that stops does not wait for a long render)
     if (thread.joinable()) thread.join();
     std::error_code ec;
     fs::remove_all(folder, ec);
@@ -266,6 +268,7 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
     r.png = req.png;
     r.exr = req.exr;
     r.sequence = bool(req.frames);
+    r.cancel = false;
     r.first = req.frames ? req.frames->first : int(job.frame);
     r.last = req.frames ? req.frames->second : r.first;
     r.done_frames = 0;
@@ -275,7 +278,8 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
     const int count = r.last - r.first + 1;
     std::string error;
     try {
-      for (int f = r.first; f <= r.last; ++f) {
+      job.cancel = &r.cancel;
+      for (int f = r.first; f <= r.last && !r.cancel; ++f) {
         if (r.sequence) job.frame = f;
         job.png = r.png ? r.folder / r.file_name(stem, f, "png") : fs::path();
         job.exr = r.exr ? r.folder / r.file_name(stem, f, "exr") : fs::path();
@@ -294,12 +298,20 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
       error = e.what();
     }
     std::lock_guard rl(r.mu);
-    r.state = error.empty() ? "done" : "failed";
-    r.error = error;
+    r.state = r.cancel ? "cancelled" : error.empty() ? "done" : "failed";
+    r.error = r.cancel ? "" : error;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (error.empty()) r.fraction = 1;
+    if (r.state == "done") r.fraction = 1;
   });
   return std::nullopt;
+}
+
+bool Editor::cancel_render() {
+  Render& r = *render_;
+  std::lock_guard rl(r.mu);
+  if (r.state != "running") return false;
+  r.cancel = true;
+  return true;
 }
 
 Json Editor::render_status() const {

@@ -44,6 +44,7 @@ struct FinalRenderJob {
   double frame = 0;
   std::filesystem::path png, exr;
   std::function<void(double fraction, double seconds)> progress;
+  const std::atomic<bool>* cancel = nullptr;  // set: stop as soon as possible (throw)
 };
 using FinalRenderer = std::function<void(const FinalRenderJob&)>;  // throws on failure
 
@@ -110,6 +111,9 @@ class Editor {
   };
   std::optional<std::string> start_render(const RenderRequest& req);
   Json render_status() const;
+  // Stops the final render at its next packet (its state becomes "cancelled"); false when none
+  // is running.
+  bool cancel_render();
   // A finished file: "png" or "exr", of frame `frame` of a sequence (default its first).
   std::optional<std::filesystem::path> render_result(const std::string& ext,
                                                      std::optional<int> frame = {}) const;

@@ -10,6 +10,7 @@ anamorph_add_test(test_server
   ${CMAKE_CURRENT_LIST_DIR}/document_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/document_save_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/examples_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_cancel_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/http_server_test.cpp
 )
 # (the server is a library of its own; its headers name toml++ and nlohmann::json types)
