@@ -3,6 +3,8 @@
 // when their range is bounded and typed entry always (dragging the label scrubs an unbounded
 // one); vectors get one box per component; lists, grids, tables and textures are edited as TOML.
 
+import { drag } from './drag.js';
+
 // A declaration's default (TOML text) as a value, or undefined.
 export function defaultOf(spec) {
   if (spec.default === null || spec.default === undefined) return undefined;
@@ -168,20 +170,13 @@ function scrub(label, spec, get, set) {
   label.addEventListener('pointerdown', (down) => {
     const start = get(), x0 = down.clientX;
     const step = spec.type === 'integer' ? 0.2 : Math.max(Math.abs(start), 0.1) * 0.005;
-    label.setPointerCapture(down.pointerId);
-    const move = (e) => {
+    drag(label, down, (e) => {
       let x = start + (e.clientX - x0) * step;
       if (spec.min !== null) x = Math.max(spec.min, x);
       if (spec.max !== null) x = Math.min(spec.max, x);
       x = spec.type === 'integer' ? Math.round(x) : Number(x.toPrecision(5));
       set(x, e.timeStamp);
-    };
-    const up = () => {
-      label.removeEventListener('pointermove', move);
-      label.removeEventListener('pointerup', up);
-    };
-    label.addEventListener('pointermove', move);
-    label.addEventListener('pointerup', up);
+    });
   });
 }
 

@@ -2,6 +2,8 @@
 // a drag orbits the eye around the point looked at, shift or the right button pans both, the
 // wheel dollies; a dome's tilt follows alt + vertical drag. Other cameras (org/dir compositions)
 // move their rig by its transform instead: not by mouse, in the panel.
+import { drag } from './drag.js';
+
 const sub = (a, b) => a.map((x, i) => x - b[i]);
 const add = (a, b) => a.map((x, i) => x + b[i]);
 const mul = (a, s) => a.map((x) => x * s);
@@ -41,8 +43,6 @@ export class Navigator {
   start(e, canvas) {
     const v = this.view();
     if (!v) return;
-    canvas.setPointerCapture(e.pointerId);
-    canvas.classList.add('dragging');
     const pan = e.shiftKey || e.button === 2, tilt = e.altKey && v.tilt;
     const x0 = e.clientX, y0 = e.clientY;
     const tilt0 = this.doc.value('camera.tilt') ?? 0;
@@ -71,13 +71,7 @@ export class Navigator {
       if (Math.abs(dot(norm(o2), up)) < 0.985) o = o2;
       this.doc.edit([{ key: 'camera.look_from', value: round(add(v.at, o)) }], m.timeStamp);
     };
-    const up = () => {
-      canvas.classList.remove('dragging');
-      canvas.removeEventListener('pointermove', move);
-      canvas.removeEventListener('pointerup', up);
-    };
-    canvas.addEventListener('pointermove', move);
-    canvas.addEventListener('pointerup', up);
+    drag(canvas, e, move);
   }
 
   dolly(e) {

@@ -4,6 +4,7 @@
 // the cursor with the distorted camera as it is).
 import { get, post } from './api.js';
 import { SurfaceNets } from './surface.js';
+import { drag } from './drag.js';
 
 const RAMP = [[40, 90, 200], [120, 170, 230], [235, 235, 235], [245, 170, 70], [215, 50, 40]];
 
@@ -198,23 +199,13 @@ export class Overlay {
 
   // Drags a control point of a free-form image surface (surface.js says how it moves).
   dragNet(down, h) {
-    const c = this.canvas;
-    c.setPointerCapture(down.pointerId);
-    c.classList.add('dragging');
     const [u0, v0] = this.uv(down);
     const key = `${h.net.key}.points.${h.i}.${h.j}`;
-    const move = (e) => {
+    drag(this.canvas, down, (e) => {
       const [u, v] = this.uv(e);
       const p = this.nets.moved(h, u - u0, v - v0, e.shiftKey);
       this.doc.edit([{ key, value: p.map((x) => Number(x.toPrecision(7))) }], e.timeStamp);
-    };
-    const up = () => {
-      c.classList.remove('dragging');
-      c.removeEventListener('pointermove', move);
-      c.removeEventListener('pointerup', up);
-    };
-    c.addEventListener('pointermove', move);
-    c.addEventListener('pointerup', up);
+    });
   }
 
   async addCoin(e) {
@@ -232,9 +223,6 @@ export class Overlay {
   }
 
   dragCoin(down, h) {
-    const c = this.canvas;
-    c.setPointerCapture(down.pointerId);
-    c.classList.add('dragging');
     this.selected = h.coin;
     this.hooks.selectCoin(h.coin);
     let busy = false, last = null;
@@ -261,13 +249,7 @@ export class Overlay {
       }
       busy = false;
     };
-    const up = () => {
-      c.classList.remove('dragging');
-      c.removeEventListener('pointermove', move);
-      c.removeEventListener('pointerup', up);
-    };
-    c.addEventListener('pointermove', move);
-    c.addEventListener('pointerup', up);
+    drag(this.canvas, down, move);
   }
 
   wheel(e) {

@@ -3,6 +3,7 @@
 // one of the scene's objects' bounding boxes, the free-form surface's control net, and those
 // boxes. Drag to turn it, the wheel zooms. Data: GET /api/rays (the camera shown) and the document (the net).
 import { get } from './api.js';
+import { drag } from './drag.js';
 
 const sub = (a, b) => a.map((x, i) => x - b[i]);
 const add = (a, b) => a.map((x, i) => x + b[i]);
@@ -47,16 +48,12 @@ export class Overview {
   }
 
   turn(down) {
-    const c = this.canvas, yaw0 = this.yaw, pitch0 = this.pitch;
-    c.setPointerCapture(down.pointerId);
-    const move = (e) => {
+    const yaw0 = this.yaw, pitch0 = this.pitch;
+    drag(this.canvas, down, (e) => {
       this.yaw = yaw0 + (e.clientX - down.clientX) * 0.01;
       this.pitch = Math.max(-1.5, Math.min(1.5, pitch0 + (e.clientY - down.clientY) * 0.01));
       this.draw();
-    };
-    const up = () => { c.removeEventListener('pointermove', move); c.removeEventListener('pointerup', up); };
-    c.addEventListener('pointermove', move);
-    c.addEventListener('pointerup', up);
+    });
   }
 
   draw() {

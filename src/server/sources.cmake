@@ -4,7 +4,7 @@
 find_package(Boost 1.74 REQUIRED)
 find_package(Threads REQUIRED)
 set(ANAMORPH_WEB_FILES index.html style.css app.js api.js document.js preview.js fields.js
-    panels.js scene_panels.js overlay.js surface.js overview.js navigate.js timeline.js)
+    panels.js scene_panels.js overlay.js surface.js overview.js navigate.js timeline.js drag.js)
 set(web_dir ${PROJECT_SOURCE_DIR}/web)
 list(TRANSFORM ANAMORPH_WEB_FILES PREPEND ${web_dir}/ OUTPUT_VARIABLE web_paths)
 set(web_cpp ${CMAKE_CURRENT_BINARY_DIR}/web_assets.cpp)

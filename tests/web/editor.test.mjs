@@ -75,6 +75,30 @@ try {
     assert.notEqual(after, before, 'the preview changed with the fov');
   });
 
+  await step('orbit', async () => {
+    // Navigate: a drag orbits the eye around the point looked at (the distance stays), the wheel
+    // dollies (the distance scales by e^-0.1 a notch).
+    const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    const from0 = await value('camera.look_from'), at = await value('camera.look_at');
+    const box = await page.locator('#overlay').boundingBox();
+    const v = (await state()).version;
+    await page.mouse.move(box.x + box.width * 0.5, box.y + box.height * 0.5);
+    await page.mouse.down();
+    for (let i = 1; i <= 5; ++i) await page.mouse.move(box.x + box.width * (0.5 + 0.02 * i), box.y + box.height * 0.5);
+    await page.mouse.up();
+    await frameOf(v + 1);
+    await waitFor(page, 'the drag to end', () => !window.anamorphEditor.doc.inflight || null);
+    const from1 = await value('camera.look_from');
+    assert.notDeepEqual(from1, from0, 'the eye moved');
+    assert.deepEqual(await value('camera.look_at'), at, 'around the point looked at');
+    assert.ok(Math.abs(dist(from1, at) - dist(from0, at)) < 1e-4, `distance ${dist(from1, at)} vs ${dist(from0, at)}`);
+    const v2 = (await state()).version;
+    await page.mouse.wheel(0, -100);
+    await frameOf(v2 + 1);
+    const from2 = await value('camera.look_from');
+    assert.ok(Math.abs(dist(from2, at) / dist(from1, at) - Math.exp(-0.1)) < 1e-5, `dolly ${dist(from2, at) / dist(from1, at)}`);
+  });
+
   await step('fisheye', async () => {
     const v = (await state()).version;
     await page.selectOption('#preset', 'fisheye');
