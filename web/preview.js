@@ -63,13 +63,4 @@ export class Preview extends EventTarget {
     for (const [t, v] of answered) this.stats.latencies.push({ ms: now - t, version: v, coarse: f.coarse });
     if (this.stats.frames.length > 2000) this.stats.frames.splice(0, 1000);
   }
-
-  // Alpha of the last frame at image position (u, v): 0 where the camera has no ray.
-  alphaAt(u, v) {
-    const f = this.frame;
-    if (!f) return 255;
-    const x = Math.min(f.width - 1, Math.floor(u * f.width));
-    const y = Math.min(f.height - 1, Math.floor(v * f.height));
-    return f.pixels[(y * f.width + x) * 4 + 3];
-  }
 }

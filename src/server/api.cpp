@@ -331,12 +331,12 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
   if (post && p == "/api/save") {
     const Json& name = field(body, "name");
     if (!name.is_null() && !name.is_string()) throw std::invalid_argument("'name' is a file name");
-    if (auto why = editor_.save(name.is_string() ? name.get<std::string>() : ""))
-      return error(400, *why);
+    const Editor::SaveOutcome saved = editor_.save(name.is_string() ? name.get<std::string>() : "");
+    if (saved.error) return error(400, *saved.error);
     return json_response(200,
                          {{"saved", name.is_string() ? name.get<std::string>()
                                                      : editor_.scene_file().filename().string()},
-                          {"normalized", editor_.last_save_normalized()}});
+                          {"normalized", saved.normalized}});
   }
   if (post && p == "/api/render") {
     Editor::RenderRequest req;

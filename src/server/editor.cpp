@@ -208,28 +208,28 @@ Json Editor::state() const {
           {"warnings", w}};
 }
 
-std::optional<std::string> Editor::save(const std::string& name) {
+Editor::SaveOutcome Editor::save(const std::string& name) {
   std::lock_guard lock(mu_);
   fs::path target = doc_.file();
   if (!name.empty()) {
     // (a NUL would end the name the system sees: "model.obj\0.toml" writes model.obj)
     if (name.find_first_of(std::string("/\\\0", 3)) != std::string::npos || name == "." ||
         name == "..")
-      return "save takes a file name in the scene's folder, without a path: '" + name + "'";
-    if (fs::path(name).extension() != ".toml") return "a scene file's name ends in .toml";
+      return {"save takes a file name in the scene's folder, without a path: '" + name + "'"};
+    if (fs::path(name).extension() != ".toml") return {"a scene file's name ends in .toml"};
     target = folder_ / name;
   }
   if (fs::is_symlink(target))
-    return "'" + target.filename().string() + "' is a symbolic link: the editor writes only " +
-           "plain files in the scene's folder";
+    return {"'" + target.filename().string() + "' is a symbolic link: the editor writes only " +
+            "plain files in the scene's folder"};
   const SavedText saved = doc_.saved();
   if (!saved.reads_back)
-    return "the scene cannot be written as TOML that reads back the same (a key with control "
-           "characters?): not saved";
+    return {
+        "the scene cannot be written as TOML that reads back the same (a key with control "
+        "characters?): not saved"};
   write_file_atomic(target, saved.text.data(), saved.text.size());
   if (target == doc_.file()) doc_.saved_as_file(saved.text);
-  last_save_normalized_ = saved.normalized;
-  return std::nullopt;
+  return {std::nullopt, saved.normalized};
 }
 
 std::string Editor::Render::file_name(const std::string& stem, std::optional<int> frame,

@@ -99,9 +99,11 @@ class Editor {
 
   // Writes the document to `name` (relative to the scene's folder; "" = the scene file itself).
   // Errors (a name outside the folder, through a symlink, not .toml) are returned.
-  std::optional<std::string> save(const std::string& name);
-  // Whether the last save had to rewrite the file whole (comments and layout not kept).
-  bool last_save_normalized() const { return last_save_normalized_; }
+  struct SaveOutcome {
+    std::optional<std::string> error;
+    bool normalized = false;  // written whole (comments and layout not kept)
+  };
+  SaveOutcome save(const std::string& name);
 
   // The final render of the current document into a private folder, one frame (the one shown)
   // or, with `frames`, a sequence (what `anamorph render --frames A:B` writes); status as JSON.
@@ -134,7 +136,6 @@ class Editor {
   Preview preview_;
   FinalRenderer final_renderer_;
   std::unique_ptr<Render> render_;
-  bool last_save_normalized_ = false;
 };
 
 }  // namespace anamorph::server

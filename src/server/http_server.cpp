@@ -276,7 +276,6 @@ HttpServer::HttpServer(const HttpOptions& opt, HttpHandler handler) : impl_(new 
 HttpServer::~HttpServer() { stop(); }
 
 int HttpServer::port() const { return impl_->port; }
-const std::string& HttpServer::host() const { return impl_->opt.host; }
 
 int HttpServer::connections() const {
   std::lock_guard lock(impl_->mu);

@@ -54,7 +54,6 @@ class HttpServer {
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
   int port() const;
-  const std::string& host() const;
   // Closes the listener and every connection, and joins their threads.
   void stop();
   int connections() const;

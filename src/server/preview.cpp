@@ -113,11 +113,6 @@ std::string Preview::error() const {
   return error_;
 }
 
-std::shared_ptr<const PreviewFrame> Preview::latest() const {
-  std::lock_guard lock(mu_);
-  return frame_;
-}
-
 std::shared_ptr<const PreviewFrame> Preview::wait_frame(uint64_t after, double timeout_s,
                                                         const std::function<bool()>& gone) const {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);

@@ -61,7 +61,6 @@ class Preview {
   // client is still there; null when none came.
   std::shared_ptr<const PreviewFrame> wait_frame(uint64_t after, double timeout_s,
                                                  const std::function<bool()>& gone) const;
-  std::shared_ptr<const PreviewFrame> latest() const;
 
   // Runs `f(scene, renderer)` on the state of document version >= `version` once the preview
   // thread has taken it up (waits up to `timeout_s`; false when it did not come). The scene and
