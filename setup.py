@@ -34,6 +34,8 @@ class CMakeBuild(build_ext):
         target = pathlib.Path(self.get_ext_fullpath(ext.name))
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(built, target)
+        # The program the module starts to read models with assimp (src/scene/isolated.h).
+        shutil.copy2(build / "anamorph-loader", target.parent / "anamorph-loader")
 
 
 setup(

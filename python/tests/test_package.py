@@ -66,8 +66,11 @@ def test_pip_installs_into_a_virtualenv_offline(tmp_path):
     p = subprocess.run([py, "-m", "pip", "install", "--no-build-isolation", "-q", src],
                        env=env, capture_output=True, text=True, cwd=tmp_path)
     assert p.returncode == 0, p.stdout + p.stderr
-    check = ("import anamorph, pathlib; c = anamorph.Camera('fisheye', fov=180, width=8, "
-             "height=8); assert c.rays()['valid'].sum() > 0; print(anamorph.__file__)")
+    check = ("import anamorph, os, pathlib; c = anamorph.Camera('fisheye', fov=180, width=8, "
+             "height=8); assert c.rays()['valid'].sum() > 0; print(anamorph.__file__); "
+             "h = pathlib.Path(anamorph.__file__).parent / 'anamorph-loader'; "
+             "assert os.access(h, os.X_OK), f'{h} is not installed'; "
+             f"anamorph.load({str(src / 'examples/demo.toml')!r})")  # (an OBJ: the loader)
     p = subprocess.run([py, "-c", check], env=env, capture_output=True, text=True, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert str(venv) in p.stdout

@@ -38,11 +38,11 @@
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 
 #include <fmt/format.h>
 
+#include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/load_common.h"
 #include "scene/load_mesh_repair.h"
@@ -324,35 +324,15 @@ class AssimpBuilder {
 
 namespace {
 
-// In the isolated child: assimp reads and post-processes the file, and the result goes back as
-// assimp's own binary dump (assbin), which the parent reads without any post-processing. The
-// dump drops mesh names, so they follow it: NUL-terminated, then their byte count (8 bytes).
-std::vector<unsigned char> read_in_child(const fs::path& file) {
-  Assimp::Importer importer;
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                         aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-  const aiScene* scene = importer.ReadFile(file.string(), flags);
-  if (!scene) {
-    // assimp catches its own allocation failures and reports them as text.
-    if (std::strstr(importer.GetErrorString(), "bad_alloc")) throw std::bad_alloc();
-    throw LoadError(importer.GetErrorString());
-  }
-  if (!scene->mRootNode || scene->mNumMeshes == 0) throw LoadError("contains no meshes");
-  Assimp::Exporter exporter;
-  const aiExportDataBlob* blob = exporter.ExportToBlob(scene, "assbin");
-  if (!blob)
-    throw LoadError(fmt::format("cannot hand the model over: {}", exporter.GetErrorString()));
-  const auto* data = static_cast<const unsigned char*>(blob->data);
-  std::vector<unsigned char> out(data, data + blob->size);
-  const size_t dump = out.size();
-  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
-    const char* name = scene->mMeshes[i]->mName.C_Str();
-    out.insert(out.end(), name, name + std::strlen(name) + 1);
-  }
-  const uint64_t names = out.size() - dump;
-  const auto* n = reinterpret_cast<const unsigned char*>(&names);
-  out.insert(out.end(), n, n + sizeof names);
-  return out;
+// assimp's answer for `file`, from the loader program, a forked child when there is no program,
+// or this process when isolation is off (scene/isolated.h).
+std::vector<unsigned char> read_isolated(const fs::path& file, const IsolationLimits& limits) {
+  if (!loaders_isolated()) return assimp_answer(file);
+  const std::string helper = loader_helper();
+  if (helper.empty())
+    return run_isolated(
+        "assimp", [&] { return assimp_answer(file); }, limits);
+  return run_helper("assimp", helper, {"assimp", file.string()}, limits);
 }
 
 // Text formats end with a line break; one that ends inside a line was most likely cut short.
@@ -388,11 +368,7 @@ LoadedModel load_with_assimp(const fs::path& file) {
   const uintmax_t size = fs::file_size(file, ec);
   try {
     if (lowercase_extension(file) == ".ply") check_ply_counts(file);
-    std::vector<unsigned char> answer =
-        loaders_isolated()
-            ? run_isolated(
-                  "assimp", [&] { return read_in_child(file); }, loader_limits(ec ? 0 : size))
-            : read_in_child(file);
+    std::vector<unsigned char> answer = read_isolated(file, loader_limits(ec ? 0 : size));
     std::vector<std::string> mesh_names = split_mesh_names(answer);
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFileFromMemory(answer.data(), answer.size(), 0, "assbin");

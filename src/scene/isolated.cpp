@@ -1,9 +1,11 @@
 #include "scene/isolated.h"
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
+#include <spawn.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -14,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <new>
 
@@ -188,6 +191,65 @@ bool loaders_isolated() {
 
 void set_load_cancel_flag(const std::atomic<bool>* flag) { g_cancel = flag; }
 
+namespace {
+
+// The helper writes its answer to this descriptor (its stdout is /dev/null: a parser that
+// prints must not corrupt the answer).
+constexpr int kHelperAnswerFd = 3;
+
+// Waits for child `pid`'s answer on `fd` (closing it) and returns it, or throws its error.
+std::vector<unsigned char> finish(pid_t pid, int fd, const std::string& what,
+                                  const IsolationLimits& limits) {
+  std::string stop;
+  std::vector<unsigned char> got = collect(fd, what, limits, &stop);
+  close(fd);
+  if (!stop.empty()) kill(pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!stop.empty()) throw LoadError(stop);
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    if (sig == SIGXCPU || sig == SIGKILL)
+      throw LoadError(
+          fmt::format("{} ran out of CPU time ({:g} s) and was stopped", what, limits.seconds));
+    throw LoadError(
+        fmt::format("{} crashed on it ({}): the file is damaged or in a form {} cannot read", what,
+                    signal_name(sig), what));
+  }
+  return answer(std::move(got), what, limits, status);
+}
+
+bool executable(const std::string& path) { return access(path.c_str(), X_OK) == 0; }
+
+// posix_spawn's settings for the helper: all signals unblocked and at their defaults, stdin and
+// stdout on /dev/null, stderr shared (a sanitizer's report shows), the pipe on kHelperAnswerFd.
+struct SpawnSetup {
+  posix_spawn_file_actions_t actions;
+  posix_spawnattr_t attr;
+  explicit SpawnSetup(int answer_fd) {
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, answer_fd, kHelperAnswerFd);
+    posix_spawnattr_init(&attr);
+    sigset_t none, all;
+    sigemptyset(&none);
+    sigfillset(&all);
+    posix_spawnattr_setsigmask(&attr, &none);
+    posix_spawnattr_setsigdefault(&attr, &all);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  }
+  ~SpawnSetup() {
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attr);
+  }
+  SpawnSetup(const SpawnSetup&) = delete;
+  SpawnSetup& operator=(const SpawnSetup&) = delete;
+};
+
+}  // namespace
+
 std::vector<unsigned char> run_isolated(const std::string& what,
                                         const std::function<std::vector<unsigned char>()>& work,
                                         const IsolationLimits& limits) {
@@ -205,24 +267,78 @@ std::vector<unsigned char> run_isolated(const std::string& what,
     child_main(fds[1], parent, work, limits);
   }
   close(fds[1]);
-  std::string stop;
-  std::vector<unsigned char> got = collect(fds[0], what, limits, &stop);
-  close(fds[0]);
-  if (!stop.empty()) kill(pid, SIGKILL);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  return finish(pid, fds[0], what, limits);
+}
+
+std::string loader_helper() {
+  if (const char* v = std::getenv("ANAMORPH_LOADER_HELPER"); v && *v)
+    return std::string(v) == "fork" ? "" : v;
+  // Beside the program, then beside the shared object holding this code (the Python module).
+  std::vector<std::filesystem::path> places;
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) places.push_back(self.parent_path());
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&loader_helper), &info) && info.dli_fname)
+    places.push_back(std::filesystem::absolute(info.dli_fname, ec).parent_path());
+  for (const std::filesystem::path& dir : places)
+    if (executable((dir / "anamorph-loader").string())) return (dir / "anamorph-loader").string();
+#ifdef ANAMORPH_LOADER_HELPER_BUILT
+  if (executable(ANAMORPH_LOADER_HELPER_BUILT)) return ANAMORPH_LOADER_HELPER_BUILT;
+#endif
+  return "";
+}
+
+std::vector<unsigned char> run_helper(const std::string& what, const std::string& helper,
+                                      const std::vector<std::string>& args,
+                                      const IsolationLimits& limits) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0)
+    throw LoadError(fmt::format("cannot create a pipe for {}: {}", what, std::strerror(errno)));
+  // Above the descriptor the helper receives it on, so dup2 always copies (and clears CLOEXEC).
+  const int answer_fd = fcntl(fds[1], F_DUPFD_CLOEXEC, kHelperAnswerFd + 1);
+  close(fds[1]);
+  if (answer_fd < 0) {
+    close(fds[0]);
+    throw LoadError(fmt::format("cannot create a pipe for {}: {}", what, std::strerror(errno)));
   }
-  if (!stop.empty()) throw LoadError(stop);
-  if (WIFSIGNALED(status)) {
-    const int sig = WTERMSIG(status);
-    if (sig == SIGXCPU || sig == SIGKILL)
-      throw LoadError(
-          fmt::format("{} ran out of CPU time ({:g} s) and was stopped", what, limits.seconds));
-    throw LoadError(
-        fmt::format("{} crashed on it ({}): the file is damaged or in a form {} cannot read", what,
-                    signal_name(sig), what));
+  std::vector<std::string> words = {helper, std::to_string(getpid()),
+                                    fmt::format("{:.17g}", limits.seconds),
+                                    std::to_string(limits.memory_bytes)};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  int err = 0;
+  {
+    const SpawnSetup setup(answer_fd);
+    err = posix_spawn(&pid, helper.c_str(), &setup.actions, &setup.attr, argv.data(), environ);
   }
-  return answer(std::move(got), what, limits, status);
+  close(answer_fd);
+  if (err != 0) {
+    close(fds[0]);
+    throw LoadError(fmt::format("cannot start {} ({}): {}", what, helper, std::strerror(err)));
+  }
+  return finish(pid, fds[0], what, limits);
+}
+
+bool parse_helper_args(int argc, const char* const* argv, HelperCall* call) {
+  if (argc < 4) return false;
+  char* end = nullptr;
+  call->parent = int(std::strtol(argv[1], &end, 10));
+  if (*end || call->parent <= 0) return false;
+  call->limits.seconds = std::strtod(argv[2], &end);
+  if (*end || !(call->limits.seconds > 0)) return false;
+  call->limits.memory_bytes = std::strtoull(argv[3], &end, 10);
+  if (*end || call->limits.memory_bytes == 0) return false;
+  call->args.assign(argv + 4, argv + argc);
+  return true;
+}
+
+void serve_isolated(const HelperCall& call,
+                    const std::function<std::vector<unsigned char>()>& work) {
+  child_main(kHelperAnswerFd, pid_t(call.parent), work, call.limits);
 }
 
 }  // namespace anamorph

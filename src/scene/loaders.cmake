@@ -2,6 +2,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/loaders.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_loader.cpp
   ${CMAKE_CURRENT_LIST_DIR}/assimp_loader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/assimp_child.cpp
   ${CMAKE_CURRENT_LIST_DIR}/isolated.cpp
   ${CMAKE_CURRENT_LIST_DIR}/load_validate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/load_common.cpp

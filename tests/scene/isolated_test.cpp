@@ -6,9 +6,13 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <thread>
 
+#include "loader_fixture.h"
+#include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/loaders.h"
 
@@ -108,6 +112,94 @@ TEST(Isolated, DefaultLimitsGrowWithTheFile) {
   EXPECT_GE(small.seconds, 10);
   EXPECT_GT(large.seconds, small.seconds);
   EXPECT_GT(large.memory_bytes, small.memory_bytes);
+}
+
+// A tetrahedron: four vertices, four faces.
+constexpr const char* kTetrahedron =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+std::string helper_error(const std::string& helper, const std::vector<std::string>& args) {
+  try {
+    run_helper("assimp", helper, args, {});
+  } catch (const LoadError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(LoaderHelper, IsFoundInTheBuildAndAnswersAsTheReaderInThisProcessDoes) {
+  const std::string helper = loader_helper();
+  ASSERT_FALSE(helper.empty()) << "the build makes anamorph-loader; it was not found";
+  test::ScratchDir dir;
+  const auto obj = dir.write("tetra.obj", kTetrahedron);
+  const std::vector<unsigned char> here = assimp_answer(obj);
+  EXPECT_EQ(run_helper("assimp", helper, {"assimp", obj.string()}, {}), here);
+  EXPECT_EQ(load_model(obj).triangle_count(), 4u);
+}
+
+TEST(LoaderHelper, ErrorsAreTheReadersAndAMissingProgramIsNamed) {
+  test::ScratchDir dir;
+  const auto missing = dir.path() / "absent.obj";
+  std::string in_process;
+  try {
+    assimp_answer(missing);
+  } catch (const LoadError& e) {
+    in_process = e.what();
+  }
+  EXPECT_FALSE(in_process.empty());
+  EXPECT_EQ(helper_error(loader_helper(), {"assimp", missing.string()}), in_process);
+  EXPECT_CONTAINS(helper_error("/nonexistent/anamorph-loader", {"assimp", missing.string()}),
+                  "cannot start assimp (/nonexistent/anamorph-loader): No such file");
+  // A call that is not run_helper's: the program refuses, and the caller hears it stopped.
+  EXPECT_CONTAINS(helper_error(loader_helper(), {"gltf", missing.string()}),
+                  "assimp stopped without an answer (exit status 2)");
+}
+
+TEST(LoaderHelper, ArgumentsRoundTripAndMalformedOnesAreRefused) {
+  const char* good[] = {"anamorph-loader", "42", "2.5", "1048576", "assimp", "a b.obj"};
+  HelperCall call;
+  ASSERT_TRUE(parse_helper_args(6, good, &call));
+  EXPECT_EQ(call.parent, 42);
+  EXPECT_EQ(call.limits.seconds, 2.5);
+  EXPECT_EQ(call.limits.memory_bytes, 1048576u);
+  EXPECT_EQ(call.args, (std::vector<std::string>{"assimp", "a b.obj"}));
+  const char* bad[][4] = {{"x", "0", "1", "1"},   {"x", "7q", "1", "1"}, {"x", "7", "-1", "1"},
+                          {"x", "7", "nan", "1"}, {"x", "7", "1", "0"},  {"x", "7", "1", "1k"}};
+  for (const auto& b : bad) EXPECT_FALSE(parse_helper_args(4, b, &call)) << b[1] << " " << b[2];
+  EXPECT_FALSE(parse_helper_args(3, good, &call));
+}
+
+// The failure this program exists for: loading while other threads allocate. A forked child
+// inherits whatever allocator lock another thread held at that instant (AddressSanitizer's
+// allocator does not take its locks around fork) and waits for it until the time limit; CI saw
+// this in the editor, whose preview thread renders while an edit loads a model.
+TEST(LoaderHelper, LoadsWhileOtherThreadsAllocate) {
+  test::ScratchDir dir;
+  const auto obj = dir.write("tetra.obj", kTetrahedron);
+  setenv("ANAMORPH_LOADER_SECONDS", "5", 1);
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> churn;
+  for (int t = 0; t < 3; ++t)
+    churn.emplace_back([&] {
+      while (!stop.load(std::memory_order_relaxed)) {
+        std::vector<std::unique_ptr<std::vector<char> > > v;
+        for (int i = 0; i < 64; ++i) v.push_back(std::make_unique<std::vector<char> >(4096 + i));
+      }
+    });
+  int loaded = 0;
+  std::string error;
+  for (int i = 0; i < 40 && error.empty(); ++i) {
+    try {
+      loaded += load_model(obj).triangle_count() == 4;
+    } catch (const LoadError& e) {
+      error = e.what();
+    }
+  }
+  stop = true;
+  for (std::thread& t : churn) t.join();
+  unsetenv("ANAMORPH_LOADER_SECONDS");
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(loaded, 40) << "loads that gave the tetrahedron";
 }
 
 }  // namespace
