@@ -28,7 +28,7 @@ async function main() {
   const nav = new Navigator(doc, decl);
   let selectedCoin = -1;
   const waiting = [];  // [version, resolve] of frameShown()
-  const timeline = new Timeline(doc, { time: $('time'), end: $('time-end'), play: $('play'), label: $('time-label'), keys: $('keys') },
+  const timeline = new Timeline(doc, { time: $('time'), end: $('time-end'), play: $('play'), label: $('time-label'), keys: $('keys'), ticks: $('ticks') },
                                 { toast, frameShown: (v) => new Promise((r) => waiting.push([v, r])) });
   const hooks = {
     keyframe: (k, v) => timeline.keyframe(k, v),

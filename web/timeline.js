@@ -9,7 +9,7 @@ export class Timeline {
     this.frame = 0;
     this.playing = false;
     els.time.addEventListener('input', () => this.go(Number(els.time.value)));
-    els.end.addEventListener('change', () => { els.time.max = els.end.value; });
+    els.end.addEventListener('change', () => { els.time.max = els.end.value; this.drawTicks(this.entries()); });
     els.play.addEventListener('click', () => (this.playing ? this.stop() : this.play()));
   }
 
@@ -20,10 +20,28 @@ export class Timeline {
     const keys = this.entries();
     const last = Math.max(0, ...keys.flatMap((a) => a.keys.map((k) => k[0])));
     if (last > Number(this.els.end.value)) { this.els.end.value = last; this.els.time.max = last; }
+    this.drawTicks(keys);
     this.els.keys.textContent = keys.length ? `${keys.length} animated key${keys.length > 1 ? 's' : ''}: ${keys.map((a) => a.key).join(', ')}` : 'no keyframes: ◆ beside a field keys it at this frame';
     this.frame = this.doc.state.frame;
     this.els.time.value = this.frame;
     this.els.label.textContent = `frame ${this.frame}`;
+  }
+
+  // A diamond over the slider at every keyed frame, naming its keys; clicking it goes there.
+  drawTicks(entries) {
+    const at = new Map();
+    for (const a of entries) for (const [f] of a.keys) at.set(f, [...(at.get(f) || []), a.key]);
+    const max = Number(this.els.time.max) || 1;
+    this.els.ticks.replaceChildren(...[...at].filter(([f]) => f >= 0 && f <= max).map(([f, names]) => {
+      const b = document.createElement('button');
+      b.textContent = '◆';
+      b.className = 'tick';
+      b.dataset.frame = f;
+      b.style.left = `${(100 * f) / max}%`;
+      b.title = `frame ${f}: ${names.join(', ')}`;
+      b.addEventListener('click', () => { this.els.time.value = f; this.go(f); });
+      return b;
+    }));
   }
 
   async go(frame) {

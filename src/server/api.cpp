@@ -392,7 +392,7 @@ HttpResponse Api::frame(const HttpRequest& q, const std::function<bool()>& clien
     return r;
   }
   r.content_type = "application/octet-stream";
-  r.body = f->rgba;
+  r.shared_body = std::shared_ptr<const std::string>(f, &f->rgba);  // (no copy of the frame)
   r.headers = {{"X-Frame-Seq", std::to_string(f->seq)},
                {"X-Frame-Version", std::to_string(f->version)},
                {"X-Frame-Width", std::to_string(f->width)},

@@ -29,6 +29,10 @@ EditError bad(std::string message, std::string key = {}) {
   return {400, std::move(message), std::move(key)};
 }
 
+// A request that is well formed but meets a document that cannot take it now (another tab has
+// undone everything, or made an edit that cleared the redo list): 409, as a stale version is.
+EditError conflict(std::string message) { return {409, std::move(message), {}}; }
+
 // `p` is `folder` or inside it (both canonical, or as near as the file system allows).
 bool inside(const fs::path& p, const fs::path& folder) {
   const fs::path rel = p.lexically_relative(folder);
@@ -170,14 +174,14 @@ EditOutcome Editor::edit(std::span<const KeyEdit> edits, int64_t base_version) {
 // (the document changes, and its version counts one, only when the state undone to loads)
 EditOutcome Editor::undo() {
   std::lock_guard lock(mu_);
-  if (!doc_.can_undo()) return {bad("nothing to undo"), doc_.version(), {}};
+  if (!doc_.can_undo()) return {conflict("nothing to undo"), doc_.version(), {}};
   const toml::table then = *doc_.undo_target();
   return show_new(then, [&] { doc_.undo(); });
 }
 
 EditOutcome Editor::redo() {
   std::lock_guard lock(mu_);
-  if (!doc_.can_redo()) return {bad("nothing to redo"), doc_.version(), {}};
+  if (!doc_.can_redo()) return {conflict("nothing to redo"), doc_.version(), {}};
   const toml::table then = *doc_.redo_target();
   return show_new(then, [&] { doc_.redo(); });
 }

@@ -7,8 +7,11 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <list>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -23,10 +26,17 @@ using tcp = net::ip::tcp;
 
 // A socket whose reads and writes give up after a time: Asio's synchronous calls wait on poll()
 // themselves and ignore SO_RCVTIMEO, so the wait is ours. Beast reads and writes through it (it
-// is a SyncReadStream and SyncWriteStream).
+// is a SyncReadStream and SyncWriteStream). Each wait lasts at most `timeout_ms`, and none goes
+// past the deadline when one is set: a client that trickles a request byte by byte cannot keep
+// its connection by never falling silent for long.
 class TimedSocket {
  public:
+  using Clock = std::chrono::steady_clock;
   TimedSocket(tcp::socket& s, int timeout_ms) : s_(s), timeout_ms_(timeout_ms) {}
+  void set_deadline(Clock::time_point t) { deadline_ = t; }
+  void clear_deadline() { deadline_.reset(); }
+  // Waits up to the idle time for the next byte (true) or for the peer to close or fail.
+  bool wait_readable(beast::error_code& ec) { return ready(POLLIN, ec); }
   template <class Buffers>
   size_t read_some(const Buffers& b, beast::error_code& ec) {
     if (!ready(POLLIN, ec)) return 0;
@@ -54,14 +64,21 @@ class TimedSocket {
 
  private:
   bool ready(short events, beast::error_code& ec) {
+    int wait = timeout_ms_;
+    if (deadline_) {
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(*deadline_ - Clock::now());
+      wait = int(std::clamp<int64_t>(left.count(), 0, timeout_ms_));
+    }
     pollfd p{s_.native_handle(), events, 0};
-    const int r = ::poll(&p, 1, timeout_ms_);
+    const int r = ::poll(&p, 1, wait);
     if (r == 0) ec = net::error::timed_out;
     if (r < 0) ec = beast::error_code(errno, boost::system::system_category());
     return r > 0;
   }
   tcp::socket& s_;
   int timeout_ms_;
+  std::optional<Clock::time_point> deadline_;
 };
 
 // Whether the peer closed its end (a read would return end of file), without consuming data.
@@ -100,13 +117,15 @@ HttpRequest to_request(const http::request<http::string_body>& r, bool* ok) {
   return q;
 }
 
-http::response<http::string_body> to_beast(const HttpResponse& r, unsigned version,
-                                           bool keep_alive) {
-  http::response<http::string_body> res{static_cast<http::status>(r.status), version};
+// The response as Beast writes it, with `Body` (string_body, or span_body over shared bytes).
+template <class Body>
+http::response<Body> to_beast(const HttpResponse& r, unsigned version, bool keep_alive,
+                              typename Body::value_type body) {
+  http::response<Body> res{static_cast<http::status>(r.status), version};
   res.set(http::field::server, "anamorph");
   res.set(http::field::content_type, r.content_type);
   for (const auto& [k, v] : r.headers) res.set(k, v);
-  res.body() = r.body;
+  res.body() = std::move(body);
   res.keep_alive(keep_alive);
   res.prepare_payload();
   return res;
@@ -142,6 +161,7 @@ bool percent_decode(const std::string& in, std::string* out, bool plus_is_space)
 }
 
 struct HttpServer::Impl {
+  static constexpr int kRefusalThreads = 16;
   struct Connection {
     std::shared_ptr<tcp::socket> socket;
     std::thread thread;
@@ -167,6 +187,13 @@ struct HttpServer::Impl {
       if (stopped) return;
       if (ec) continue;  // (a connection reset before it was accepted)
       reap();
+      // Past the limit a connection is answered 503 on a thread of its own; far past it (a
+      // flood) it is closed at once, so that no client can make the server start threads
+      // without bound.
+      if (int(connections.size()) >= opt.max_connections + kRefusalThreads) {
+        socket->close(ec);
+        continue;
+      }
       Connection& c = connections.emplace_back();
       c.socket = socket;
       const bool over = int(connections.size()) > opt.max_connections;
@@ -190,38 +217,30 @@ struct HttpServer::Impl {
   }
 
   void serve(tcp::socket& socket, bool over_limit) {
+    using Clock = TimedSocket::Clock;
     TimedSocket stream(socket, opt.idle_timeout_seconds * 1000);
     beast::flat_buffer buffer;
     const int fd = socket.native_handle();
     const std::function<bool()> gone = [fd] { return peer_closed(fd); };
+    // A connection past the limit only waits briefly for the request it is refused.
+    const auto request_time = std::chrono::seconds(over_limit ? 2 : opt.request_timeout_seconds);
+    if (over_limit) stream.set_deadline(Clock::now() + request_time);
     for (;;) {
+      beast::error_code ec;
+      // Idle between requests for up to the idle time; from a request's first byte, all of it
+      // (headers and body) within the request time.
+      if (buffer.size() == 0 && !stream.wait_readable(ec)) break;
+      if (!over_limit) stream.set_deadline(Clock::now() + request_time);
       http::request_parser<http::string_body> parser;
       parser.body_limit(opt.max_body);
       parser.header_limit(16 * 1024);
-      beast::error_code ec;
       http::read(stream, buffer, parser, ec);
-      if (ec == http::error::body_limit) {
-        reply(stream,
-              plain(413,
-                    "request body too large (limit " + std::to_string(opt.max_body) + " bytes)\n"),
-              11, false);
-        break;
-      }
-      if (ec == http::error::header_limit) {
-        reply(stream, plain(431, "request headers too large\n"), 11, false);
-        break;
-      }
       if (ec) {
-        if (ec != http::error::end_of_stream && ec != net::error::timed_out &&
-            ec != net::error::eof && ec != net::error::connection_reset && !buffer.size())
-          break;
-        if (ec == http::error::end_of_stream || ec == net::error::eof ||
-            ec == net::error::timed_out || ec == net::error::connection_reset)
-          break;
-        reply(stream, plain(400, "malformed HTTP request\n"), 11, false);
+        if (refuse_unread(stream, ec, parser.got_some() || buffer.size() > 0)) linger(socket);
         break;
       }
       const auto& req = parser.get();
+      stream.clear_deadline();
       if (over_limit) {
         reply(stream, plain(503, "too many connections\n"), req.version(), false);
         break;
@@ -246,10 +265,62 @@ struct HttpServer::Impl {
     socket.close(ec);
   }
 
-  static bool reply(TimedSocket& stream, const HttpResponse& r, unsigned version, bool keep_alive) {
-    auto res = to_beast(r, version, keep_alive);
+  // Answers a request that could not be read when it deserves an answer (too large, too slow,
+  // malformed: true); a connection that just ended (closed, reset, idle) gets none.
+  bool refuse_unread(TimedSocket& stream, const beast::error_code& ec, bool got_some) const {
+    if (ec == http::error::body_limit) {
+      reply(
+          stream,
+          plain(413, "request body too large (limit " + std::to_string(opt.max_body) + " bytes)\n"),
+          11, false);
+    } else if (ec == http::error::header_limit) {
+      reply(stream, plain(431, "request headers too large\n"), 11, false);
+    } else if (ec == net::error::timed_out) {
+      if (!got_some) return false;
+      reply(stream,
+            plain(408, "the request did not arrive within " +
+                           std::to_string(opt.request_timeout_seconds) + " s\n"),
+            11, false);
+    } else if (ec == http::error::end_of_stream || ec == net::error::eof ||
+               ec == net::error::connection_reset || !got_some) {
+      return false;
+    } else {
+      reply(stream, plain(400, "malformed HTTP request\n"), 11, false);
+    }
+    return true;
+  }
+
+  // After refusing a request whose bytes are still arriving (a body over the limit), reads and
+  // drops them for a moment before closing: closing with unread input would reset the
+  // connection, and the client could lose the answer that says why (a "lingering close").
+  static void linger(tcp::socket& socket) {
     beast::error_code ec;
-    http::write(stream, res, ec);
+    socket.shutdown(tcp::socket::shutdown_send, ec);
+    TimedSocket stream(socket, 2000);
+    stream.set_deadline(TimedSocket::Clock::now() + std::chrono::seconds(2));
+    char sink[1 << 16];
+    for (size_t total = 0; total < (8u << 20);) {
+      const size_t n = stream.read_some(net::buffer(sink), ec);
+      if (ec || n == 0) break;
+      total += n;
+    }
+  }
+
+  // Writes a response, all of it within the idle time (a client that reads a byte now and then
+  // does not keep its thread).
+  bool reply(TimedSocket& stream, const HttpResponse& r, unsigned version, bool keep_alive) const {
+    beast::error_code ec;
+    stream.set_deadline(TimedSocket::Clock::now() + std::chrono::seconds(opt.idle_timeout_seconds));
+    if (r.shared_body) {
+      const std::string& bytes = *r.shared_body;  // (kept alive by r while this writes)
+      auto res = to_beast<http::span_body<const char>>(r, version, keep_alive,
+                                                       {bytes.data(), bytes.size()});
+      http::write(stream, res, ec);
+    } else {
+      auto res = to_beast<http::string_body>(r, version, keep_alive, r.body);
+      http::write(stream, res, ec);
+    }
+    stream.clear_deadline();
     return !ec;
   }
 };

@@ -1,5 +1,9 @@
 #include "server/preview.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <chrono>
 
@@ -11,6 +15,17 @@ namespace anamorph::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Hands the heap's free pages back to the system when the editor has been idle for a second
+// (the preview done, no edit since): what validating edits and rendering previews freed would
+// otherwise stay in the process (glibc returns only the top of a heap on its own). A few
+// milliseconds, never while the user drags. Under the load test the resting RSS is a fifth
+// lower with it (docs/robustness.md).
+void release_free_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -152,15 +167,25 @@ void Preview::publish(std::shared_ptr<PreviewFrame> f) {
 }
 
 void Preview::loop() {
+  bool trimmed = true;  // (nothing freed since the heap was last trimmed)
   for (;;) {
     std::shared_ptr<Job> job;
     {
       std::unique_lock lock(mu_);
-      cv_.wait(lock, [&] { return stop_ || pending_; });
+      const auto ready = [&] { return stop_ || pending_; };
+      if (trimmed) {
+        cv_.wait(lock, ready);
+      } else if (!cv_.wait_for(lock, std::chrono::seconds(1), ready)) {
+        lock.unlock();
+        release_free_memory();  // a second without a change: the user is looking
+        trimmed = true;
+        continue;
+      }
       if (stop_) return;
       job = std::move(pending_);
       cancel_ = false;
     }
+    trimmed = false;
     try {
       take_up(*job);
     } catch (const std::exception& e) {

@@ -112,27 +112,27 @@ TEST_F(EditTest, UndoAndRedoRestoreTheDocuments) {
   EXPECT_EQ(state()["document"], d1);
   EXPECT_EQ(state()["can_undo"], false);
   r = post("/api/undo", json::object());
-  EXPECT_EQ(r.status, 400) << r.body;
+  EXPECT_EQ(r.status, 409) << r.body;  // (a state the document is not in: a conflict)
   EXPECT_NE(body_of(r).value("error", "").find("undo"), std::string::npos) << r.body;
 
   ASSERT_EQ(post("/api/redo", json::object()).status, 200);
   EXPECT_EQ(state()["document"], d2);
   ASSERT_EQ(post("/api/redo", json::object()).status, 200);
   EXPECT_EQ(state()["document"], d3);
-  EXPECT_EQ(post("/api/redo", json::object()).status, 400);
+  EXPECT_EQ(post("/api/redo", json::object()).status, 409);
 
   // A new edit after an undo drops what could be redone.
   ASSERT_EQ(post("/api/undo", json::object()).status, 200);
   ASSERT_EQ(edit("camera.fov", 30, version()).status, 200);
   EXPECT_EQ(state()["can_redo"], false);
-  EXPECT_EQ(post("/api/redo", json::object()).status, 400);
+  EXPECT_EQ(post("/api/redo", json::object()).status, 409);
 }
 
 TEST_F(EditTest, NothingToUndoOnAFreshDocument) {
   const Reply r = post("/api/undo", json::object());
-  EXPECT_EQ(r.status, 400) << r.body;
+  EXPECT_EQ(r.status, 409) << r.body;
   EXPECT_EQ(body_of(r)["version"], 1) << r.body;
-  EXPECT_EQ(post("/api/redo", std::string()).status, 400);
+  EXPECT_EQ(post("/api/redo", std::string()).status, 409);
 }
 
 }  // namespace

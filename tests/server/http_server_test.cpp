@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <list>
+#include <thread>
 
 #include "http_client.h"
 #include "server/http_server.h"
@@ -76,6 +77,43 @@ TEST(HttpServer, ConnectionsOverTheLimitAre503) {
     const Reply r = fetch(http.port(), {"GET", "/"});
     EXPECT_EQ(r.status, 503) << r.body;
   }
+  ASSERT_TRUE(eventually([&] { return http.connections() == 0; }, 10)) << http.connections();
+  EXPECT_EQ(fetch(http.port(), {"GET", "/"}).status, 200);
+}
+
+TEST(HttpServer, ARequestTrickledInIsAnswered408WhileOthersAreServed) {
+  HttpOptions opt;
+  opt.request_timeout_seconds = 1;  // (the idle time stays 60 s)
+  HttpServer http(opt, echo);
+  Connection slow(http.port(), 10000);
+  // A byte every 200 ms for 0.8 s: never silent for long, so only the request's own deadline can
+  // end it; other clients are served meanwhile.
+  for (const char c : std::string("GET ")) {
+    slow.send_raw(std::string(1, c));
+    EXPECT_EQ(fetch(http.port(), {"GET", "/other"}).status, 200) << "a slow client blocked others";
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const Reply r = slow.receive();
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.status, 408) << r.body << " (after " << waited << " s more)";
+  EXPECT_NE(r.body.find("within 1 s"), std::string::npos) << r.body;
+  EXPECT_TRUE(eventually([&] { return http.connections() == 0; }, 10)) << http.connections();
+}
+
+TEST(HttpServer, AFloodOfConnectionsStartsABoundedNumberOfThreads) {
+  HttpOptions opt;
+  opt.max_connections = 2;
+  HttpServer http(opt, echo);
+  std::list<Connection> flood;
+  for (int i = 0; i < 60; ++i) flood.emplace_back(http.port());
+  // (Each accepted connection has a thread until it ends; the flood's are closed at once past
+  // the limit and the refusals' margin.)
+  ASSERT_TRUE(eventually([&] { return http.connections() >= opt.max_connections; }, 10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_LE(http.connections(), opt.max_connections + 16);
+  flood.clear();
   ASSERT_TRUE(eventually([&] { return http.connections() == 0; }, 10)) << http.connections();
   EXPECT_EQ(fetch(http.port(), {"GET", "/"}).status, 200);
 }

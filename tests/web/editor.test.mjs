@@ -187,6 +187,9 @@ try {
     const anim = (await value('animate'))[0];
     assert.equal(anim.key, 'camera.coin.0.strength');
     assert.deepEqual(anim.keys, [[0, 0], [48, 0.5]]);
+    // The keys show on the timeline as diamonds; clicking one goes to its frame.
+    const ticks = await page.$$eval('#ticks .tick', (t) => t.map((b) => Number(b.dataset.frame)));
+    assert.deepEqual(ticks, [0, 48], 'a diamond at each keyed frame');
     const strengthAt = async (frame) => {
       await page.fill('#time', String(frame));
       await page.dispatchEvent('#time', 'input');
