@@ -23,6 +23,16 @@ inline std::string read_text(const std::filesystem::path& p) {
 }
 inline bool have_shared() { return std::filesystem::exists(shared_scenes() / "MANIFEST.md"); }
 
+// Whether this build runs under AddressSanitizer or ThreadSanitizer: 5-20x slower, so end-to-end
+// renders there use smaller images (the same code paths; the suite's time is bounded).
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+// An image side for an end-to-end render: `n`, or half of it under the sanitizers.
+inline std::string side(int n) { return std::to_string(kSanitized ? n / 2 : n); }
+
 }  // namespace anamorph::test
 
 // Skips the current test with a clear message when ../shared/scenes is not beside the repo.

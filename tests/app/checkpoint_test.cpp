@@ -148,24 +148,20 @@ void kill_and_resume(const Case& c, const std::string& ext, int kills) {
 
 // Three kills each; one under the sanitizers, whose builds are 5-10x slower (the same code paths,
 // and the suite's time is bounded).
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr int kKills = 1;
-#else
-constexpr int kKills = 3;
-#endif
+constexpr int kKills = test::kSanitized ? 1 : 3;
 
 TEST(Checkpoint, PathTracingUniformKilledAndResumedIsBitIdentical) {
   kill_and_resume({"path uniform",
-                   {"--width", "128", "--height", "128", "--integrator", "path", "--spp", "192",
-                    "--set", "render.tile_size=16"},
+                   {"--width", test::side(128), "--height", test::side(128), "--integrator", "path",
+                    "--spp", "192", "--set", "render.tile_size=16"},
                    "albedo,normal,depth,id,spp"},
                   ".exr", kKills);
 }
 
 TEST(Checkpoint, PathTracingAdaptiveKilledAndResumedIsBitIdentical) {
   kill_and_resume({"path per-pixel adaptive",
-                   {"--width", "128", "--height", "128", "--integrator", "path", "--set",
-                    "render.antialias=\"pixel\"", "--set", "render.max_spp=512", "--set",
+                   {"--width", test::side(128), "--height", test::side(128), "--integrator", "path",
+                    "--set", "render.antialias=\"pixel\"", "--set", "render.max_spp=512", "--set",
                     "render.noise_threshold=0.005"},
                    "albedo,normal,spp"},
                   ".exr", kKills);
@@ -173,8 +169,8 @@ TEST(Checkpoint, PathTracingAdaptiveKilledAndResumedIsBitIdentical) {
 
 TEST(Checkpoint, WhittedLatticeKilledAndResumedIsBitIdentical) {
   kill_and_resume({"whitted lattice",
-                   {"--width", "768", "--height", "768", "--set", "render.aa_threshold=0.02",
-                    "--set", "render.tile_size=24"},
+                   {"--width", test::side(768), "--height", test::side(768), "--set",
+                    "render.aa_threshold=0.02", "--set", "render.tile_size=24"},
                    "normal,id"},
                   ".png", kKills);
 }
@@ -234,8 +230,8 @@ TEST(TimeLimit, PathTracingAdaptiveStopsAndResumesToTheSameBits) {
 
 TEST(TimeLimit, WhittedLatticeStopsAndResumesToTheSameBits) {
   budget_and_resume({"whitted lattice",
-                     {"--width", "512", "--height", "512", "--set", "render.aa_threshold=0.02",
-                      "--set", "render.tile_size=16"},
+                     {"--width", test::side(512), "--height", test::side(512), "--set",
+                      "render.aa_threshold=0.02", "--set", "render.tile_size=16"},
                      "normal"},
                     ".png");
 }
