@@ -13,6 +13,11 @@ namespace anamorph {
 
 namespace {
 
+// Geometry masks: a shadow ray of the Whitted integrator first asks only the opaque geometry
+// (kOpaque), then walks the see-through surfaces (kSeeThrough); every other ray asks all.
+constexpr unsigned kOpaque = 1, kSeeThrough = 2, kAll = 0xFFFFFFFF;
+unsigned mask_of(const Material& m) { return m.transmission > 0 ? kSeeThrough : kOpaque; }
+
 void embree_error(void*, RTCError code, const char* msg) {
   // Embree reports through this callback; failures here are programming or memory errors.
   throw std::runtime_error(fmt::format("Embree error {}: {}", int(code), msg ? msg : ""));
@@ -81,10 +86,11 @@ void shape_query(const Args* args) {
       const auto tf = float(t);
       if (!(tf < tmax)) continue;  // float rounding must not accept a farther hit
       RTCRayN_tfar(ray, n, i) = tf;
-      const Vec3 ng = rec->world_from_object.normal(shape_normal(*rec->shape, oo + od * t));
-      RTCHitN_Ng_x(hit, n, i) = float(ng.x);
-      RTCHitN_Ng_y(hit, n, i) = float(ng.y);
-      RTCHitN_Ng_z(hit, n, i) = float(ng.z);
+      // (No Ng: fill_hit computes the surface of the nearest hit alone, exactly; a normal here
+      // would be computed for every closer candidate along the way.)
+      RTCHitN_Ng_x(hit, n, i) = 0;
+      RTCHitN_Ng_y(hit, n, i) = 0;
+      RTCHitN_Ng_z(hit, n, i) = 0;
       RTCHitN_u(hit, n, i) = 0;
       RTCHitN_v(hit, n, i) = 0;
       RTCHitN_primID(hit, n, i) = args->primID;
@@ -100,6 +106,7 @@ void shape_occluded(const RTCOccludedFunctionNArguments* args) { shape_query<tru
 RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform* xf,
                            const Material& mat, std::vector<std::unique_ptr<MaskData>>& masks) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryMask(g, mask_of(mat));
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
   for (size_t i = 0; i < m.positions.size(); ++i) {
@@ -152,8 +159,14 @@ Accel::Accel(const Scene& scene) {
     if (uses[inst.prototype] == 1) flat_count += scene.prototypes[inst.prototype].meshes.size();
   flat_meshes_.reserve(flat_count);
 
-  auto attach = [&](RTCGeometry g, std::unique_ptr<Record> rec) {
+  // (A geometry with see-through parts joins the see-through structure too, by the same id,
+  // so that a hit there names the same record.)
+  auto attach = [&](RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
     const unsigned id = rtcAttachGeometry(top_, g);
+    if (mask & kSeeThrough) {
+      if (!see_through_) see_through_ = rtcNewScene(device_);
+      rtcAttachGeometryByID(see_through_, g, id);
+    }
     rtcReleaseGeometry(g);
     if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
     records_.push_back(std::move(rec));
@@ -172,11 +185,12 @@ Accel::Accel(const Scene& scene) {
             std::swap(w.indices[t + 1], w.indices[t + 2]);
         flat_meshes_.push_back(std::move(w));
         const TriangleMesh& fm = flat_meshes_.back();
-        RTCGeometry g = make_triangles(device_, fm, nullptr, scene.materials[fm.material], masks);
+        const Material& mat = scene.materials[fm.material];
+        RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks);
         auto rec = std::make_unique<Record>();
         rec->kind = Record::Kind::FlatMesh;
         rec->mesh = &fm;
-        attach(g, std::move(rec));
+        attach(g, std::move(rec), mask_of(mat));
         stats_.unique_triangles += fm.triangle_count();
         stats_.instanced_triangles += fm.triangle_count();
       }
@@ -196,6 +210,9 @@ Accel::Accel(const Scene& scene) {
     }
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(g, ps);
+    unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
+    for (const auto& m : proto.meshes) mask |= mask_of(scene.materials[m.material]);
+    rtcSetGeometryMask(g, mask);
     float xfm[12];  // 3x4 column-major
     const auto& a = inst.world_from_object.matrix().m;
     for (int c = 0; c < 4; ++c)
@@ -207,7 +224,7 @@ Accel::Accel(const Scene& scene) {
     rec->proto = &proto;
     rec->world_from_object = inst.world_from_object;
     rec->object_from_world = inst.world_from_object.inverse();
-    attach(g, std::move(rec));
+    attach(g, std::move(rec), mask);
     stats_.instances++;
     for (const auto& m : proto.meshes) stats_.instanced_triangles += m.triangle_count();
   }
@@ -224,11 +241,20 @@ Accel::Accel(const Scene& scene) {
     rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
     rtcSetGeometryIntersectFunction(g, shape_intersect);
     rtcSetGeometryOccludedFunction(g, shape_occluded);
+    const unsigned mask = mask_of(scene.materials[sh.material]);
+    rtcSetGeometryMask(g, mask);
     rtcCommitGeometry(g);
-    attach(g, std::move(rec));
+    attach(g, std::move(rec), mask);
     stats_.shapes++;
   }
   rtcCommitScene(top_);
+  if (see_through_) {
+    rtcCommitScene(see_through_);
+    RTCBounds sb;
+    rtcGetSceneBounds(see_through_, &sb);
+    see_through_bounds_ = {{sb.lower_x, sb.lower_y, sb.lower_z},
+                           {sb.upper_x, sb.upper_y, sb.upper_z}};
+  }
 
   RTCBounds b;
   rtcGetSceneBounds(top_, &b);
@@ -239,6 +265,7 @@ Accel::Accel(const Scene& scene) {
 }
 
 Accel::~Accel() {
+  if (see_through_) rtcReleaseScene(see_through_);
   if (top_) rtcReleaseScene(top_);
   for (RTCScene s : prototype_scenes_)
     if (s) rtcReleaseScene(s);
@@ -342,7 +369,7 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   h->material = m->material;
 }
 
-static void set_ray(RTCRay& ray, const Ray& r) {
+static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
   ray.org_x = float(r.o.x);
   ray.org_y = float(r.o.y);
   ray.org_z = float(r.o.z);
@@ -354,31 +381,56 @@ static void set_ray(RTCRay& ray, const Ray& r) {
                  ? std::numeric_limits<float>::infinity()
                  : float(r.tmax);
   ray.time = 0;
-  ray.mask = 0xFFFFFFFF;
+  ray.mask = mask;
   ray.id = 0;
   ray.flags = 0;
 }
 
-bool Accel::intersect(const Ray& r, Hit* hit) const {
+// The nearest hit of `r` in `scene` among the geometries `mask` selects.
+bool Accel::nearest(RTCScene scene, const Ray& r, unsigned mask, Hit* hit) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
-  set_ray(rh.ray, r);
+  set_ray(rh.ray, r, mask);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(top_, &ctx, &rh);
+  rtcIntersect1(scene, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   fill_hit(r, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.u, rh.hit.v, hit);
   return true;
 }
 
-bool Accel::occluded(const Ray& r) const {
+bool Accel::any(const Ray& r, unsigned mask) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRay ray;
-  set_ray(ray, r);
+  set_ray(ray, r, mask);
   rtcOccluded1(top_, &ctx, &ray);
   return ray.tfar < 0;
+}
+
+bool Accel::intersect(const Ray& r, Hit* hit) const { return nearest(top_, r, kAll, hit); }
+bool Accel::occluded(const Ray& r) const { return any(r, kAll); }
+bool Accel::occluded_by_opaque(const Ray& r) const { return any(r, kOpaque); }
+// Whether the segment of `r` from tmin to tmax meets box `b` (the slab test).
+static bool meets(const Bounds3& b, const Ray& r) {
+  double t0 = r.tmin, t1 = r.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const double inv = 1 / r.d[a];
+    double tn = (b.lo[a] - r.o[a]) * inv, tf = (b.hi[a] - r.o[a]) * inv;
+    if (tn > tf) std::swap(tn, tf);
+    t0 = tn > t0 ? tn : t0;
+    t1 = tf < t1 ? tf : t1;
+    if (!(t0 <= t1)) return false;  // (a NaN from 0 * inf leaves t0, t1: it rules nothing out)
+  }
+  return true;
+}
+
+bool Accel::intersect_see_through(const Ray& r, Hit* hit) const {
+  // (A BVH of one object is a leaf, which Embree enters without testing its box: most shadow
+  // rays pass far from the glass, and this test sends them back for a few multiplications.)
+  return see_through_ && meets(see_through_bounds_, r) &&
+         nearest(see_through_, r, kSeeThrough, hit);
 }
 
 // One packet: `load(rh)` writes the lanes' origins and directions, the rest is set here.

@@ -50,6 +50,13 @@ class Accel {
 
   bool intersect(const Ray& r, Hit* hit) const;
   bool occluded(const Ray& r) const;
+  // Shadow rays that pass through see-through surfaces (materials with transmission, as the
+  // Whitted integrator shades them): whether an opaque surface lies on the ray, the see-through
+  // ones ignored (an any-hit query); and the nearest see-through surface on it, found in a
+  // structure of its own that holds only them (cheap: usually a few objects, or none).
+  bool occluded_by_opaque(const Ray& r) const;
+  bool intersect_see_through(const Ray& r, Hit* hit) const;
+  bool has_see_through() const { return see_through_ != nullptr; }
   // Intersects 16 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
   void intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
   // The same for rays from t = 0 to infinity given as structure of arrays (org[c][i] is
@@ -76,10 +83,14 @@ class Accel {
  private:
   void fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
                 float bv, Hit* hit, bool surface = true) const;
+  bool nearest(RTCScene scene, const Ray& r, unsigned mask, Hit* hit) const;
+  bool any(const Ray& r, unsigned mask) const;
   struct MaskStore;
 
   RTCDevice device_ = nullptr;
   RTCScene top_ = nullptr;
+  RTCScene see_through_ = nullptr;  // the top level's see-through geometries, by the same ids
+  Bounds3 see_through_bounds_;
   std::vector<RTCScene> prototype_scenes_;
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
   std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space

@@ -17,8 +17,8 @@ struct ShapeSurface {
   Vec3 dpdu, dpdv;  // derivatives w.r.t. uv (object space)
 };
 ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p);
-// Just shape_surface(s, p).n, without the parameterization (the intersection callbacks need
-// only the normal; a sphere's uv costs an atan2 and an acos).
+// Just shape_surface(s, p).n, without the parameterization (a sphere's uv costs an atan2 and
+// an acos).
 Vec3 shape_normal(const AnalyticShape& s, const Vec3& p);
 
 // Object-space bounds; the infinite plane gets a large finite square.

@@ -45,7 +45,7 @@ Mat4 inverse(const Mat4& a, bool* ok) {
   return r;
 }
 
-Transform::Transform(const Mat4& m) : m_(m), inv_(anamorph::inverse(m)) {}
+Transform::Transform(const Mat4& m) : m_(m), inv_(anamorph::inverse(m)), kind_(classify(m)) {}
 
 Transform Transform::translate(const Vec3& t) {
   Mat4 m = Mat4::identity(), i = Mat4::identity();

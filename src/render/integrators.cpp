@@ -23,11 +23,9 @@ bool visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint
 
 class Whitted final : public Integrator {
  public:
-  explicit Whitted(const RenderContext& ctx) : Integrator(ctx) {
-    for (const Material& m : ctx.scene.materials) {
-      see_through_ |= m.transmission > 0;
-      textured_.push_back(m.textured());
-    }
+  explicit Whitted(const RenderContext& ctx)
+      : Integrator(ctx), see_through_(ctx.accel.has_see_through()) {
+    for (const Material& m : ctx.scene.materials) textured_.push_back(m.textured());
   }
 
   Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
@@ -99,19 +97,27 @@ class Whitted final : public Integrator {
   // The light reaching h from ls through transparent surfaces, as Whitted's paper and POV-Ray
   // shade them: each surface the shadow ray crosses scales it by its material's transmission,
   // without bending it (no caustics); an opaque surface blocks it. (The path tracer's shadow
-  // rays stop at glass: its paths through glass find the light themselves.)
+  // rays stop at glass: its paths through glass find the light themselves.) The product does
+  // not depend on the order of the crossings, so an any-hit query over the opaque surfaces
+  // answers most rays at once, and only those it lets through walk the see-through surfaces,
+  // in a structure that holds only them.
   double transmittance(const Hit& h, const LightSample& ls, uint64_t& rays) const {
     const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
     Vec3 o = h.p + n * ray_offset(h.p);
+    // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
+    const auto to_light = [&] {
+      return std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
+    };
+    ++rays;
+    if (!(to_light() > 0)) return 1;
+    if (ctx_.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light()})) return 0;
     double T = 1;
     for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
-      // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
-      const double to_light =
-          std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
-      if (!(to_light > 0)) return T;
+      const double d = to_light();
+      if (!(d > 0)) return T;
       Hit x;
-      ++rays;
-      if (!ctx_.accel.intersect(Ray{o, ls.wi, 0, to_light}, &x)) return T;
+      if (!ctx_.accel.intersect_see_through(Ray{o, ls.wi, 0, d}, &x)) return T;
+      ++rays;  // (the segment beyond this surface)
       T *= ctx_.scene.materials[x.material].transmission;
       if (!(T > 0)) return 0;
       const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
@@ -131,7 +137,7 @@ class Whitted final : public Integrator {
                  depth + 1, weight, rays);
   }
 
-  bool see_through_ = false;       // some material transmits: shadow rays may pass surfaces
+  bool see_through_ = false;       // some object transmits: shadow rays may pass surfaces
   std::vector<uint8_t> textured_;  // per material: Material::textured()
 };
 

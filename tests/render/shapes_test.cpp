@@ -6,6 +6,7 @@
 #include "accel/accel.h"
 #include "accel/shapes.h"
 #include "scene/scene_loader.h"
+#include "test_util.h"
 
 namespace anamorph {
 
@@ -111,6 +112,63 @@ TEST(Shapes, SurfaceDerivativesMatchFiniteDifferences) {
   const ShapeSurface s2 = shape_surface(s, normalize(p + ss.dpdu * h) * 1.5);
   EXPECT_NEAR(s2.uv.x - ss.uv.x, h, 1e-9);
   EXPECT_NEAR(s2.uv.y - ss.uv.y, 0, 1e-9);
+}
+
+// Shadow rays through glass (Whitted): the opaque query ignores see-through objects, the
+// see-through query finds only them, for shapes, meshes moved to world space and instanced
+// meshes alike; a scene without see-through objects has no see-through structure.
+TEST(Shapes, OpaqueAndSeeThroughQueriesSeeTheirOwnObjects) {
+  const std::string quad = (test::data_dir() / "models" / "textured_quad.obj").string();
+  const std::string gltf = (test::data_dir() / "models" / "shared_mesh.gltf").string();
+  const Scene scene = load_scene_from_string(
+      "[[material]]\nname = \"glass\"\ntransmission = 0.5\n"
+      "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, -5]\nradius = 1\nmaterial = \"glass\"\n"
+      "[[object]]\ntype = \"box\"\nmin = [-1, -1, -9]\nmax = [1, 1, -8]\n"
+      "[[object]]\ntype = \"mesh\"\nfile = \"" +
+          quad +
+          "\"\nmaterial = \"glass\"\n"
+          "transform = { translate = [9.5, -0.5, -3] }\n"
+          "[[object]]\ntype = \"mesh\"\nfile = \"" +
+          gltf +
+          "\"\nmaterial = \"glass\"\n"
+          "transform = { translate = [-20, 0, -6] }\n",
+      "t.toml");
+  const Accel accel(scene);
+  ASSERT_TRUE(accel.has_see_through());
+  const auto ray = [](Vec3 o, Vec3 d) { return Ray{o, normalize(d), 0, kInf}; };
+  // Through the glass sphere to the box behind it.
+  const Ray through = ray({0, 0, 0}, {0, 0, -1});
+  Hit h;
+  ASSERT_TRUE(accel.intersect(through, &h));
+  EXPECT_NEAR(h.t, 4, 1e-5) << "the full query meets the sphere first";
+  EXPECT_TRUE(accel.occluded_by_opaque(through)) << "the box blocks";
+  EXPECT_TRUE(accel.occluded(through));
+  ASSERT_TRUE(accel.intersect_see_through(through, &h));
+  EXPECT_NEAR(h.t, 4, 1e-5);
+  EXPECT_EQ(scene.materials[h.material].transmission, 0.5);
+  // Glass alone: not blocked, and the see-through query meets it.
+  for (const Vec3 target : {Vec3{10, 0, -3}, Vec3{-17.5, 0.5, -6}, Vec3{-19, 4, -6}}) {
+    const Ray r = ray({target.x, target.y, 5}, {0, 0, -1});
+    Hit any;
+    ASSERT_TRUE(accel.intersect(r, &any)) << target.x;
+    EXPECT_FALSE(accel.occluded_by_opaque(r)) << "glass at x = " << target.x << " blocked";
+    EXPECT_TRUE(accel.occluded(r)) << target.x;
+    Hit g;
+    ASSERT_TRUE(accel.intersect_see_through(r, &g)) << target.x;
+    EXPECT_NEAR(g.t, any.t, 1e-6) << target.x;
+    EXPECT_EQ(g.object_id, any.object_id) << "the same record: " << target.x;
+  }
+  // Beside everything: nothing anywhere.
+  const Ray miss = ray({0, 30, 0}, {0, 0, -1});
+  EXPECT_FALSE(accel.occluded_by_opaque(miss));
+  EXPECT_FALSE(accel.intersect_see_through(miss, &h));
+  // Without glass there is no see-through structure, and nothing is see-through.
+  const Scene opaque = load_scene_from_string(
+      "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, -5]\nradius = 1\n", "t.toml");
+  const Accel solid(opaque);
+  EXPECT_FALSE(solid.has_see_through());
+  EXPECT_TRUE(solid.occluded_by_opaque(through));
+  EXPECT_FALSE(solid.intersect_see_through(through, &h));
 }
 
 }  // namespace anamorph
