@@ -40,6 +40,9 @@ class Integrator {
   // beyond the primary one are added to `rays`.
   virtual Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
                          uint64_t& rays) const = 0;
+  // Whether radiance() draws from `rng` at all: when it does not (Whitted lit by point and
+  // spot lights alone), a pixel-center render seeds no generator.
+  virtual bool draws_random_numbers() const { return true; }
 
  protected:
   // A ray leaving a surface point, offset along the geometric normal to avoid self-hits.

@@ -32,6 +32,7 @@ class Whitted final : public Integrator {
                  uint64_t& rays) const override {
     return trace(ray, first, fp, rng, 0, 1.0, rays);
   }
+  bool draws_random_numbers() const override { return ctx_.lights.has_area(); }
 
  private:
   // `weight`: the largest component of the product of the coefficients that lead to this ray.
@@ -51,20 +52,22 @@ class Whitted final : public Integrator {
     L += b.diffuse * lights.environment_average();
 
     if (b.has_smooth()) {
-      auto add = [&](size_t li, double pmf) {
+      // (A delta light's sample needs no random numbers: none are drawn for it.)
+      auto add = [&](size_t li, double pmf, bool delta) {
         LightSample ls;
-        if (!lights.sample(li, h->p, {rng.uniform(), rng.uniform()}, &ls) || !(ls.pdf > 0)) return;
+        const Vec2 u = delta ? Vec2{0.5, 0.5} : Vec2{rng.uniform(), rng.uniform()};
+        if (!lights.sample(li, h->p, u, &ls) || !(ls.pdf > 0)) return;
         const Color f = b.eval(wo, ls.wi);
         if (max_component(f) <= 0) return;
         const double T = see_through_ ? transmittance(*h, ls, rays) : visible(ctx_, *h, ls, rays);
         if (!(T > 0)) return;
         L += f * ls.L * (T * std::abs(dot(ls.wi, b.frame.n)) / (ls.pdf * pmf));
       };
-      for (uint32_t li : lights.delta_lights()) add(li, 1.0);
+      for (uint32_t li : lights.delta_lights()) add(li, 1.0, true);
       if (lights.has_area()) {
         double pmf;
         const size_t li = lights.pick_area(rng.uniform(), &pmf);
-        if (pmf > 0) add(li, pmf);
+        if (pmf > 0) add(li, pmf, false);
       }
     }
     // The tree ends at max_depth, where a branch's weight falls below the bailout (two facing

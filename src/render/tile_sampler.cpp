@@ -17,8 +17,8 @@ TileSampler::TileSampler(const RenderJob& job)
     : job_(job),
       lens_time_(job.scene.camera->uses_lens_or_time()),
       gaussian_(job.rs.filter == PixelFilter::Gaussian) {
-  needs_rng_ =
-      lens_time_ || job.mode == RenderMode::Radiance || job.rs.sampler != SamplerKind::Center;
+  needs_rng_ = lens_time_ || job.rs.sampler != SamplerKind::Center ||
+               (job.mode == RenderMode::Radiance && job.integrator->draws_random_numbers());
   // Any prefix of a pixel's Sobol' samples is well stratified, which per-pixel adaptive sampling
   // needs: a pixel may stop after any pass.
   qmc_ = needs_rng_ && job.rs.sampler == SamplerKind::Stratified;
