@@ -60,6 +60,14 @@ void shape_bounds(const RTCBoundsFunctionArguments* args) {
   args->bounds_o->upper_z = float(b.hi.z + pad.z);
 }
 
+// Where the float ray (o, d) of a shape's record meets it in (tmin, tmax), in double precision
+// in the shape's own space; false if nowhere.
+bool shape_t(const Accel::Record& rec, const Vec3& o, const Vec3& d, double tmin, double tmax,
+             double* t) {
+  const Vec3 oo = rec.object_from_world.point(o), od = rec.object_from_world.vector(d);
+  return intersect_shape(*rec.shape, oo, od, tmin, tmax, t);
+}
+
 template <bool kOcclusion, class Args>
 void shape_query(const Args* args) {
   const auto* rec = static_cast<const Accel::Record*>(args->geometryUserPtr);
@@ -77,9 +85,8 @@ void shape_query(const Args* args) {
     const Vec3 o{RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i)};
     const Vec3 d{RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)};
     const double tmin = RTCRayN_tnear(ray, n, i), tmax = RTCRayN_tfar(ray, n, i);
-    const Vec3 oo = rec->object_from_world.point(o), od = rec->object_from_world.vector(d);
     double t;
-    if (!intersect_shape(*rec->shape, oo, od, tmin, tmax, &t)) continue;
+    if (!shape_t(*rec, o, d, tmin, tmax, &t)) continue;
     if constexpr (kOcclusion) {
       RTCRayN_tfar(ray, n, i) = -std::numeric_limits<float>::infinity();
     } else {
@@ -244,7 +251,22 @@ Accel::Accel(const Scene& scene) {
     const unsigned mask = mask_of(scene.materials[sh.material]);
     rtcSetGeometryMask(g, mask);
     rtcCommitGeometry(g);
-    attach(g, std::move(rec), mask);
+    if (sh.kind == AnalyticShape::Kind::Plane) {
+      // An infinite plane's box holds every ray: in the BVH it would be a leaf that every ray
+      // enters and calls back. It is tested beside the BVH instead, first, so that its hit
+      // also shortens the BVH's query (a ray toward the floor skips all beyond it).
+      const unsigned id = unsigned(records_.size());
+      unbounded_.push_back({id, mask});
+      unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
+      if (mask & kSeeThrough) see_through_unbounded_ = true;
+      rtcDisableGeometry(g);
+      const unsigned got = rtcAttachGeometry(top_, g);  // (for its id and record only)
+      rtcReleaseGeometry(g);
+      if (got != id) throw std::logic_error("Embree geometry ids are not sequential");
+      records_.push_back(std::move(rec));
+    } else {
+      attach(g, std::move(rec), mask);
+    }
     stats_.shapes++;
   }
   rtcCommitScene(top_);
@@ -258,9 +280,13 @@ Accel::Accel(const Scene& scene) {
 
   RTCBounds b;
   rtcGetSceneBounds(top_, &b);
-  if (!records_.empty()) {
+  if (records_.size() > unbounded_.size()) {
     bounds_.extend({b.lower_x, b.lower_y, b.lower_z});
     bounds_.extend({b.upper_x, b.upper_y, b.upper_z});
+  }
+  if (!unbounded_.empty()) {
+    bounds_.extend(unbounded_box_.lo);
+    bounds_.extend(unbounded_box_.hi);
   }
 }
 
@@ -386,17 +412,43 @@ static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
   ray.flags = 0;
 }
 
-// The nearest hit of `r` in `scene` among the geometries `mask` selects.
+unsigned Accel::nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, float* tfar,
+                                  unsigned mask) const {
+  unsigned found = RTC_INVALID_GEOMETRY_ID;
+  for (const Unbounded& u : unbounded_) {
+    double t;
+    if (!(u.mask & mask) || !shape_t(*records_[u.id], o, d, tmin, *tfar, &t)) continue;
+    const auto tf = float(t);
+    if (!(tf < *tfar)) continue;  // (as the callbacks do: float rounding must not go farther)
+    *tfar = tf;
+    found = u.id;
+  }
+  return found;
+}
+
+static Vec3 org_of(const RTCRay& r) { return {r.org_x, r.org_y, r.org_z}; }
+static Vec3 dir_of(const RTCRay& r) { return {r.dir_x, r.dir_y, r.dir_z}; }
+
+// The nearest hit of `r` in `scene` among the geometries `mask` selects, the unbounded shapes
+// first (their hit bounds the BVH's query; a BVH hit then is nearer).
 bool Accel::nearest(RTCScene scene, const Ray& r, unsigned mask, Hit* hit) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
   set_ray(rh.ray, r, mask);
+  const unsigned plane = unbounded_.empty() ? RTC_INVALID_GEOMETRY_ID
+                                            : nearest_unbounded(org_of(rh.ray), dir_of(rh.ray),
+                                                                rh.ray.tnear, &rh.ray.tfar, mask);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(scene, &ctx, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  fill_hit(r, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.u, rh.hit.v, hit);
+  if (scene) rtcIntersect1(scene, &ctx, &rh);
+  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+    fill_hit(r, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.u, rh.hit.v,
+             hit);
+  else if (plane != RTC_INVALID_GEOMETRY_ID)
+    fill_hit(r, rh.ray.tfar, plane, 0, RTC_INVALID_GEOMETRY_ID, 0, 0, hit);
+  else
+    return false;
   return true;
 }
 
@@ -405,6 +457,12 @@ bool Accel::any(const Ray& r, unsigned mask) const {
   rtcInitIntersectContext(&ctx);
   RTCRay ray;
   set_ray(ray, r, mask);
+  if (!unbounded_.empty()) {
+    float tfar = ray.tfar;
+    if (nearest_unbounded(org_of(ray), dir_of(ray), ray.tnear, &tfar, mask) !=
+        RTC_INVALID_GEOMETRY_ID)
+      return true;
+  }
   rtcOccluded1(top_, &ctx, &ray);
   return ray.tfar < 0;
 }
@@ -426,22 +484,28 @@ static bool meets(const Bounds3& b, const Ray& r) {
   return true;
 }
 
+bool Accel::near_see_through(const Ray& r) const {
+  return see_through_unbounded_ || (see_through_ && meets(see_through_bounds_, r));
+}
+
 bool Accel::intersect_see_through(const Ray& r, Hit* hit) const {
   // (A BVH of one object is a leaf, which Embree enters without testing its box: most shadow
   // rays pass far from the glass, and this test sends them back for a few multiplications.)
-  return see_through_ && meets(see_through_bounds_, r) &&
-         nearest(see_through_, r, kSeeThrough, hit);
+  return near_see_through(r) && nearest(see_through_, r, kSeeThrough, hit);
 }
 
-// One packet: `load(rh)` writes the lanes' origins and directions, the rest is set here.
-template <int N, class RayHitN, class Load, class F>
-static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Load&& load, F&& fill,
+// One packet: `load(rh)` writes the lanes' origins and directions, `bound(o, d, tmin, &tfar)`
+// tests what is not in the BVH (shortening tfar; the id it hit, or none), the rest is set here.
+template <int N, class RayHitN, class Load, class Bound, class F>
+static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Load&& load,
+                             Bound&& bound, F&& fill,
                              void (*trace)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) RayHitN rh;
   alignas(64) int v[N];
+  unsigned beside[N];
   load(rh);
   for (int i = 0; i < N; ++i) {
     v[i] = valid[i] ? -1 : 0;
@@ -451,13 +515,21 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
     rh.ray.flags[i] = 0;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    beside[i] = valid[i] ? bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
+                                 Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]},
+                                 rh.ray.tnear[i], &rh.ray.tfar[i])
+                         : RTC_INVALID_GEOMETRY_ID;
   }
   trace(v, scene, &ctx, &rh);
   for (int i = 0; i < N; ++i) {
-    found[i] = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-    if (found[i])
+    const bool in_bvh = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+    found[i] = valid[i] && (in_bvh || beside[i] != RTC_INVALID_GEOMETRY_ID);
+    if (!found[i]) continue;
+    if (in_bvh)
       fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i],
            rh.hit.v[i]);
+    else
+      fill(i, rh.ray.tfar[i], beside[i], 0, RTC_INVALID_GEOMETRY_ID, 0.f, 0.f);
   }
 }
 
@@ -479,6 +551,9 @@ void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* fou
                                : float(r.tmax);
         }
       },
+      [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
+        return nearest_unbounded(o, d, tmin, tfar, kAll);
+      },
       [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
         fill_hit(rays[i], t, g, p, in, u, v, &hits[i]);
       },
@@ -499,6 +574,9 @@ void Accel::intersect16(const double (&org)[3][16], const double (&dir)[3][16], 
         for (int i = 0; i < 16; ++i) rh.ray.dir_z[i] = float(dir[2][i]);
         for (int i = 0; i < 16; ++i) rh.ray.tnear[i] = 0.0f;
         for (int i = 0; i < 16; ++i) rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+      },
+      [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
+        return nearest_unbounded(o, d, tmin, tfar, kAll);
       },
       [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
         const Ray r{{org[0][i], org[1][i], org[2][i]}, {dir[0][i], dir[1][i], dir[2][i]}, 0, kInf};

@@ -55,8 +55,12 @@ class Accel {
   // ones ignored (an any-hit query); and the nearest see-through surface on it, found in a
   // structure of its own that holds only them (cheap: usually a few objects, or none).
   bool occluded_by_opaque(const Ray& r) const;
+  // Whether the ray (tmin to tmax) passes the see-through objects' bounding box: when it does
+  // not, intersect_see_through would find nothing (a few multiplications, where a Hit alone
+  // takes longer to set up).
+  bool near_see_through(const Ray& r) const;
   bool intersect_see_through(const Ray& r, Hit* hit) const;
-  bool has_see_through() const { return see_through_ != nullptr; }
+  bool has_see_through() const { return see_through_ || see_through_unbounded_; }
   // Intersects 16 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
   void intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
   // The same for rays from t = 0 to infinity given as structure of arrays (org[c][i] is
@@ -85,12 +89,24 @@ class Accel {
                 float bv, Hit* hit, bool surface = true) const;
   bool nearest(RTCScene scene, const Ray& r, unsigned mask, Hit* hit) const;
   bool any(const Ray& r, unsigned mask) const;
+  // The nearest unbounded shape the float ray (o, d) meets in (tmin, *tfar) among those `mask`
+  // selects: *tfar becomes its distance, and its id is returned (RTC_INVALID_GEOMETRY_ID: none).
+  unsigned nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, float* tfar,
+                             unsigned mask) const;
   struct MaskStore;
 
   RTCDevice device_ = nullptr;
   RTCScene top_ = nullptr;
   RTCScene see_through_ = nullptr;  // the top level's see-through geometries, by the same ids
   Bounds3 see_through_bounds_;
+  // Shapes without bounds (infinite planes): in top_ only for their ids, disabled there, and
+  // tested beside it by every query.
+  struct Unbounded {
+    unsigned id, mask;
+  };
+  std::vector<Unbounded> unbounded_;
+  Bounds3 unbounded_box_;  // (the finite square they are clipped to, for bounds())
+  bool see_through_unbounded_ = false;
   std::vector<RTCScene> prototype_scenes_;
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
   std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space

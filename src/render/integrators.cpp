@@ -118,8 +118,10 @@ class Whitted final : public Integrator {
     for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
       const double d = to_light();
       if (!(d > 0)) return T;
+      const Ray segment{o, ls.wi, 0, d};
+      if (!ctx_.accel.near_see_through(segment)) return T;
       Hit x;
-      if (!ctx_.accel.intersect_see_through(Ray{o, ls.wi, 0, d}, &x)) return T;
+      if (!ctx_.accel.intersect_see_through(segment, &x)) return T;
       ++rays;  // (the segment beyond this surface)
       T *= ctx_.scene.materials[x.material].transmission;
       if (!(T > 0)) return 0;

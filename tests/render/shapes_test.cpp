@@ -171,4 +171,61 @@ TEST(Shapes, OpaqueAndSeeThroughQueriesSeeTheirOwnObjects) {
   EXPECT_FALSE(solid.intersect_see_through(through, &h));
 }
 
+// Infinite planes are tested beside the BVH: every query (nearest, any-hit, packets, the
+// see-through walk) still finds them, and what lies before them still comes first.
+TEST(Shapes, InfinitePlanesAreFoundBesideTheBvh) {
+  const Scene scene = load_scene_from_string(
+      "[[material]]\nname = \"glass\"\ntransmission = 0.5\n"
+      "[[object]]\ntype = \"plane\"\n"
+      "[[object]]\ntype = \"plane\"\npoint = [0, 5, 0]\nnormal = [0, -1, 0]\nmaterial = \"glass\"\n"
+      "[[object]]\ntype = \"box\"\nmin = [-1, 0, -1]\nmax = [1, 1, 1]\n",
+      "t.toml");
+  const Accel accel(scene);
+  EXPECT_TRUE(accel.has_see_through());
+  EXPECT_GE(accel.bounds().hi.x, 1e5) << "the planes' square is in the bounds";
+  const auto down = [](double x) { return Ray{{x, 3, 0}, {0, -1, 0}, 0, kInf}; };
+  Hit h;
+  ASSERT_TRUE(accel.intersect(down(0), &h));
+  EXPECT_NEAR(h.t, 2, 1e-6) << "the box's top before the floor";
+  ASSERT_TRUE(accel.intersect(down(5), &h));
+  EXPECT_NEAR(h.t, 3, 1e-6) << "the floor";
+  EXPECT_EQ(h.object_id, 0u);
+  EXPECT_NEAR(h.ng.y, 1, 1e-12);
+  EXPECT_TRUE(accel.occluded(down(5)));
+  EXPECT_TRUE(accel.occluded_by_opaque(down(5)));
+  EXPECT_FALSE(accel.occluded(Ray{{5, 3, 0}, {0, -1, 0}, 0, 2.5})) << "short of the floor";
+  // Up: only the glass ceiling.
+  const Ray up{{5, 3, 0}, {0, 1, 0}, 0, kInf};
+  ASSERT_TRUE(accel.intersect(up, &h));
+  EXPECT_NEAR(h.t, 2, 1e-6);
+  EXPECT_EQ(h.object_id, 1u);
+  EXPECT_TRUE(accel.occluded(up));
+  EXPECT_FALSE(accel.occluded_by_opaque(up));
+  EXPECT_TRUE(accel.near_see_through(up));
+  ASSERT_TRUE(accel.intersect_see_through(up, &h));
+  EXPECT_EQ(h.object_id, 1u);
+  // A packet: the same hits as one ray at a time.
+  double org[3][16], dir[3][16];
+  bool valid[16], found[16];
+  Hit hits[16];
+  for (int i = 0; i < 16; ++i) {
+    const Ray r = i % 3 == 2 ? up : down(i * 0.4 - 3);
+    for (int c = 0; c < 3; ++c) org[c][i] = r.o[c], dir[c][i] = r.d[c];
+    valid[i] = i != 7;
+  }
+  accel.intersect16(org, dir, valid, hits, found);
+  for (int i = 0; i < 16; ++i) {
+    const Ray r = i % 3 == 2 ? up : down(i * 0.4 - 3);
+    Hit one;
+    const bool hit_one = accel.intersect(r, &one);
+    if (!valid[i]) {
+      EXPECT_FALSE(found[i]);
+      continue;
+    }
+    ASSERT_EQ(found[i], hit_one) << "lane " << i;
+    EXPECT_EQ(hits[i].object_id, one.object_id) << "lane " << i;
+    EXPECT_EQ(hits[i].t, one.t) << "lane " << i;
+  }
+}
+
 }  // namespace anamorph
