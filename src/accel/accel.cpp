@@ -6,16 +6,18 @@
 #include <limits>
 #include <stdexcept>
 
+#include "accel/accel_internal.h"
 #include "accel/shapes.h"
 #include "math/frame.h"
 
 namespace anamorph {
 
+using accel_detail::kOpaque;
+using accel_detail::kSeeThrough;
+using accel_detail::shape_t;
+
 namespace {
 
-// Geometry masks: a shadow ray of the Whitted integrator first asks only the opaque geometry
-// (kOpaque), then walks the see-through surfaces (kSeeThrough); every other ray asks all.
-constexpr unsigned kOpaque = 1, kSeeThrough = 2, kAll = 0xFFFFFFFF;
 unsigned mask_of(const Material& m) { return m.transmission > 0 ? kSeeThrough : kOpaque; }
 
 void embree_error(void*, RTCError code, const char* msg) {
@@ -58,14 +60,6 @@ void shape_bounds(const RTCBoundsFunctionArguments* args) {
   args->bounds_o->upper_x = float(b.hi.x + pad.x);
   args->bounds_o->upper_y = float(b.hi.y + pad.y);
   args->bounds_o->upper_z = float(b.hi.z + pad.z);
-}
-
-// Where the float ray (o, d) of a shape's record meets it in (tmin, tmax), in double precision
-// in the shape's own space; false if nowhere.
-bool shape_t(const Accel::Record& rec, const Vec3& o, const Vec3& d, double tmin, double tmax,
-             double* t) {
-  const Vec3 oo = rec.object_from_world.point(o), od = rec.object_from_world.vector(d);
-  return intersect_shape(*rec.shape, oo, od, tmin, tmax, t);
 }
 
 template <bool kOcclusion, class Args>
@@ -393,196 +387,6 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   h->dpdu = dpdu;
   h->dpdv = dpdv;
   h->material = m->material;
-}
-
-static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
-  ray.org_x = float(r.o.x);
-  ray.org_y = float(r.o.y);
-  ray.org_z = float(r.o.z);
-  ray.dir_x = float(r.d.x);
-  ray.dir_y = float(r.d.y);
-  ray.dir_z = float(r.d.z);
-  ray.tnear = float(r.tmin);
-  ray.tfar = r.tmax >= double(std::numeric_limits<float>::max())
-                 ? std::numeric_limits<float>::infinity()
-                 : float(r.tmax);
-  ray.time = 0;
-  ray.mask = mask;
-  ray.id = 0;
-  ray.flags = 0;
-}
-
-unsigned Accel::nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, float* tfar,
-                                  unsigned mask) const {
-  unsigned found = RTC_INVALID_GEOMETRY_ID;
-  for (const Unbounded& u : unbounded_) {
-    double t;
-    if (!(u.mask & mask) || !shape_t(*records_[u.id], o, d, tmin, *tfar, &t)) continue;
-    const auto tf = float(t);
-    if (!(tf < *tfar)) continue;  // (as the callbacks do: float rounding must not go farther)
-    *tfar = tf;
-    found = u.id;
-  }
-  return found;
-}
-
-static Vec3 org_of(const RTCRay& r) { return {r.org_x, r.org_y, r.org_z}; }
-static Vec3 dir_of(const RTCRay& r) { return {r.dir_x, r.dir_y, r.dir_z}; }
-
-// The nearest hit of `r` in `scene` among the geometries `mask` selects, the unbounded shapes
-// first (their hit bounds the BVH's query; a BVH hit then is nearer).
-bool Accel::nearest(RTCScene scene, const Ray& r, unsigned mask, Hit* hit) const {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  set_ray(rh.ray, r, mask);
-  const unsigned plane = unbounded_.empty() ? RTC_INVALID_GEOMETRY_ID
-                                            : nearest_unbounded(org_of(rh.ray), dir_of(rh.ray),
-                                                                rh.ray.tnear, &rh.ray.tfar, mask);
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  if (scene) rtcIntersect1(scene, &ctx, &rh);
-  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
-    fill_hit(r, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.u, rh.hit.v,
-             hit);
-  else if (plane != RTC_INVALID_GEOMETRY_ID)
-    fill_hit(r, rh.ray.tfar, plane, 0, RTC_INVALID_GEOMETRY_ID, 0, 0, hit);
-  else
-    return false;
-  return true;
-}
-
-bool Accel::any(const Ray& r, unsigned mask) const {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRay ray;
-  set_ray(ray, r, mask);
-  if (!unbounded_.empty()) {
-    float tfar = ray.tfar;
-    if (nearest_unbounded(org_of(ray), dir_of(ray), ray.tnear, &tfar, mask) !=
-        RTC_INVALID_GEOMETRY_ID)
-      return true;
-  }
-  rtcOccluded1(top_, &ctx, &ray);
-  return ray.tfar < 0;
-}
-
-bool Accel::intersect(const Ray& r, Hit* hit) const { return nearest(top_, r, kAll, hit); }
-bool Accel::occluded(const Ray& r) const { return any(r, kAll); }
-bool Accel::occluded_by_opaque(const Ray& r) const { return any(r, kOpaque); }
-// Whether the segment of `r` from tmin to tmax meets box `b` (the slab test).
-static bool meets(const Bounds3& b, const Ray& r) {
-  double t0 = r.tmin, t1 = r.tmax;
-  for (int a = 0; a < 3; ++a) {
-    const double inv = 1 / r.d[a];
-    double tn = (b.lo[a] - r.o[a]) * inv, tf = (b.hi[a] - r.o[a]) * inv;
-    if (tn > tf) std::swap(tn, tf);
-    t0 = tn > t0 ? tn : t0;
-    t1 = tf < t1 ? tf : t1;
-    if (!(t0 <= t1)) return false;  // (a NaN from 0 * inf leaves t0, t1: it rules nothing out)
-  }
-  return true;
-}
-
-bool Accel::near_see_through(const Ray& r) const {
-  return see_through_unbounded_ || (see_through_ && meets(see_through_bounds_, r));
-}
-
-bool Accel::intersect_see_through(const Ray& r, Hit* hit) const {
-  // (A BVH of one object is a leaf, which Embree enters without testing its box: most shadow
-  // rays pass far from the glass, and this test sends them back for a few multiplications.)
-  return near_see_through(r) && nearest(see_through_, r, kSeeThrough, hit);
-}
-
-// One packet: `load(rh)` writes the lanes' origins and directions, `bound(o, d, tmin, &tfar)`
-// tests what is not in the BVH (shortening tfar; the id it hit, or none), the rest is set here.
-template <int N, class RayHitN, class Load, class Bound, class F>
-static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Load&& load,
-                             Bound&& bound, F&& fill,
-                             void (*trace)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  alignas(64) RayHitN rh;
-  alignas(64) int v[N];
-  unsigned beside[N];
-  load(rh);
-  for (int i = 0; i < N; ++i) {
-    v[i] = valid[i] ? -1 : 0;
-    rh.ray.time[i] = 0;
-    rh.ray.mask[i] = 0xFFFFFFFF;
-    rh.ray.id[i] = unsigned(i);
-    rh.ray.flags[i] = 0;
-    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    beside[i] = valid[i] ? bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
-                                 Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]},
-                                 rh.ray.tnear[i], &rh.ray.tfar[i])
-                         : RTC_INVALID_GEOMETRY_ID;
-  }
-  trace(v, scene, &ctx, &rh);
-  for (int i = 0; i < N; ++i) {
-    const bool in_bvh = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-    found[i] = valid[i] && (in_bvh || beside[i] != RTC_INVALID_GEOMETRY_ID);
-    if (!found[i]) continue;
-    if (in_bvh)
-      fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i],
-           rh.hit.v[i]);
-    else
-      fill(i, rh.ray.tfar[i], beside[i], 0, RTC_INVALID_GEOMETRY_ID, 0.f, 0.f);
-  }
-}
-
-void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const {
-  intersect_packet<16, RTCRayHit16>(
-      valid, found, top_,
-      [&](RTCRayHit16& rh) {
-        for (int i = 0; i < 16; ++i) {
-          const Ray& r = rays[i];
-          rh.ray.org_x[i] = float(r.o.x);
-          rh.ray.org_y[i] = float(r.o.y);
-          rh.ray.org_z[i] = float(r.o.z);
-          rh.ray.dir_x[i] = float(r.d.x);
-          rh.ray.dir_y[i] = float(r.d.y);
-          rh.ray.dir_z[i] = float(r.d.z);
-          rh.ray.tnear[i] = float(r.tmin);
-          rh.ray.tfar[i] = r.tmax >= double(std::numeric_limits<float>::max())
-                               ? std::numeric_limits<float>::infinity()
-                               : float(r.tmax);
-        }
-      },
-      [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
-        return nearest_unbounded(o, d, tmin, tfar, kAll);
-      },
-      [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
-        fill_hit(rays[i], t, g, p, in, u, v, &hits[i]);
-      },
-      rtcIntersect16);
-}
-
-void Accel::intersect16(const double (&org)[3][16], const double (&dir)[3][16], const bool* valid,
-                        Hit* hits, bool* found, bool surface) const {
-  intersect_packet<16, RTCRayHit16>(
-      valid, found, top_,
-      [&](RTCRayHit16& rh) {
-        // Component by component: conversions the compiler turns into vector instructions.
-        for (int i = 0; i < 16; ++i) rh.ray.org_x[i] = float(org[0][i]);
-        for (int i = 0; i < 16; ++i) rh.ray.org_y[i] = float(org[1][i]);
-        for (int i = 0; i < 16; ++i) rh.ray.org_z[i] = float(org[2][i]);
-        for (int i = 0; i < 16; ++i) rh.ray.dir_x[i] = float(dir[0][i]);
-        for (int i = 0; i < 16; ++i) rh.ray.dir_y[i] = float(dir[1][i]);
-        for (int i = 0; i < 16; ++i) rh.ray.dir_z[i] = float(dir[2][i]);
-        for (int i = 0; i < 16; ++i) rh.ray.tnear[i] = 0.0f;
-        for (int i = 0; i < 16; ++i) rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
-      },
-      [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
-        return nearest_unbounded(o, d, tmin, tfar, kAll);
-      },
-      [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
-        const Ray r{{org[0][i], org[1][i], org[2][i]}, {dir[0][i], dir[1][i], dir[2][i]}, 0, kInf};
-        fill_hit(r, t, g, p, in, u, v, &hits[i], surface);
-      },
-      rtcIntersect16);
 }
 
 }  // namespace anamorph

@@ -1,4 +1,5 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/accel.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/accel_query.cpp
   ${CMAKE_CURRENT_LIST_DIR}/shapes.cpp
 )
