@@ -250,7 +250,8 @@ Accel::Accel(const Scene& scene) {
       // enters and calls back. It is tested beside the BVH instead, first, so that its hit
       // also shortens the BVH's query (a ray toward the floor skips all beyond it).
       const unsigned id = unsigned(records_.size());
-      unbounded_.push_back({id, mask});
+      unbounded_.push_back({id, mask, rec->world_from_object.point({0, 0, 0}),
+                            normalize(rec->world_from_object.normal({0, 1, 0}))});
       unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
       if (mask & kSeeThrough) see_through_unbounded_ = true;
       rtcDisableGeometry(g);

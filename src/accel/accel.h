@@ -103,9 +103,10 @@ class Accel {
   // tested beside it by every query.
   struct Unbounded {
     unsigned id, mask;
+    Vec3 point, normal;  // the plane in world space (the normal unit)
   };
   std::vector<Unbounded> unbounded_;
-  Bounds3 unbounded_box_;  // (the finite square they are clipped to, for bounds())
+  Bounds3 unbounded_box_;  // (a finite square standing for them in bounds())
   bool see_through_unbounded_ = false;
   std::vector<RTCScene> prototype_scenes_;
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID

@@ -35,8 +35,11 @@ unsigned Accel::nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, floa
                                   unsigned mask) const {
   unsigned found = RTC_INVALID_GEOMETRY_ID;
   for (const Unbounded& u : unbounded_) {
-    double t;
-    if (!(u.mask & mask) || !shape_t(*records_[u.id], o, d, tmin, *tfar, &t)) continue;
+    // (In world space: a plane is a point and a normal, and t is the same in every space.)
+    const double dn = dot(d, u.normal);
+    if (!(u.mask & mask) || dn == 0) continue;
+    const double t = dot(u.point - o, u.normal) / dn;
+    if (!(t > tmin && t < *tfar)) continue;
     const auto tf = float(t);
     if (!(tf < *tfar)) continue;  // (as the callbacks do: float rounding must not go farther)
     *tfar = tf;

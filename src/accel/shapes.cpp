@@ -26,6 +26,8 @@ bool pick(double t0, double t1, double tmin, double tmax, double* t) {
   return false;
 }
 
+// An infinite plane is infinite (accel tests it beside the BVH); its bounds, which stand for it
+// where a finite box is needed (the scene's extent, the editor's boxes), are this square.
 constexpr double kPlaneExtent = 1e6;
 
 }  // namespace
@@ -54,9 +56,6 @@ bool intersect_shape(const AnalyticShape& s, const Vec3& o, const Vec3& d, doubl
       if (s.kind == AnalyticShape::Kind::Disk && p.x * p.x + p.z * p.z > s.radius * s.radius)
         return false;
       if (s.kind == AnalyticShape::Kind::Rectangle && (std::abs(p.x) > 0.5 || std::abs(p.z) > 0.5))
-        return false;
-      if (s.kind == AnalyticShape::Kind::Plane &&
-          (std::abs(p.x) > kPlaneExtent || std::abs(p.z) > kPlaneExtent))
         return false;
       *t = th;
       return true;
