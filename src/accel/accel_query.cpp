@@ -36,9 +36,12 @@ unsigned Accel::nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, floa
   unsigned found = RTC_INVALID_GEOMETRY_ID;
   for (const Unbounded& u : unbounded_) {
     // (In world space: a plane is a point and a normal, and t is the same in every space.)
-    const double dn = dot(d, u.normal);
+    const double dn = dot(d, u.normal), num = dot(u.point - o, u.normal);
     if (!(u.mask & mask) || dn == 0) continue;
-    const double t = dot(u.point - o, u.normal) / dn;
+    // (Behind the origin when num and dn differ in sign: most shadow rays leave the floor, and
+    // this sends them on without a division.)
+    if (tmin >= 0 && !(num * dn > 0)) continue;
+    const double t = num / dn;
     if (!(t > tmin && t < *tfar)) continue;
     const auto tf = float(t);
     if (!(tf < *tfar)) continue;  // (as the callbacks do: float rounding must not go farther)

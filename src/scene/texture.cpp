@@ -149,10 +149,11 @@ Color Texture::eval(const TexCoord& tc, double* alpha) const {
   Vec3 p, w;
   int axes[3] = {0, 1, 2};
   int naxes = 3;
+  const double inv_scale = 1 / scale;  // (one division, not nine)
   if (space == Space::Uv) {
-    p = pattern_from_space.point({tc.uv.x, tc.uv.y, 0}) / scale;
-    const Vec3 dx = pattern_from_space.vector({tc.duvdx.x, tc.duvdx.y, 0}) / scale;
-    const Vec3 dy = pattern_from_space.vector({tc.duvdy.x, tc.duvdy.y, 0}) / scale;
+    p = pattern_from_space.point({tc.uv.x, tc.uv.y, 0}) * inv_scale;
+    const Vec3 dx = pattern_from_space.vector({tc.duvdx.x, tc.duvdx.y, 0}) * inv_scale;
+    const Vec3 dy = pattern_from_space.vector({tc.duvdy.x, tc.duvdy.y, 0}) * inv_scale;
     for (int i = 0; i < 3; ++i) w[i] = 0.5 * (std::abs(dx[i]) + std::abs(dy[i]));
     naxes = 2;
   } else {
@@ -161,9 +162,9 @@ Color Texture::eval(const TexCoord& tc, double* alpha) const {
     const Vec3 ps = obj ? tc.p_object : tc.p_world;
     Vec3 dx = tc.dpdx, dy = tc.dpdy, n = obj ? tc.n_object : tc.n_world;
     if (ofw) dx = ofw->vector(dx), dy = ofw->vector(dy);
-    p = pattern_from_space.point(ps) / scale;
-    dx = pattern_from_space.vector(dx) / scale;
-    dy = pattern_from_space.vector(dy) / scale;
+    p = pattern_from_space.point(ps) * inv_scale;
+    dx = pattern_from_space.vector(dx) * inv_scale;
+    dy = pattern_from_space.vector(dy) * inv_scale;
     n = pattern_from_space.normal(n);
     for (int i = 0; i < 3; ++i) w[i] = 0.5 * (std::abs(dx[i]) + std::abs(dy[i]));
     // Drop the axis along the normal: on a floor y = 0 the pattern must not depend on y,
@@ -172,7 +173,7 @@ Color Texture::eval(const TexCoord& tc, double* alpha) const {
     const Vec3 an{std::abs(n.x), std::abs(n.y), std::abs(n.z)};
     if (an.y > an[drop]) drop = 1;
     if (an.z > an[drop]) drop = 2;
-    if (length(n) > 0) {
+    if (an.x > 0 || an.y > 0 || an.z > 0) {
       naxes = 0;
       for (int i = 0; i < 3; ++i)
         if (i != drop) axes[naxes++] = i;
