@@ -221,6 +221,27 @@ try {
     run(['render', path.join(dir, 'demo.toml'), '--width', '96', '--height', '54', '-o', path.join(outDir, 'saved.png')]);
   });
 
+  await step('render', async () => {
+    // The final render from the page: progress, then the PNG offered for download, at the
+    // scene's own size.
+    await page.click('#render');
+    await page.uncheck('#r-seq');  // (the animation is offered, the scene having keys: one frame here)
+    await page.click('#r-start');
+    await waitFor(page, 'the final render', () => {
+      const t = document.getElementById('r-status').textContent;
+      return t.startsWith('done') || t.startsWith('failed') || t.startsWith('cancelled') ? t : null;
+    });
+    const status = await page.textContent('#r-status');
+    assert.match(status, /^done in/, status);
+    const href = await page.getAttribute('#r-links a[href*="result.png"]', 'href');
+    assert.ok(href, 'a PNG to download');
+    const head = await page.evaluate(async (h) => [...new Uint8Array(await (await fetch(h)).arrayBuffer()).slice(0, 24)], href);
+    assert.deepEqual(head.slice(1, 4), [80, 78, 71], 'a PNG file');
+    const size = (o) => ((head[o] << 24) | (head[o + 1] << 16) | (head[o + 2] << 8) | head[o + 3]) >>> 0;
+    const image = (await state()).document.image || {};
+    assert.deepEqual([size(16), size(20)], [image.width || 960, image.height || 540], 'the scene\'s size');
+  });
+
   assert.deepEqual(errors, [], 'no script errors on the page');
   console.log(`all ${n} steps passed; screenshots in ${outDir}`);
 } finally {
