@@ -54,7 +54,12 @@ class FrameOutput {
 
  private:
   struct Strip;
+  std::unique_ptr<Strip> new_strip(int rows) const;
+  void copy_into(Strip& s, const ResolvedTile& t, const TileRect& r) const;
+  std::unique_ptr<Strip> empty_strip(int row) const;
   void write_ready(int row, std::unique_ptr<Strip> strip);
+  void append(const Strip& s);  // the next strip from the top; write_mu_ held
+  void drain_ready();           // write_mu_ held
   void flush_all_missing();
 
   FrameOutputSpec spec_;
