@@ -367,12 +367,9 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
     if (q.query.count("frame")) frame = int(std::clamp(query_number(q, "frame", 0), -1e9, 1e9));
     const auto file = editor_.render_result(ext, frame);
     if (!file) return error(404, "no finished render with a " + ext + " file");
-    std::ifstream in(*file, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
     HttpResponse r;
     r.content_type = ext == "png" ? "image/png" : "image/x-exr";
-    r.body = s.str();
+    r.file = *file;
     r.headers.emplace_back("Content-Disposition",
                            "attachment; filename=\"" + file->filename().string() + "\"");
     return r;

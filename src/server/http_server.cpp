@@ -311,6 +311,7 @@ struct HttpServer::Impl {
   bool reply(TimedSocket& stream, const HttpResponse& r, unsigned version, bool keep_alive) const {
     beast::error_code ec;
     stream.set_deadline(TimedSocket::Clock::now() + std::chrono::seconds(opt.idle_timeout_seconds));
+    if (!r.file.empty()) return reply_file(stream, r, version, keep_alive);
     if (r.shared_body) {
       const std::string& bytes = *r.shared_body;  // (kept alive by r while this writes)
       auto res = to_beast<http::span_body<const char>>(r, version, keep_alive,
@@ -320,6 +321,24 @@ struct HttpServer::Impl {
       auto res = to_beast<http::string_body>(r, version, keep_alive, r.body);
       http::write(stream, res, ec);
     }
+    stream.clear_deadline();
+    return !ec;
+  }
+
+  // A file in pieces: memory is Beast's buffer, not the file. The deadline is the idle time plus
+  // a second per 64 KiB, so a slow reader of a big file is served while one that stops is not.
+  bool reply_file(TimedSocket& stream, const HttpResponse& r, unsigned version,
+                  bool keep_alive) const {
+    beast::error_code ec;
+    http::file_body::value_type body;
+    body.open(r.file.c_str(), beast::file_mode::scan, ec);
+    if (ec)
+      return reply(stream, plain(404, "cannot read " + r.file.filename().string() + "\n"), version,
+                   keep_alive);
+    const auto seconds = opt.idle_timeout_seconds + int64_t(body.size() >> 16);
+    auto res = to_beast<http::file_body>(r, version, keep_alive, std::move(body));
+    stream.set_deadline(TimedSocket::Clock::now() + std::chrono::seconds(seconds));
+    http::write(stream, res, ec);
     stream.clear_deadline();
     return !ec;
   }

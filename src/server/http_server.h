@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -34,6 +35,9 @@ struct HttpResponse {
   // thread then never allocates a frame's megabytes, which glibc would keep in that thread's
   // arena after it is freed (the load test saw RSS grow by half).
   std::shared_ptr<const std::string> shared_body;
+  // A file sent from disk a piece at a time instead of `body` (a render's result: a 16K EXR is
+  // gigabytes). Opened when the response is written; if it cannot be opened, the client gets 404.
+  std::filesystem::path file;
   std::vector<std::pair<std::string, std::string>> headers;
 };
 

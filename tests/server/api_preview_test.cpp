@@ -177,6 +177,13 @@ TEST_F(PreviewTest, FinalRenderGivesAPng) {
   ASSERT_EQ(png.status, 200) << png.body.substr(0, 200);
   EXPECT_EQ(png.header("content-type"), "image/png");
   EXPECT_EQ(png.body.substr(0, 4), "\x89PNG");
+  // The bytes of the file the render wrote, named for the download.
+  const std::string disposition = png.header("content-disposition");
+  const size_t q = disposition.find("filename=\"");
+  ASSERT_NE(q, std::string::npos) << disposition;
+  const std::string name = disposition.substr(q + 10, disposition.size() - q - 11);
+  const auto written = fs::path(json::parse(last)["folder"].get<std::string>()) / name;
+  EXPECT_TRUE(png.body == read_text(written)) << "the download differs from " << written;
   EXPECT_EQ(get("/api/render/result.exr").status, 404);              // (none asked for)
   EXPECT_EQ(post("/api/render", json{{"png", false}}).status, 400);  // (neither file asked for)
 }

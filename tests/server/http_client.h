@@ -102,6 +102,14 @@ class Connection {
     return r;
   }
 
+  // Up to `max` bytes as they come (the start of a response read by a client that then stops).
+  std::string read_raw(size_t max) {
+    std::string out(max, '\0');
+    Stream s(socket_, timeout_ms_);
+    out.resize(s.read_some(boost::asio::buffer(out.data(), out.size())));
+    return out;
+  }
+
   void close() {
     boost::beast::error_code ec;
     socket_.shutdown(boost::asio::ip::tcp::socket::shutdown_both, ec);

@@ -1,7 +1,11 @@
 // The HTTP server alone, with handlers of the test's own: what it costs a client at most (idle
 // time, connections), handlers that throw or block, and URL decoding.
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <list>
 #include <thread>
 
@@ -116,6 +120,55 @@ TEST(HttpServer, AFloodOfConnectionsStartsABoundedNumberOfThreads) {
   flood.clear();
   ASSERT_TRUE(eventually([&] { return http.connections() == 0; }, 10)) << http.connections();
   EXPECT_EQ(fetch(http.port(), {"GET", "/"}).status, 200);
+}
+
+// Resident set of this process in bytes.
+size_t resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  size_t pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return resident * size_t(sysconf(_SC_PAGESIZE));
+}
+
+// A render's result is sent from its file a piece at a time: a client that reads the first bytes
+// of a 64 MiB file and stops holds a connection, not the file in the server's memory.
+TEST(HttpServer, AFileIsSentFromDiskInPieces) {
+  const auto dir = std::filesystem::path(::testing::TempDir()) / "http_file_body";
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "big.bin";
+  std::string bytes(64u << 20, '\0');
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = char((i * 2654435761u) >> 13);
+  std::ofstream(file, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  HttpServer http({}, [&](const HttpRequest& q, const std::function<bool()>& gone) {
+    HttpResponse r;
+    r.content_type = "application/octet-stream";
+    if (q.path == "/file") r.file = file;
+    if (q.path == "/missing") r.file = dir / "missing.bin";
+    return r.file.empty() ? echo(q, gone) : r;
+  });
+
+  const Reply whole = fetch(http.port(), {"GET", "/file"});
+  ASSERT_EQ(whole.status, 200);
+  EXPECT_EQ(whole.header("content-length"), std::to_string(bytes.size()));
+  EXPECT_EQ(whole.header("content-type"), "application/octet-stream");
+  ASSERT_EQ(whole.body.size(), bytes.size());
+  EXPECT_TRUE(whole.body == bytes) << "the bytes sent differ from the file's";
+  EXPECT_EQ(fetch(http.port(), {"GET", "/missing"}).status, 404);
+
+  const size_t before = resident_bytes();
+  {
+    Connection slow(http.port());
+    slow.send({"GET", "/file"});
+    const std::string start = slow.read_raw(4096);
+    EXPECT_EQ(start.substr(0, 15), "HTTP/1.1 200 OK") << start.substr(0, 100);
+    // The server is now blocked writing to a client that does not read; others are served.
+    EXPECT_EQ(fetch(http.port(), {"GET", "/ok"}).body, "GET /ok");
+    const size_t during = resident_bytes();
+    EXPECT_LT(during, before + (16u << 20))
+        << "RSS grew by " << (during - before) / 1024 << " KiB while a 64 MiB file was sent";
+  }
+  EXPECT_TRUE(eventually([&] { return http.connections() == 0; }, 10)) << http.connections();
+  std::filesystem::remove_all(dir);
 }
 
 TEST(HttpServer, StopEndsABlockedHandler) {
