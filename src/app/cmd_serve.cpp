@@ -58,11 +58,13 @@ void final_render(const server::FinalRenderJob& j, int threads) {
 // A long-running server whose requests each run on a new thread: glibc would give up to eight
 // heaps per core to those threads, and memory freed in one heap is not reused by another, so a
 // busy hour leaves each holding its own high-water mark (the load test saw RSS grow by a quarter
-// in a minute). As many heaps as cores keeps allocation uncontended for the render threads and
-// RSS flat (tests/load, docs/robustness.md).
+// in a minute). One heap: as many as cores still drifted once the machine was busy (+23 % in the
+// load test with one core taken, against +4 % with one heap), and the server's threads allocate
+// little (a tile's buffer at a time), so the lock costs nothing measurable (tests/load,
+// docs/robustness.md).
 void limit_heaps() {
 #ifdef __GLIBC__
-  mallopt(M_ARENA_MAX, int(std::max(2u, std::thread::hardware_concurrency())));
+  mallopt(M_ARENA_MAX, 1);
 #endif
 }
 
