@@ -14,6 +14,12 @@ using accel_detail::kOpaque;
 using accel_detail::kSeeThrough;
 using accel_detail::shape_t;
 
+// Embree's far distance for ours: beyond float's range is infinity, not float's overflow.
+static float far_of(double tmax) {
+  return tmax >= double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity()
+                                                           : float(tmax);
+}
+
 static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
   ray.org_x = float(r.o.x);
   ray.org_y = float(r.o.y);
@@ -22,9 +28,7 @@ static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
   ray.dir_y = float(r.d.y);
   ray.dir_z = float(r.d.z);
   ray.tnear = float(r.tmin);
-  ray.tfar = r.tmax >= double(std::numeric_limits<float>::max())
-                 ? std::numeric_limits<float>::infinity()
-                 : float(r.tmax);
+  ray.tfar = far_of(r.tmax);
   ray.time = 0;
   ray.mask = mask;
   ray.id = 0;
@@ -114,9 +118,7 @@ bool Accel::near_see_through(const Ray& r) const {
 }
 
 bool Accel::intersect_see_through(const Ray& r, Hit* hit) const {
-  // (A BVH of one object is a leaf, which Embree enters without testing its box: most shadow
-  // rays pass far from the glass, and this test sends them back for a few multiplications.)
-  return near_see_through(r) && nearest(see_through_, r, kSeeThrough, hit);
+  return nearest(see_through_, r, kSeeThrough, hit);
 }
 
 // One packet: `load(rh)` writes the lanes' origins and directions, `bound(o, d, tmin, &tfar)`
@@ -135,7 +137,7 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
   for (int i = 0; i < N; ++i) {
     v[i] = valid[i] ? -1 : 0;
     rh.ray.time[i] = 0;
-    rh.ray.mask[i] = 0xFFFFFFFF;
+    rh.ray.mask[i] = kAll;
     rh.ray.id[i] = unsigned(i);
     rh.ray.flags[i] = 0;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
@@ -171,9 +173,7 @@ void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* fou
           rh.ray.dir_y[i] = float(r.d.y);
           rh.ray.dir_z[i] = float(r.d.z);
           rh.ray.tnear[i] = float(r.tmin);
-          rh.ray.tfar[i] = r.tmax >= double(std::numeric_limits<float>::max())
-                               ? std::numeric_limits<float>::infinity()
-                               : float(r.tmax);
+          rh.ray.tfar[i] = far_of(r.tmax);
         }
       },
       [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {

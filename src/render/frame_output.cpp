@@ -154,17 +154,18 @@ void FrameOutput::flush_all_missing() {
   std::map<int, std::unique_ptr<Strip>> empty;  // by height
   for (int row = 0; row < grid_.rows; ++row) {
     std::vector<size_t> missing;
+    bool whole_row = false;
     {
       const std::lock_guard<std::mutex> lock(mu_);
       for (int c = 0; c < grid_.cols; ++c) {
         const size_t i = size_t(row) * size_t(grid_.cols) + size_t(c);
         if (!added_[i]) missing.push_back(i);
       }
-      if (missing.size() == size_t(grid_.cols)) {
+      whole_row = missing.size() == size_t(grid_.cols);
+      if (whole_row)
         for (size_t i : missing) added_[i] = 1;
-      }
     }
-    if (missing.size() < size_t(grid_.cols)) {
+    if (!whole_row) {
       for (size_t i : missing)
         add(resolve(i, TileBuffer(grid_.rect(i), spec_.aovs), bool(png_), bool(exr_)));
       continue;
