@@ -5,10 +5,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <random>
-#include <sstream>
 
+#include "io/read_file.h"
 #include "scene/declarations.h"
 #include "scene/scene_schema.h"
 #include "server/web_assets.h"
@@ -189,10 +188,10 @@ HttpResponse Api::page(const HttpRequest& q) const {
   if (opt_.web_folder.empty()) {
     r.body = std::string(a->bytes);
   } else {  // (developers: edit web/ and reload, without building)
-    std::ifstream in(opt_.web_folder + path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    r.body = s.str();
+    std::vector<unsigned char> bytes;
+    if (const auto failure = read_whole_file(opt_.web_folder + path, &bytes, kTextInput))
+      return error(404, describe(*failure, opt_.web_folder + path));
+    r.body.assign(bytes.begin(), bytes.end());
   }
   if (path == "/index.html") {
     // The page's later requests (scripts, API) carry the token in this cookie, which the browser
