@@ -232,5 +232,34 @@ TEST(InputKinds, ResumeRefusesACheckpointThatIsNotRegular) {
   }
 }
 
+// A frame pattern's field width is bounded before anything is formatted (a width of a billion
+// allocated 6.9 GB), for -o, --checkpoint and --stats alike.
+TEST(InputKinds, FramePatternWidthIsBounded) {
+  Place p;
+  const std::string scene = p.write("s.toml", kHead);
+  const std::string huge = (p.dir() / "out_%0999999999d.png").string();
+  const std::string ok = (p.dir() / "out_%04d.png").string();
+  const std::vector<std::vector<std::string>> cases = {
+      {"render", scene, "--frames", "0:1", "-o", huge},
+      {"render", scene, "--frames", "0:1", "-o", (p.dir() / "out_%65d.png").string()},
+      {"render", scene, "--frames", "0:1", "-o", ok, "--checkpoint",
+       (p.dir() / "c_%0999999999d.ckpt").string()},
+      {"render", scene, "--frames", "0:1", "-o", ok, "--stats",
+       (p.dir() / "s_%0999999999d.json").string()}};
+  for (const auto& args : cases) {
+    const Outcome r = run_bounded(args, p.dir() / "log");
+    EXPECT_EQ(r.code, 2) << args.back() << ":\n" << r.out;
+    EXPECT_NE(r.out.find("field width"), std::string::npos) << r.out;
+    EXPECT_LT(r.peak_kb, 1L << 20) << "peak resident size " << r.peak_kb << " KiB";
+  }
+  EXPECT_FALSE(fs::exists(p.dir() / "out_0000.png"));
+  // The widest allowed still renders.
+  const Outcome wide = run_bounded(
+      {"render", scene, "--frames", "0:0", "-q", "-o", (p.dir() / "w_%064d.png").string()},
+      p.dir() / "log");
+  EXPECT_EQ(wide.code, 0) << wide.out;
+  EXPECT_TRUE(fs::exists(p.dir() / ("w_" + std::string(64, '0') + ".png")));
+}
+
 }  // namespace
 }  // namespace anamorph
