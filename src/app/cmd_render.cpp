@@ -298,13 +298,9 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   shape.png = lower_extension(out) == ".png";
   shape.exr = !shape.png || !aovs.empty();
   shape.output_image = a.coins_overlay;
-  const MemoryNeed need = estimate_render_memory(scene, shape);
-  const uint64_t available = available_memory();
-  if (available == 0 || need.total() <= available) return true;
-  fmt::print(stderr,
-             "error: {}: this render needs about {} ({}), but {} is available; lower the "
-             "resolution or the AOVs{}\n",
-             out, format_bytes(need.total()), need.describe(), format_bytes(available),
+  const auto shortfall = memory_shortfall(estimate_render_memory(scene, shape));
+  if (!shortfall) return true;
+  fmt::print(stderr, "error: {}: {}; lower the resolution or the AOVs{}\n", out, *shortfall,
              shape.whole_film && !a.coins_overlay
                  ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
                    "streams tiles to the file instead of keeping the frame)"
