@@ -4,9 +4,11 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
-#include <random>
+#include <cstdlib>
 #include <sstream>
+#include <system_error>
 
 #include "io/image_io.h"
 #include "scene/loaders.h"
@@ -50,12 +52,16 @@ void files_named(const toml::node& n, std::string_view key, std::vector<std::str
   }
 }
 
+// A new folder of this process's own (mkdtemp: created here, mode 0700; an existing one of the
+// same name, made by someone else, is never taken over).
 fs::path private_folder() {
-  std::random_device rd;
-  const fs::path p = fs::temp_directory_path() /
-                     ("anamorph-serve-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
-  fs::create_directories(p);
-  return p;
+  std::string name =
+      (fs::temp_directory_path() / ("anamorph-serve-" + std::to_string(::getpid()) + "-XXXXXX"))
+          .string();
+  if (!::mkdtemp(name.data()))
+    throw std::system_error(errno, std::generic_category(),
+                            "cannot create a folder in " + fs::temp_directory_path().string());
+  return name;
 }
 
 }  // namespace
