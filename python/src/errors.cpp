@@ -27,6 +27,11 @@ void raise_scene_error(const pb::object& type, const std::string& text, const st
 
 }  // namespace
 
+void raise_memory_error(const std::string& message) {
+  PyErr_SetString(PyExc_MemoryError, message.c_str());
+  throw pb::error_already_set();
+}
+
 void bind_errors(pb::module_& m) {
   static pb::exception<SceneError> scene_error(m, "SceneError", PyExc_ValueError);
   scene_error.doc() =

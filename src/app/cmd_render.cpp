@@ -16,6 +16,7 @@
 
 #include "app/common.h"
 #include "app/frame_job.h"
+#include "app/frame_pattern.h"
 #include "app/tile_stats.h"
 #include "dist/head.h"
 #include "dist/worker.h"
@@ -121,16 +122,6 @@ bool parse_frames(const std::string& text, int* first, int* last) {
   const size_t colon = text.find(':');
   if (colon == std::string::npos) return number(text, first) && number(text, last);
   return number(text.substr(0, colon), first) && number(text.substr(colon + 1), last);
-}
-
-// A printf conversion for the frame number: %d, %4d, %04d, ...
-bool has_frame_pattern(const std::string& s) {
-  for (size_t i = s.find('%'); i != std::string::npos; i = s.find('%', i + 1)) {
-    size_t j = i + 1;
-    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-    if (j < s.size() && s[j] == 'd') return true;
-  }
-  return false;
 }
 
 // The beauty image with the coin markers drawn over it in red, for looking at.
@@ -307,13 +298,9 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   shape.png = lower_extension(out) == ".png";
   shape.exr = !shape.png || !aovs.empty();
   shape.output_image = a.coins_overlay;
-  const MemoryNeed need = estimate_render_memory(scene, shape);
-  const uint64_t available = available_memory();
-  if (available == 0 || need.total() <= available) return true;
-  fmt::print(stderr,
-             "error: {}: this render needs about {} ({}), but {} is available; lower the "
-             "resolution or the AOVs{}\n",
-             out, format_bytes(need.total()), need.describe(), format_bytes(available),
+  const auto shortfall = memory_shortfall(estimate_render_memory(scene, shape));
+  if (!shortfall) return true;
+  fmt::print(stderr, "error: {}: {}; lower the resolution or the AOVs{}\n", out, *shortfall,
              shape.whole_film && !a.coins_overlay
                  ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
                    "streams tiles to the file instead of keeping the frame)"
@@ -479,17 +466,11 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
     return kBadInput;
   }
-  std::string pattern_error;
-  try {
-    (void)fmt::sprintf(out, first);
-  } catch (const std::exception& e) {
-    pattern_error = e.what();
-  }
-  if (!has_frame_pattern(out) || !pattern_error.empty()) {
+  if (const auto why = frame_pattern_error(out)) {
     fmt::print(stderr,
                "error: -o {}: with --frames the output needs one frame-number pattern and no "
-               "other % (write %% for a percent sign), e.g. out/frame_%04d.png{}\n",
-               out, pattern_error.empty() ? "" : " (" + pattern_error + ")");
+               "other % (write %% for a percent sign), e.g. out/frame_%04d.png ({})\n",
+               out, *why);
     return kBadInput;
   }
   if (!a.video.empty() && !on_path("ffmpeg")) {
@@ -503,11 +484,11 @@ int run(const RenderArgs& a) {
   for (const auto& [option, name, example] :
        {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
         std::tuple{"--stats", a.stats, "stats_%04d.json"}})
-    if (!name.empty() && !has_frame_pattern(name)) {
+    if (const auto why = name.empty() ? std::nullopt : frame_pattern_error(name)) {
       fmt::print(stderr,
                  "error: {} {}: with --frames each frame has its own file, so the name needs a "
-                 "frame-number pattern, e.g. {}\n",
-                 option, name, example);
+                 "frame-number pattern, e.g. {} ({})\n",
+                 option, name, example, *why);
       return kBadInput;
     }
   FrameScene current;

@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <vector>
 
 #include "app/common.h"
 #include "io/image_io.h"
+#include "io/read_file.h"
 #include "scene/scene_schema.h"
 
 namespace anamorph::app {
@@ -22,11 +22,10 @@ struct SchemaArgs {
 };
 
 std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::vector<unsigned char> bytes;
+  if (const auto failure = read_whole_file(p, &bytes, kTextInput))
+    throw std::runtime_error(describe(*failure, p));
+  return std::string(bytes.begin(), bytes.end());
 }
 
 void write_text(const fs::path& p, const std::string& text) {

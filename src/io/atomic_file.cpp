@@ -6,9 +6,7 @@
 // directly, since it can be neither replaced atomically nor should be; a directory is an error.
 // Temporary files left by a process that was killed (SIGKILL, power loss) are removed by the
 // next write of the same target.
-#include <dirent.h>
 #include <fcntl.h>
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -43,22 +41,6 @@ fs::path resolve_links(fs::path file) {
   io_detail::fail("cannot write", file, "too many levels of symbolic links");
 }
 
-// Removes ".NAME.tmp-PID-*" files in dir whose PID is no longer running.
-void remove_stale_temporaries(const fs::path& dir, const std::string& name) {
-  const std::string prefix = "." + name + ".tmp-";
-  DIR* d = ::opendir(dir.c_str());
-  if (!d) return;
-  while (const dirent* e = ::readdir(d)) {
-    const std::string entry = e->d_name;
-    if (entry.rfind(prefix, 0) != 0) continue;
-    char* end = nullptr;
-    const long pid = std::strtol(entry.c_str() + prefix.size(), &end, 10);
-    if (pid <= 0 || !end || *end != '-' || pid == ::getpid()) continue;
-    if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH) ::unlinkat(::dirfd(d), e->d_name, 0);
-  }
-  ::closedir(d);
-}
-
 }  // namespace
 
 AtomicFile::AtomicFile(const fs::path& file) : target_(resolve_links(file)) {
@@ -82,13 +64,16 @@ AtomicFile::AtomicFile(const fs::path& file) : target_(resolve_links(file)) {
   if (ec)
     fail("cannot write", file,
          fmt::format("cannot create directory '{}': {}", dir_.string(), ec.message()));
-  remove_stale_temporaries(dir_, target_.filename().string());
+  if (const int dfd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    io_detail::remove_stale_temporaries_at(dfd, target_.filename().string());
+    ::close(dfd);
+  }
 
   // Same directory as the target, so rename(2) stays on one file system and is atomic.
   std::random_device rd;
   for (int attempt = 0; fd_ < 0 && attempt < 8; ++attempt) {
     const uint64_t r = (uint64_t(rd()) << 32) ^ rd();
-    tmp_ = dir_ / fmt::format(".{}.tmp-{}-{:016x}", target_.filename().string(), ::getpid(), r);
+    tmp_ = dir_ / io_detail::temporary_name(target_.filename().string(), r);
     fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd_ < 0 && errno != EEXIST) break;
   }

@@ -52,8 +52,8 @@ void check_read_size(const fs::path& file, int64_t width, int64_t height, size_t
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
   std::vector<unsigned char> bytes;
-  if (const auto failure = read_whole_file(file, &bytes))
-    fail_read("cannot read image", file, std::generic_category().message(failure->error));
+  if (const auto failure = read_whole_file(file, &bytes, kImageInput))
+    fail_read("cannot read image", file, failure->reason);
   return bytes;
 }
 

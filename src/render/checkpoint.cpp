@@ -10,10 +10,12 @@
 #include <map>
 #include <sstream>
 #include <system_error>
+#include <variant>
 
 #include <fmt/format.h>
 
 #include "io/image_io.h"
+#include "io/read_file.h"
 
 namespace anamorph {
 
@@ -239,10 +241,11 @@ void CheckpointWriter::add_pass_start(int pass, const std::vector<uint8_t>& acti
 }
 
 CheckpointReader::CheckpointReader(const fs::path& file) : file_(file) {
-  fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0)
-    throw CheckpointError(
-        fmt::format("cannot read checkpoint '{}': {}", file.string(), sys_error()));
+  // (read record by record, so no size limit; a FIFO or device is refused: io/read_file.h)
+  auto opened = open_input(file, InputKind{"a checkpoint", UINT64_MAX});
+  if (const auto* f = std::get_if<ReadFailure>(&opened))
+    throw CheckpointError(fmt::format("cannot read checkpoint '{}': {}", file.string(), f->reason));
+  fd_ = std::get<InputFile>(opened).release();
   char sig[16];
   uint32_t kind = 0;
   std::string payload;

@@ -31,11 +31,13 @@
 #include <optional>
 #include <string_view>
 #include <tuple>
+#include <variant>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "io/image_io.h"
+#include "io/read_file.h"
 #include "scene/load_common.h"
 #include "scene/load_gltf_accessor.h"
 #include "scene/load_mesh_repair.h"
@@ -682,14 +684,42 @@ class GltfBuilder {
   size_t vertex_colors_ignored_ = 0;
 };
 
+// tinygltf reads a model's external buffers through these: io/read_file.h's reader (a FIFO, a
+// device or a directory refused at once, the size bounded, the editor's confinement applied)
+// instead of tinygltf's std::ifstream, and no shell-style expansion of the name (tinygltf's
+// default runs wordexp(3) on it).
+// (a file that is there but cannot be read "exists": reading it then says why)
+bool gltf_file_exists(const std::string& file, void*) {
+  const auto opened = open_input(file, kModelInput);
+  const auto* failure = std::get_if<ReadFailure>(&opened);
+  return !failure || failure->error != ENOENT;
+}
+std::string gltf_expand_path(const std::string& file, void*) { return file; }
+bool gltf_read_file(std::vector<unsigned char>* out, std::string* err, const std::string& file,
+                    void*) {
+  if (const auto failure = read_whole_file(file, out, kModelInput)) {
+    if (err) *err += describe(*failure, file) + "\n";
+    return false;
+  }
+  return true;
+}
+bool gltf_no_writes(std::string* err, const std::string&, const std::vector<unsigned char>&,
+                    void*) {
+  if (err) *err += "the glTF loader writes no files\n";
+  return false;
+}
+const tinygltf::FsCallbacks kGltfFiles{&gltf_file_exists, &gltf_expand_path, &gltf_read_file,
+                                       &gltf_no_writes, nullptr};
+
 }  // namespace
 
 LoadedModel load_gltf(const fs::path& file) {
-  const std::vector<unsigned char> bytes = read_file_bytes(file);
+  const std::vector<unsigned char> bytes = read_file_bytes(file, kModelInput);
   if (bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file.string() + ": file too large for the glTF parser");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&decode_embedded_image, nullptr);
+  loader.SetFsCallbacks(kGltfFiles);
   tinygltf::Model model;
   std::string err, warn;
   const std::string base_dir = file.parent_path().string();

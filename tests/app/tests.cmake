@@ -5,6 +5,7 @@ add_dependencies(test_cli anamorph)
 include(${CMAKE_CURRENT_LIST_DIR}/scenes_tests.cmake)
 anamorph_add_test(test_bad_input
   ${CMAKE_CURRENT_LIST_DIR}/bad_input_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/input_kinds_test.cpp
 )
 add_dependencies(test_bad_input anamorph)
 anamorph_add_test(test_layering
