@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cerrno>
 
+#include "io/read_log.h"
+
 namespace anamorph {
 
 std::optional<ReadFailure> read_whole_file(const std::filesystem::path& file,
@@ -14,6 +16,7 @@ std::optional<ReadFailure> read_whole_file(const std::filesystem::path& file,
   out->clear();
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return ReadFailure{"open", errno};
+  note_read(file, fd);  // (for the check that no output overwrites an input: io/read_log.h)
   struct Closer {
     int fd;
     ~Closer() { ::close(fd); }
