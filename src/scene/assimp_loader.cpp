@@ -42,6 +42,7 @@
 
 #include <fmt/format.h>
 
+#include "io/read_log.h"
 #include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/load_common.h"
@@ -289,6 +290,7 @@ class AssimpBuilder {
     fs::path file = portable;
     if (file.is_relative()) file = dir_ / file;
     std::string error;
+    const ReadRole role("an image that " + file_ + " uses");
     auto image = images_.get(file, srgb, &error);
     if (!image) {
       warnings_.add(
@@ -364,6 +366,7 @@ std::vector<std::string> split_mesh_names(std::vector<unsigned char>& answer) {
 
 LoadedModel load_with_assimp(const fs::path& file) {
   require_readable(file);
+  note_read(file);  // (read by the loader child)
   std::error_code ec;
   const uintmax_t size = fs::file_size(file, ec);
   try {
