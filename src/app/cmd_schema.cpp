@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "app/common.h"
+#include "app/output_guard.h"
 #include "io/image_io.h"
 #include "scene/scene_schema.h"
 
@@ -47,6 +48,7 @@ int run(const SchemaArgs& a) {
     fmt::print("updated {} and {}\n", format.string(), functions.string());
     return kOk;
   }
+  if (!a.output.empty()) check_outputs({}, {{a.output, "-o " + a.output}});
   const std::string schema = scene_json_schema();
   if (a.output.empty())
     fmt::print("{}", schema);
