@@ -124,8 +124,10 @@ int run_guarded(const std::function<int()>& body) {
 int flush_standard_output(int code) {
   if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
   const int e = errno;
-  fmt::print(stderr, "error: cannot write to standard output: {}\n",
-             e ? std::strerror(e) : "a write failed");
+  // (fputs: stderr may be broken too, and fmt::print would throw from here.)
+  std::fputs("error: cannot write to standard output: ", stderr);
+  std::fputs(e ? std::strerror(e) : "a write failed", stderr);
+  std::fputs("\n", stderr);
   return code == kOk ? kFailure : code;
 }
 

@@ -114,14 +114,21 @@ AtomicFile::AtomicFile(const fs::path& file, Access access) : target_(resolve_li
   for (int attempt = 0; fd_ < 0 && attempt < 8; ++attempt) {
     const uint64_t r = (uint64_t(rd()) << 32) ^ rd();
     tmp_ = dir_ / fmt::format(".{}.tmp-{}-{:016x}", target_.filename().string(), ::getpid(), r);
+    slot_ = register_temporary(tmp_);  // (before it exists: a signal may come at any moment)
     fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd_ < 0 && errno != EEXIST) break;
+    if (fd_ >= 0) break;
+    const int e = errno;
+    unregister_temporary(slot_);
+    slot_ = -1;
+    if (e != EEXIST) {
+      errno = e;
+      break;
+    }
   }
   if (fd_ < 0)
     fail("cannot write", file,
          fmt::format("cannot create a temporary file in '{}': {}", dir_.string(),
                      errno_message(errno)));
-  slot_ = register_temporary(tmp_);
 }
 
 void AtomicFile::open_direct(const fs::path& file, int stream, Access access) {

@@ -173,7 +173,7 @@ TEST(BadInput, SigtermEndsAProcessBlockedWhileLoading) {
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   const int code =
       signal_after({"info", fifo.string()}, std::chrono::milliseconds(300), SIGTERM, s.dir / "log");
-  EXPECT_EQ(code, 1) << test::read_text(s.dir / "log");
+  EXPECT_EQ(code, 3) << test::read_text(s.dir / "log");
   EXPECT_NE(test::read_text(s.dir / "log").find("interrupted"), std::string::npos)
       << test::read_text(s.dir / "log");
 }

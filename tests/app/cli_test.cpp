@@ -175,7 +175,7 @@ TEST(Cli, InfoRaysProject) {
   // The camera looks at the origin: it projects to the image center.
   const Result pr = run("project " + scene + " --point 0,0,0");
   ASSERT_EQ(pr.code, 0) << pr.out;
-  EXPECT_CONTAINS(pr.out, "12.000000 8.000000");
+  EXPECT_CONTAINS(pr.out, "px 12.000000 py 8.000000");
   EXPECT_EQ(run("project " + scene + " --point 1,2").code, 2);
   fs::remove_all(d);
 }
@@ -204,15 +204,19 @@ TEST(Cli, RobustnessModels) {
 
 namespace anamorph {
 
-// The summary line names the sampling that happened: the AOV integrators take render.spp samples
-// under an adaptive scheme too.
+// The summary line names the sampling that happened, and which adaptive scheme: the AOV
+// integrators take render.spp samples under an adaptive scheme too.
 TEST(Cli, SummarySaysAdaptiveOnlyWhenSamplesVaried) {
   const fs::path d = temp_dir("summary");
   const std::string scene =
       write(d / "s.toml", std::string(kSmall) + "[render]\nantialias = \"adaptive\"\n");
   const Result w = run("render " + scene + " -o " + (d / "w.png").string());
   ASSERT_EQ(w.code, 0) << w.out;
-  EXPECT_CONTAINS(w.out, "adaptive, ");
+  EXPECT_CONTAINS(w.out, "adaptive (lattice), ");  // (which scheme: whitted's adaptive)
+  const Result p = run("render " + scene + " --integrator path --set render.max_spp=16 -o " +
+                       (d / "p.png").string());
+  ASSERT_EQ(p.code, 0) << p.out;
+  EXPECT_CONTAINS(p.out, "adaptive (pixel), ");
   const Result a = run("render " + scene + " --integrator depth -o " + (d / "a.png").string());
   ASSERT_EQ(a.code, 0) << a.out;
   EXPECT_CONTAINS(a.out, "1 spp, depth");
