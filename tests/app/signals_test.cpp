@@ -241,9 +241,9 @@ TEST(Signals, WhileWriting) {
                                          "-o",
                                          "out.png",
                                          "--width",
-                                         "512",
+                                         "256",
                                          "--height",
-                                         "512",
+                                         "256",
                                          "--spp",
                                          "1",
                                          "--set",
@@ -309,7 +309,7 @@ TEST(Signals, WhileMeasuringFormFactors) {
   const test::ScratchDir d("signals_ff");
   const std::string room = (test::source_dir() / "examples/apps/formfactor_room.toml").string();
   for (const Signal& s : kStops) {
-    Process p({"formfactors", room, "--inward", "room", "--samples", "10000000", "-o", "ff.csv"},
+    Process p({"formfactors", room, "--inward", "room", "--samples", "1000000", "-o", "ff.csv"},
               d.dir);
     ASSERT_TRUE(p.wait_for([&] { return threads_of(p.pid) > 1; })) << s.name << p.output();
     ::kill(p.pid, s.number);
