@@ -7,6 +7,7 @@
 
 #include "accel/accel.h"
 #include "app/common.h"
+#include "app/output_guard.h"
 #include "io/image_io.h"
 #include "render/form_factors.h"
 
@@ -100,8 +101,19 @@ void print_table(const FormFactors& f) {
                f.names[size_t(f.worst_i)], f.names[size_t(f.worst_j)], f.worst_reciprocity_z);
 }
 
+// SIGINT or SIGTERM stopped the measurement (app/interrupt.h).
+int interrupted(const FormFactorArgs& a) {
+  fmt::print(stderr, "interrupted: the form factors were not finished{}\n",
+             a.output.empty() ? "" : "; " + a.output + " not written");
+  return kInterrupted;
+}
+
 int run(const FormFactorArgs& a) {
+  const std::vector<std::pair<std::filesystem::path, std::string>> outputs{
+      {a.output, "-o " + a.output}};
+  if (!a.output.empty()) check_outputs(scene_file_input(a.scene.scene), outputs);
   const Scene s = load(a.scene);
+  if (!a.output.empty()) check_outputs(s.inputs, outputs);
   const Accel accel(s);
   FormFactorOptions o;
   o.origins = a.samples, o.rays = a.rays, o.seed = a.seed;
@@ -112,7 +124,7 @@ int run(const FormFactorArgs& a) {
   try {
     RenderPhase phase;
     f = measure_form_factors(accel, o);
-    if (interrupt_flag()) return kFailure;
+    if (interrupt_flag()) return interrupted(a);
     if (a.radiosity) B = solve_radiosity(s, accel, f);
   } catch (const std::invalid_argument& e) {
     fmt::print(stderr, "error: {}\n", e.what());
@@ -124,7 +136,7 @@ int run(const FormFactorArgs& a) {
     {
       RenderPhase phase;
       p = path_traced_radiance(s, accel, f, o, a.depth);
-      if (interrupt_flag()) return kFailure;
+      if (interrupt_flag()) return interrupted(a);
     }
     fmt::print("radiosity (I - rho F) B = E; mean radiance B / pi against the path tracer's\n");
     for (size_t i = 0; i < B.size(); ++i) {

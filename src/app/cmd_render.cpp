@@ -1,7 +1,6 @@
 // `anamorph render`: render a scene (or a frame range of an animated scene) to PNG or EXR.
 #include <fmt/format.h>
 #include <fmt/printf.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -17,7 +16,10 @@
 #include "app/common.h"
 #include "app/frame_job.h"
 #include "app/frame_pattern.h"
+#include "app/output_guard.h"
+#include "app/render_outputs.h"
 #include "app/tile_stats.h"
+#include "app/video.h"
 #include "dist/head.h"
 #include "dist/worker.h"
 #include "dist/world.h"
@@ -90,12 +92,6 @@ void print_progress(const Progress& p, const std::string& prefix, const JobPlace
              100 * p.fraction, mrays, eta, whole);
 }
 
-std::string lower_extension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 bool on_path(const std::string& exe) {
   const char* path = std::getenv("PATH");
   if (!path) return false;
@@ -161,13 +157,13 @@ int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer&
   fs::path marked = out;
   marked.replace_extension(".coins.png");
   write_png(marked, with_overlay(img, img.layers.back()));
-  if (!a.quiet) fmt::print("coin overlay written to {}\n", marked.string());
-  if (lower_extension(out) == ".png") {
+  if (!a.quiet) fmt::print(messages(), "coin overlay written to {}\n", marked.string());
+  if (render_format(out) == ".png") {
     write_png(out, img);
     fs::path exr = out;
     exr.replace_extension(".exr");
     write_exr(exr, img);
-    if (!a.quiet) fmt::print("AOVs written to {}\n", exr.string());
+    if (!a.quiet) fmt::print(messages(), "AOVs written to {}\n", exr.string());
   } else {
     write_exr(out, img);
   }
@@ -219,7 +215,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  on_progress,
                  stats.empty() ? nullptr : &tile_times,
                  farm};
-    if (lower_extension(out) == ".png") {
+    if (render_format(out) == ".png") {
       job.png = out;
       // AOVs go beside a PNG, with the beauty, into an EXR of the same name.
       if (!aovs.empty()) job.exr = fs::path(out).replace_extension(".exr");
@@ -234,7 +230,8 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
     st = r.stats;
     if (r.resumed && !a.quiet)
-      fmt::print("resumed from {}: {} tiles were done\n", checkpoint.string(), r.resumed_tiles);
+      fmt::print(messages(), "resumed from {}: {} tiles were done\n", checkpoint.string(),
+                 r.resumed_tiles);
     if (r.interrupted) {
       const fs::path partial =
           FrameOutput::with_suffix(job.png.empty() ? job.exr : job.png, ".partial");
@@ -249,30 +246,33 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
       return kInterrupted;
     }
     if (!job.exr.empty() && !job.png.empty() && !a.quiet)
-      fmt::print("AOVs written to {}\n", job.exr.string());
+      fmt::print(messages(), "AOVs written to {}\n", job.exr.string());
     if (r.time_limited && !a.quiet)
-      fmt::print("{}: time limit of {} s reached after {}; {}\n", out.string(),
+      fmt::print(messages(), "{}: time limit of {} s reached after {}; {}\n", out.string(),
                  scene.render.time_limit, r.reached,
                  checkpoint.empty() ? "render with --checkpoint FILE to be able to continue"
                                     : fmt::format("continue with: anamorph render --resume {}",
                                                   checkpoint.string()));
   }
   if (!stats.empty()) {
+    set_interrupt_note(fmt::format("{} not written ({} was)", stats.string(), out.string()));
     write_tile_stats(stats, scene, frame, a.threads.value_or(0), st, std::move(tile_times));
-    if (!a.quiet) fmt::print("tile costs written to {}\n", stats.string());
+    if (!a.quiet) fmt::print(messages(), "tile costs written to {}\n", stats.string());
   }
   if (!a.quiet) {
     const double per_pixel =
         double(st.samples) / (double(scene.render.width) * scene.render.height);
+    // (The scheme by its render.antialias name: lattice or pixel.)
     const std::string sampling = scene.render.adaptive()
-                                     ? fmt::format("adaptive, {:.2f} samples/pixel", per_pixel)
+                                     ? fmt::format("adaptive ({}), {:.2f} samples/pixel",
+                                                   name_of(scene.render.antialias), per_pixel)
                                      : fmt::format("{} spp", scene.render.spp);
-    fmt::print(
-        "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
-        "dropped\n",
-        out.string(), scene.render.width, scene.render.height, sampling,
-        name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
-        st.nan_samples);
+    fmt::print(messages(),
+               "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
+               "dropped\n",
+               out.string(), scene.render.width, scene.render.height, sampling,
+               name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
+               st.nan_samples);
   }
   if (st.nan_samples > 0)
     fmt::print(stderr,
@@ -295,7 +295,7 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   shape.aov_floats = aov_floats(aovs);
   shape.whole_film = a.coins_overlay || renders_in_passes(rs);
   shape.active_mask = !Renderer::streams(rs);
-  shape.png = lower_extension(out) == ".png";
+  shape.png = render_format(out) == ".png";
   shape.exr = !shape.png || !aovs.empty();
   shape.output_image = a.coins_overlay;
   const auto shortfall = memory_shortfall(estimate_render_memory(scene, shape));
@@ -415,7 +415,12 @@ int run(const RenderArgs& a) {
     return kBadInput;
   }
   const std::string out =
-      a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
+      a.output.empty() ? default_render_output(a.scene.scene, !a.frames.empty()) : a.output;
+  // What the outputs are checked against (app/output_guard.h): before loading the scene file,
+  // after it every file the load read.
+  RenderOutputs outs{out,          a.output.empty(), !aovs.empty(), args.coins_overlay,
+                     a.checkpoint, a.stats,          a.video,       ""};
+  const std::vector<FileRead> scene_file = scene_file_input(a.scene.scene);
   double every = 60;
   if (!parse_duration(a.checkpoint_every, &every)) {
     fmt::print(stderr, "error: --checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h\n",
@@ -426,10 +431,11 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: render needs a scene file (or --resume CHECKPOINT)\n");
     return kBadInput;
   }
-  if (lower_extension(out) != ".png" && lower_extension(out) != ".exr") {
+  if (render_format(out).empty()) {
     fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
     return kBadInput;
   }
+  if (is_standard_output(out)) messages_to_stderr();  // (`-o /dev/stdout`: the image alone)
   // Under MPI the head (rank 0) goes on below, handing tiles to the workers through `farm`.
   std::unique_ptr<dist::HeadFarm> farm;
   if (dist::World::size() > 1) {
@@ -442,10 +448,13 @@ int run(const RenderArgs& a) {
       return kBadInput;
     }
     if (a.skip_existing && frame_exists(out, a.checkpoint)) {
-      if (!a.quiet) fmt::print("{} exists: skipped\n", out);
+      if (!a.quiet) fmt::print(messages(), "{} exists: skipped\n", out);
       return kOk;
     }
+    check_render_outputs(outs, scene_file);
+    set_interrupt_note(out + " not written");
     const Scene scene = load(args.scene, extra, 0);
+    check_render_outputs(outs, scene.inputs);
     if (!fits_in_memory(args, scene, aovs, out)) return kBadInput;
     const std::unique_ptr<Renderer> renderer = make_renderer(scene, farm.get());
     if (farm) farm->begin_frame(0);
@@ -473,13 +482,6 @@ int run(const RenderArgs& a) {
                out, *why);
     return kBadInput;
   }
-  if (!a.video.empty() && !on_path("ffmpeg")) {
-    fmt::print(stderr,
-               "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get "
-               "install ffmpeg`, "
-               "or drop --video; the frames alone need nothing else)\n");
-    return kBadInput;
-  }
   // With --frames each frame has its own checkpoint and stats file: their names need a pattern.
   for (const auto& [option, name, example] :
        {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
@@ -494,16 +496,36 @@ int run(const RenderArgs& a) {
   FrameScene current;
   JobPlace place;
   place.count = last - first + 1;
+  const auto frame_outputs = [&](int f) {
+    RenderOutputs o = outs;
+    o.out = fmt::sprintf(out, f);
+    o.checkpoint = a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f);
+    o.stats = a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f);
+    o.frame = fmt::format(" (frame {})", f);
+    return o;
+  };
+  check_render_outputs(frame_outputs(first), scene_file);
+  if (!a.video.empty() && !on_path("ffmpeg")) {
+    fmt::print(stderr,
+               "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get "
+               "install ffmpeg`, "
+               "or drop --video; the frames alone need nothing else)\n");
+    return kBadInput;
+  }
   for (int f = first; f <= last; ++f, ++place.index) {
     if (a.skip_existing &&
         frame_exists(fmt::sprintf(out, f),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f))) {
-      if (!a.quiet) fmt::print("{} exists: skipped\n", fmt::sprintf(out, f));
+      if (!a.quiet) fmt::print(messages(), "{} exists: skipped\n", fmt::sprintf(out, f));
       --place.count, --place.index;  // (the job's ETA counts the frames it renders)
       continue;
     }
     const std::string file = fmt::sprintf(out, f);
+    set_interrupt_note(
+        fmt::format("{} not written{}", file,
+                    f > first ? fmt::format("; frames {}..{} were written", first, f - 1) : ""));
     const bool fresh = current.load_frame(args.scene, extra, f);
+    check_render_outputs(frame_outputs(f), current.scene->inputs);
     if (!fits_in_memory(args, *current.scene, aovs, file)) return kBadInput;
     if (fresh) current.renderer = make_renderer(*current.scene, farm.get());
     if (farm) farm->begin_frame(f);
@@ -520,24 +542,8 @@ int run(const RenderArgs& a) {
       return rc;
     }
   }
-  if (!a.video.empty()) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const std::string fps = std::to_string(a.fps), start = std::to_string(first);
-      execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps.c_str(),
-             "-start_number", start.c_str(), "-i", out.c_str(), "-c:v", "libx264", "-pix_fmt",
-             "yuv420p", a.video.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    int status = 0;
-    waitpid(pid, &status, 0);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-      fmt::print(stderr, "error: ffmpeg failed to assemble {} (exit status {})\n", a.video,
-                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-      return kFailure;
-    }
-    if (!a.quiet) fmt::print("video: {} ({} frames at {} fps)\n", a.video, last - first + 1, a.fps);
-  }
+  if (!a.video.empty())
+    return assemble_video(out, first, last - first + 1, a.fps, a.video, a.quiet);
   return kOk;
 }
 
@@ -549,8 +555,8 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   a->scene.add_to(*cmd, false);
   cmd->add_option(
       "-o,--output", a->output,
-      "Output image (.png or .exr); default <scene>.png. With --frames, a pattern such as "
-      "out/frame_%04d.png");
+      "Output image (.png or .exr); default out/<scene name>.png (out/<scene name>_%04d.png "
+      "with --frames). With --frames, a pattern such as out/frame_%04d.png");
   cmd->add_option("--spp", a->spp,
                   "Samples per pixel (overrides render.spp; implies uniform sampling)")
       ->check(CLI::Range(1, 1 << 20));

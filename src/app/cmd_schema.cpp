@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/common.h"
+#include "app/output_guard.h"
 #include "io/image_io.h"
 #include "io/read_file.h"
 #include "scene/scene_schema.h"
@@ -46,6 +47,7 @@ int run(const SchemaArgs& a) {
     fmt::print("updated {} and {}\n", format.string(), functions.string());
     return kOk;
   }
+  if (!a.output.empty()) check_outputs({}, {{a.output, "-o " + a.output}});
   const std::string schema = scene_json_schema();
   if (a.output.empty())
     fmt::print("{}", schema);

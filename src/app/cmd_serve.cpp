@@ -1,6 +1,6 @@
 // `anamorph serve SCENE`: the interactive camera editor, a local web server with a live preview
-// (src/server, web/). It prints the page's address with its access token and runs until SIGINT or
-// SIGTERM.
+// (src/server, web/). It prints the page's address with its access token and runs until SIGINT,
+// SIGTERM, SIGQUIT or SIGHUP (exit 0: that is how it ends).
 #include <fmt/format.h>
 #include <signal.h>
 
@@ -86,12 +86,11 @@ int run(const ServeArgs& a) {
     return kBadInput;
   }
   limit_heaps();
-  // SIGINT and SIGTERM are waited for below: blocked here, before any thread starts, so that
-  // every thread (server, preview, renderer) inherits the mask and none is interrupted.
+  // SIGINT, SIGTERM, SIGQUIT and SIGHUP are waited for below: blocked here, before any thread
+  // starts, so that every thread (server, preview, renderer) inherits the mask and none is
+  // interrupted.
   sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
+  stop_signal_set(&stop_signals);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
   const int threads = a.threads;

@@ -4,13 +4,13 @@
 
 #include <fmt/format.h>
 
-#include <signal.h>
-#include <unistd.h>
-
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <new>
 
+#include "app/output_guard.h"
 #include "io/image_io.h"
 #include "render/checkpoint.h"
 #include "render/memory_estimate.h"
@@ -22,35 +22,6 @@ namespace anamorph::app {
 
 namespace {
 std::string g_command_line;
-std::atomic<bool> g_interrupted{false};
-std::atomic<bool> g_render_phase{false};
-// A worker rank of an MPI job stops without a word: mpirun says why the job ended.
-volatile sig_atomic_t g_silent_interrupt = 0;
-
-void on_interrupt(int) {
-  if (g_render_phase.load() && !g_interrupted.exchange(true)) return;
-  // Async-signal-safe from here on: write(2) and _exit(2) only.
-  static const char kMsg[] = "\ninterrupted\n";
-  if (!g_silent_interrupt) {
-    [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, kMsg, sizeof kMsg - 1);
-  }
-  _exit(kFailure);
-}
-}  // namespace
-
-void install_interrupt_handlers() {
-  g_silent_interrupt = dist::World::rank() > 0;
-  struct sigaction sa {};
-  sa.sa_handler = on_interrupt;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-const std::atomic<bool>& interrupt_flag() { return g_interrupted; }
-RenderPhase::RenderPhase() { g_render_phase = true; }
-RenderPhase::~RenderPhase() { g_render_phase = false; }
-
-namespace {
 std::vector<std::string> g_args;
 }  // namespace
 
@@ -115,6 +86,7 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.camera_toml = std::move(v.camera_toml);
   loaded.effective_toml = std::move(v.effective_toml);
   loaded.frame = frame;
+  loaded.inputs.insert(loaded.inputs.end(), v.inputs.begin(), v.inputs.end());
 }
 
 int run_guarded(const std::function<int()>& body) {
@@ -132,6 +104,9 @@ int run_guarded(const std::function<int()>& body) {
   } catch (const CheckpointError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
+  } catch (const OutputClash& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kBadInput;
   } catch (const ImageIoError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kFailure;
@@ -144,6 +119,16 @@ int run_guarded(const std::function<int()>& body) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kFailure;
   }
+}
+
+int flush_standard_output(int code) {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
+  const int e = errno;
+  // (fputs: stderr may be broken too, and fmt::print would throw from here.)
+  std::fputs("error: cannot write to standard output: ", stderr);
+  std::fputs(e ? std::strerror(e) : "a write failed", stderr);
+  std::fputs("\n", stderr);
+  return code == kOk ? kFailure : code;
 }
 
 }  // namespace anamorph::app

@@ -41,5 +41,5 @@ int main(int argc, char** argv) {
       std::fputs("error: only `anamorph render` runs across MPI ranks\n", stderr);
     return kBadInput;
   }
-  return run_guarded(run);
+  return flush_standard_output(run_guarded(run));
 }

@@ -1,9 +1,13 @@
 set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/main.cpp
   ${CMAKE_CURRENT_LIST_DIR}/common.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/interrupt.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_render.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_pattern.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_job.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/output_guard.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_outputs.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/video.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_stats.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_info.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_camera.cpp

@@ -12,6 +12,8 @@
 
 #include "io/confined_folder.h"
 
+#include "io/read_log.h"
+
 namespace anamorph {
 
 namespace fs = std::filesystem;
@@ -117,6 +119,7 @@ std::variant<InputFile, ReadFailure> open_input(const fs::path& file, const Inpu
                                    size_text(kind.max_bytes), kind.what)};
   ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   if (c && c->record) c->record->insert(confinement_key(file));
+  note_read(file, in.fd());  // (for the check that no output overwrites an input: io/read_log.h)
   return InputFile(in.release(), size);
 }
 

@@ -120,6 +120,7 @@ Sums over_points(const SurfaceSampler& sampler, int origins, size_t cols, uint64
   const int chunks = (origins + kChunk - 1) / kChunk;
   std::vector<Sums> partial(static_cast<size_t>(chunks), Sums(cols));
   parallel_for_each(0, chunks, [&](int c) {
+    if (cancel && cancel->load(std::memory_order_relaxed)) return;
     std::vector<double> f(cols);
     for (int k = c * kChunk; k < std::min(origins, (c + 1) * kChunk); ++k) {
       if (cancel && cancel->load(std::memory_order_relaxed)) return;
@@ -161,6 +162,7 @@ FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o)
       if (samplers[i]) wanted.push_back(int(i));
   const Hemisphere hemi(o.rays);
   for (const int i : wanted) {
+    if (o.cancel && o.cancel->load()) break;  // (the caller sees the flag)
     const Sums sums =
         over_points(*samplers[size_t(i)], o.origins, cols, o.seed, uint64_t(i), o.cancel,
                     [&](const SurfacePoint& s, Rng& rng, std::vector<double>& f) {
@@ -284,6 +286,7 @@ PathRadiance path_traced_radiance(const Scene& scene, const Accel& accel, const 
   for (const auto& name : o.inward) inward[size_t(index_of(f.names, name))] = true;
   PathRadiance out;
   for (const int i : f.rows) {
+    if (o.cancel && o.cancel->load()) break;  // (the caller sees the flag)
     const SurfaceSampler sampler(accel.record(uint32_t(i)), inward[size_t(i)]);
     const Color rho = object_reflectance(scene, accel, uint32_t(i));
     const Color le = object_emission(scene, accel, uint32_t(i)) / kPi;

@@ -43,6 +43,7 @@
 
 #include "io/confined_folder.h"
 #include "io/read_file.h"
+#include "io/read_log.h"
 #include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/load_common.h"
@@ -290,6 +291,7 @@ class AssimpBuilder {
     fs::path file = portable;
     if (file.is_relative()) file = dir_ / file;
     std::string error;
+    const ReadRole role("an image that " + file_ + " uses");
     auto image = images_.get(file, srgb, &error);
     if (!image) {
       warnings_.add(

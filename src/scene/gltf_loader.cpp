@@ -38,6 +38,7 @@
 
 #include "io/image_io.h"
 #include "io/read_file.h"
+#include "io/read_log.h"
 #include "scene/load_common.h"
 #include "scene/load_gltf_accessor.h"
 #include "scene/load_mesh_repair.h"
@@ -573,6 +574,7 @@ class GltfBuilder {
       // A missing or unreadable image file is a warning, not an error: the material's
       // factor still renders, and models often travel without some of their textures.
       const fs::path path = dir_ / percent_decode(gi.uri);
+      const ReadRole role("an image that " + file_ + " uses");
       try {
         img = read_image(path, srgb);
       } catch (const std::exception& e) {
@@ -739,6 +741,13 @@ LoadedModel load_gltf(const fs::path& file) {
   }
   if (!ok)
     throw LoadError(file.string() + ": " + (err.empty() ? "not a valid glTF file" : trim(err)));
+  {
+    // tinygltf read the external buffers itself.
+    const ReadRole role("a buffer of " + file.string());
+    for (const tinygltf::Buffer& b : model.buffers)
+      if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0)
+        note_read(file.parent_path() / percent_decode(b.uri));
+  }
   if (model.asset.version.empty() || model.asset.version[0] != '2')
     throw LoadError(file.string() + ": glTF version '" + model.asset.version +
                     "' is not supported (2.x only)");

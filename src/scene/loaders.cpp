@@ -3,6 +3,7 @@
 #include "camera/org_mesh.h"
 #include "camera/table_functions.h"
 #include "io/image_io.h"
+#include "io/read_log.h"
 #include "scene/load_common.h"
 
 namespace anamorph {
@@ -13,6 +14,7 @@ namespace {
 // loaders and cannot call them itself.
 void read_mesh_file(const std::string& file, std::vector<Prototype>* prototypes,
                     std::vector<Instance>* instances) {
+  const ReadRole role("the camera's origin mesh");
   LoadedModel m = load_model(file);
   *prototypes = std::move(m.prototypes);
   *instances = std::move(m.instances);
@@ -23,6 +25,7 @@ void read_mesh_file(const std::string& file, std::vector<Prototype>* prototypes,
 // double to ~1e-15 (EXR has no 64-bit floats); validity is valid.V when present.
 RayTableData read_ray_table(const std::string& file, const std::string& layer) {
   RayTableData d;
+  const ReadRole role("a ray table");
   const auto ch = read_exr_channels(file, &d.width, &d.height);
   const auto plane = [&](const std::string& name) -> const std::vector<float>* {
     const auto it = ch.find(name);

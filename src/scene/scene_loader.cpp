@@ -120,6 +120,7 @@ toml::table merge_includes(toml::table t, const fs::path& file, int depth, int* 
   for (const auto& f : files) {
     const fs::path p = file.parent_path() / f;
     if (!fs::exists(p)) r.fail("include", fmt::format("included file not found: {}", p.string()));
+    const ReadRole role("a file the scene includes");
     toml::table inc_table = load_with_includes(p, depth + 1, files_read);
     anchor_paths(inc_table, p.parent_path());
     merge_into(merged, std::move(inc_table));
@@ -141,6 +142,7 @@ toml::table load_with_includes(const fs::path& file, int depth, int* files_read)
 }
 
 toml::table load_with_includes(const fs::path& file) {
+  const ReadRole role("the scene file");
   int files_read = 0;
   return load_with_includes(file, 0, &files_read);
 }
@@ -173,6 +175,7 @@ Texture read_texture(const TableReader& r, const ParamValues& v, std::string_vie
   Texture tex;
   if (type == "image") {
     tex.kind = Texture::Kind::Image;
+    const ReadRole role("a texture");
     try {
       tex.image = std::make_shared<MipMap>(read_image(t.string("file"), srgb));
     } catch (const std::exception& e) {
@@ -259,6 +262,7 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
                const Transform& xf) {
   Scene& s = *c.scene;
   LoadedModel m;
+  const ReadRole role("a model");
   try {
     m = load_model(v.string("file"));
   } catch (const std::exception& e) {
@@ -444,6 +448,7 @@ void read_environment(const TableReader& r, Scene& s) {
   e.strength = v.number("strength");
   e.rotation = v.number("rotation");
   if (v.has("file")) {
+    const ReadRole role("the environment map");
     try {
       e.image = std::make_shared<Image>(read_image(v.string("file"), true));
     } catch (const std::exception& ex) {
@@ -627,9 +632,27 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
 
 }  // namespace
 
+namespace {
+
+// `load` with every file it reads recorded in the scene's `inputs`.
+template <class Load>
+Scene recording_reads(Load&& load) {
+  ReadLog log;
+  Scene s;
+  {
+    const ReadLogScope scope(&log);
+    s = load();
+  }
+  s.inputs = log.files();
+  return s;
+}
+
+}  // namespace
+
 Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides, double frame) {
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return build_scene(load_with_includes(file), file, overrides, frame);
+  return recording_reads(
+      [&] { return build_scene(load_with_includes(file), file, overrides, frame); });
 }
 
 bool animates_view_only(const Scene& s) {
@@ -641,7 +664,8 @@ bool animates_view_only(const Scene& s) {
 Scene load_view(const fs::path& file, const std::vector<std::string>& overrides, double frame,
                 const Scene& loaded) {
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return build_scene(load_with_includes(file), file, overrides, frame, &loaded);
+  return recording_reads(
+      [&] { return build_scene(load_with_includes(file), file, overrides, frame, &loaded); });
 }
 
 namespace {
@@ -662,13 +686,25 @@ toml::table parse_scene_text(const std::string& text, const fs::path& name) {
 
 Scene load_scene_from_string(const std::string& text, const fs::path& name,
                              const std::vector<std::string>& overrides, double frame) {
-  return build_scene(parse_scene_text(text, name), name, overrides, frame);
+  return recording_reads([&] {
+    {
+      const ReadRole role("the scene file");  // (its text comes from the caller)
+      note_read(name);
+    }
+    return build_scene(parse_scene_text(text, name), name, overrides, frame);
+  });
 }
 
 Scene load_view_from_string(const std::string& text, const fs::path& name,
                             const std::vector<std::string>& overrides, double frame,
                             const Scene& loaded) {
-  return build_scene(parse_scene_text(text, name), name, overrides, frame, &loaded);
+  return recording_reads([&] {
+    {
+      const ReadRole role("the scene file");
+      note_read(name);
+    }
+    return build_scene(parse_scene_text(text, name), name, overrides, frame, &loaded);
+  });
 }
 
 }  // namespace anamorph

@@ -33,3 +33,11 @@ anamorph_add_test(test_mpi
 target_link_libraries(test_mpi PRIVATE anamorph_dist)
 target_compile_definitions(test_mpi PRIVATE ANAMORPH_HAVE_MPI=$<BOOL:${ANAMORPH_HAVE_MPI}>)
 add_dependencies(test_mpi anamorph)
+anamorph_add_test(test_outputs
+  ${CMAKE_CURRENT_LIST_DIR}/outputs_test.cpp
+)
+add_dependencies(test_outputs anamorph)
+anamorph_add_test(test_signals
+  ${CMAKE_CURRENT_LIST_DIR}/signals_test.cpp
+)
+add_dependencies(test_signals anamorph)
