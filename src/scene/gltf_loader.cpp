@@ -730,6 +730,8 @@ LoadedModel load_gltf(const fs::path& file) {
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   bool ok = false;
   try {
+    // (Files tinygltf opens itself are logged below with their roles, not as it reads them.)
+    const ReadLogScope unlogged(nullptr);
     ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
                                               unsigned(bytes.size()), base_dir)
                 : loader.LoadASCIIFromString(&model, &err, &warn,
