@@ -22,7 +22,7 @@ int run_rays(const RaysArgs& a) {
   const fs::path out = a.output;
   const std::string ext = out.extension().string();
   if (ext != ".csv" && ext != ".exr") {
-    fmt::print(stderr, "error: -o {}: use .csv or .exr\n", a.output);
+    print_error(fmt::format("-o {}: use .csv or .exr", a.output));
     return kBadInput;
   }
   const Scene s = load(a.scene);
@@ -94,7 +94,7 @@ int run_project(const ProjectArgs& a) {
       if (c == ',') c = ' ';
     std::istringstream is(t);
     if (!(is >> p.x >> p.y >> p.z) || !is_finite(p)) {
-      fmt::print(stderr, "error: --point {}: expected X,Y,Z (three finite numbers)\n", a.point);
+      print_error(fmt::format("--point {}: expected X,Y,Z (three finite numbers)", a.point));
       return kBadInput;
     }
   }

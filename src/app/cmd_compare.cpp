@@ -16,8 +16,8 @@ struct CompareArgs {
 int run(const CompareArgs& args) {
   const Image a = read_image(args.a), b = read_image(args.b);
   if (a.width != b.width || a.height != b.height) {
-    fmt::print(stderr, "error: sizes differ: {} is {}x{}, {} is {}x{}\n", args.a, a.width, a.height,
-               args.b, b.width, b.height);
+    print_error(fmt::format("sizes differ: {} is {}x{}, {} is {}x{}", args.a, a.width, a.height,
+                            args.b, b.width, b.height));
     return kBadInput;
   }
   const ImageMetrics m = compare_images(a.pixels, b.pixels, a.width, a.height);

@@ -115,7 +115,7 @@ int run(const FormFactorArgs& a) {
     if (interrupt_flag()) return kFailure;
     if (a.radiosity) B = solve_radiosity(s, accel, f);
   } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(fmt::format("{}", e.what()));
     return kBadInput;
   }
   print_table(f);

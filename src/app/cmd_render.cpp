@@ -310,14 +310,14 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   const MemoryNeed need = estimate_render_memory(scene, shape);
   const uint64_t available = available_memory();
   if (available == 0 || need.total() <= available) return true;
-  fmt::print(stderr,
-             "error: {}: this render needs about {} ({}), but {} is available; lower the "
-             "resolution or the AOVs{}\n",
-             out, format_bytes(need.total()), need.describe(), format_bytes(available),
-             shape.whole_film && !a.coins_overlay
-                 ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
-                   "streams tiles to the file instead of keeping the frame)"
-                 : "");
+  print_error(fmt::format(
+      "{}: this render needs about {} ({}), but {} is available; lower the "
+      "resolution or the AOVs{}",
+      out, format_bytes(need.total()), need.describe(), format_bytes(available),
+      shape.whole_film && !a.coins_overlay
+          ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
+            "streams tiles to the file instead of keeping the frame)"
+          : ""));
   return false;
 }
 
@@ -424,15 +424,15 @@ int run(const RenderArgs& a) {
     }
     aovs = parse_aovs(list);
   } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "error: --aov: {}\n", e.what());
+    print_error(fmt::format("--aov: {}", e.what()));
     return kBadInput;
   }
   const std::string out =
       a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
   double every = 60;
   if (!parse_duration(a.checkpoint_every, &every)) {
-    fmt::print(stderr, "error: --checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h\n",
-               a.checkpoint_every);
+    print_error(fmt::format("--checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h",
+                            a.checkpoint_every));
     return kBadInput;
   }
   if (a.scene.scene.empty()) {
@@ -440,7 +440,7 @@ int run(const RenderArgs& a) {
     return kBadInput;
   }
   if (lower_extension(out) != ".png" && lower_extension(out) != ".exr") {
-    fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
+    print_error(fmt::format("-o {}: unsupported image format (use .png or .exr)", out));
     return kBadInput;
   }
   // Under MPI the head (rank 0) goes on below, handing tiles to the workers through `farm`.
@@ -471,12 +471,12 @@ int run(const RenderArgs& a) {
   // A sequence: frames A..B inclusive, written through a printf pattern.
   int first = 0, last = 0;
   if (!parse_frames(a.frames, &first, &last)) {
-    fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n",
-               a.frames);
+    print_error(
+        fmt::format("--frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number", a.frames));
     return kBadInput;
   }
   if (last < first) {
-    fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
+    print_error(fmt::format("--frames {}: the last frame comes before the first", a.frames));
     return kBadInput;
   }
   std::string pattern_error;
@@ -486,10 +486,10 @@ int run(const RenderArgs& a) {
     pattern_error = e.what();
   }
   if (!has_frame_pattern(out) || !pattern_error.empty()) {
-    fmt::print(stderr,
-               "error: -o {}: with --frames the output needs one frame-number pattern and no "
-               "other % (write %% for a percent sign), e.g. out/frame_%04d.png{}\n",
-               out, pattern_error.empty() ? "" : " (" + pattern_error + ")");
+    print_error(
+        fmt::format("-o {}: with --frames the output needs one frame-number pattern and no "
+                    "other % (write %% for a percent sign), e.g. out/frame_%04d.png{}",
+                    out, pattern_error.empty() ? "" : " (" + pattern_error + ")"));
     return kBadInput;
   }
   if (!a.video.empty() && !on_path("ffmpeg")) {
@@ -504,10 +504,10 @@ int run(const RenderArgs& a) {
        {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
         std::tuple{"--stats", a.stats, "stats_%04d.json"}})
     if (!name.empty() && !has_frame_pattern(name)) {
-      fmt::print(stderr,
-                 "error: {} {}: with --frames each frame has its own file, so the name needs a "
-                 "frame-number pattern, e.g. {}\n",
-                 option, name, example);
+      print_error(
+          fmt::format("{} {}: with --frames each frame has its own file, so the name needs a "
+                      "frame-number pattern, e.g. {}",
+                      option, name, example));
       return kBadInput;
     }
   FrameScene current;
@@ -551,8 +551,8 @@ int run(const RenderArgs& a) {
     int status = 0;
     waitpid(pid, &status, 0);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-      fmt::print(stderr, "error: ffmpeg failed to assemble {} (exit status {})\n", a.video,
-                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+      print_error(fmt::format("ffmpeg failed to assemble {} (exit status {})", a.video,
+                              WIFEXITED(status) ? WEXITSTATUS(status) : -1));
       return kFailure;
     }
     if (!a.quiet) fmt::print("video: {} ({} frames at {} fps)\n", a.video, last - first + 1, a.fps);

