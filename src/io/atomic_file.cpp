@@ -22,6 +22,7 @@
 
 #include "io/image_io.h"
 #include "io/io_util.h"
+#include "math/user_text.h"
 
 namespace anamorph {
 
@@ -63,6 +64,7 @@ void remove_stale_temporaries(const fs::path& dir, const std::string& name) {
 
 AtomicFile::AtomicFile(const fs::path& file) : target_(resolve_links(file)) {
   using io_detail::fail;
+  if (has_nul(file.native())) fail("cannot write", file, nul_in_path_message(file.native(), false));
   if (!target_.has_filename()) fail("cannot write", file, "the path does not name a file");
   struct stat st {};
   if (::stat(target_.c_str(), &st) == 0) {

@@ -12,6 +12,8 @@ namespace anamorph {
 std::optional<ReadFailure> read_whole_file(const std::filesystem::path& file,
                                            std::vector<unsigned char>* out) {
   out->clear();
+  // open(2) would read the name only up to a NUL (callers say so first; this is the last guard).
+  if (file.native().find('\0') != std::string::npos) return ReadFailure{"open", EINVAL};
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return ReadFailure{"open", errno};
   struct Closer {

@@ -63,9 +63,9 @@ std::string printable(std::string_view s) {
   return out;
 }
 
-std::string nul_in_path_message(std::string_view path) {
-  return "the file name '" + printable(path) +
-         "' contains a NUL character (the system would read it as '" +
+std::string nul_in_path_message(std::string_view path, bool with_name) {
+  return (with_name ? "the file name '" + printable(path) + "'" : std::string("the file name")) +
+         " contains a NUL character (the system would read it as '" +
          printable(path.substr(0, path.find('\0'))) + "')";
 }
 

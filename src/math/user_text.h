@@ -20,7 +20,8 @@ std::string printable(std::string_view s);
 // Whether a file name holds a NUL character (the system would read it only up to there).
 inline bool has_nul(std::string_view path) { return path.find('\0') != std::string_view::npos; }
 
-// "the file name 'a\x00b' contains a NUL character (the system would read it as 'a')".
-std::string nul_in_path_message(std::string_view path);
+// "the file name 'a\x00b' contains a NUL character (the system would read it as 'a')"; without
+// the name ("the file name contains ...") where the message names the file already.
+std::string nul_in_path_message(std::string_view path, bool with_name = true);
 
 }  // namespace anamorph

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "math/user_text.h"
+
 namespace anamorph {
 
 std::optional<double> toml_number(const toml::node& n) {
@@ -246,6 +248,8 @@ ParamValue param_from_toml(const ParamSpec& spec, const toml::node& n, const Par
                             s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
                             join_choices(spec.choices)));
       }
+      // A NUL would cut the name short where the system reads it: refused, with or without hooks.
+      if (key == "file" && has_nul(v)) fail(n, nul_in_path_message(v));
       if (key == "file" && h.file) return h.file(n, key, v);
       return v;
     }

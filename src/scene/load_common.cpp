@@ -10,6 +10,7 @@
 
 #include "io/image_io.h"
 #include "io/read_file.h"
+#include "math/user_text.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
@@ -25,6 +26,7 @@ void require_readable(const fs::path& file) {
 }
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
+  if (has_nul(file.native())) throw LoadError(nul_in_path_message(file.native()));
   require_readable(file);
   std::vector<unsigned char> bytes;
   if (const auto failure = read_whole_file(file, &bytes))

@@ -8,6 +8,7 @@
 
 #include "io/image_io.h"
 #include "math/frame.h"
+#include "math/user_text.h"
 #include "scene/animation.h"
 #include "scene/camera_reader.h"
 #include "scene/load_common.h"
@@ -118,6 +119,7 @@ toml::table merge_includes(toml::table t, const fs::path& file, int depth, int* 
   }
   toml::table merged;
   for (const auto& f : files) {
+    if (has_nul(f)) r.fail("include", nul_in_path_message(f));
     const fs::path p = file.parent_path() / f;
     if (!fs::exists(p)) r.fail("include", fmt::format("included file not found: {}", p.string()));
     toml::table inc_table = load_with_includes(p, depth + 1, files_read);
@@ -625,9 +627,17 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   return s;
 }
 
+// The scene's own file name (from the command line, Python or the editor): a NUL would cut it
+// short.
+void check_scene_path(const fs::path& file) {
+  if (has_nul(file.native()))
+    throw SceneError({file.native()}, "", nul_in_path_message(file.native(), false));
+}
+
 }  // namespace
 
 Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides, double frame) {
+  check_scene_path(file);
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
   return build_scene(load_with_includes(file), file, overrides, frame);
 }
@@ -640,6 +650,7 @@ bool animates_view_only(const Scene& s) {
 
 Scene load_view(const fs::path& file, const std::vector<std::string>& overrides, double frame,
                 const Scene& loaded) {
+  check_scene_path(file);
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
   return build_scene(load_with_includes(file), file, overrides, frame, &loaded);
 }

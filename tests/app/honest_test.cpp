@@ -67,5 +67,48 @@ TEST(HonestMessages, ControlCharactersInKeysValuesAndArgumentsAreEscaped) {
   }
 }
 
+// ---- NUL in file names ------------------------------------------------------------------------
+
+TEST(HonestMessages, NulInAFileNameIsRefusedWhereverAPathEnters) {
+  Scratch s;
+  const std::string tex = s.path("tex.png");
+  // The file the cut names would reach exists: each use must still be an error.
+  ASSERT_EQ(run("render '" + s.write("t.toml", "[image]\nwidth = 4\nheight = 4\n") + "' -o '" +
+                tex + "' -q")
+                .code,
+            0);
+  const std::string sphere = "[image]\nwidth = 4\nheight = 4\n[[object]]\ntype = \"sphere\"\n";
+  const std::string texture =
+      s.write("texture.toml", sphere +
+                                  "material = \"m\"\n[[material]]\nname = \"m\"\ncolor = { type = "
+                                  "\"image\", file = \"tex.png\\u0000x\" }\n");
+  const std::string mesh =
+      s.write("mesh.toml", "[[object]]\ntype = \"mesh\"\nfile = \"tex.png\\u0000.gltf\"\n");
+  const std::string include = s.write("include.toml", "include = \"t.toml\\u0000x\"\n");
+  const std::string plain = s.write("plain.toml", sphere);
+  const struct {
+    std::string args, where;
+  } cases[] = {
+      {"render '" + texture + "' -o '" + s.path("o.png") + "'", "material[0].color.file"},
+      {"info '" + mesh + "'", "object[0].file"},
+      {"info '" + include + "'", "include"},
+      {"render '" + plain + "' -o '" + s.path("o.png") +
+           "' --set 'environment.file=\"tex.png\\u0000.hdr\"'",
+       "--set: environment.file"},
+      {"info '" + plain +
+           "' --set 'camera.org={type=\"table\", file=\"tex.png\\u0000.exr\"}' --set "
+           "'camera.dir={type=\"constant\"}'",
+       "camera.org.file"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_TRUE(contains(r.out, c.where)) << r.out;
+    EXPECT_TRUE(contains(r.out, "contains a NUL character (the system would read it as '"))
+        << r.out;
+    EXPECT_FALSE(fs::exists(s.path("o.png"))) << c.args;
+  }
+}
+
 }  // namespace
 }  // namespace anamorph

@@ -54,6 +54,8 @@ TEST(NulInPath, IsFoundAndNamedWithWhatTheSystemWouldRead) {
   EXPECT_EQ(nul_in_path_message("tex.png\0x"s),
             "the file name 'tex.png\\x00x' contains a NUL character (the system would read it as "
             "'tex.png')");
+  EXPECT_EQ(nul_in_path_message("a\0b"s, false),
+            "the file name contains a NUL character (the system would read it as 'a')");
 }
 
 }  // namespace
