@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <future>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -275,6 +276,12 @@ SceneSource source_of(std::string path, std::string text, std::vector<std::strin
 }  // namespace
 
 void bind_scene(pb::module_& m) {
+  pb::dict limits;
+  limits["samples"] = pb::make_tuple(1, kMaxFormFactorOrigins);
+  limits["rays"] = pb::make_tuple(1, kMaxFormFactorRays);
+  limits["depth"] = pb::make_tuple(1, kMaxFormFactorPathDepth);
+  limits["seed"] = pb::make_tuple(0, std::numeric_limits<uint64_t>::max());
+  m.attr("FORM_FACTOR_LIMITS") = limits;
   pb::class_<SceneHandle>(m, "Scene")
       .def(pb::init([](const std::string& path, std::vector<std::string> overrides, double frame) {
              return std::make_unique<SceneHandle>(source_of(path, "", std::move(overrides), frame));

@@ -163,9 +163,9 @@ void add_formfactors(CLI::App& app, std::function<int()>& runner) {
                   "Objects whose surfaces face inward (enclosures: a room box, a dome)")
       ->delimiter(',');
   cmd->add_option("--samples", a->samples, "Points per object, stratified by area")
-      ->check(CLI::Range(1, 1 << 24));
+      ->check(CLI::Range(1, kMaxFormFactorOrigins));
   cmd->add_option("--rays", a->rays, "Hemisphere camera samples per point")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(CLI::Range(1, kMaxFormFactorRays));
   cmd->add_option("--seed", a->seed, "Random seed");
   cmd->add_option("-o,--output", a->output, "Write the matrix: .csv (long form) or .json")
       ->check([](const std::string& p) {
@@ -176,7 +176,7 @@ void add_formfactors(CLI::App& app, std::function<int()>& runner) {
                 "Solve (I - rho F) B = E and check B / pi against the path tracer's mean "
                 "radiance per object");
   cmd->add_option("--depth", a->depth, "Path tracer depth for the --radiosity check")
-      ->check(CLI::Range(1, 10000));
+      ->check(CLI::Range(1, kMaxFormFactorPathDepth));
   cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
 }
 

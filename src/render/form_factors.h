@@ -16,6 +16,10 @@
 
 namespace anamorph {
 
+// The ranges of the counts below that the CLI (anamorph formfactors) and Python accept.
+inline constexpr int kMaxFormFactorOrigins = 1 << 24, kMaxFormFactorRays = 1 << 20,
+                     kMaxFormFactorPathDepth = 10000;
+
 struct FormFactorOptions {
   int origins = 2048;                // points per source object (stratified by area)
   int rays = 256;                    // hemisphere camera samples per point (a 16 x 16 image)

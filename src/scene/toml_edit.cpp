@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
+#include <optional>
 #include <vector>
 
 namespace anamorph {
@@ -52,12 +55,33 @@ bool valid_utf8(std::string_view s) {
   return true;
 }
 
+namespace {
+
+// A decimal integer too large for TOML's 64 bits (Python's 2**70 in `set=`): its value as a
+// number, so that the key's reader can say it is out of range rather than "got a string".
+std::optional<double> huge_integer(const std::string& text) {
+  size_t i = text.find_first_not_of(" \t");
+  if (i == std::string::npos) return std::nullopt;
+  if (text[i] == '+' || text[i] == '-') ++i;
+  const size_t end = text.find_last_not_of(" \t") + 1;
+  if (i >= end || text.find_first_not_of("0123456789_", i) < end) return std::nullopt;
+  std::string digits = text.substr(0, end);
+  std::erase(digits, '_');
+  const double v = std::strtod(digits.c_str(), nullptr);  // (beyond doubles: the largest one)
+  return std::clamp(v, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+}
+
+}  // namespace
+
 toml::table parse_value_text(const std::string& text) {
   try {
     return toml::parse("v = " + text);
   } catch (const toml::parse_error&) {
     toml::table t;
-    t.insert("v", text);  // a bare word: a string
+    if (const auto big = huge_integer(text))
+      t.insert("v", *big);
+    else
+      t.insert("v", text);  // a bare word: a string
     return t;
   }
 }

@@ -67,6 +67,30 @@ TEST(HonestMessages, ControlCharactersInKeysValuesAndArgumentsAreEscaped) {
   }
 }
 
+// ---- integers too large for 64 bits -------------------------------------------------------------
+
+TEST(HonestMessages, IntegersBeyondSixtyFourBitsAreOutOfTheKeysRange) {
+  Scratch s;
+  const std::string scene = s.write("s.toml", "[image]\nwidth = 4\nheight = 4\n");
+  const std::string as_number = s.write("n.toml", "[image]\nwidth = 1e30\n");
+  const struct {
+    std::string args, want;
+  } cases[] = {
+      {"info '" + scene + "' --set image.width=1180591620717411303424",
+       "--set: image.width: value 1.1805916207174113e+21 is out of range (must be [1, 65536])"},
+      {"info '" + scene + "' --set render.seed=-1_000_000_000_000_000_000_000",
+       "render.seed: value -1e+21 is out of range"},
+      {"info '" + as_number + "'", "n.toml:2:9: image.width: value 1e+30 is out of range"},
+      {"info '" + scene + "' --set render.seed=1e16",
+       "render.seed: value 1e+16 is out of range (must be an integer;"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out, c.want)) << "got: " << r.out << "wanted: " << c.want;
+  }
+}
+
 // ---- NUL in file names ------------------------------------------------------------------------
 
 TEST(HonestMessages, NulInAFileNameIsRefusedWhereverAPathEnters) {
