@@ -43,8 +43,8 @@ void bind_errors(pb::module_& m) {
                                                     : e.key + ": " + e.message;
       raise_scene_error(scene_error, text, e.key, e.loc, e.message);
     } catch (const ParamError& e) {
-      const std::string text = e.key.empty() ? e.what() : e.key + ": " + e.what();
-      raise_scene_error(scene_error, text, e.key, {}, e.what());
+      const std::string text = e.key.empty() ? e.what() : e.key + ": " + e.message();
+      raise_scene_error(scene_error, text, e.key, {}, e.message());
     } catch (const LoadError& e) {
       PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     } catch (const ImageReadError& e) {

@@ -91,6 +91,23 @@ TEST(HonestMessages, IntegersBeyondSixtyFourBitsAreOutOfTheKeysRange) {
   }
 }
 
+// ---- scattered points far outside the image ---------------------------------------------------
+
+TEST(HonestMessages, AScatteredPointAtUOf1e300IsOutOfRangeNotCollinear) {
+  Scratch s;
+  const std::string scene = s.write(
+      "sc.toml",
+      "[camera.org]\ntype = \"scattered\"\npoints = [[0, 0, -1, 1, 0], [1, 0, 1, 1, 0], [0, 1, -1, "
+      "-1, 0], [1, 1, 1, -1, 0.1], [1e300, 0.5, 0, 0, 0.5]]\n[camera.dir]\ntype = \"constant\"\n");
+  const Result r = run("info '" + scene + "'");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "sc.toml:3:10: camera.org.points: point 4: u = 1e+300 is out of "
+                       "range (must be within [-1e+06, 1e+06]"))
+      << r.out;
+  EXPECT_FALSE(contains(r.out, "line")) << r.out;
+}
+
 // ---- NUL in file names ------------------------------------------------------------------------
 
 TEST(HonestMessages, NulInAFileNameIsRefusedWhereverAPathEnters) {
