@@ -15,6 +15,7 @@
 #include <tuple>
 
 #include "app/common.h"
+#include "app/frame_check.h"
 #include "app/frame_job.h"
 #include "app/tile_stats.h"
 #include "dist/head.h"
@@ -523,6 +524,7 @@ int run(const RenderArgs& a) {
     }
     const std::string file = fmt::sprintf(out, f);
     const bool fresh = current.load_frame(args.scene, extra, f);
+    if (place.index == 0) check_frames(args.scene, extra, f, last, *current.scene);
     if (!fits_in_memory(args, *current.scene, aovs, file)) return kBadInput;
     if (fresh) current.renderer = make_renderer(*current.scene, farm.get());
     if (farm) farm->begin_frame(f);

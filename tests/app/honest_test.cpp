@@ -67,6 +67,52 @@ TEST(HonestMessages, ControlCharactersInKeysValuesAndArgumentsAreEscaped) {
   }
 }
 
+// ---- [[animate]] errors ------------------------------------------------------------------------
+
+std::string frame_files(const Scratch& s) {
+  std::string names;
+  for (const auto& e : fs::directory_iterator(s.dir))
+    if (e.path().extension() == ".png") names += e.path().filename().string() + " ";
+  return names;
+}
+
+TEST(HonestMessages, AnimateErrorsNameTheEntryAndFrameBeforeAnyFrameIsWritten) {
+  Scratch s;
+  const std::string head = "[image]\nwidth = 8\nheight = 6\n[[object]]\ntype = \"sphere\"\n";
+  // The view only (frames share one world), and an object (each frame a whole scene, with a
+  // mesh that the check does not load).
+  const std::string view = s.write(
+      "view.toml", head + "[[animate]]\nkey = \"camera.fov\"\nkeys = [[0, 60], [10, 300]]\n");
+  const std::string world = s.write(
+      "world.toml", head + "[[object]]\ntype = \"mesh\"\nfile = \"" +
+                        (test::data_dir() / "models" / "textured_quad.obj").string() +
+                        "\"\n[[animate]]\nkey = \"object.0.radius\"\nkeys = [[0, 1], [4, -1]]\n");
+  const struct {
+    std::string scene, frames, want;
+  } cases[] = {
+      {view, "0:9",
+       "view.toml:7:7: camera.fov: value 180 is out of range (must be (0, 180)) (at frame 5, the "
+       "value of this [[animate]] entry)"},
+      {world, "0:3",
+       "world.toml:10:7: object[0].radius: value 0 is out of range (must be > 0) (at frame 2, the "
+       "value of this [[animate]] entry)"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run("render '" + c.scene + "' --frames " + c.frames + " -o '" +
+                         s.path("f_%02d.png") + "' -q");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out, c.want)) << "got: " << r.out << "wanted: " << c.want;
+    EXPECT_EQ(frame_files(s), "") << "frames were written before the error";
+  }
+  // The frames before the bad one render when asked for alone; a --set of the key wins over
+  // the entry and is reported as such; a single frame names its frame too.
+  EXPECT_EQ(run("render '" + view + "' --frames 0:4 -o '" + s.path("f_%02d.png") + "' -q").code, 0);
+  const Result set =
+      run("render '" + view + "' -o '" + s.path("x.png") + "' --set camera.fov=200 -q");
+  EXPECT_TRUE(contains(set.out, "--set: camera.fov: value 200 is out of range")) << set.out;
+  EXPECT_FALSE(contains(set.out, "[[animate]]")) << set.out;
+}
+
 // ---- integers too large for 64 bits -------------------------------------------------------------
 
 TEST(HonestMessages, IntegersBeyondSixtyFourBitsAreOutOfTheKeysRange) {
