@@ -17,6 +17,7 @@
 #include "app/common.h"
 #include "app/frame_check.h"
 #include "app/frame_job.h"
+#include "app/resume_options.h"
 #include "app/tile_stats.h"
 #include "dist/head.h"
 #include "dist/worker.h"
@@ -49,8 +50,9 @@ struct RenderArgs {
   bool quiet = false;
   std::string checkpoint;  // --checkpoint FILE (a frame pattern with --frames)
   std::string checkpoint_every = "60s";
-  std::string stats;   // --stats FILE (a frame pattern with --frames)
-  std::string resume;  // --resume FILE
+  std::string stats;          // --stats FILE (a frame pattern with --frames)
+  std::string resume;         // --resume FILE
+  ResumeOptions with_resume;  // the other options given with --resume
   bool skip_existing = false;
 };
 
@@ -335,7 +337,7 @@ bool frame_exists(const fs::path& out, const fs::path& checkpoint) {
 
 // `render --resume FILE`: the command that started the checkpoint, run again (a frame sequence
 // skips the frames it finished).
-int resume(const std::string& file) {
+int resume(const std::string& file, const ResumeOptions& with) {
   const CheckpointReader reader(file);
   std::vector<std::string> args;
   for (const auto& [k, v] : reader.identity())
@@ -345,6 +347,7 @@ int resume(const std::string& file) {
   if (args.empty() || args[0] != "render" ||
       std::find(args.begin(), args.end(), "--resume") != args.end())
     throw CheckpointError(fmt::format("checkpoint '{}' does not say how it was started", file));
+  apply_honoured(with, args);
   set_command_args(args);
   const bool frames = std::find(args.begin(), args.end(), "--frames") != args.end();
   if (frames && std::find(args.begin(), args.end(), "--skip-existing") == args.end())
@@ -401,7 +404,11 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --resume takes everything from the checkpoint: give no scene\n");
       return kBadInput;
     }
-    return resume(a.resume);
+    if (!a.with_resume.refused.empty()) {
+      print_error(refused_message(a.with_resume));
+      return kBadInput;
+    }
+    return resume(a.resume, a.with_resume);
   }
   std::vector<std::string> extra;
   if (a.spp) extra.push_back(fmt::format("render.spp={}", *a.spp));
@@ -602,11 +609,16 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--checkpoint-every", a->checkpoint_every,
                   "How often the checkpoint is forced to disk: 60s (default), 5m, 1h");
   cmd->add_option("--resume", a->resume,
-                  "Continue the render a checkpoint belongs to (the same command, resumed)");
+                  std::string("Continue the render a checkpoint belongs to (the same command, "
+                              "resumed); only ") +
+                      kWithResume + " may be given with it");
   cmd->add_flag("--skip-existing", a->skip_existing,
                 "Skip frames whose output file is already there (complete: files appear only "
                 "when done)");
-  cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
+  cmd->callback([a, cmd, &runner] {
+    if (!a->resume.empty()) a->with_resume = resume_options(*cmd);
+    runner = [a] { return run(*a); };
+  });
 }
 
 }  // namespace anamorph::app

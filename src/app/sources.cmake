@@ -4,6 +4,7 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_render.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_check.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/resume_options.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_stats.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_info.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_camera.cpp

@@ -113,6 +113,67 @@ TEST(HonestMessages, AnimateErrorsNameTheEntryAndFrameBeforeAnyFrameIsWritten) {
   EXPECT_FALSE(contains(set.out, "[[animate]]")) << set.out;
 }
 
+// ---- --resume with other options --------------------------------------------------------------
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(HonestMessages, ResumeRefusesOptionsThatWouldChangeTheRenderAndHonoursTheRest) {
+  Scratch s;
+  // A path-traced render that a time limit stops after its first pass, leaving a checkpoint.
+  const std::string scene = s.write(
+      "r.toml",
+      "[image]\nwidth = 64\nheight = 48\n[render]\nintegrator = \"path\"\nantialias = \"pixel\"\n"
+      "min_spp = 1\n"
+      "max_spp = 1048576\nnoise_threshold = 1e-9\ntime_limit = 0.01\n[[object]]\ntype = "
+      "\"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 2, 2]\n");
+  const std::string ck = s.path("r.ckpt"), out = s.path("r.png");
+  const Result first = run("render '" + scene + "' -o '" + out + "' --checkpoint '" + ck + "'");
+  ASSERT_EQ(first.code, 0) << first.out;
+  ASSERT_TRUE(fs::exists(ck)) << first.out;
+  const std::string checkpoint = bytes_of(ck);
+  const struct {
+    std::string options, named;
+  } refused[] = {
+      {"-o '" + s.path("other.png") + "'", "so -o would be ignored"},
+      {"--width 16 --spp 4", "so --width, --spp would be ignored"},
+      {"--set render.seed=3 --aov albedo", "so --set, --aov would be ignored"},
+      {"--stats '" + s.path("st.json") + "'", "so --stats would be ignored"},
+      {"--frames 0:1", "so --frames would be ignored"},
+  };
+  for (const auto& c : refused) {
+    const Result r = run("render --resume '" + ck + "' " + c.options);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out,
+                         "error: --resume continues the render exactly as the checkpoint's "
+                         "command started it, " +
+                             c.named))
+        << r.out;
+    EXPECT_TRUE(contains(r.out, "only --threads, --quiet, --checkpoint-every, --skip-existing"))
+        << r.out;
+    EXPECT_EQ(bytes_of(ck), checkpoint) << "the checkpoint changed: " << c.options;
+  }
+  EXPECT_FALSE(fs::exists(s.path("other.png")));
+  EXPECT_FALSE(fs::exists(s.path("st.json")));
+  // Honoured: --quiet silences the resumed run (which says where it resumed from otherwise),
+  // --threads and --checkpoint-every are taken.
+  const Result loud = run("render --resume '" + ck + "' --threads 1");
+  EXPECT_EQ(loud.code, 0) << loud.out;
+  EXPECT_TRUE(contains(loud.out, "resumed from")) << loud.out;
+  if (fs::exists(ck)) {
+    const Result quiet = run("render --resume '" + ck + "' -q --checkpoint-every 5m --threads 2");
+    EXPECT_EQ(quiet.code, 0) << quiet.out;
+    EXPECT_EQ(quiet.out, "");
+  }
+  const Result help = run("render --help");
+  EXPECT_TRUE(contains(help.out,
+                       "only --threads, --quiet, --checkpoint-every, --skip-existing "
+                       "may be given with it"))
+      << help.out;
+}
+
 // ---- integers too large for 64 bits -------------------------------------------------------------
 
 TEST(HonestMessages, IntegersBeyondSixtyFourBitsAreOutOfTheKeysRange) {
