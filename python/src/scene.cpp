@@ -15,6 +15,7 @@
 #include "camera_handle.h"
 #include "render/coin_layer.h"
 #include "render/form_factors.h"
+#include "render/radiosity.h"
 #include "render/renderer.h"
 #include "scene/scene_schema.h"
 
@@ -237,6 +238,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   PathRadiance path;
   {
     pb::gil_scoped_release release;
+    if (radiosity) check_radiosity_inputs(*scene_, renderer_->accel(), o.inward);
     f = measure_form_factors(renderer_->accel(), o);
     if (radiosity) {
       B = solve_radiosity(*scene_, renderer_->accel(), f);
@@ -246,7 +248,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   pb::dict d;
   d["objects"] = f.names;
   std::vector<std::string> columns = f.names, rows;
-  columns.push_back("environment");
+  columns.emplace_back(kEnvironmentColumn);
   for (int r : f.rows) rows.push_back(f.names[size_t(r)]);
   d["columns"] = columns;
   d["rows"] = rows;
@@ -254,6 +256,11 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   d["F"] = matrix(f.F);
   d["stderr"] = matrix(f.error);
   d["reciprocity_worst_z"] = f.worst_reciprocity_z;
+  pb::dict unmeasured;
+  for (size_t i = 0; i < f.no_row.size(); ++i)
+    if (!f.no_row[i].empty()) unmeasured[pb::str(f.names[i])] = f.no_row[i];
+  d["unmeasured"] = unmeasured;
+  d["notes"] = f.notes;
   if (radiosity) {
     d["radiosity"] = colors(B);
     d["path_radiance"] = colors(path.mean);

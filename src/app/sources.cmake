@@ -11,6 +11,7 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_bench.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_compare.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_formfactors.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/form_factor_output.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_schema.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_serve.cpp
 )

@@ -174,6 +174,88 @@ TEST(HonestMessages, ResumeRefusesOptionsThatWouldChangeTheRenderAndHonoursTheRe
       << help.out;
 }
 
+// ---- form factors ----------------------------------------------------------------------------
+
+bool prints_a_non_number(const std::string& out) {
+  for (const char* w : {"nan", "inf", "NaN", "Inf"})
+    if (contains(out, w)) return true;
+  return false;
+}
+
+TEST(HonestNumbers, FormFactorsOfDegenerateScenesAreErrorsOrSayWhy) {
+  Scratch s;
+  const auto scene = [&](const std::string& name, const std::string& lamp_radius,
+                         const std::string& emission, const std::string& wall) {
+    // (A wall of reflectance 1 goes with a lamp of reflectance 1: nothing absorbs.)
+    return s.write(
+        name, "[[material]]\nname = \"lamp\"\ncolor = " + std::string(wall == "1" ? "1" : "0.5") +
+                  "\nemission = " + emission + "\n[[material]]\nname = \"wall\"\ncolor = " + wall +
+                  "\n[[object]]\ntype = \"sphere\"\nname = \"lamp\"\nradius = " + lamp_radius +
+                  "\nmaterial = \"lamp\"\n[[object]]\ntype = \"sphere\"\nname = "
+                  "\"dome\"\nradius = 2\nmaterial = \"wall\"\n");
+  };
+  const std::string args = " --inward dome --samples 64 --rays 64";
+  const struct {
+    std::string command, want;
+    int code;
+  } cases[] = {
+      {"formfactors '" + scene("zero.toml", "0", "1", "0.6") + "'" + args,
+       "zero.toml:11:10: object[0].radius: value 0 is out of range (must be > 0)", 2},
+      {"formfactors '" + scene("tiny.toml", "1e-200", "1", "0.6") + "'" + args,
+       "lamp: no row (its surface area underflows to 0 (too small for double precision)); a "
+       "receiver only",
+       0},
+      {"formfactors '" + scene("tiny.toml", "1e-200", "1", "0.6") + "'" + args + " --radiosity",
+       "error: radiosity needs a row of form factors for every object, and 'lamp' can have none",
+       2},
+      {"formfactors '" + scene("small.toml", "1e-100", "1", "0.6") + "'" + args + " --radiosity",
+       "lamp                     B/pi (1.00000, 1.00000, 1.00000)  path (1.00000, 1.00000, "
+       "1.00000)",
+       0},
+      {"formfactors '" + scene("bright.toml", "0.5", "1e308", "0.6") + "'" + args + " --radiosity",
+       "bright.toml:4:12: material[0].emission: value 1e+308 is out of range (must be [0, 1e+38])",
+       2},
+      {"formfactors '" + scene("rho.toml", "0.5", "1", "5") + "'" + args + " --radiosity",
+       "rho.toml:7:9: material[1].color: value 5 is out of range (must be [0, 1])", 2},
+      {"formfactors '" + scene("lossless.toml", "0.5", "1", "1") + "'" + args + " --radiosity",
+       "the radiosity system (I - rho F) B = E has no solution in the red channel", 2},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.command);
+    EXPECT_EQ(r.code, c.code) << c.command << "\n" << r.out;
+    EXPECT_TRUE(contains(r.out, c.want)) << "got: " << r.out << "wanted: " << c.want;
+    EXPECT_FALSE(prints_a_non_number(r.out)) << r.out;
+  }
+}
+
+TEST(HonestNumbers, FormFactorCsvQuotesNamesAndTheEnvironmentRowIsNotAnObject) {
+  Scratch s;
+  // Names with a comma, a quote, a line break, and one named like the environment column.
+  const std::string names[] = {"a,b", "say \\\"hi\\\"", "two\\nlines", "environment"};
+  std::string toml;
+  for (int i = 0; i < 4; ++i)
+    toml += "[[object]]\ntype = \"sphere\"\nradius = 0.2\nname = \"" + names[i] +
+            "\"\ntransform = { translate = [" + std::to_string(i) + ", 0, 0] }\n";
+  const std::string scene = s.write("names.toml", toml), csv = s.path("f.csv");
+  const Result r = run("formfactors '" + scene + "' --samples 8 --rays 16 -o '" + csv + "'");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "warning: the object named 'environment' is listed as "
+                       "'environment#2'"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "  two\\nlines (area")) << "the table escapes names: " << r.out;
+  // Python's csv module, an independent reader, sees each row's five fields and the names.
+  const Result read = test::run_shell(
+      "python3 -c 'import csv,sys,json; rows=list(csv.reader(open(sys.argv[1], newline=\"\")));"
+      "assert all(len(x)==5 for x in rows), rows; print(json.dumps(sorted({x[0] for x in "
+      "rows[1:]})), json.dumps(sorted({x[1] for x in rows[1:]})))' '" +
+      csv + "'");
+  EXPECT_EQ(read.code, 0) << read.out;
+  EXPECT_EQ(read.out,
+            "[\"a,b\", \"environment#2\", \"say \\\"hi\\\"\", \"two\\nlines\"] [\"a,b\", "
+            "\"environment\", \"environment#2\", \"say \\\"hi\\\"\", \"two\\nlines\"]\n");
+}
+
 // ---- integers too large for 64 bits -------------------------------------------------------------
 
 TEST(HonestMessages, IntegersBeyondSixtyFourBitsAreOutOfTheKeysRange) {

@@ -10,4 +10,5 @@ anamorph_add_test(test_render
 )
 anamorph_add_test(test_form_factors
   ${CMAKE_CURRENT_LIST_DIR}/form_factors_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/form_factors_degenerate_test.cpp
 )
