@@ -8,9 +8,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "cli_util.h"
+#include "io/image_io.h"
 #include "test_util.h"
 
 namespace anamorph {
@@ -254,6 +257,32 @@ TEST(HonestNumbers, FormFactorCsvQuotesNamesAndTheEnvironmentRowIsNotAnObject) {
   EXPECT_EQ(read.out,
             "[\"a,b\", \"environment#2\", \"say \\\"hi\\\"\", \"two\\nlines\"] [\"a,b\", "
             "\"environment\", \"environment#2\", \"say \\\"hi\\\"\", \"two\\nlines\"]\n");
+}
+
+// ---- compare ---------------------------------------------------------------------------------
+
+TEST(HonestNumbers, CompareRefusesImagesWithInfOrNaNInsteadOfPrintingThem) {
+  Scratch s;
+  OutputImage img;
+  img.width = 3, img.height = 2;
+  img.layers.push_back({"", {"R", "G", "B", "A"}, std::vector<float>(24, 0.25f)});
+  const std::string fine = s.path("fine.exr"), bad = s.path("bad.exr");
+  write_exr(fine, img);
+  img.layers[0].data[4 * 4 + 1] = std::numeric_limits<float>::infinity();  // pixel (1, 1) G
+  img.layers[0].data[4 * 5 + 2] = std::numeric_limits<float>::quiet_NaN();
+  write_exr(bad, img);
+  const Result ok = run("compare '" + fine + "' '" + fine + "'");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  EXPECT_TRUE(contains(ok.out, "rmse 0\n")) << ok.out;
+  for (const std::string& args : {"'" + bad + "' '" + fine + "'", "'" + fine + "' '" + bad + "'"}) {
+    const Result r = run("compare " + args);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out,
+                         "bad.exr: 2 colour values are not finite numbers, the first at "
+                         "pixel (1, 1) channel G: inf"))
+        << r.out;
+    EXPECT_FALSE(contains(r.out, "rmse")) << r.out;
+  }
 }
 
 // ---- integers too large for 64 bits -------------------------------------------------------------
