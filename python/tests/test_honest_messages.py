@@ -57,3 +57,58 @@ def test_messages_escape_control_characters():
         anamorph.loads(SPHERE, set={"camera.\x1b[2Jfov": 1})
     assert "\x1b" not in str(e.value) and "\\x1b[2J" in str(e.value), str(e.value)
     assert e.value.key == "camera.\x1b[2Jfov"  # the attribute keeps the key as given
+
+
+DOME = """[[material]]
+name = "lamp"
+color = {lamp_color}
+emission = 1
+[[material]]
+name = "wall"
+color = {wall_color}
+[[object]]
+type = "sphere"
+name = "{lamp_name}"
+radius = {radius}
+material = "lamp"
+[[object]]
+type = "sphere"
+name = "dome"
+radius = 2
+material = "wall"
+"""
+
+
+def dome(radius="0.5", lamp_color="0.5", wall_color="0.6", lamp_name="lamp"):
+    return anamorph.loads(DOME.format(radius=radius, lamp_color=lamp_color,
+                                      wall_color=wall_color, lamp_name=lamp_name))
+
+
+def test_form_factors_say_why_an_object_has_no_row_and_stay_finite():
+    import numpy as np
+    f = dome(radius="1e-200").form_factors(samples=16, rays=16, inward=["dome"])
+    assert f["rows"] == ["dome"]
+    assert f["unmeasured"] == {
+        "lamp": "its surface area underflows to 0 (too small for double precision)"}
+    assert np.isfinite(f["F"]).all() and np.isfinite(f["stderr"]).all()
+    with pytest.raises(ValueError, match="'lamp' can have none: its surface area underflows"):
+        dome(radius="1e-200").form_factors(samples=16, rays=16, inward=["dome"], radiosity=True)
+    tiny = dome(radius="1e-100").form_factors(samples=32, rays=16, inward=["dome"],
+                                              radiosity=True)
+    for key in ("F", "stderr", "areas", "radiosity", "path_radiance", "path_radiance_stderr"):
+        assert np.isfinite(tiny[key]).all(), (key, tiny[key])
+
+
+def test_an_object_named_environment_is_renamed_and_noted():
+    f = dome(lamp_name="environment").form_factors(samples=8, rays=16, inward=["dome"])
+    assert f["columns"] == ["environment#2", "dome", "environment"]
+    assert f["notes"] == ["the object named 'environment' is listed as 'environment#2': "
+                          "'environment' names the column of rays that hit nothing"]
+
+
+def test_radiosity_refuses_a_lossless_enclosure_and_out_of_range_reflectance():
+    with pytest.raises(ValueError, match="light is never absorbed"):
+        dome(lamp_color="1", wall_color="1").form_factors(samples=32, rays=16, inward=["dome"],
+                                                          radiosity=True)
+    with pytest.raises(anamorph.SceneError, match=r"color: value 5 is out of range"):
+        dome(wall_color="5")
