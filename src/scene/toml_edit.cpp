@@ -62,13 +62,18 @@ namespace {
 std::optional<double> huge_integer(const std::string& text) {
   size_t i = text.find_first_not_of(" \t");
   if (i == std::string::npos) return std::nullopt;
+  const bool negative = text[i] == '-';
   if (text[i] == '+' || text[i] == '-') ++i;
   const size_t end = text.find_last_not_of(" \t") + 1;
   if (i >= end || text.find_first_not_of("0123456789_", i) < end) return std::nullopt;
-  std::string digits = text.substr(0, end);
-  std::erase(digits, '_');
+  std::string digits;
+  for (size_t k = i; k < end; ++k)
+    if (text[k] != '_') digits += text[k];
+  // Only a magnitude TOML cannot hold (2^63 has 19 digits): other text that failed to parse,
+  // such as 1__2 or 007, stays the string it is.
+  if (digits.size() < 19 || digits[0] == '0') return std::nullopt;
   const double v = std::strtod(digits.c_str(), nullptr);  // (beyond doubles: the largest one)
-  return std::clamp(v, -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+  return (negative ? -1 : 1) * std::min(v, std::numeric_limits<double>::max());
 }
 
 }  // namespace

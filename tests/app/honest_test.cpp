@@ -125,13 +125,15 @@ std::string bytes_of(const fs::path& p) {
 
 TEST(HonestMessages, ResumeRefusesOptionsThatWouldChangeTheRenderAndHonoursTheRest) {
   Scratch s;
-  // A path-traced render that a time limit stops after its first pass, leaving a checkpoint.
+  // A path-traced render that a time limit stops, leaving a checkpoint (noise that never falls
+  // below the threshold: it cannot finish first).
   const std::string scene = s.write(
       "r.toml",
       "[image]\nwidth = 64\nheight = 48\n[render]\nintegrator = \"path\"\nantialias = \"pixel\"\n"
       "min_spp = 1\n"
       "max_spp = 1048576\nnoise_threshold = 1e-9\ntime_limit = 0.01\n[[object]]\ntype = "
-      "\"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 2, 2]\n");
+      "\"sphere\"\n[[object]]\ntype = \"plane\"\npoint = [0, -1, 0]\n[[light]]\ntype = "
+      "\"sphere\"\ncenter = [2, 2, 2]\n");  // (an area light: every pixel stays noisy)
   const std::string ck = s.path("r.ckpt"), out = s.path("r.png");
   const Result first = run("render '" + scene + "' -o '" + out + "' --checkpoint '" + ck + "'");
   ASSERT_EQ(first.code, 0) << first.out;
@@ -257,6 +259,13 @@ TEST(HonestNumbers, FormFactorCsvQuotesNamesAndTheEnvironmentRowIsNotAnObject) {
   EXPECT_EQ(read.out,
             "[\"a,b\", \"environment#2\", \"say \\\"hi\\\"\", \"two\\nlines\"] [\"a,b\", "
             "\"environment\", \"environment#2\", \"say \\\"hi\\\"\", \"two\\nlines\"]\n");
+  // The JSON, read by Python's json module: the same names, the environment last among columns.
+  const std::string json = s.path("f.json");
+  ASSERT_EQ(run("formfactors '" + scene + "' --samples 8 --rays 16 -o '" + json + "'").code, 0);
+  const Result columns = test::run_shell(
+      "python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))[\"columns\"])' '" + json +
+      "'");
+  EXPECT_EQ(columns.out, "['a,b', 'say \"hi\"', 'two\\nlines', 'environment#2', 'environment']\n");
 }
 
 // ---- compare ---------------------------------------------------------------------------------
@@ -301,6 +310,11 @@ TEST(HonestMessages, IntegersBeyondSixtyFourBitsAreOutOfTheKeysRange) {
       {"info '" + as_number + "'", "n.toml:2:9: image.width: value 1e+30 is out of range"},
       {"info '" + scene + "' --set render.seed=1e16",
        "render.seed: value 1e+16 is out of range (must be an integer;"},
+      // (Text TOML rejects for another reason stays a string.)
+      {"info '" + scene + "' --set image.width=1__2",
+       "image.width: expected an integer, got a string"},
+      {"info '" + scene + "' --set image.width=00000000000000000000001",
+       "image.width: expected an integer, got a string"},
   };
   for (const auto& c : cases) {
     const Result r = run(c.args);
