@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <future>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -15,6 +16,7 @@
 #include "render/coin_layer.h"
 #include "render/form_factors.h"
 #include "render/memory_estimate.h"
+#include "render/radiosity.h"
 #include "render/renderer.h"
 #include "render/tile_buffer.h"
 #include "scene/scene_schema.h"
@@ -256,6 +258,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   PathRadiance path;
   {
     pb::gil_scoped_release release;
+    if (radiosity) check_radiosity_inputs(*scene_, renderer_->accel(), o.inward);
     f = measure_form_factors(renderer_->accel(), o);
     if (radiosity) {
       B = solve_radiosity(*scene_, renderer_->accel(), f);
@@ -265,7 +268,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   pb::dict d;
   d["objects"] = f.names;
   std::vector<std::string> columns = f.names, rows;
-  columns.push_back("environment");
+  columns.emplace_back(kEnvironmentColumn);
   for (int r : f.rows) rows.push_back(f.names[size_t(r)]);
   d["columns"] = columns;
   d["rows"] = rows;
@@ -273,6 +276,11 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   d["F"] = matrix(f.F);
   d["stderr"] = matrix(f.error);
   d["reciprocity_worst_z"] = f.worst_reciprocity_z;
+  pb::dict unmeasured;
+  for (size_t i = 0; i < f.no_row.size(); ++i)
+    if (!f.no_row[i].empty()) unmeasured[pb::str(f.names[i])] = f.no_row[i];
+  d["unmeasured"] = unmeasured;
+  d["notes"] = f.notes;
   if (radiosity) {
     d["radiosity"] = colors(B);
     d["path_radiance"] = colors(path.mean);
@@ -295,6 +303,12 @@ SceneSource source_of(std::string path, std::string text, std::vector<std::strin
 }  // namespace
 
 void bind_scene(pb::module_& m) {
+  pb::dict limits;
+  limits["samples"] = pb::make_tuple(1, kMaxFormFactorOrigins);
+  limits["rays"] = pb::make_tuple(1, kMaxFormFactorRays);
+  limits["depth"] = pb::make_tuple(1, kMaxFormFactorPathDepth);
+  limits["seed"] = pb::make_tuple(0, std::numeric_limits<uint64_t>::max());
+  m.attr("FORM_FACTOR_LIMITS") = limits;
   pb::class_<SceneHandle>(m, "Scene")
       .def(pb::init([](const std::string& path, std::vector<std::string> overrides, double frame) {
              return std::make_unique<SceneHandle>(source_of(path, "", std::move(overrides), frame));

@@ -25,7 +25,7 @@ int run_rays(const RaysArgs& a) {
   const std::string ext =
       out.extension().empty() && written_directly(out) ? ".csv" : out.extension().string();
   if (ext != ".csv" && ext != ".exr") {
-    fmt::print(stderr, "error: -o {}: use .csv or .exr\n", a.output);
+    print_error(fmt::format("-o {}: use .csv or .exr", a.output));
     return kBadInput;
   }
   const std::vector<std::pair<fs::path, std::string>> outputs{{out, "-o " + a.output}};
@@ -102,7 +102,7 @@ int run_project(const ProjectArgs& a) {
       if (c == ',') c = ' ';
     std::istringstream is(t);
     if (!(is >> p.x >> p.y >> p.z) || !is_finite(p)) {
-      fmt::print(stderr, "error: --point {}: expected X,Y,Z (three finite numbers)\n", a.point);
+      print_error(fmt::format("--point {}: expected X,Y,Z (three finite numbers)", a.point));
       return kBadInput;
     }
   }

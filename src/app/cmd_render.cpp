@@ -14,10 +14,12 @@
 #include <tuple>
 
 #include "app/common.h"
+#include "app/frame_check.h"
 #include "app/frame_job.h"
 #include "app/frame_pattern.h"
 #include "app/output_guard.h"
 #include "app/render_outputs.h"
+#include "app/resume_options.h"
 #include "app/tile_stats.h"
 #include "app/video.h"
 #include "dist/head.h"
@@ -51,8 +53,9 @@ struct RenderArgs {
   bool quiet = false;
   std::string checkpoint;  // --checkpoint FILE (a frame pattern with --frames)
   std::string checkpoint_every = "60s";
-  std::string stats;   // --stats FILE (a frame pattern with --frames)
-  std::string resume;  // --resume FILE
+  std::string stats;          // --stats FILE (a frame pattern with --frames)
+  std::string resume;         // --resume FILE
+  ResumeOptions with_resume;  // the other options given with --resume
   bool skip_existing = false;
 };
 
@@ -300,11 +303,12 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   shape.output_image = a.coins_overlay;
   const auto shortfall = memory_shortfall(estimate_render_memory(scene, shape));
   if (!shortfall) return true;
-  fmt::print(stderr, "error: {}: {}; lower the resolution or the AOVs{}\n", out, *shortfall,
-             shape.whole_film && !a.coins_overlay
-                 ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
-                   "streams tiles to the file instead of keeping the frame)"
-                 : "");
+  print_error(fmt::format("{}: {}; lower the resolution or the AOVs{}", out, *shortfall,
+                          shape.whole_film && !a.coins_overlay
+                              ? ", or sample uniformly without a time limit (render.antialias = "
+                                "\"uniform\" streams tiles to the file instead of keeping the "
+                                "frame)"
+                              : ""));
   return false;
 }
 
@@ -321,7 +325,7 @@ bool frame_exists(const fs::path& out, const fs::path& checkpoint) {
 
 // `render --resume FILE`: the command that started the checkpoint, run again (a frame sequence
 // skips the frames it finished).
-int resume(const std::string& file) {
+int resume(const std::string& file, const ResumeOptions& with) {
   const CheckpointReader reader(file);
   std::vector<std::string> args;
   for (const auto& [k, v] : reader.identity())
@@ -331,6 +335,7 @@ int resume(const std::string& file) {
   if (args.empty() || args[0] != "render" ||
       std::find(args.begin(), args.end(), "--resume") != args.end())
     throw CheckpointError(fmt::format("checkpoint '{}' does not say how it was started", file));
+  apply_honoured(with, args);
   set_command_args(args);
   const bool frames = std::find(args.begin(), args.end(), "--frames") != args.end();
   if (frames && std::find(args.begin(), args.end(), "--skip-existing") == args.end())
@@ -387,7 +392,11 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --resume takes everything from the checkpoint: give no scene\n");
       return kBadInput;
     }
-    return resume(a.resume);
+    if (!a.with_resume.refused.empty()) {
+      print_error(refused_message(a.with_resume));
+      return kBadInput;
+    }
+    return resume(a.resume, a.with_resume);
   }
   std::vector<std::string> extra;
   if (a.spp) extra.push_back(fmt::format("render.spp={}", *a.spp));
@@ -411,7 +420,7 @@ int run(const RenderArgs& a) {
     }
     aovs = parse_aovs(list);
   } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "error: --aov: {}\n", e.what());
+    print_error(fmt::format("--aov: {}", e.what()));
     return kBadInput;
   }
   const std::string out =
@@ -423,8 +432,8 @@ int run(const RenderArgs& a) {
   const std::vector<FileRead> scene_file = scene_file_input(a.scene.scene);
   double every = 60;
   if (!parse_duration(a.checkpoint_every, &every)) {
-    fmt::print(stderr, "error: --checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h\n",
-               a.checkpoint_every);
+    print_error(fmt::format("--checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h",
+                            a.checkpoint_every));
     return kBadInput;
   }
   if (a.scene.scene.empty()) {
@@ -432,7 +441,7 @@ int run(const RenderArgs& a) {
     return kBadInput;
   }
   if (render_format(out).empty()) {
-    fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
+    print_error(fmt::format("-o {}: unsupported image format (use .png or .exr)", out));
     return kBadInput;
   }
   if (is_standard_output(out)) messages_to_stderr();  // (`-o /dev/stdout`: the image alone)
@@ -467,19 +476,19 @@ int run(const RenderArgs& a) {
   // A sequence: frames A..B inclusive, written through a printf pattern.
   int first = 0, last = 0;
   if (!parse_frames(a.frames, &first, &last)) {
-    fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n",
-               a.frames);
+    print_error(
+        fmt::format("--frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number", a.frames));
     return kBadInput;
   }
   if (last < first) {
-    fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
+    print_error(fmt::format("--frames {}: the last frame comes before the first", a.frames));
     return kBadInput;
   }
   if (const auto why = frame_pattern_error(out)) {
-    fmt::print(stderr,
-               "error: -o {}: with --frames the output needs one frame-number pattern and no "
-               "other % (write %% for a percent sign), e.g. out/frame_%04d.png ({})\n",
-               out, *why);
+    print_error(
+        fmt::format("-o {}: with --frames the output needs one frame-number pattern and no "
+                    "other % (write %% for a percent sign), e.g. out/frame_%04d.png ({})",
+                    out, *why));
     return kBadInput;
   }
   // With --frames each frame has its own checkpoint and stats file: their names need a pattern.
@@ -487,10 +496,10 @@ int run(const RenderArgs& a) {
        {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
         std::tuple{"--stats", a.stats, "stats_%04d.json"}})
     if (const auto why = name.empty() ? std::nullopt : frame_pattern_error(name)) {
-      fmt::print(stderr,
-                 "error: {} {}: with --frames each frame has its own file, so the name needs a "
-                 "frame-number pattern, e.g. {} ({})\n",
-                 option, name, example, *why);
+      print_error(
+          fmt::format("{} {}: with --frames each frame has its own file, so the name needs a "
+                      "frame-number pattern, e.g. {} ({})",
+                      option, name, example, *why));
       return kBadInput;
     }
   FrameScene current;
@@ -526,6 +535,7 @@ int run(const RenderArgs& a) {
                     f > first ? fmt::format("; frames {}..{} were written", first, f - 1) : ""));
     const bool fresh = current.load_frame(args.scene, extra, f);
     check_render_outputs(frame_outputs(f), current.scene->inputs);
+    if (place.index == 0) check_frames(args.scene, extra, f, last, *current.scene);
     if (!fits_in_memory(args, *current.scene, aovs, file)) return kBadInput;
     if (fresh) current.renderer = make_renderer(*current.scene, farm.get());
     if (farm) farm->begin_frame(f);
@@ -587,11 +597,16 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--checkpoint-every", a->checkpoint_every,
                   "How often the checkpoint is forced to disk: 60s (default), 5m, 1h");
   cmd->add_option("--resume", a->resume,
-                  "Continue the render a checkpoint belongs to (the same command, resumed)");
+                  std::string("Continue the render a checkpoint belongs to (the same command, "
+                              "resumed); only ") +
+                      kWithResume + " may be given with it");
   cmd->add_flag("--skip-existing", a->skip_existing,
                 "Skip frames whose output file is already there (complete: files appear only "
                 "when done)");
-  cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
+  cmd->callback([a, cmd, &runner] {
+    if (!a->resume.empty()) a->with_resume = resume_options(*cmd);
+    runner = [a] { return run(*a); };
+  });
 }
 
 }  // namespace anamorph::app

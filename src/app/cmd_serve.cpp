@@ -79,10 +79,10 @@ void open_browser(const std::string& url) {
 int run(const ServeArgs& a) {
   std::string host = a.host == "localhost" ? "127.0.0.1" : a.host;
   if (!is_loopback(host) && !a.allow_remote) {
-    fmt::print(stderr,
-               "error: --host {} would let other machines reach the editor; add --allow-remote "
-               "if that is what you want\n",
-               host);
+    print_error(fmt::format(
+        "--host {} would let other machines reach the editor; add --allow-remote if that is "
+        "what you want",
+        host));
     return kBadInput;
   }
   limit_heaps();
@@ -107,10 +107,10 @@ int run(const ServeArgs& a) {
                           });
   api.set_port(http.port());
   if (!is_loopback(host))
-    fmt::print(stderr,
-               "warning: listening on {}: anyone who can reach this machine and learns the token "
-               "can edit {} and read the files in its folder\n",
-               host, a.scene);
+    print_warning(fmt::format(
+        "listening on {}: anyone who can reach this machine and learns the token can edit {} and "
+        "read the files in its folder",
+        host, a.scene));
   const std::string shown = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string url = fmt::format("http://{}:{}/?token={}", shown, http.port(), api_opt.token);
   fmt::print("anamorph serve: editing {}\n  open {}\n  (Ctrl-C stops the server)\n", a.scene, url);

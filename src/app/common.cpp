@@ -12,6 +12,7 @@
 
 #include "app/output_guard.h"
 #include "io/image_io.h"
+#include "math/user_text.h"
 #include "render/checkpoint.h"
 #include "render/memory_estimate.h"
 #include "scene/loaders.h"
@@ -68,7 +69,7 @@ std::vector<std::string> with_extra(const SceneOptions& o, const std::vector<std
 // A worker rank of an MPI job loads the head's scene: only the head prints its warnings.
 Scene warned(Scene s) {
   if (dist::World::rank() == 0)
-    for (const auto& w : s.warnings) fmt::print(stderr, "warning: {}\n", w);
+    for (const auto& w : s.warnings) print_warning(w);
   return s;
 }
 
@@ -89,26 +90,33 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.inputs.insert(loaded.inputs.end(), v.inputs.begin(), v.inputs.end());
 }
 
+void print_error(const std::string& message) {
+  fmt::print(stderr, "error: {}\n", printable(message));
+}
+void print_warning(const std::string& message) {
+  fmt::print(stderr, "warning: {}\n", printable(message));
+}
+
 int run_guarded(const std::function<int()>& body) {
   try {
     return body();
   } catch (const SceneError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const LoadError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const ImageReadError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const CheckpointError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const OutputClash& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
   } catch (const ImageIoError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kFailure;
   } catch (const std::bad_alloc&) {
     // What the up-front estimate did not foresee (a scene's models, another process's growth).
@@ -116,7 +124,7 @@ int run_guarded(const std::function<int()>& body) {
                format_bytes(available_memory()));
     return kFailure;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kFailure;
   }
 }

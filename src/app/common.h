@@ -38,6 +38,11 @@ Scene load(const SceneOptions& o, const std::vector<std::string>& extra_override
 void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
                     double frame, Scene& loaded);
 
+// "error: MESSAGE" and "warning: MESSAGE" on stderr, the message escaped (math/user_text.h):
+// messages quote user text (file names, keys, values), which may hold control characters.
+void print_error(const std::string& message);
+void print_warning(const std::string& message);
+
 // Runs a command body and turns exceptions into messages and exit codes.
 int run_guarded(const std::function<int()>& body);
 

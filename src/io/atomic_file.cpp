@@ -26,6 +26,7 @@
 #include "io/image_io.h"
 #include "io/io_util.h"
 #include "io/temporary_files.h"
+#include "math/user_text.h"
 
 namespace anamorph {
 
@@ -64,6 +65,7 @@ int standard_stream_of(const struct stat& st) {
 
 AtomicFile::AtomicFile(const fs::path& file, Access access) : target_(resolve_links(file)) {
   using io_detail::fail;
+  if (has_nul(file.native())) fail("cannot write", file, nul_in_path_message(file.native(), false));
   if (!target_.has_filename()) fail("cannot write", file, "the path does not name a file");
   struct stat st {};
   // (Through `file` itself: /dev/stdout -> /proc/self/fd/1 -> "pipe:[...]" is no path.)

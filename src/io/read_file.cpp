@@ -92,6 +92,9 @@ std::variant<InputFile, ReadFailure> open_input(const fs::path& file, const Inpu
   // O_NONBLOCK: a FIFO without a writer would block open(2) until one came; a device's open
   // may wait for a carrier. Neither is read: they are refused below, after fstat.
   constexpr int flags = O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC;
+  // open(2) would read the name only up to a NUL (callers say so first; this is the last guard).
+  if (file.native().find('\0') != std::string::npos)
+    return ReadFailure{"open", EINVAL, "the file name holds a NUL character"};
   const ReadConfinement* c = g_confinement;
   int fd = -1;
   if (const ConfinedFolder* folder = confining_folder(file)) {

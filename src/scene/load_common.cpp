@@ -11,6 +11,7 @@
 
 #include "io/image_io.h"
 #include "io/read_file.h"
+#include "math/user_text.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
@@ -24,6 +25,7 @@ uint64_t require_readable(const fs::path& file, const InputKind& kind) {
 }
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file, const InputKind& kind) {
+  if (has_nul(file.native())) throw LoadError(nul_in_path_message(file.native()));
   std::vector<unsigned char> bytes;
   if (const auto failure = read_whole_file(file, &bytes, kind))
     throw LoadError(describe(*failure, file));

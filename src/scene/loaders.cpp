@@ -4,6 +4,7 @@
 #include "camera/table_functions.h"
 #include "io/image_io.h"
 #include "io/read_log.h"
+#include "math/user_text.h"
 #include "scene/load_common.h"
 
 namespace anamorph {
@@ -60,6 +61,8 @@ RayTableData read_ray_table(const std::string& file, const std::string& layer) {
 }  // namespace
 
 LoadedModel load_model(const std::filesystem::path& file) {
+  // (The assimp child gets the name through argv, where a NUL would end it.)
+  if (has_nul(file.native())) throw LoadError(nul_in_path_message(file.native()));
   const std::string ext = lowercase_extension(file);
   if (ext == ".gltf" || ext == ".glb") return load_gltf(file);
   return load_with_assimp(file);

@@ -41,3 +41,7 @@ anamorph_add_test(test_signals
   ${CMAKE_CURRENT_LIST_DIR}/signals_test.cpp
 )
 add_dependencies(test_signals anamorph)
+anamorph_add_test(test_honest
+  ${CMAKE_CURRENT_LIST_DIR}/honest_test.cpp
+)
+add_dependencies(test_honest anamorph)
