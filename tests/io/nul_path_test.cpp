@@ -55,7 +55,7 @@ TEST(NulInPath, ReadersAndWritersRefuseItAndLeaveTheCutNameAlone) {
   const std::string scene = error_of<SceneError>([&] { load_scene(bad); });
   EXPECT_NE(scene.find("a.png\\x00.exr: the file name contains a NUL"), std::string::npos) << scene;
   std::vector<unsigned char> bytes;
-  const auto failure = read_whole_file(bad, &bytes);
+  const auto failure = read_whole_file(bad, &bytes, kTextInput);
   ASSERT_TRUE(failure.has_value());
   EXPECT_EQ(failure->error, EINVAL);
   EXPECT_TRUE(bytes.empty());
