@@ -26,6 +26,7 @@ namespace anamorph {
 class Accel;
 class Lights;
 class TileFarm;
+class TileSession;
 
 struct Progress {
   double fraction = 0;  // of all samples
@@ -113,11 +114,13 @@ class Renderer {
                               const std::function<void(ResolvedTile&&)>& sink) const;
   // Whether a tile can be rendered alone: all but per-pixel adaptive sampling.
   static bool streams(const RenderSettings& rs);
+  // The state tiles of a `width` x `height` frame of this renderer's scene are rendered with
+  // (render/tile_session.h), summing `aovs`; a FarmOnly renderer has none (std::logic_error).
+  std::unique_ptr<TileSession> session(std::vector<Aov> aovs, int width, int height,
+                                       const std::atomic<bool>* cancel = nullptr) const;
   const Accel& accel() const { return *accel_; }
 
  private:
-  friend class TileSession;
-  struct Run;
   RenderStats whole_tiles(const TileGrid& grid, const RenderOptions& opt,
                           const std::vector<uint8_t>& skip, bool png, bool exr,
                           const TileSink& sink,
