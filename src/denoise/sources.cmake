@@ -1,2 +1,4 @@
 list(APPEND ANAMORPH_SOURCES
+  ${CMAKE_CURRENT_LIST_DIR}/nl_means.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/variance.cpp
 )
