@@ -1,5 +1,5 @@
-// NFOR's collaborative first-order regression (Bitterli et al. 2016, sections 5.2-5.3 of the
-// paper): around every pixel c, a weighted least-squares fit of the colour as an affine function
+// NFOR's collaborative first-order regression (Bitterli et al. 2016, section 5.2 of the paper):
+// around every pixel c, a weighted least-squares fit of the colour as an affine function
 // of the pixel offset and the feature values in a (2R+1)² window,
 //
 //   min over beta  sum_j w(c, j) (y_j - beta · x_j)²  + ridge · sum_j w(c, j) · |beta_slopes|²,
@@ -10,7 +10,7 @@
 // standardized columns (each divided by its w-weighted standard deviation in the window; a column
 // constant there drops out): the paper normalizes each feature to [-1, 1] over the window, and
 // either way the scale matters only for how the ridge treats the columns. With the columns
-// standardized, the ridge shrinks a slope by at most the fraction `ridge`. The fit then predicts
+// standardized, the ridge shrinks the slopes by about the fraction `ridge`. The fit then predicts
 // every pixel of the window, not only c, and a pixel's output is the w-weighted mean of the
 // predictions of all windows that contain it (the collaborative scheme).
 //
