@@ -157,19 +157,15 @@ int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer&
   OutputImage img = film.output();
   img.metadata = frame_metadata(scene, frame);
   img.layers.push_back(coins_layer(scene));
-  fs::path marked = out;
-  marked.replace_extension(".coins.png");
-  write_png(marked, with_overlay(img, img.layers.back()));
+  const fs::path marked = coin_overlay_file(out);
+  write_image(marked, with_overlay(img, img.layers.back()));
   if (!a.quiet) fmt::print(messages(), "coin overlay written to {}\n", marked.string());
-  if (render_format(out) == ".png") {
-    write_png(out, img);
-    fs::path exr = out;
-    exr.replace_extension(".exr");
-    write_exr(exr, img);
-    if (!a.quiet) fmt::print(messages(), "AOVs written to {}\n", exr.string());
-  } else {
-    write_exr(out, img);
-  }
+  std::vector<LayerSpec> layers;
+  for (const ImageLayer& l : img.layers) layers.push_back({l.name, l.channels});
+  const std::vector<fs::path> files = output_files(out, layers);
+  for (const fs::path& f : files) write_image(f, img);
+  if (files.size() > 1 && !a.quiet)
+    fmt::print(messages(), "AOVs written to {}\n", files[1].string());
   return kOk;
 }
 
@@ -209,8 +205,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     FrameJob job{scene,
                  renderer,
                  aovs,
-                 {},
-                 {},
+                 output_files(out, render_layers(aovs)),
                  frame_metadata(scene, frame),
                  checkpoint,
                  checkpoint_every,
@@ -218,13 +213,6 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  on_progress,
                  stats.empty() ? nullptr : &tile_times,
                  farm};
-    if (render_format(out) == ".png") {
-      job.png = out;
-      // AOVs go beside a PNG, with the beauty, into an EXR of the same name.
-      if (!aovs.empty()) job.exr = fs::path(out).replace_extension(".exr");
-    } else {
-      job.exr = out;
-    }
     FrameResult r;
     {
       const RenderPhase phase;
@@ -236,8 +224,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
       fmt::print(messages(), "resumed from {}: {} tiles were done\n", checkpoint.string(),
                  r.resumed_tiles);
     if (r.interrupted) {
-      const fs::path partial =
-          FrameOutput::with_suffix(job.png.empty() ? job.exr : job.png, ".partial");
+      const fs::path partial = FrameOutput::with_suffix(job.files[0], ".partial");
       fmt::print(
           stderr, "interrupted: {} not written; the image so far is in {}{}\n", out.string(),
           partial.string(),
@@ -248,8 +235,9 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  : fmt::format("; resume with: anamorph render --resume {}", checkpoint.string()));
       return kInterrupted;
     }
-    if (!job.exr.empty() && !job.png.empty() && !a.quiet)
-      fmt::print(messages(), "AOVs written to {}\n", job.exr.string());
+    // (AOVs a PNG cannot hold go beside it, with the beauty, into an EXR of the same name.)
+    if (job.files.size() > 1 && !a.quiet)
+      fmt::print(messages(), "AOVs written to {}\n", job.files[1].string());
     if (r.time_limited && !a.quiet)
       fmt::print(messages(), "{}: time limit of {} s reached after {}; {}\n", out.string(),
                  scene.render.time_limit, r.reached,
@@ -298,8 +286,8 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   shape.aov_floats = aov_floats(aovs);
   shape.whole_film = a.coins_overlay || renders_in_passes(rs);
   shape.active_mask = !Renderer::streams(rs);
-  shape.png = render_format(out) == ".png";
-  shape.exr = !shape.png || !aovs.empty();
+  const std::vector<LayerSpec> layers = render_layers(aovs);
+  shape.strip_bytes_per_pixel = strip_bytes_per_pixel(output_files(out, layers), layers);
   shape.output_image = a.coins_overlay;
   const auto shortfall = memory_shortfall(estimate_render_memory(scene, shape));
   if (!shortfall) return true;
@@ -427,8 +415,10 @@ int run(const RenderArgs& a) {
       a.output.empty() ? default_render_output(a.scene.scene, !a.frames.empty()) : a.output;
   // What the outputs are checked against (app/output_guard.h): before loading the scene file,
   // after it every file the load read.
-  RenderOutputs outs{out,          a.output.empty(), !aovs.empty(), args.coins_overlay,
-                     a.checkpoint, a.stats,          a.video,       ""};
+  std::vector<LayerSpec> layers = render_layers(aovs);
+  if (args.coins_overlay) layers.push_back(coins_layer_spec());
+  RenderOutputs outs{out,          a.output.empty(), layers,  args.coins_overlay,
+                     a.checkpoint, a.stats,          a.video, ""};
   const std::vector<FileRead> scene_file = scene_file_input(a.scene.scene);
   double every = 60;
   if (!parse_duration(a.checkpoint_every, &every)) {
@@ -440,8 +430,8 @@ int run(const RenderArgs& a) {
     fmt::print(stderr, "error: render needs a scene file (or --resume CHECKPOINT)\n");
     return kBadInput;
   }
-  if (render_format(out).empty()) {
-    print_error(fmt::format("-o {}: unsupported image format (use .png or .exr)", out));
+  if (!find_sink_kind(out)) {
+    print_error(fmt::format("-o {}: {}", out, unsupported_extension(out)));
     return kBadInput;
   }
   if (is_standard_output(out)) messages_to_stderr();  // (`-o /dev/stdout`: the image alone)

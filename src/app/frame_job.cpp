@@ -35,7 +35,7 @@ std::unique_ptr<CheckpointReader> open_checkpoint(const FrameJob& job,
 
 FrameOutputSpec output_spec(const FrameJob& job) {
   const RenderSettings& rs = job.scene.render;
-  return {rs.width, rs.height, rs.tile_size, job.aovs, job.png, job.exr, job.metadata};
+  return {rs.width, rs.height, rs.tile_size, job.aovs, job.files, job.metadata};
 }
 
 RenderOptions render_options(const FrameJob& job) {
@@ -61,8 +61,7 @@ void finish(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWri
   ck.reset();
   std::error_code ec;
   if (!job.checkpoint.empty() && !time_limited) fs::remove(job.checkpoint, ec);
-  for (const fs::path& p : {job.png, job.exr})
-    if (!p.empty()) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
+  for (const fs::path& p : job.files) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
 }
 
 // The checkpoint written from here on: a new one, or the one read continued after `append_at`.
@@ -91,16 +90,12 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   FrameResult r;
   auto reader = open_checkpoint(job, id);
   FrameOutput out(output_spec(job));
-  const bool png = !job.png.empty(), exr = !job.exr.empty();
-  const size_t nf = aov_floats(job.aovs);
   std::vector<uint8_t> skip(out.grid().count(), 0);
   if (reader) {
     reader->read({[&](ResolvedTile&& t) {
                     if (t.index >= skip.size() || skip[t.index])
                       damaged(job.checkpoint, "a tile twice");
-                    const size_t n = out.grid().rect(t.index).pixels();
-                    if (t.rgba8.size() != (png ? n * 4 : 0) || t.rgba.size() != (exr ? n * 4 : 0) ||
-                        t.aov.size() != (exr ? n * nf : 0))
+                    if (!fits(t, out.plan(), out.grid().rect(t.index), job.aovs))
                       damaged(job.checkpoint, "a tile of the wrong size");
                     skip[t.index] = 1;
                     ++r.resumed_tiles;
@@ -111,7 +106,7 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   }
   std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, reader ? reader->end() : 0);
   reader.reset();
-  r.stats = job.renderer.render_resolved(out.grid(), render_options(job), skip, png, exr,
+  r.stats = job.renderer.render_resolved(out.grid(), render_options(job), skip, out.plan(),
                                          [&](ResolvedTile&& rt) {
                                            if (ck) ck->add_tile(rt);
                                            out.add(std::move(rt));
@@ -175,9 +170,7 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   };
   r.stats = job.renderer.render(film, opt);
   FrameOutput out(output_spec(job));
-  for (size_t i = 0; i < tiles; ++i)
-    if (const TileBuffer* t = film.tile_if_any(i))
-      out.add(resolve(i, *t, !job.png.empty(), !job.exr.empty()));
+  out.add_tiles(film);
   conclude(job, out, std::move(ck), r, [&] {
     const int pass = r.stats.pass;
     const auto done =
@@ -196,13 +189,13 @@ bool renders_in_passes(const RenderSettings& rs) {
 }
 
 CheckpointIdentity frame_identity(const FrameJob& job) {
-  CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION},
-                           {"output.png", job.png.string()},
-                           {"output.exr", job.exr.string()},
-                           {"frame", fmt::format("{}", job.scene.frame)}};
+  CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION}};
+  for (const fs::path& f : job.files) id.emplace_back("output." + sink_kind(f).name, f.string());
+  id.emplace_back("frame", fmt::format("{}", job.scene.frame));
   std::string aovs;
   for (Aov a : job.aovs) aovs += std::string(aovs.empty() ? "" : ",") + aov_info(a).name;
   id.emplace_back("aovs", aovs);
+  id.emplace_back("layers", describe_plan(output_plan(job.files, job.aovs)));
   for (auto& e : flatten_toml(job.scene.effective_toml)) id.push_back(std::move(e));
   std::string args;
   for (const std::string& a : command_args()) args += a + '\0';

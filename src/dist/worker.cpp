@@ -122,8 +122,7 @@ class TilePool {
       unpack_work(m, *sums);
     }
     FarmTile t{m.index, m.rect, width_, m.whole, {m.begin, m.end, m.footprint, active}, sums.get()};
-    t.png = m.png;
-    t.exr = m.exr;
+    if (m.resolve) t.plan = &m.plan;
     std::unique_ptr<TileBuffer> buffer;
     const FarmResult r = session.render(t, buffer);
     if (r.resolved) return encode_resolved(*r.resolved, m.rect, r.stats, r.seconds);

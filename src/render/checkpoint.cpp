@@ -218,9 +218,8 @@ void CheckpointWriter::sync() {
 void CheckpointWriter::add_tile(const ResolvedTile& t) {
   std::string p;
   put(p, uint64_t(t.index));
-  put_vector(p, t.rgba8);
-  put_vector(p, t.rgba);
-  put_vector(p, t.aov);
+  put(p, uint64_t(t.planes.size()));
+  for (const Plane& plane : t.planes) put_vector(p, plane.u8), put_vector(p, plane.f32);
   record(kTile, p);
 }
 
@@ -292,9 +291,14 @@ void CheckpointReader::read(const Visitor& v) {
     if (kind == kTile && v.tile) {
       ResolvedTile t;
       t.index = c.get<uint64_t>();
-      t.rgba8 = c.get_vector<unsigned char>();
-      t.rgba = c.get_vector<float>();
-      t.aov = c.get_vector<float>();
+      const auto planes = c.get<uint64_t>();
+      if (planes > payload.size() / 16)  // (two counts a plane at least)
+        throw CheckpointError("a checkpoint record is shorter than it says");
+      for (uint64_t i = 0; i < planes; ++i) {
+        Plane& plane = t.planes.emplace_back();
+        plane.u8 = c.get_vector<unsigned char>();
+        plane.f32 = c.get_vector<float>();
+      }
       v.tile(std::move(t));
     } else if (kind == kPassTile && v.pass_tile) {
       PassTile t;

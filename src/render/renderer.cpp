@@ -27,18 +27,17 @@ std::vector<uint32_t> pass_ends(uint32_t spp, uint32_t first, bool progressive) 
 }
 
 // Every tile with all its samples, each handed to a sink as it comes back: resolved where it was
-// rendered when the outputs ask for it, else as its sums.
+// rendered to the outputs' plan when there is one, else as its sums.
 class WholeTiles final : public TileWork {
  public:
   WholeTiles(RenderRun& run, const TileGrid& grid, const std::vector<uint8_t>& skip,
-             uint64_t per_pixel, bool png, bool exr, const TileSink& sink,
+             uint64_t per_pixel, const std::vector<LayerRequest>* plan, const TileSink& sink,
              const std::function<void(ResolvedTile&&)>& resolved)
       : run_(run),
         grid_(grid),
         skip_(skip),
         per_pixel_(per_pixel),
-        png_(png),
-        exr_(exr),
+        plan_(plan),
         sink_(sink),
         resolved_(resolved) {}
   size_t count() const override { return grid_.count(); }
@@ -47,8 +46,7 @@ class WholeTiles final : public TileWork {
     FarmTile t;
     t.index = i;
     t.rect = grid_.rect(i);
-    t.png = png_;
-    t.exr = exr_;
+    t.plan = plan_;
     return t;
   }
   void back(FarmResult& r) override {
@@ -56,10 +54,8 @@ class WholeTiles final : public TileWork {
     if (run_.cancelled()) return;
     if (r.resolved)
       resolved_(std::move(*r.resolved));
-    else if (sink_)
+    else
       sink_(r.index, r.tile);
-    else  // (resolved to no format at all)
-      resolved_(resolve(r.index, *r.tile, false, false));
   }
 
  private:
@@ -67,7 +63,7 @@ class WholeTiles final : public TileWork {
   const TileGrid& grid_;
   const std::vector<uint8_t>& skip_;
   const uint64_t per_pixel_;
-  const bool png_, exr_;
+  const std::vector<LayerRequest>* plan_;
   const TileSink& sink_;
   const std::function<void(ResolvedTile&&)>& resolved_;
 };
@@ -207,25 +203,26 @@ std::unique_ptr<RenderRun> start_run(const Renderer& r, const Scene& scene,
 
 RenderStats Renderer::render_tiles(const TileGrid& grid, const RenderOptions& opt,
                                    const std::vector<uint8_t>& skip, const TileSink& sink) const {
-  return whole_tiles(grid, opt, skip, false, false, sink, nullptr);
+  return whole_tiles(grid, opt, skip, nullptr, sink, nullptr);
 }
 
 RenderStats Renderer::render_resolved(const TileGrid& grid, const RenderOptions& opt,
-                                      const std::vector<uint8_t>& skip, bool png, bool exr,
+                                      const std::vector<uint8_t>& skip,
+                                      const std::vector<LayerRequest>& plan,
                                       const std::function<void(ResolvedTile&&)>& sink) const {
-  return whole_tiles(grid, opt, skip, png, exr, nullptr, sink);
+  return whole_tiles(grid, opt, skip, &plan, nullptr, sink);
 }
 
 RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt,
-                                  const std::vector<uint8_t>& skip, bool png, bool exr,
-                                  const TileSink& sink,
+                                  const std::vector<uint8_t>& skip,
+                                  const std::vector<LayerRequest>* plan, const TileSink& sink,
                                   const std::function<void(ResolvedTile&&)>& resolved) const {
   const std::unique_ptr<RenderRun> run = start_run(*this, scene_, opt, grid.width, grid.height);
   const uint64_t per_pixel = TileSession::whole_work_per_pixel(scene_.render);
   run->set_work_total(uint64_t(grid.width) * uint64_t(grid.height) * per_pixel);
   for (size_t i = 0; i < grid.count(); ++i)
     if (i < skip.size() && skip[i]) run->add_done_work(grid.rect(i).pixels() * per_pixel);
-  WholeTiles work(*run, grid, skip, per_pixel, png, exr, sink, resolved);
+  WholeTiles work(*run, grid, skip, per_pixel, plan, sink, resolved);
   run->sweep(work);
   run->stats.cancelled = run->cancelled();
   run->stats.time_limited = run->out_of_time();

@@ -107,10 +107,12 @@ class Renderer {
   // samples, handed to `sink` as it completes. Only for settings streams() accepts.
   RenderStats render_tiles(const TileGrid& grid, const RenderOptions& opt,
                            const std::vector<uint8_t>& skip, const TileSink& sink) const;
-  // The same, each tile resolved to the output files' formats where it was rendered (on this
-  // process's threads, or on a farm's workers, which then send 4 or 16 bytes a pixel, not 32).
+  // The same, each tile resolved to `plan` (the layers and encodings the outputs take:
+  // FrameOutput::plan) where it was rendered: on this process's threads, or on a farm's workers,
+  // which then send 4 or 16 bytes a pixel, not 32.
   RenderStats render_resolved(const TileGrid& grid, const RenderOptions& opt,
-                              const std::vector<uint8_t>& skip, bool png, bool exr,
+                              const std::vector<uint8_t>& skip,
+                              const std::vector<LayerRequest>& plan,
                               const std::function<void(ResolvedTile&&)>& sink) const;
   // Whether a tile can be rendered alone: all but per-pixel adaptive sampling.
   static bool streams(const RenderSettings& rs);
@@ -122,7 +124,7 @@ class Renderer {
 
  private:
   RenderStats whole_tiles(const TileGrid& grid, const RenderOptions& opt,
-                          const std::vector<uint8_t>& skip, bool png, bool exr,
+                          const std::vector<uint8_t>& skip, const std::vector<LayerRequest>* plan,
                           const TileSink& sink,
                           const std::function<void(ResolvedTile&&)>& resolved) const;
   RenderStats render_passes(Film& film, const RenderOptions& opt) const;

@@ -72,8 +72,8 @@ FarmResult TileSession::render(const FarmTile& t, std::unique_ptr<TileBuffer>& b
     else
       buffer = std::make_unique<TileBuffer>(t.rect, aovs_);
     whole(*buffer, r.stats);
-    if (t.png || t.exr)
-      r.resolved = resolve(t.index, *buffer, t.png, t.exr);
+    if (t.plan)
+      r.resolved = resolve(t.index, *buffer, *t.plan);
     else
       r.tile = std::move(buffer);
   }

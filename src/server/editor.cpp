@@ -323,8 +323,9 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
       job.cancel = &r.cancel;
       for (int f = r.first; f <= r.last && !r.cancel; ++f) {
         if (r.sequence) job.frame = f;
-        job.png = r.png ? r.folder / r.file_name(stem, f, "png") : fs::path();
-        job.exr = r.exr ? r.folder / r.file_name(stem, f, "exr") : fs::path();
+        job.files.clear();
+        if (r.png) job.files.push_back(r.folder / r.file_name(stem, f, "png"));
+        if (r.exr) job.files.push_back(r.folder / r.file_name(stem, f, "exr"));
         const int done = f - r.first;
         job.progress = [&r, start, done, count](double fraction, double) {
           std::lock_guard rl(r.mu);
