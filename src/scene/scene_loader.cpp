@@ -702,8 +702,9 @@ Scene load_view(const fs::path& file, const std::vector<std::string>& overrides,
                 const Scene& loaded) {
   check_scene_path(file);
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return recording_reads(
-      [&] { return build_scene(load_with_includes(file), file, overrides, frame, Build::View, &loaded); });
+  return recording_reads([&] {
+    return build_scene(load_with_includes(file), file, overrides, frame, Build::View, &loaded);
+  });
 }
 
 void check_scene_frame(const fs::path& file, const std::vector<std::string>& overrides,
