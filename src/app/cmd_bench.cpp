@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "app/common.h"
+#include "app/thread_option.h"
 #include "render/frame_output.h"
 #include "render/renderer.h"
 
@@ -70,7 +71,7 @@ void add_bench(CLI::App& app, std::function<int()>& runner) {
       ->expected(2)
       ->check(CLI::Range(0, 100000));
   cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(thread_count_check());
   cmd->callback([a, &runner] {
     if (a->frames[1] < 1)
       throw CLI::ValidationError("--frames", "need at least one measured frame");
