@@ -8,6 +8,7 @@
 
 #include "io/image_io.h"
 #include "math/frame.h"
+#include "params/toml_parse.h"
 #include "scene/animation.h"
 #include "scene/camera_reader.h"
 #include "scene/load_common.h"
@@ -49,7 +50,7 @@ toml::table parse_toml_file(const fs::path& file) {
     throw SceneError({file.string()}, "", e.what());
   }
   try {
-    return toml::parse(text, file.string());
+    return parse_toml(text, file.string());
   } catch (const toml::parse_error& e) {
     SourceLoc l;
     l.file = file.string();
@@ -149,7 +150,7 @@ void apply_override(toml::table& root, const std::string& kv) {
   const size_t eq = kv.find('=');
   if (eq == std::string::npos || eq == 0)
     throw SceneError({}, kv, "expected --set KEY=VALUE (e.g. --set camera.fov=90)");
-  const toml::table value = parse_value_text(kv.substr(eq + 1));
+  const toml::table value = parse_value_text(kv.substr(eq + 1), kv.substr(0, eq));
   set_path(root, kv.substr(0, eq), *value.get("v"), {});
 }
 
@@ -649,7 +650,7 @@ namespace {
 toml::table parse_scene_text(const std::string& text, const fs::path& name) {
   toml::table t;
   try {
-    t = toml::parse(text, name.string());
+    t = parse_toml(text, name.string());
   } catch (const toml::parse_error& e) {
     SourceLoc l{name.string(), int(e.source().begin.line), int(e.source().begin.column)};
     throw SceneError(l, "", fmt::format("TOML syntax error: {}", e.description()));

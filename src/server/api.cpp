@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 
+#include "io/json_nesting.h"
 #include "scene/declarations.h"
 #include "scene/scene_schema.h"
 #include "server/web_assets.h"
@@ -210,6 +211,8 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
   const std::string& p = q.path;
   const bool get = q.method == "GET", post = q.method == "POST";
   if (!get && !post) return error(405, "the API takes GET and POST");
+  if (const std::string e = json_nesting_error(q.body); !e.empty())
+    throw std::invalid_argument("the body is " + e);
   const Json body = post && !q.body.empty() ? Json::parse(q.body) : Json::object();
   if (!body.is_object()) throw std::invalid_argument("the body must be a JSON object");
 
