@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <iterator>
 
+#include <fmt/format.h>
+
+#include "math/input_limits.h"
+
 namespace anamorph {
 
 std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::string_view key) {
@@ -13,7 +17,14 @@ std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::strin
       throw ParamError(std::string(key), std::string(key) + ": point " + std::to_string(i) +
                                              " has " + std::to_string(rows[i].size()) +
                                              " numbers; each is [u, v, x, y, z]");
-    out.push_back({{rows[i][0], rows[i][1]}, {rows[i][2], rows[i][3], rows[i][4]}});
+    const Vec3 value{rows[i][2], rows[i][3], rows[i][4]};
+    // (Positions, or directions, of the world: math/input_limits.h.)
+    if (!within_world(value))
+      throw ParamError(std::string(key),
+                       fmt::format("{}: point {}: [{:g}, {:g}, {:g}] is not within the {:g} "
+                                   "scene units of the origin the world holds",
+                                   key, i, value.x, value.y, value.z, kMaxCoordinate));
+    out.push_back({{rows[i][0], rows[i][1]}, value});
   }
   return out;
 }

@@ -51,7 +51,10 @@ std::string TableReader::full_key(std::string_view key) const {
 }
 
 void TableReader::fail(std::string_view key, const std::string& msg) const {
-  throw SceneError(loc_of(t_), full_key(key), msg);
+  // At the key's value when the table has it (a check across keys names the one it blames), else
+  // at the table.
+  const toml::node* n = key.empty() ? nullptr : t_.get(key);
+  throw SceneError(n ? loc_of(*n) : loc_of(t_), full_key(key), msg);
 }
 
 void TableReader::fail_at(const toml::node& n, std::string_view key, const std::string& msg) const {
