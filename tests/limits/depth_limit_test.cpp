@@ -12,6 +12,7 @@
 
 #include "camera/functions.h"
 #include "math/input_limits.h"
+#include "params/toml_parse.h"
 #include "scene/loaders.h"
 #include "scene/scene_loader.h"
 #include "server/server_fixture.h"
@@ -196,6 +197,32 @@ TEST_P(DepthLimit, DeepInputIsRefusedAndShallowInputIsRead) {
 
 INSTANTIATE_TEST_SUITE_P(Readers, DepthLimit, ::testing::ValuesIn(kReaders),
                          [](const ::testing::TestParamInfo<Reader>& i) { return i.param.name; });
+
+// The scan counts structure only: brackets in strings (every kind), comments and quoted keys
+// with dots do not nest; a header, the dotted keys under it, arrays and inline tables add up.
+TEST(TomlNesting, CountsStructureNotStringsOrComments) {
+  const std::string brackets = repeat("[{", 70);
+  const std::string text = "# " + brackets + "\n" +  //
+                           "a = \"" + brackets + " \\\" still in the string " + brackets +
+                           "\"\n" +                                                             //
+                           "b = '" + brackets + "\\'\n" +                                       //
+                           "c = \"\"\"\n" + brackets + "\n\"\"\" # " + brackets + "\n" +        //
+                           "d = '''\n" + brackets + "''''\n" +                                  //
+                           "\"" + dotted(70) + "\" = 1\n" +                                     //
+                           "e = [ # " + brackets + "\n  [1, 2], # ]]]\n  [3, \"]]]\"],\n]\n" +  //
+                           "[table.\"" + dotted(70) + "\"]\nf = { g = [1, { h = 2 }], i.j = 3 }\n";
+  int line = 0, column = 0;
+  EXPECT_EQ(toml_nesting_error(text, &line, &column), "") << line << ":" << column;
+  EXPECT_NO_THROW(toml::parse(text)) << text;
+  // 20 header parts, 20 key parts, 12 arrays, 12 inline tables: 64 levels, read; 65 are not.
+  const auto mixed = [](int arrays_deep) {
+    return "[" + dotted(20) + "]\n" + dotted(20) + " = " + repeat("[", arrays_deep) +
+           repeat("{a = ", 12) + "1" + repeat("}", 12) + repeat("]", arrays_deep) + "\n";
+  };
+  EXPECT_EQ(toml_nesting_error(mixed(12), &line, &column), "");
+  EXPECT_NE(toml_nesting_error(mixed(13), &line, &column), "");
+  EXPECT_EQ(line, 2) << column;
+}
 
 }  // namespace
 }  // namespace anamorph::test
