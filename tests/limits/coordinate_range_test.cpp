@@ -69,8 +69,8 @@ std::string model_with_node_scale(double node_scale) {
                   num(node_scale)));
 }
 
-// A random scene: one camera (a preset, or a ray table), each kind of analytic shape, the model,
-// a point light, every position, size and transform drawn by `wild`.
+// A random scene: one camera (a preset, maybe with a coin, or a ray table), each kind of analytic
+// shape, the model, a point light, every position, size and transform drawn by `wild`.
 std::string random_scene(std::mt19937_64& rng, const std::string& model) {
   std::string s =
       "[image]\nwidth = 6\nheight = 4\n[render]\nintegrator = \"whitted\"\n"
@@ -92,6 +92,8 @@ std::string random_scene(std::mt19937_64& rng, const std::string& model) {
     s += fmt::format("[camera]\npreset = \"{}\"\nlook_from = {}\nlook_at = {}\n",
                      kPresets[rng() % 3], vec(rng), vec(rng));
     if (rng() % 3 == 0) s += "transform = " + transform(rng) + "\n";
+    // (Coins deform the ray field after org and dir: their rays are checked as well.)
+    if (rng() % 3 == 0) s += "[[camera.coin]]\nposition = " + vec(rng) + "\n";
   }
   s += "[[material]]\nname = \"m\"\nreflectivity = 0.5\n";
   const auto object = [&](const std::string& keys) {
