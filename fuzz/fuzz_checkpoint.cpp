@@ -6,6 +6,7 @@
 // cut short and with flipped bits.
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 
 #include "fuzz_util.h"
 #include "render/checkpoint.h"
@@ -31,6 +32,13 @@ Counts read_all(const std::filesystem::path& file, CheckpointIdentity* id, uint6
 }
 
 }  // namespace
+
+// The writer fsyncs what it writes: on a disk each input waited for it (a run spent 60 % of its
+// time off the CPU). In memory (/dev/shm, when there) fsync returns at once.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  if (std::filesystem::is_directory("/dev/shm")) setenv("TMPDIR", "/dev/shm", 0);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > (1 << 20)) return 0;
