@@ -132,7 +132,9 @@ class Camera:
 
     def resized(self, width: int, height: int) -> "Camera":
         """The same camera for a ``width`` x ``height`` image (presets follow the aspect ratio)."""
-        return Camera._wrap(self._impl.resized(width, height))
+        w, h = (_toml.integer(f"image.{k}", v, int(_IMAGE[k]["min"]), int(_IMAGE[k]["max"]))
+                for k, v in (("width", width), ("height", height)))
+        return Camera._wrap(self._impl.resized(w, h))
 
     def rays(self, width: int | None = None, height: int | None = None, *,
              differentials: bool = True, threads: int = 0) -> dict[str, np.ndarray]:

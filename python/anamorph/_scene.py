@@ -46,9 +46,15 @@ class Scene:
         (docs/formfactors.md): ``samples`` points per object, ``rays`` hemisphere-camera
         samples per point. Returns ``objects`` (names), ``areas``, ``rows`` (the measured
         objects), ``columns`` (the objects, then ``"environment"``), ``F`` and ``stderr`` as
-        (rows, columns) arrays and ``reciprocity_worst_z``; with ``radiosity`` also
+        (rows, columns) arrays, ``reciprocity_worst_z``, ``unmeasured`` (name: why an object
+        has no row, e.g. an infinite plane) and ``notes`` (a name changed to keep names unique:
+        an object named "environment" is listed as "environment#2"); with ``radiosity`` also
         ``radiosity`` (B per object, RGB) and the path tracer's ``path_radiance`` and
-        ``path_radiance_stderr`` (compare with B / pi). An unknown name is a ValueError."""
+        ``path_radiance_stderr`` (compare with B / pi). An unknown name is a ValueError; so is a
+        count outside the CLI's ranges (``_anamorph.FORM_FACTOR_LIMITS``)."""
+        lim = _anamorph.FORM_FACTOR_LIMITS
+        samples, rays, depth, seed = (_toml.integer(k, v, *lim[k]) for k, v in (
+            ("samples", samples), ("rays", rays), ("depth", depth), ("seed", seed)))
         return self._impl.form_factors(samples, rays, list(objects), list(inward), seed,
                                        radiosity, depth)
 

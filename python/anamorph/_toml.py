@@ -5,10 +5,14 @@ from __future__ import annotations
 
 import json
 import math
+import operator
 import re
 from typing import Any, Mapping
 
+from . import _anamorph
+
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+_MAX_FLOAT = int(1.7976931348623157e308)  # the largest double, as an int
 
 
 def key(k: str) -> str:
@@ -33,7 +37,11 @@ def value(v: Any) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):
-        return str(v)
+        # TOML integers have 64 bits; a larger one goes as a number, so that the key's reader
+        # says it is out of the key's range (not a syntax error, or "got a string").
+        if -2**63 <= v < 2**63:
+            return str(v)
+        return repr(float(max(-_MAX_FLOAT, min(v, _MAX_FLOAT))))
     if isinstance(v, float):
         if math.isnan(v):
             return "nan"
@@ -60,3 +68,22 @@ def overrides(values: Mapping[str, Any] | None) -> list[str]:
             raise TypeError("set= keys must be dotted key strings such as 'camera.fov'")
         out.append(f"{k}={value(v)}")
     return out
+
+
+def scene_error(key: str, message: str) -> ValueError:
+    """A SceneError as the C++ reader raises it for a keyword (no file): "key: message"."""
+    e = _anamorph.SceneError(f"{key}: {message}")
+    e.key, e.message, e.file, e.line, e.column = key, message, None, 0, 0
+    return e
+
+
+def integer(key: str, v: Any, lo: int, hi: int) -> int:
+    """``v`` as an int for an integer argument the C++ side takes directly (not through the scene
+    reader): a TypeError if it is no integer, a SceneError naming ``key`` and its range if it is
+    out of [lo, hi] (Python ints have no size limit; C++ ones do)."""
+    if isinstance(v, bool) or not hasattr(v, "__index__"):
+        raise TypeError(f"{key}: expected an integer, got {type(v).__name__}")
+    v = operator.index(v)
+    if not lo <= v <= hi:
+        raise scene_error(key, f"value {v} is out of range (must be [{lo}, {hi}])")
+    return v

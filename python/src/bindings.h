@@ -39,6 +39,9 @@ pb::array_t<T> to_array(std::vector<T>&& data, std::vector<pb::ssize_t> shape) {
   return pb::array_t<T>(shape, owned->data(), free);
 }
 
+// Raises Python's MemoryError with `message` (a C++ exception pybind11 turns into it).
+[[noreturn]] void raise_memory_error(const std::string& message);
+
 void bind_errors(pb::module_& m);
 void bind_schema(pb::module_& m);
 void bind_camera(pb::module_& m);

@@ -1,5 +1,6 @@
 // anamorph._anamorph.Camera: a loaded camera's ray field, rays at given samples, inverse map.
 // Arrays are filled by the library's batch generation (camera/ray_field.h) with the GIL released.
+#include <fmt/format.h>
 #include <tbb/task_arena.h>
 
 #include "bindings.h"
@@ -7,6 +8,7 @@
 #include "camera/ray_field.h"
 #include "camera_handle.h"
 #include "math/parallel.h"
+#include "render/memory_estimate.h"
 
 namespace anamorph::py {
 
@@ -49,7 +51,18 @@ struct RayOutput {
   }
 };
 
+// What RayOutput and its arrays take for n rays, checked before anything is allocated (as a
+// render's film is: render/memory_estimate.h).
+void check_ray_memory(size_t n, bool differentials) {
+  MemoryNeed need;
+  need.parts.emplace_back(fmt::format("{} rays x {} B", n, differentials ? 146 : 50),
+                          uint64_t(n) * (differentials ? 146 : 50));
+  if (const auto shortfall = memory_shortfall(need, "these rays need"))
+    raise_memory_error(*shortfall + "; ask for fewer (a smaller width and height)");
+}
+
 pb::dict rays(const CameraHandle& c, bool differentials, int threads) {
+  check_ray_memory(size_t(c.width()) * size_t(c.height()), differentials);
   RayOutput out(size_t(c.width()) * size_t(c.height()), differentials);
   {
     pb::gil_scoped_release release;
@@ -72,6 +85,7 @@ pb::dict generate(const CameraHandle& c, const Doubles& u, const Doubles& v,
   if (size_t(v.size()) != n) throw std::invalid_argument("u and v must have the same size");
   const SampleArrays in{u.data(), v.data(), optional_data(lens_u, n, "lens_u"),
                         optional_data(lens_v, n, "lens_v"), optional_data(time, n, "time")};
+  check_ray_memory(n, differentials);
   RayOutput out(n, differentials);
   {
     pb::gil_scoped_release release;

@@ -1,8 +1,10 @@
 // C++ errors as Python exceptions: a bad scene or keyword is anamorph.SceneError (a ValueError)
 // carrying the dotted key, the file, line and column; an unreadable file is a ValueError too;
-// failing to write is an OSError.
+// failing to write is an OSError. Messages have the user's text escaped (math/user_text.h), as the
+// CLI prints them: a traceback is printed to a terminal too. The attributes are kept as given.
 #include "bindings.h"
 #include "io/image_io.h"
+#include "math/user_text.h"
 #include "scene/loaders.h"
 #include "scene/toml_reader.h"
 
@@ -16,7 +18,7 @@ bool is_generated(const SourceLoc& loc) { return loc.file.empty() || loc.file[0]
 
 void raise_scene_error(const pb::object& type, const std::string& text, const std::string& key,
                        const SourceLoc& loc, const std::string& message) {
-  pb::object e = type(text);
+  pb::object e = type(printable(text));
   e.attr("key") = key;
   e.attr("message") = message;
   e.attr("file") = is_generated(loc) ? pb::none() : pb::cast(loc.file);
@@ -26,6 +28,11 @@ void raise_scene_error(const pb::object& type, const std::string& text, const st
 }
 
 }  // namespace
+
+void raise_memory_error(const std::string& message) {
+  PyErr_SetString(PyExc_MemoryError, message.c_str());
+  throw pb::error_already_set();
+}
 
 void bind_errors(pb::module_& m) {
   static pb::exception<SceneError> scene_error(m, "SceneError", PyExc_ValueError);
@@ -41,16 +48,16 @@ void bind_errors(pb::module_& m) {
                                                     : e.key + ": " + e.message;
       raise_scene_error(scene_error, text, e.key, e.loc, e.message);
     } catch (const ParamError& e) {
-      const std::string text = e.key.empty() ? e.what() : e.key + ": " + e.what();
-      raise_scene_error(scene_error, text, e.key, {}, e.what());
+      const std::string text = e.key.empty() ? e.what() : e.key + ": " + e.message();
+      raise_scene_error(scene_error, text, e.key, {}, e.message());
     } catch (const LoadError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     } catch (const ImageReadError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     } catch (const ImageIoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      PyErr_SetString(PyExc_OSError, printable(e.what()).c_str());
     } catch (const std::invalid_argument& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     }
   });
 }

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <future>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -15,7 +16,10 @@
 #include "math/parallel.h"
 #include "render/coin_layer.h"
 #include "render/form_factors.h"
+#include "render/memory_estimate.h"
+#include "render/radiosity.h"
 #include "render/renderer.h"
+#include "render/tile_buffer.h"
 #include "scene/scene_schema.h"
 
 namespace anamorph::py {
@@ -56,6 +60,23 @@ pb::dict layers_dict(OutputImage&& img) {
     d[pb::str(l.name.empty() ? "rgba" : l.name)] = to_array(std::move(l.data), shape);
   }
   return d;
+}
+
+// The CLI's memory check (render/memory_estimate.h) before a render allocates anything: a frame
+// the machine cannot hold raises MemoryError saying what it needs (was: 7.8 GB allocated before
+// Python's MemoryError, for 65536 x 65536).
+void check_render_memory(const Scene& s, const std::vector<Aov>& aovs, int threads) {
+  RenderShape shape;
+  shape.width = s.render.width;
+  shape.height = s.render.height;
+  shape.tile_size = s.render.tile_size;
+  shape.threads = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+  shape.aov_floats = aov_floats(aovs);
+  shape.whole_film = true;  // (the frame comes back whole, as arrays)
+  shape.active_mask = !Renderer::streams(s.render);
+  shape.output_image = true;
+  if (const auto shortfall = memory_shortfall(estimate_render_memory(s, shape)))
+    raise_memory_error(*shortfall + "; lower the width and height or the AOVs");
 }
 
 class SceneHandle {
@@ -124,6 +145,7 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
   Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;
   if (!req.overrides.empty()) swap.emplace(*scene_, view);
+  check_render_memory(*scene_, aovs, req.threads);
   Film film(scene_->render.width, scene_->render.height, aovs);
   RenderOptions opt;
   opt.threads = req.threads;
@@ -238,6 +260,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   PathRadiance path;
   {
     pb::gil_scoped_release release;
+    if (radiosity) check_radiosity_inputs(*scene_, renderer_->accel(), o.inward);
     f = measure_form_factors(renderer_->accel(), o);
     if (radiosity) {
       B = solve_radiosity(*scene_, renderer_->accel(), f);
@@ -247,7 +270,7 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   pb::dict d;
   d["objects"] = f.names;
   std::vector<std::string> columns = f.names, rows;
-  columns.push_back("environment");
+  columns.emplace_back(kEnvironmentColumn);
   for (int r : f.rows) rows.push_back(f.names[size_t(r)]);
   d["columns"] = columns;
   d["rows"] = rows;
@@ -255,6 +278,11 @@ pb::dict SceneHandle::form_factors(const FormFactorOptions& o, bool radiosity, i
   d["F"] = matrix(f.F);
   d["stderr"] = matrix(f.error);
   d["reciprocity_worst_z"] = f.worst_reciprocity_z;
+  pb::dict unmeasured;
+  for (size_t i = 0; i < f.no_row.size(); ++i)
+    if (!f.no_row[i].empty()) unmeasured[pb::str(f.names[i])] = f.no_row[i];
+  d["unmeasured"] = unmeasured;
+  d["notes"] = f.notes;
   if (radiosity) {
     d["radiosity"] = colors(B);
     d["path_radiance"] = colors(path.mean);
@@ -277,6 +305,12 @@ SceneSource source_of(std::string path, std::string text, std::vector<std::strin
 }  // namespace
 
 void bind_scene(pb::module_& m) {
+  pb::dict limits;
+  limits["samples"] = pb::make_tuple(1, kMaxFormFactorOrigins);
+  limits["rays"] = pb::make_tuple(1, kMaxFormFactorRays);
+  limits["depth"] = pb::make_tuple(1, kMaxFormFactorPathDepth);
+  limits["seed"] = pb::make_tuple(0, std::numeric_limits<uint64_t>::max());
+  m.attr("FORM_FACTOR_LIMITS") = limits;
   pb::class_<SceneHandle>(m, "Scene")
       .def(pb::init([](const std::string& path, std::vector<std::string> overrides, double frame) {
              return std::make_unique<SceneHandle>(source_of(path, "", std::move(overrides), frame));

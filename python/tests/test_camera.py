@@ -3,6 +3,8 @@ to the field, the inverse map, and keyword arguments checked by the scene reader
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -80,8 +82,8 @@ def test_project_pixels_equal_the_cli():
     scene = ROOT / "examples/apps/fisheye_180.toml"
     cam = anamorph.load(scene).camera
     point = [0.3, 1.1, -2.0]
-    out = cli("project", scene, "--point", ",".join(map(str, point))).stdout.split()
-    want = np.array(out, dtype=np.float64).reshape(-1, 2)
+    out = json.loads(cli("project", scene, "--point", ",".join(map(str, point)), "--json").stdout)
+    want = np.array(out["pixels"], dtype=np.float64).reshape(-1, 2)
     np.testing.assert_allclose(cam.project([point]).pixels, want, atol=5e-7)
 
 

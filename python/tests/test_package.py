@@ -74,3 +74,21 @@ def test_pip_installs_into_a_virtualenv_offline(tmp_path):
     p = subprocess.run([py, "-c", check], env=env, capture_output=True, text=True, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert str(venv) in p.stdout
+
+
+def test_a_python_without_wheel_is_told_what_to_do():
+    """pip's metadata step (`setup.py dist_info`) with a setuptools older than 70.1 and no `wheel`
+    package (a pyenv or conda python3): setup.py says which Python to use instead of setuptools'
+    "invalid command 'bdist_wheel'"."""
+    try:
+        import setuptools.command.bdist_wheel  # noqa: F401
+        pytest.skip("this setuptools builds wheels itself (70.1 or later): nothing to check")
+    except ImportError:
+        pass
+    code = ("import runpy, sys; sys.modules['wheel'] = None; sys.argv = ['setup.py', 'dist_info']; "
+            "runpy.run_path('setup.py', run_name='__main__')")
+    p = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True)
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "needs the Python package `wheel`" in p.stderr, p.stderr
+    assert "/usr/bin/python3 -m venv --system-site-packages venv" in p.stderr, p.stderr
+    assert "invalid command" not in p.stderr, p.stderr

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <memory>
 #include <numeric>
 
@@ -17,16 +18,37 @@ namespace {
 
 struct BenchArgs {
   SceneOptions scene;
-  std::vector<int> frames{3, 10};
+  int warm_up = 3, measure = 10;
+  std::vector<std::string> frames;  // the old name of --warm-up W --measure M
   std::optional<int> threads;
 };
+
+// `--frames W M`, bench's name until `render --frames A:B` made it mean something else: still
+// taken, with a warning; anything else is an error that says what to write.
+void take_old_frames(BenchArgs& a) {
+  const auto count = [](const std::string& t, int* v) {
+    char* end = nullptr;
+    const long x = std::strtol(t.c_str(), &end, 10);
+    if (t.empty() || *end || x < 0 || x > 100000) return false;
+    *v = int(x);
+    return true;
+  };
+  if (a.frames.size() != 2 || !count(a.frames[0], &a.warm_up) || !count(a.frames[1], &a.measure))
+    throw CLI::ValidationError(
+        "--frames",
+        "bench takes --warm-up N --measure N (frames rendered before measuring, and "
+        "measured); --frames A:B picks animation frames in `render` only");
+  fmt::print(stderr,
+             "warning: bench --frames {} {} is deprecated: write --warm-up {} --measure {}\n",
+             a.warm_up, a.measure, a.warm_up, a.measure);
+}
 
 int run(const BenchArgs& a) {
   const Scene scene = load(a.scene);
   const Renderer renderer(scene);
   RenderOptions opt;
   opt.threads = a.threads.value_or(0);
-  const int warm = a.frames[0], measured = a.frames[1];
+  const int warm = a.warm_up, measured = a.measure;
   std::vector<double> mrays;
   // One 8-bit RGBA frame buffer for every frame, as the viewer keeps one: each finished tile is
   // resolved into it and freed, so memory is the frame buffer and the tiles in flight.
@@ -67,14 +89,18 @@ void add_bench(CLI::App& app, std::function<int()>& runner) {
   CLI::App* cmd =
       app.add_subcommand("bench", "Render a scene repeatedly and report render-only Mrays/s");
   a->scene.add_to(*cmd);
-  cmd->add_option("--frames", a->frames, "Warm-up and measured frames (default 3 10)")
-      ->expected(2)
+  cmd->add_option("--warm-up", a->warm_up,
+                  "Frames rendered before measuring (default 3), as Embree's viewer skips them")
       ->check(CLI::Range(0, 100000));
+  cmd->add_option("--measure", a->measure, "Frames measured (default 10)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--frames", a->frames, "Deprecated: --frames W M is --warm-up W --measure M")
+      ->expected(1, 2);
   cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")
       ->check(thread_count_check());
   cmd->callback([a, &runner] {
-    if (a->frames[1] < 1)
-      throw CLI::ValidationError("--frames", "need at least one measured frame");
+    if (!a->frames.empty()) take_old_frames(*a);
+    if (a->measure < 1) throw CLI::ValidationError("--frames", "need at least one measured frame");
     runner = [a] { return run(*a); };
   });
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "app/common.h"
+#include "app/output_guard.h"
 #include "io/image_io.h"
 
 namespace anamorph::app {
@@ -20,12 +21,18 @@ struct RaysArgs {
 int run_rays(const RaysArgs& a) {
   namespace fs = std::filesystem;
   const fs::path out = a.output;
-  const std::string ext = out.extension().string();
+  // (A device or pipe without an extension, `-o /dev/stdout`, gets CSV.)
+  const std::string ext =
+      out.extension().empty() && written_directly(out) ? ".csv" : out.extension().string();
   if (ext != ".csv" && ext != ".exr") {
-    fmt::print(stderr, "error: -o {}: use .csv or .exr\n", a.output);
+    print_error(fmt::format("-o {}: use .csv or .exr", a.output));
     return kBadInput;
   }
+  const std::vector<std::pair<fs::path, std::string>> outputs{{out, "-o " + a.output}};
+  check_outputs(scene_file_input(a.scene.scene), outputs);
+  set_interrupt_note(a.output + " not written");
   const Scene s = load(a.scene);
+  check_outputs(s.inputs, outputs);
   const int W = s.render.width, H = s.render.height;
   if (ext == ".csv") {
     // Streamed a row at a time: a 30000 x 30000 table is 80 GB, never held in memory.
@@ -84,6 +91,7 @@ int run_rays(const RaysArgs& a) {
 struct ProjectArgs {
   SceneOptions scene;
   std::string point;
+  bool json = false;
 };
 
 int run_project(const ProjectArgs& a) {
@@ -94,13 +102,27 @@ int run_project(const ProjectArgs& a) {
       if (c == ',') c = ' ';
     std::istringstream is(t);
     if (!(is >> p.x >> p.y >> p.z) || !is_finite(p)) {
-      fmt::print(stderr, "error: --point {}: expected X,Y,Z (three finite numbers)\n", a.point);
+      print_error(fmt::format("--point {}: expected X,Y,Z (three finite numbers)", a.point));
       return kBadInput;
     }
   }
   const Scene s = load(a.scene);
-  for (const Vec2& uv : s.camera->project(p))
-    fmt::print("{:.6f} {:.6f}\n", uv.x * s.render.width, uv.y * s.render.height);
+  const std::vector<Vec2> seen = s.camera->project(p);
+  if (a.json) {
+    std::string list;
+    for (const Vec2& uv : seen)
+      list += fmt::format("{}[{:.6f}, {:.6f}]", list.empty() ? "" : ", ", uv.x * s.render.width,
+                          uv.y * s.render.height);
+    fmt::print(
+        "{{\"point\": [{:.17g}, {:.17g}, {:.17g}], \"width\": {}, \"height\": {}, "
+        "\"pixels\": [{}]}}\n",
+        p.x, p.y, p.z, s.render.width, s.render.height, list);
+    return kOk;
+  }
+  // One line per image position, labelled: "px X py Y" (columns 2 and 4).
+  for (const Vec2& uv : seen)
+    fmt::print("px {:.6f} py {:.6f}\n", uv.x * s.render.width, uv.y * s.render.height);
+  if (seen.empty()) fmt::print(stderr, "the camera does not see the point\n");
   return kOk;
 }
 
@@ -119,11 +141,14 @@ void add_rays(CLI::App& app, std::function<int()>& runner) {
 
 void add_project(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<ProjectArgs>();
-  CLI::App* cmd = app.add_subcommand("project",
-                                     "Print every image position (px py, floating-point pixels "
-                                     "from the top-left) where a point appears");
+  CLI::App* cmd = app.add_subcommand(
+      "project",
+      "Print every image position where a point appears, one line each: px X py Y "
+      "(floating-point pixels from the top-left corner)");
   a->scene.add_to(*cmd);
   cmd->add_option("--point", a->point, "World point X,Y,Z")->required();
+  cmd->add_flag("--json", a->json,
+                "Print {\"point\", \"width\", \"height\", \"pixels\": [[px, py], ...]} instead");
   cmd->callback([a, &runner] { runner = [a] { return run_project(*a); }; });
 }
 

@@ -52,6 +52,9 @@ int run(const SceneOptions& o) {
   else
     fmt::print("bounds      [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n", b.lo.x, b.lo.y,
                b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+  // What no output of a run may overwrite (app/output_guard.h).
+  fmt::print("reads       {} file(s)\n", s.inputs.size());
+  for (const FileRead& f : s.inputs) fmt::print("  {}: {}\n", f.role, f.path.string());
   return kOk;
 }
 

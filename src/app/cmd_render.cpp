@@ -1,7 +1,6 @@
 // `anamorph render`: render a scene (or a frame range of an animated scene) to PNG or EXR.
 #include <fmt/format.h>
 #include <fmt/printf.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -15,9 +14,15 @@
 #include <tuple>
 
 #include "app/common.h"
+#include "app/frame_check.h"
 #include "app/frame_job.h"
+#include "app/frame_pattern.h"
+#include "app/output_guard.h"
+#include "app/render_outputs.h"
+#include "app/resume_options.h"
 #include "app/thread_option.h"
 #include "app/tile_stats.h"
+#include "app/video.h"
 #include "dist/head.h"
 #include "dist/worker.h"
 #include "dist/world.h"
@@ -49,8 +54,9 @@ struct RenderArgs {
   bool quiet = false;
   std::string checkpoint;  // --checkpoint FILE (a frame pattern with --frames)
   std::string checkpoint_every = "60s";
-  std::string stats;   // --stats FILE (a frame pattern with --frames)
-  std::string resume;  // --resume FILE
+  std::string stats;          // --stats FILE (a frame pattern with --frames)
+  std::string resume;         // --resume FILE
+  ResumeOptions with_resume;  // the other options given with --resume
   bool skip_existing = false;
 };
 
@@ -90,12 +96,6 @@ void print_progress(const Progress& p, const std::string& prefix, const JobPlace
              100 * p.fraction, mrays, eta, whole);
 }
 
-std::string lower_extension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 bool on_path(const std::string& exe) {
   const char* path = std::getenv("PATH");
   if (!path) return false;
@@ -122,16 +122,6 @@ bool parse_frames(const std::string& text, int* first, int* last) {
   const size_t colon = text.find(':');
   if (colon == std::string::npos) return number(text, first) && number(text, last);
   return number(text.substr(0, colon), first) && number(text.substr(colon + 1), last);
-}
-
-// A printf conversion for the frame number: %d, %4d, %04d, ...
-bool has_frame_pattern(const std::string& s) {
-  for (size_t i = s.find('%'); i != std::string::npos; i = s.find('%', i + 1)) {
-    size_t j = i + 1;
-    while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-    if (j < s.size() && s[j] == 'd') return true;
-  }
-  return false;
 }
 
 // The beauty image with the coin markers drawn over it in red, for looking at.
@@ -171,13 +161,13 @@ int render_with_overlay(const RenderArgs& a, const Scene& scene, const Renderer&
   fs::path marked = out;
   marked.replace_extension(".coins.png");
   write_png(marked, with_overlay(img, img.layers.back()));
-  if (!a.quiet) fmt::print("coin overlay written to {}\n", marked.string());
-  if (lower_extension(out) == ".png") {
+  if (!a.quiet) fmt::print(messages(), "coin overlay written to {}\n", marked.string());
+  if (render_format(out) == ".png") {
     write_png(out, img);
     fs::path exr = out;
     exr.replace_extension(".exr");
     write_exr(exr, img);
-    if (!a.quiet) fmt::print("AOVs written to {}\n", exr.string());
+    if (!a.quiet) fmt::print(messages(), "AOVs written to {}\n", exr.string());
   } else {
     write_exr(out, img);
   }
@@ -229,7 +219,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                  on_progress,
                  stats.empty() ? nullptr : &tile_times,
                  farm};
-    if (lower_extension(out) == ".png") {
+    if (render_format(out) == ".png") {
       job.png = out;
       // AOVs go beside a PNG, with the beauty, into an EXR of the same name.
       if (!aovs.empty()) job.exr = fs::path(out).replace_extension(".exr");
@@ -244,7 +234,8 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
     if (bar) fmt::print(stderr, "\r{}\r", std::string(100, ' '));
     st = r.stats;
     if (r.resumed && !a.quiet)
-      fmt::print("resumed from {}: {} tiles were done\n", checkpoint.string(), r.resumed_tiles);
+      fmt::print(messages(), "resumed from {}: {} tiles were done\n", checkpoint.string(),
+                 r.resumed_tiles);
     if (r.interrupted) {
       const fs::path partial =
           FrameOutput::with_suffix(job.png.empty() ? job.exr : job.png, ".partial");
@@ -259,30 +250,33 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
       return kInterrupted;
     }
     if (!job.exr.empty() && !job.png.empty() && !a.quiet)
-      fmt::print("AOVs written to {}\n", job.exr.string());
+      fmt::print(messages(), "AOVs written to {}\n", job.exr.string());
     if (r.time_limited && !a.quiet)
-      fmt::print("{}: time limit of {} s reached after {}; {}\n", out.string(),
+      fmt::print(messages(), "{}: time limit of {} s reached after {}; {}\n", out.string(),
                  scene.render.time_limit, r.reached,
                  checkpoint.empty() ? "render with --checkpoint FILE to be able to continue"
                                     : fmt::format("continue with: anamorph render --resume {}",
                                                   checkpoint.string()));
   }
   if (!stats.empty()) {
+    set_interrupt_note(fmt::format("{} not written ({} was)", stats.string(), out.string()));
     write_tile_stats(stats, scene, frame, a.threads.value_or(0), st, std::move(tile_times));
-    if (!a.quiet) fmt::print("tile costs written to {}\n", stats.string());
+    if (!a.quiet) fmt::print(messages(), "tile costs written to {}\n", stats.string());
   }
   if (!a.quiet) {
     const double per_pixel =
         double(st.samples) / (double(scene.render.width) * scene.render.height);
+    // (The scheme by its render.antialias name: lattice or pixel.)
     const std::string sampling = scene.render.adaptive()
-                                     ? fmt::format("adaptive, {:.2f} samples/pixel", per_pixel)
+                                     ? fmt::format("adaptive ({}), {:.2f} samples/pixel",
+                                                   name_of(scene.render.antialias), per_pixel)
                                      : fmt::format("{} spp", scene.render.spp);
-    fmt::print(
-        "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
-        "dropped\n",
-        out.string(), scene.render.width, scene.render.height, sampling,
-        name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
-        st.nan_samples);
+    fmt::print(messages(),
+               "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
+               "dropped\n",
+               out.string(), scene.render.width, scene.render.height, sampling,
+               name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
+               st.nan_samples);
   }
   if (st.nan_samples > 0)
     fmt::print(stderr,
@@ -305,20 +299,17 @@ bool fits_in_memory(const RenderArgs& a, const Scene& scene, const std::vector<A
   shape.aov_floats = aov_floats(aovs);
   shape.whole_film = a.coins_overlay || renders_in_passes(rs);
   shape.active_mask = !Renderer::streams(rs);
-  shape.png = lower_extension(out) == ".png";
+  shape.png = render_format(out) == ".png";
   shape.exr = !shape.png || !aovs.empty();
   shape.output_image = a.coins_overlay;
-  const MemoryNeed need = estimate_render_memory(scene, shape);
-  const uint64_t available = available_memory();
-  if (available == 0 || need.total() <= available) return true;
-  fmt::print(stderr,
-             "error: {}: this render needs about {} ({}), but {} is available; lower the "
-             "resolution or the AOVs{}\n",
-             out, format_bytes(need.total()), need.describe(), format_bytes(available),
-             shape.whole_film && !a.coins_overlay
-                 ? ", or sample uniformly without a time limit (render.antialias = \"uniform\" "
-                   "streams tiles to the file instead of keeping the frame)"
-                 : "");
+  const auto shortfall = memory_shortfall(estimate_render_memory(scene, shape));
+  if (!shortfall) return true;
+  print_error(fmt::format("{}: {}; lower the resolution or the AOVs{}", out, *shortfall,
+                          shape.whole_film && !a.coins_overlay
+                              ? ", or sample uniformly without a time limit (render.antialias = "
+                                "\"uniform\" streams tiles to the file instead of keeping the "
+                                "frame)"
+                              : ""));
   return false;
 }
 
@@ -335,7 +326,7 @@ bool frame_exists(const fs::path& out, const fs::path& checkpoint) {
 
 // `render --resume FILE`: the command that started the checkpoint, run again (a frame sequence
 // skips the frames it finished).
-int resume(const std::string& file) {
+int resume(const std::string& file, const ResumeOptions& with) {
   const CheckpointReader reader(file);
   std::vector<std::string> args;
   for (const auto& [k, v] : reader.identity())
@@ -345,6 +336,7 @@ int resume(const std::string& file) {
   if (args.empty() || args[0] != "render" ||
       std::find(args.begin(), args.end(), "--resume") != args.end())
     throw CheckpointError(fmt::format("checkpoint '{}' does not say how it was started", file));
+  apply_honoured(with, args);
   set_command_args(args);
   const bool frames = std::find(args.begin(), args.end(), "--frames") != args.end();
   if (frames && std::find(args.begin(), args.end(), "--skip-existing") == args.end())
@@ -401,7 +393,11 @@ int run(const RenderArgs& a) {
       fmt::print(stderr, "error: --resume takes everything from the checkpoint: give no scene\n");
       return kBadInput;
     }
-    return resume(a.resume);
+    if (!a.with_resume.refused.empty()) {
+      print_error(refused_message(a.with_resume));
+      return kBadInput;
+    }
+    return resume(a.resume, a.with_resume);
   }
   std::vector<std::string> extra;
   if (a.spp) extra.push_back(fmt::format("render.spp={}", *a.spp));
@@ -425,25 +421,31 @@ int run(const RenderArgs& a) {
     }
     aovs = parse_aovs(list);
   } catch (const std::invalid_argument& e) {
-    fmt::print(stderr, "error: --aov: {}\n", e.what());
+    print_error(fmt::format("--aov: {}", e.what()));
     return kBadInput;
   }
   const std::string out =
-      a.output.empty() ? fs::path(a.scene.scene).stem().string() + ".png" : a.output;
+      a.output.empty() ? default_render_output(a.scene.scene, !a.frames.empty()) : a.output;
+  // What the outputs are checked against (app/output_guard.h): before loading the scene file,
+  // after it every file the load read.
+  RenderOutputs outs{out,          a.output.empty(), !aovs.empty(), args.coins_overlay,
+                     a.checkpoint, a.stats,          a.video,       ""};
+  const std::vector<FileRead> scene_file = scene_file_input(a.scene.scene);
   double every = 60;
   if (!parse_duration(a.checkpoint_every, &every)) {
-    fmt::print(stderr, "error: --checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h\n",
-               a.checkpoint_every);
+    print_error(fmt::format("--checkpoint-every {}: expected seconds, e.g. 60, 60s, 5m or 1h",
+                            a.checkpoint_every));
     return kBadInput;
   }
   if (a.scene.scene.empty()) {
     fmt::print(stderr, "error: render needs a scene file (or --resume CHECKPOINT)\n");
     return kBadInput;
   }
-  if (lower_extension(out) != ".png" && lower_extension(out) != ".exr") {
-    fmt::print(stderr, "error: -o {}: unsupported image format (use .png or .exr)\n", out);
+  if (render_format(out).empty()) {
+    print_error(fmt::format("-o {}: unsupported image format (use .png or .exr)", out));
     return kBadInput;
   }
+  if (is_standard_output(out)) messages_to_stderr();  // (`-o /dev/stdout`: the image alone)
   // Under MPI the head (rank 0) goes on below, handing tiles to the workers through `farm`.
   std::unique_ptr<dist::HeadFarm> farm;
   if (dist::World::size() > 1) {
@@ -456,10 +458,13 @@ int run(const RenderArgs& a) {
       return kBadInput;
     }
     if (a.skip_existing && frame_exists(out, a.checkpoint)) {
-      if (!a.quiet) fmt::print("{} exists: skipped\n", out);
+      if (!a.quiet) fmt::print(messages(), "{} exists: skipped\n", out);
       return kOk;
     }
+    check_render_outputs(outs, scene_file);
+    set_interrupt_note(out + " not written");
     const Scene scene = load(args.scene, extra, 0);
+    check_render_outputs(outs, scene.inputs);
     if (!fits_in_memory(args, scene, aovs, out)) return kBadInput;
     const std::unique_ptr<Renderer> renderer = make_renderer(scene, farm.get());
     if (farm) farm->begin_frame(0);
@@ -472,27 +477,44 @@ int run(const RenderArgs& a) {
   // A sequence: frames A..B inclusive, written through a printf pattern.
   int first = 0, last = 0;
   if (!parse_frames(a.frames, &first, &last)) {
-    fmt::print(stderr, "error: --frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number\n",
-               a.frames);
+    print_error(
+        fmt::format("--frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number", a.frames));
     return kBadInput;
   }
   if (last < first) {
-    fmt::print(stderr, "error: --frames {}: the last frame comes before the first\n", a.frames);
+    print_error(fmt::format("--frames {}: the last frame comes before the first", a.frames));
     return kBadInput;
   }
-  std::string pattern_error;
-  try {
-    (void)fmt::sprintf(out, first);
-  } catch (const std::exception& e) {
-    pattern_error = e.what();
-  }
-  if (!has_frame_pattern(out) || !pattern_error.empty()) {
-    fmt::print(stderr,
-               "error: -o {}: with --frames the output needs one frame-number pattern and no "
-               "other % (write %% for a percent sign), e.g. out/frame_%04d.png{}\n",
-               out, pattern_error.empty() ? "" : " (" + pattern_error + ")");
+  if (const auto why = frame_pattern_error(out)) {
+    print_error(
+        fmt::format("-o {}: with --frames the output needs one frame-number pattern and no "
+                    "other % (write %% for a percent sign), e.g. out/frame_%04d.png ({})",
+                    out, *why));
     return kBadInput;
   }
+  // With --frames each frame has its own checkpoint and stats file: their names need a pattern.
+  for (const auto& [option, name, example] :
+       {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
+        std::tuple{"--stats", a.stats, "stats_%04d.json"}})
+    if (const auto why = name.empty() ? std::nullopt : frame_pattern_error(name)) {
+      print_error(
+          fmt::format("{} {}: with --frames each frame has its own file, so the name needs a "
+                      "frame-number pattern, e.g. {} ({})",
+                      option, name, example, *why));
+      return kBadInput;
+    }
+  FrameScene current;
+  JobPlace place;
+  place.count = last - first + 1;
+  const auto frame_outputs = [&](int f) {
+    RenderOutputs o = outs;
+    o.out = fmt::sprintf(out, f);
+    o.checkpoint = a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f);
+    o.stats = a.stats.empty() ? std::string() : fmt::sprintf(a.stats, f);
+    o.frame = fmt::format(" (frame {})", f);
+    return o;
+  };
+  check_render_outputs(frame_outputs(first), scene_file);
   if (!a.video.empty() && !on_path("ffmpeg")) {
     fmt::print(stderr,
                "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get "
@@ -500,30 +522,21 @@ int run(const RenderArgs& a) {
                "or drop --video; the frames alone need nothing else)\n");
     return kBadInput;
   }
-  // With --frames each frame has its own checkpoint and stats file: their names need a pattern.
-  for (const auto& [option, name, example] :
-       {std::tuple{"--checkpoint", a.checkpoint, "render_%04d.ckpt"},
-        std::tuple{"--stats", a.stats, "stats_%04d.json"}})
-    if (!name.empty() && !has_frame_pattern(name)) {
-      fmt::print(stderr,
-                 "error: {} {}: with --frames each frame has its own file, so the name needs a "
-                 "frame-number pattern, e.g. {}\n",
-                 option, name, example);
-      return kBadInput;
-    }
-  FrameScene current;
-  JobPlace place;
-  place.count = last - first + 1;
   for (int f = first; f <= last; ++f, ++place.index) {
     if (a.skip_existing &&
         frame_exists(fmt::sprintf(out, f),
                      a.checkpoint.empty() ? std::string() : fmt::sprintf(a.checkpoint, f))) {
-      if (!a.quiet) fmt::print("{} exists: skipped\n", fmt::sprintf(out, f));
+      if (!a.quiet) fmt::print(messages(), "{} exists: skipped\n", fmt::sprintf(out, f));
       --place.count, --place.index;  // (the job's ETA counts the frames it renders)
       continue;
     }
     const std::string file = fmt::sprintf(out, f);
+    set_interrupt_note(
+        fmt::format("{} not written{}", file,
+                    f > first ? fmt::format("; frames {}..{} were written", first, f - 1) : ""));
     const bool fresh = current.load_frame(args.scene, extra, f);
+    check_render_outputs(frame_outputs(f), current.scene->inputs);
+    if (place.index == 0) check_frames(args.scene, extra, f, last, *current.scene);
     if (!fits_in_memory(args, *current.scene, aovs, file)) return kBadInput;
     if (fresh) current.renderer = make_renderer(*current.scene, farm.get());
     if (farm) farm->begin_frame(f);
@@ -540,24 +553,8 @@ int run(const RenderArgs& a) {
       return rc;
     }
   }
-  if (!a.video.empty()) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const std::string fps = std::to_string(a.fps), start = std::to_string(first);
-      execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-framerate", fps.c_str(),
-             "-start_number", start.c_str(), "-i", out.c_str(), "-c:v", "libx264", "-pix_fmt",
-             "yuv420p", a.video.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    int status = 0;
-    waitpid(pid, &status, 0);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-      fmt::print(stderr, "error: ffmpeg failed to assemble {} (exit status {})\n", a.video,
-                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-      return kFailure;
-    }
-    if (!a.quiet) fmt::print("video: {} ({} frames at {} fps)\n", a.video, last - first + 1, a.fps);
-  }
+  if (!a.video.empty())
+    return assemble_video(out, first, last - first + 1, a.fps, a.video, a.quiet);
   return kOk;
 }
 
@@ -569,8 +566,8 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   a->scene.add_to(*cmd, false);
   cmd->add_option(
       "-o,--output", a->output,
-      "Output image (.png or .exr); default <scene>.png. With --frames, a pattern such as "
-      "out/frame_%04d.png");
+      "Output image (.png or .exr); default out/<scene name>.png (out/<scene name>_%04d.png "
+      "with --frames). With --frames, a pattern such as out/frame_%04d.png");
   cmd->add_option("--spp", a->spp,
                   "Samples per pixel (overrides render.spp; implies uniform sampling)")
       ->check(CLI::Range(1, 1 << 20));
@@ -601,11 +598,16 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--checkpoint-every", a->checkpoint_every,
                   "How often the checkpoint is forced to disk: 60s (default), 5m, 1h");
   cmd->add_option("--resume", a->resume,
-                  "Continue the render a checkpoint belongs to (the same command, resumed)");
+                  std::string("Continue the render a checkpoint belongs to (the same command, "
+                              "resumed); only ") +
+                      kWithResume + " may be given with it");
   cmd->add_flag("--skip-existing", a->skip_existing,
                 "Skip frames whose output file is already there (complete: files appear only "
                 "when done)");
-  cmd->callback([a, &runner] { runner = [a] { return run(*a); }; });
+  cmd->callback([a, cmd, &runner] {
+    if (!a->resume.empty()) a->with_resume = resume_options(*cmd);
+    runner = [a] { return run(*a); };
+  });
 }
 
 }  // namespace anamorph::app

@@ -3,11 +3,12 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <vector>
 
 #include "app/common.h"
+#include "app/output_guard.h"
 #include "io/image_io.h"
+#include "io/read_file.h"
 #include "scene/scene_schema.h"
 
 namespace anamorph::app {
@@ -22,11 +23,10 @@ struct SchemaArgs {
 };
 
 std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::vector<unsigned char> bytes;
+  if (const auto failure = read_whole_file(p, &bytes, kTextInput))
+    throw std::runtime_error(describe(*failure, p));
+  return std::string(bytes.begin(), bytes.end());
 }
 
 void write_text(const fs::path& p, const std::string& text) {
@@ -47,6 +47,7 @@ int run(const SchemaArgs& a) {
     fmt::print("updated {} and {}\n", format.string(), functions.string());
     return kOk;
   }
+  if (!a.output.empty()) check_outputs({}, {{a.output, "-o " + a.output}});
   const std::string schema = scene_json_schema();
   if (a.output.empty())
     fmt::print("{}", schema);

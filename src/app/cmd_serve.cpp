@@ -1,6 +1,6 @@
 // `anamorph serve SCENE`: the interactive camera editor, a local web server with a live preview
-// (src/server, web/). It prints the page's address with its access token and runs until SIGINT or
-// SIGTERM.
+// (src/server, web/). It prints the page's address with its access token and runs until SIGINT,
+// SIGTERM, SIGQUIT or SIGHUP (exit 0: that is how it ends).
 #include <fmt/format.h>
 #include <signal.h>
 
@@ -79,19 +79,18 @@ void open_browser(const std::string& url) {
 int run(const ServeArgs& a) {
   std::string host = a.host == "localhost" ? "127.0.0.1" : a.host;
   if (!is_loopback(host) && !a.allow_remote) {
-    fmt::print(stderr,
-               "error: --host {} would let other machines reach the editor; add --allow-remote "
-               "if that is what you want\n",
-               host);
+    print_error(fmt::format(
+        "--host {} would let other machines reach the editor; add --allow-remote if that is "
+        "what you want",
+        host));
     return kBadInput;
   }
   limit_heaps();
-  // SIGINT and SIGTERM are waited for below: blocked here, before any thread starts, so that
-  // every thread (server, preview, renderer) inherits the mask and none is interrupted.
+  // SIGINT, SIGTERM, SIGQUIT and SIGHUP are waited for below: blocked here, before any thread
+  // starts, so that every thread (server, preview, renderer) inherits the mask and none is
+  // interrupted.
   sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
+  stop_signal_set(&stop_signals);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
   const int threads = a.threads;
@@ -108,10 +107,10 @@ int run(const ServeArgs& a) {
                           });
   api.set_port(http.port());
   if (!is_loopback(host))
-    fmt::print(stderr,
-               "warning: listening on {}: anyone who can reach this machine and learns the token "
-               "can edit {} and read the files in its folder\n",
-               host, a.scene);
+    print_warning(fmt::format(
+        "listening on {}: anyone who can reach this machine and learns the token can edit {} and "
+        "read the files in its folder",
+        host, a.scene));
   const std::string shown = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   const std::string url = fmt::format("http://{}:{}/?token={}", shown, http.port(), api_opt.token);
   fmt::print("anamorph serve: editing {}\n  open {}\n  (Ctrl-C stops the server)\n", a.scene, url);

@@ -4,14 +4,15 @@
 
 #include <fmt/format.h>
 
-#include <signal.h>
-#include <unistd.h>
-
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <new>
 
+#include "app/output_guard.h"
 #include "io/image_io.h"
+#include "math/user_text.h"
 #include "render/checkpoint.h"
 #include "render/memory_estimate.h"
 #include "scene/loaders.h"
@@ -22,35 +23,6 @@ namespace anamorph::app {
 
 namespace {
 std::string g_command_line;
-std::atomic<bool> g_interrupted{false};
-std::atomic<bool> g_render_phase{false};
-// A worker rank of an MPI job stops without a word: mpirun says why the job ended.
-volatile sig_atomic_t g_silent_interrupt = 0;
-
-void on_interrupt(int) {
-  if (g_render_phase.load() && !g_interrupted.exchange(true)) return;
-  // Async-signal-safe from here on: write(2) and _exit(2) only.
-  static const char kMsg[] = "\ninterrupted\n";
-  if (!g_silent_interrupt) {
-    [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, kMsg, sizeof kMsg - 1);
-  }
-  _exit(kFailure);
-}
-}  // namespace
-
-void install_interrupt_handlers() {
-  g_silent_interrupt = dist::World::rank() > 0;
-  struct sigaction sa {};
-  sa.sa_handler = on_interrupt;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-const std::atomic<bool>& interrupt_flag() { return g_interrupted; }
-RenderPhase::RenderPhase() { g_render_phase = true; }
-RenderPhase::~RenderPhase() { g_render_phase = false; }
-
-namespace {
 std::vector<std::string> g_args;
 }  // namespace
 
@@ -97,7 +69,7 @@ std::vector<std::string> with_extra(const SceneOptions& o, const std::vector<std
 // A worker rank of an MPI job loads the head's scene: only the head prints its warnings.
 Scene warned(Scene s) {
   if (dist::World::rank() == 0)
-    for (const auto& w : s.warnings) fmt::print(stderr, "warning: {}\n", w);
+    for (const auto& w : s.warnings) print_warning(w);
   return s;
 }
 
@@ -115,25 +87,36 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.camera_toml = std::move(v.camera_toml);
   loaded.effective_toml = std::move(v.effective_toml);
   loaded.frame = frame;
+  loaded.inputs.insert(loaded.inputs.end(), v.inputs.begin(), v.inputs.end());
+}
+
+void print_error(const std::string& message) {
+  fmt::print(stderr, "error: {}\n", printable(message));
+}
+void print_warning(const std::string& message) {
+  fmt::print(stderr, "warning: {}\n", printable(message));
 }
 
 int run_guarded(const std::function<int()>& body) {
   try {
     return body();
   } catch (const SceneError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const LoadError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const ImageReadError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kBadInput;
   } catch (const CheckpointError& e) {
+    print_error(e.what());
+    return kBadInput;
+  } catch (const OutputClash& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kBadInput;
   } catch (const ImageIoError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kFailure;
   } catch (const std::bad_alloc&) {
     // What the up-front estimate did not foresee (a scene's models, another process's growth).
@@ -141,9 +124,19 @@ int run_guarded(const std::function<int()>& body) {
                format_bytes(available_memory()));
     return kFailure;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    print_error(e.what());
     return kFailure;
   }
+}
+
+int flush_standard_output(int code) {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return code;
+  const int e = errno;
+  // (fputs: stderr may be broken too, and fmt::print would throw from here.)
+  std::fputs("error: cannot write to standard output: ", stderr);
+  std::fputs(e ? std::strerror(e) : "a write failed", stderr);
+  std::fputs("\n", stderr);
+  return code == kOk ? kFailure : code;
 }
 
 }  // namespace anamorph::app

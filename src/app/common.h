@@ -1,5 +1,6 @@
 // Shared pieces of the command-line front end: scene options every command takes, and the
-// mapping of errors to messages and exit codes (0 ok, 1 runtime failure, 2 bad usage or scene).
+// mapping of errors to messages and exit codes (0 ok, 1 runtime failure, 2 bad usage or scene,
+// 3 interrupted: app/interrupt.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -10,12 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "app/interrupt.h"
 #include "scene/scene.h"
 
 namespace anamorph::app {
 
-// kInterrupted: SIGINT or SIGTERM during a render; the image so far was written beside the
-// output ("<name>.partial.<ext>") and, with --checkpoint, the render can be resumed.
+// kInterrupted: SIGINT, SIGTERM, SIGHUP or SIGQUIT (app/interrupt.h); during a render the image
+// so far was written beside the output ("<name>.partial.<ext>") and, with --checkpoint, the
+// render can be resumed.
 enum ExitCode { kOk = 0, kFailure = 1, kBadInput = 2, kInterrupted = 3 };
 
 struct SceneOptions {
@@ -35,22 +38,17 @@ Scene load(const SceneOptions& o, const std::vector<std::string>& extra_override
 void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
                     double frame, Scene& loaded);
 
-// SIGINT and SIGTERM. While a RenderPhase is alive the first one sets interrupt_flag() and the
-// renderer stops at its next packet (so a frame sequence can say what it wrote); at any other
-// time (loading, a loader child, writing), or on a second signal, the process prints
-// "interrupted" and exits with kFailure at once. Outputs are written to a temporary file and
-// renamed, so no partial file is left under the output's name.
-void install_interrupt_handlers();
-const std::atomic<bool>& interrupt_flag();
-struct RenderPhase {
-  RenderPhase();
-  ~RenderPhase();
-  RenderPhase(const RenderPhase&) = delete;
-  RenderPhase& operator=(const RenderPhase&) = delete;
-};
+// "error: MESSAGE" and "warning: MESSAGE" on stderr, the message escaped (math/user_text.h):
+// messages quote user text (file names, keys, values), which may hold control characters.
+void print_error(const std::string& message);
+void print_warning(const std::string& message);
 
 // Runs a command body and turns exceptions into messages and exit codes.
 int run_guarded(const std::function<int()>& body);
+
+// Standard output flushed at the end: a failed write there (a closed pipe, a full disk) is an
+// error message and exit code 1, not a silent success. Returns the exit code to use.
+int flush_standard_output(int code);
 
 // The command line as typed, for metadata.
 std::string command_line();

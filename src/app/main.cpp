@@ -1,12 +1,14 @@
 // anamorph: a ray tracer built around a programmable distortion camera.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <functional>
 #include <string>
 
 #include "app/common.h"
 #include "dist/world.h"
+#include "math/user_text.h"
 
 int main(int argc, char** argv) {
   using namespace anamorph::app;
@@ -18,6 +20,16 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("anamorph " ANAMORPH_VERSION " (MPI: ") +
                                         anamorph::dist::mpi_library() + ")");
   app.require_subcommand(1);
+  // Parse errors quote the arguments: escaped, as every message that echoes user text
+  // (subcommands take this from the app when they are added).
+  app.failure_message([](const CLI::App* a, const CLI::Error& e) {
+    std::string text = CLI::FailureMessage::simple(a, e), out;
+    for (size_t s = 0, n; s < text.size(); s = n + 1) {
+      n = std::min(text.find('\n', s), text.size());
+      out += anamorph::printable(std::string_view(text).substr(s, n - s)) + "\n";
+    }
+    return out;
+  });
   std::function<int()> run;
   add_render(app, run);
   add_info(app, run);
@@ -41,5 +53,5 @@ int main(int argc, char** argv) {
       std::fputs("error: only `anamorph render` runs across MPI ranks\n", stderr);
     return kBadInput;
   }
-  return run_guarded(run);
+  return flush_standard_output(run_guarded(run));
 }

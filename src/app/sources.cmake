@@ -1,14 +1,22 @@
 set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/main.cpp
   ${CMAKE_CURRENT_LIST_DIR}/common.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/interrupt.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_render.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/frame_pattern.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_job.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/output_guard.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_outputs.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/video.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/frame_check.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/resume_options.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_stats.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_info.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_bench.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_compare.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_formfactors.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/form_factor_output.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_schema.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_serve.cpp
 )

@@ -37,8 +37,8 @@ class ScatteredDir final : public DirFunctionLoop<ScatteredDir> {
 const ParamSpec kPlanarParams[] = {
     {"points", ParamType::NumberGrid, "",
      "The data: one [u, v, x, y, z] per sample, the direction (x, y, z) (camera space; its length "
-     "does not matter) of the ray at image position (u, v). Anywhere in the image; no two at one "
-     "(u, v)."},
+     "does not matter) of the ray at image position (u, v). Anywhere in the image (or up to 1e6 "
+     "beyond it); no two at one (u, v)."},
     kRbfKernelParam,
     kRbfShapeParam,
     kRbfSmoothingParam,
@@ -152,7 +152,7 @@ const ParamSpec kSphereParams[] = {
      "The shape parameter (SciPy's epsilon): larger = smaller pulled regions (gaussian: a "
      "sample's pull falls to 1/e at chordal distance 1/shape, 4 = about 14 degrees).",
      0,
-     kInf,
+     kRbfShapeLimit,
      {},
      true},
     kRbfSmoothingParam,

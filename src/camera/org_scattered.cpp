@@ -39,8 +39,8 @@ const ParamSpec kParams[] = {
     {"points", ParamType::NumberGrid, "",
      "The data: one [u, v, x, y, z] per point, the surface point (x, y, z) that image position "
      "(u, v) shows (u, v in [0, 1], u left to right, v top to bottom; camera space). Anywhere in "
-     "the image, in any order; no two at one (u, v), and with thin_plate or cubic not all on "
-     "one line."},
+     "the image, in any order (or up to 1e6 beyond it); no two at one (u, v), and with thin_plate "
+     "or cubic not all on one line."},
     kRbfKernelParam,
     kRbfShapeParam,
     kRbfSmoothingParam,

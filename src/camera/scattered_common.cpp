@@ -1,9 +1,10 @@
 #include "camera/scattered_common.h"
 
-#include <algorithm>
-#include <iterator>
-
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
 
 #include "math/input_limits.h"
 
@@ -17,6 +18,15 @@ std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::strin
       throw ParamError(std::string(key), std::string(key) + ": point " + std::to_string(i) +
                                              " has " + std::to_string(rows[i].size()) +
                                              " numbers; each is [u, v, x, y, z]");
+    for (int k = 0; k < 2; ++k)
+      if (!(std::abs(rows[i][size_t(k)]) <= kScatteredUvLimit))
+        throw ParamError(std::string(key),
+                         fmt::format("point {}: {} = {} is out of range (must be within [-{:g}, "
+                                     "{:g}]: image positions are in [0, 1], and points farther out "
+                                     "would make the interpolation's system overflow or lose all "
+                                     "precision)",
+                                     i, k ? "v" : "u", rows[i][size_t(k)], kScatteredUvLimit,
+                                     kScatteredUvLimit));
     const Vec3 value{rows[i][2], rows[i][3], rows[i][4]};
     // (Positions, or directions, of the world: math/input_limits.h.)
     if (!within_world(value))

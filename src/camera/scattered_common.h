@@ -12,6 +12,16 @@
 
 namespace anamorph {
 
+// How far outside the image ([0, 1]) a data point's u and v may lie: 1e6. The interpolation's
+// system mixes the kernel at the points' distances with the points' coordinates; beyond about
+// 1e15 the coordinates swamp the rest in double precision and the solve fails for no fault of the
+// data (points reported as collinear), and beyond 1e154 squared distances overflow. 1e6 leaves
+// every kernel well inside both (tested at the bound).
+inline constexpr double kScatteredUvLimit = 1e6;
+// The largest shape parameter: the kernels see shape times a distance (at most 3e6 in the plane,
+// 2 on the sphere), and cubic's cube of it must stay finite with room to spare.
+inline constexpr double kRbfShapeLimit = 1e50;
+
 inline constexpr std::string_view kRbfKernelNames[] = {
     "thin_plate", "multiquadric", "inverse_multiquadric", "gaussian", "cubic"};  // RbfKernel order
 
@@ -35,7 +45,7 @@ inline constexpr ParamSpec kRbfShapeParam{
     "shape * r, as SciPy's; thin_plate and cubic surfaces do not depend on it unless smoothing "
     "is on (it then scales the smoothing's effect).",
     0,
-    kInf,
+    kRbfShapeLimit,
     {},
     true};
 inline constexpr ParamSpec kRbfSmoothingParam{
@@ -50,7 +60,8 @@ struct ScatteredDatum {
   Vec3 value;
 };
 
-// Reads `key` as [u, v, x, y, z] rows; ParamError naming the row that is not five numbers.
+// Reads `key` as [u, v, x, y, z] rows; ParamError naming the row that is not five numbers or
+// whose u or v lies beyond kScatteredUvLimit.
 std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::string_view key);
 
 RbfKernel read_rbf_kernel(const ParamValues& v);

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "dist/wire.h"
+#include "math/user_text.h"
 #include "render/tile_session.h"
 
 namespace anamorph::dist {
@@ -241,7 +242,7 @@ int serve_tiles(int threads, const std::vector<Aov>& aovs,
         else if (tag == kWork)
           pool.add(decode_work(bytes.data(), bytes.size()));
       } catch (const std::exception& e) {  // the head ends the job with the message
-        fmt::print(stderr, "error: rank {}: {}\n", rank, e.what());
+        fmt::print(stderr, "error: rank {}: {}\n", rank, printable(e.what()));
         const std::string what = e.what();
         send(sends, kError, std::vector<char>(what.begin(), what.end()));
         code = 1;

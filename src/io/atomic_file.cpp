@@ -3,12 +3,14 @@
 //
 // Targets that are not plain files: a symbolic link is followed (the link stays and its target
 // is replaced); an existing device, FIFO or socket (/dev/null, /dev/stdout, a pipe) is written
-// directly, since it can be neither replaced atomically nor should be; a directory is an error.
-// Temporary files left by a process that was killed (SIGKILL, power loss) are removed by the
-// next write of the same target.
-#include <dirent.h>
+// directly, since it can be neither replaced atomically nor should be; so is the file the process's
+// standard output or error already is (`-o /dev/stdout > out.png`: the shell's file, at the
+// shell's offset); a directory and a read-only file are errors. A target that cannot seek (a pipe)
+// gets a format that seeks (EXR fills in its offset table last) through an unnamed spool file.
+// Temporary files are registered for removal by a signal handler (io/temporary_files.h); those
+// left by a process that was killed (SIGKILL, power loss) are removed by the next write of the
+// same target.
 #include <fcntl.h>
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -17,11 +19,14 @@
 #include <cstdlib>
 #include <random>
 #include <system_error>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "io/image_io.h"
 #include "io/io_util.h"
+#include "io/temporary_files.h"
+#include "math/user_text.h"
 
 namespace anamorph {
 
@@ -43,36 +48,40 @@ fs::path resolve_links(fs::path file) {
   io_detail::fail("cannot write", file, "too many levels of symbolic links");
 }
 
-// Removes ".NAME.tmp-PID-*" files in dir whose PID is no longer running.
-void remove_stale_temporaries(const fs::path& dir, const std::string& name) {
-  const std::string prefix = "." + name + ".tmp-";
-  DIR* d = ::opendir(dir.c_str());
-  if (!d) return;
-  while (const dirent* e = ::readdir(d)) {
-    const std::string entry = e->d_name;
-    if (entry.rfind(prefix, 0) != 0) continue;
-    char* end = nullptr;
-    const long pid = std::strtol(entry.c_str() + prefix.size(), &end, 10);
-    if (pid <= 0 || !end || *end != '-' || pid == ::getpid()) continue;
-    if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH) ::unlinkat(::dirfd(d), e->d_name, 0);
+}  // namespace
+
+namespace {
+
+// The standard stream (1 or 2) that `st` is, or -1.
+int standard_stream_of(const struct stat& st) {
+  for (int fd : {STDOUT_FILENO, STDERR_FILENO}) {
+    struct stat s {};
+    if (::fstat(fd, &s) == 0 && s.st_dev == st.st_dev && s.st_ino == st.st_ino) return fd;
   }
-  ::closedir(d);
+  return -1;
 }
 
 }  // namespace
 
-AtomicFile::AtomicFile(const fs::path& file) : target_(resolve_links(file)) {
+AtomicFile::AtomicFile(const fs::path& file, Access access) : target_(resolve_links(file)) {
   using io_detail::fail;
+  if (has_nul(file.native())) fail("cannot write", file, nul_in_path_message(file.native(), false));
   if (!target_.has_filename()) fail("cannot write", file, "the path does not name a file");
   struct stat st {};
-  if (::stat(target_.c_str(), &st) == 0) {
+  // (Through `file` itself: /dev/stdout -> /proc/self/fd/1 -> "pipe:[...]" is no path.)
+  if (::stat(file.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) fail("cannot write", file, "it is a directory");
-    if (!S_ISREG(st.st_mode)) {  // a device, FIFO or socket: written as it is
-      fd_ = ::open(target_.c_str(), O_WRONLY | O_CLOEXEC);
-      if (fd_ < 0) fail("cannot write", file, errno_message(errno));
-      direct_ = true;
+    const int stream = standard_stream_of(st);
+    if (!S_ISREG(st.st_mode) || stream >= 0) {  // a device, FIFO, socket or our own stream
+      open_direct(file, stream, access);
       return;
     }
+    // rename(2) would replace it regardless (and root may write anything): a file made
+    // read-only is kept as it is.
+    if ((st.st_mode & 0222) == 0 || ::access(file.c_str(), W_OK) != 0)
+      fail("cannot write", file,
+           fmt::format("it is read-only (mode {:04o}); make it writable or choose another name",
+                       st.st_mode & 07777));
   }
   // Missing parent directories are created rather than reported: `-o renders/today/a.exr`
   // should simply work, and creating a directory cannot damage anything that exists.
@@ -82,15 +91,26 @@ AtomicFile::AtomicFile(const fs::path& file) : target_(resolve_links(file)) {
   if (ec)
     fail("cannot write", file,
          fmt::format("cannot create directory '{}': {}", dir_.string(), ec.message()));
-  remove_stale_temporaries(dir_, target_.filename().string());
+  if (const int dfd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    io_detail::remove_stale_temporaries_at(dfd, target_.filename().string());
+    ::close(dfd);
+  }
 
   // Same directory as the target, so rename(2) stays on one file system and is atomic.
   std::random_device rd;
   for (int attempt = 0; fd_ < 0 && attempt < 8; ++attempt) {
     const uint64_t r = (uint64_t(rd()) << 32) ^ rd();
-    tmp_ = dir_ / fmt::format(".{}.tmp-{}-{:016x}", target_.filename().string(), ::getpid(), r);
+    tmp_ = dir_ / io_detail::temporary_name(target_.filename().string(), r);
+    slot_ = register_temporary(tmp_);  // (before it exists: a signal may come at any moment)
     fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd_ < 0 && errno != EEXIST) break;
+    if (fd_ >= 0) break;
+    const int e = errno;
+    unregister_temporary(slot_);
+    slot_ = -1;
+    if (e != EEXIST) {
+      errno = e;
+      break;
+    }
   }
   if (fd_ < 0)
     fail("cannot write", file,
@@ -98,23 +118,51 @@ AtomicFile::AtomicFile(const fs::path& file) : target_(resolve_links(file)) {
                      errno_message(errno)));
 }
 
-AtomicFile::~AtomicFile() {
-  if (fd_ >= 0) ::close(fd_);
-  if (!committed_ && !direct_ && !tmp_.empty()) ::unlink(tmp_.c_str());
+void AtomicFile::open_direct(const fs::path& file, int stream, Access access) {
+  using io_detail::fail;
+  sink_ = stream >= 0 ? ::fcntl(stream, F_DUPFD_CLOEXEC, 0)
+                      : ::open(file.c_str(), O_WRONLY | O_CLOEXEC);
+  if (sink_ < 0) fail("cannot write", file, errno_message(errno));
+  direct_ = true;
+  target_ = file;  // (for messages: /proc/self/fd/1 may name no path)
+  fd_ = sink_;
+  if (access == Access::Seeks && ::lseek(sink_, 0, SEEK_CUR) < 0 && errno == ESPIPE) {
+    // An unnamed file (gone with the process, whatever ends it), copied out by commit().
+    fd_ = ::open(fs::temp_directory_path().c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+    if (fd_ < 0)
+      fail("cannot write", file,
+           fmt::format("cannot create a spool file for it: {}", errno_message(errno)));
+  }
 }
 
-void AtomicFile::write(const void* bytes, size_t size) {
-  const char* p = static_cast<const char*>(bytes);
+AtomicFile::~AtomicFile() {
+  if (fd_ >= 0) ::close(fd_);
+  if (sink_ >= 0 && sink_ != fd_) ::close(sink_);
+  if (!committed_ && !direct_ && !tmp_.empty()) ::unlink(tmp_.c_str());
+  unregister_temporary(slot_);
+}
+
+namespace {
+
+// All of `size` bytes to `fd`; errno on failure.
+bool write_all(int fd, const char* p, size_t size) {
   for (size_t left = size; left > 0;) {
-    const ssize_t n = ::write(fd_, p, left);
+    const ssize_t n = ::write(fd, p, left);
     if (n < 0) {
       if (errno == EINTR) continue;
-      io_detail::fail("cannot write", target_,
-                      fmt::format("write failed: {}", errno_message(errno)));
+      return false;
     }
     p += n;
     left -= size_t(n);
   }
+  return true;
+}
+
+}  // namespace
+
+void AtomicFile::write(const void* bytes, size_t size) {
+  if (!write_all(fd_, static_cast<const char*>(bytes), size))
+    io_detail::fail("cannot write", target_, fmt::format("write failed: {}", errno_message(errno)));
 }
 
 uint64_t AtomicFile::tell() const {
@@ -134,14 +182,34 @@ void AtomicFile::commit_as(const fs::path& other) {
   commit();
 }
 
+void AtomicFile::copy_spool() {
+  std::vector<char> buf(size_t(1) << 20);
+  if (::lseek(fd_, 0, SEEK_SET) < 0)
+    io_detail::fail("cannot write", target_, fmt::format("seek failed: {}", errno_message(errno)));
+  for (;;) {
+    const ssize_t n = ::read(fd_, buf.data(), buf.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0)
+      io_detail::fail("cannot write", target_,
+                      fmt::format("reading the spool failed: {}", errno_message(errno)));
+    if (n == 0) break;
+    if (!write_all(sink_, buf.data(), size_t(n)))
+      io_detail::fail("cannot write", target_,
+                      fmt::format("write failed: {}", errno_message(errno)));
+  }
+  ::close(fd_);
+  fd_ = sink_;
+}
+
 void AtomicFile::commit() {
   const auto fail_step = [&](const char* step, int err) {
     io_detail::fail("cannot write", target_,
                     fmt::format("{} failed: {}", step, errno_message(err)));
   };
   if (direct_) {
-    const int fd = fd_;
-    fd_ = -1;
+    if (fd_ != sink_) copy_spool();
+    const int fd = sink_;
+    sink_ = fd_ = -1;
     if (::close(fd) != 0) fail_step("close", errno);
     committed_ = true;
     return;
@@ -152,6 +220,8 @@ void AtomicFile::commit() {
   if (::close(fd) != 0) fail_step("close", errno);
   if (::rename(tmp_.c_str(), target_.c_str()) != 0) fail_step("rename over target", errno);
   committed_ = true;
+  unregister_temporary(slot_);
+  slot_ = -1;
   // Persist the rename itself. The data is already safe, so a failure here is not an error.
   const int dfd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dfd >= 0) {

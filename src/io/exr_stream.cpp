@@ -67,7 +67,8 @@ struct ExrStream::Impl {
   AtomicFile out;
   AtomicOStream stream;
   std::unique_ptr<Imf::OutputFile> exr;
-  Impl(const fs::path& f, int w, int h) : file(f), width(w), height(h), out(f), stream(out, f) {}
+  Impl(const fs::path& f, int w, int h)
+      : file(f), width(w), height(h), out(f, AtomicFile::Access::Seeks), stream(out, f) {}
 };
 
 ExrStream::ExrStream(const fs::path& file, int width, int height,

@@ -2,6 +2,8 @@
 // reads by file signature, the sRGB transfer functions and shared helpers.
 #include "io/image_io.h"
 
+#include "math/user_text.h"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -28,11 +30,11 @@ namespace fs = std::filesystem;
 namespace io_detail {
 
 void fail(std::string_view what, const fs::path& file, std::string_view reason) {
-  throw ImageIoError(fmt::format("{} '{}': {}", what, file.string(), reason));
+  throw ImageIoError(fmt::format("{} '{}': {}", what, printable(file.native()), reason));
 }
 
 void fail_read(std::string_view what, const fs::path& file, std::string_view reason) {
-  throw ImageReadError(fmt::format("{} '{}': {}", what, file.string(), reason));
+  throw ImageReadError(fmt::format("{} '{}': {}", what, printable(file.native()), reason));
 }
 
 void check_read_size(const fs::path& file, int64_t width, int64_t height, size_t file_bytes) {
@@ -51,9 +53,11 @@ void check_read_size(const fs::path& file, int64_t width, int64_t height, size_t
 }
 
 std::vector<unsigned char> read_file_bytes(const fs::path& file) {
+  if (has_nul(file.native()))
+    fail_read("cannot read", file, nul_in_path_message(file.native(), false));
   std::vector<unsigned char> bytes;
-  if (const auto failure = read_whole_file(file, &bytes))
-    fail_read("cannot read image", file, std::generic_category().message(failure->error));
+  if (const auto failure = read_whole_file(file, &bytes, kImageInput))
+    fail_read("cannot read image", file, failure->reason);
   return bytes;
 }
 

@@ -73,11 +73,15 @@ std::map<std::string, std::vector<float>> read_exr_channels(const std::filesyste
 // A file written in pieces and made visible all at once: a temporary file beside the target,
 // renamed over it by commit(). Destroyed without commit(), the target is untouched and the
 // temporary removed. A symbolic link as the target is followed; an existing device, FIFO or
-// socket is written directly; temporaries left by killed processes are removed. Throws
-// ImageIoError naming the file.
+// socket, or the file that standard output or error is, is written directly; a read-only file
+// is refused; temporaries left by killed processes are removed. Throws ImageIoError naming the
+// file.
 class AtomicFile {
  public:
-  explicit AtomicFile(const std::filesystem::path& file);
+  // Whether the format seeks back (tell/seek): then a target that cannot seek, a pipe, is fed
+  // from a spool file at commit() instead of as the bytes come.
+  enum class Access { Sequential, Seeks };
+  explicit AtomicFile(const std::filesystem::path& file, Access access = Access::Sequential);
   ~AtomicFile();
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
@@ -90,8 +94,12 @@ class AtomicFile {
   void commit_as(const std::filesystem::path& other);
 
  private:
+  void open_direct(const std::filesystem::path& file, int stream, Access access);
+  void copy_spool();
   std::filesystem::path target_, dir_, tmp_;
-  int fd_ = -1;
+  int fd_ = -1;    // where write() goes: the temporary, the direct target or its spool
+  int sink_ = -1;  // a direct target
+  int slot_ = -1;  // the temporary's registration (io/temporary_files.h)
   bool direct_ = false, committed_ = false;
 };
 

@@ -20,6 +20,12 @@ namespace anamorph::io_detail {
 [[noreturn]] void fail_read(std::string_view what, const std::filesystem::path& file,
                             std::string_view reason);
 
+// The temporary a write of `name` goes through, beside it: ".NAME.tmp-PID-RANDOM" (hex).
+std::string temporary_name(const std::string& name, uint64_t random);
+// Removes, in the folder `dirfd`, temporaries of `name` whose process is no longer running (one
+// killed in the middle of a write).
+void remove_stale_temporaries_at(int dirfd, const std::string& name);
+
 // The whole file; throws ImageIoError naming the file (and strerror) when it cannot be read.
 std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
 

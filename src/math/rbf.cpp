@@ -119,6 +119,10 @@ Rbf<D>::Rbf(std::vector<Point> centers, const std::vector<Vec3>& values, RbfKern
     for (int k = 0; k < m; ++k) A(i, n + k) = A(n + k, i) = k == 0 ? 1.0 : xi[size_t(k - 1)];
     for (int c = 0; c < 3; ++c) rhs(i, c) = values[size_t(i)][c];
   }
+  if (!A.allFinite())
+    throw std::invalid_argument(
+        "the kernel's values overflow (the shape times the largest distance between points is "
+        "too large for this kernel): use a smaller shape");
   // The polynomial part first: under a linear tail the points must span it (its rank is
   // judged on P alone, whose entries are O(1); the whole matrix's pivots, with a large
   // smoothing on the diagonal, would make any relative threshold misjudge it).

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "math/user_text.h"
+
 namespace anamorph {
 
 std::optional<double> toml_number(const toml::node& n) {
@@ -194,6 +196,21 @@ Transform transform_from_toml(const ParamSpec& spec, const toml::node& n, const 
   return tr * rot * s * m;
 }
 
+// A number where an integer key wants one, and toml_integer did not take it: not finite, or
+// whole but beyond the exact integers of a double (an integer too large for TOML's 64 bits, such
+// as Python's 2**70, arrives so). Says that it is out of the key's range, or out of reach; a
+// fraction is left to the caller ("expected an integer").
+template <class Fail>
+void integer_out_of_reach(const toml::node& n, const ParamSpec& spec, const Fail& fail) {
+  const double d = *n.value<double>();
+  if (std::isfinite(d) && d != std::round(d)) return;
+  const std::string e = range_error(d, spec.min, spec.max, spec.min_exclusive, spec.max_exclusive);
+  fail(n, !e.empty() ? e
+                     : fmt::format("value {} is out of range (must be an integer; as a number at "
+                                   "most 9e15 in size, written as an integer up to 2^63 - 1)",
+                                   d));
+}
+
 }  // namespace
 
 ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
@@ -243,6 +260,7 @@ ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
       return num(n);
     case ParamType::Integer: {
       const auto v = toml_integer(n);
+      if (!v && n.is_floating_point()) integer_out_of_reach(n, spec, fail);
       if (!v) fail(n, "expected an integer, got " + toml_type_name(n));
       in_range(n, double(*v));
       return *v;
@@ -261,6 +279,8 @@ ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
                             s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
                             join_choices(spec.choices)));
       }
+      // A NUL would cut the name short where the system reads it: refused, with or without hooks.
+      if (key == "file" && has_nul(v)) fail(n, nul_in_path_message(v));
       if (key == "file" && h.file) return h.file(n, key, v);
       return v;
     }

@@ -82,6 +82,13 @@ struct ParamError : std::runtime_error {
   ParamError(std::string key_, const std::string& msg)
       : std::runtime_error(msg), key(std::move(key_)) {}
   std::string key;
+  // what() without a leading "key: " (some messages name their key, for callers that print only
+  // what()): for callers that print the key themselves, so that it is not named twice.
+  std::string message() const {
+    const std::string_view w = what();
+    const std::string prefix = key + ": ";
+    return std::string(!key.empty() && w.starts_with(prefix) ? w.substr(prefix.size()) : w);
+  }
 };
 
 // Values after parsing and range checks; every spec'd parameter with a default is present.

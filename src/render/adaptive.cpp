@@ -168,7 +168,7 @@ struct AdaptiveGrid::TileRun {
     return int(ws.forced[size_t(y - y0) * (x1 - x0) + (x - x0)]);
   }
   void store(AdaptiveWorkspace::Point& p, const SampleResult& r) const {
-    p.nan = !is_finite(r.L);
+    p.nan = !film_storable(r.L);
     p.L = p.nan ? Color{} : r.L;
     p.alpha = float(r.alpha);
     p.tile = tile;

@@ -1,7 +1,6 @@
 #include "render/checkpoint.h"
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <toml++/toml.h>
 #include <unistd.h>
 
@@ -10,10 +9,12 @@
 #include <map>
 #include <sstream>
 #include <system_error>
+#include <variant>
 
 #include <fmt/format.h>
 
 #include "io/image_io.h"
+#include "io/read_file.h"
 #include "render/checkpoint_records.h"
 
 namespace anamorph {
@@ -196,19 +197,14 @@ auto decoded(RecordReader& rr, Decode&& decode, const std::string& payload) {
 }  // namespace
 
 CheckpointReader::CheckpointReader(const fs::path& file) : file_(file) {
-  // (O_NONBLOCK: a FIFO in its place must not block the open; it is refused below.)
-  fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd_ < 0)
-    throw CheckpointError(
-        fmt::format("cannot read checkpoint '{}': {}", file.string(), sys_error()));
-  struct stat st {};
-  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd_);
-    fd_ = -1;
-    throw CheckpointError(fmt::format("checkpoint '{}' is not a regular file", file.string()));
-  }
+  // (Read record by record, so no size limit; a FIFO or a device is refused: io/read_file.h.)
+  auto opened = open_input(file, InputKind{"a checkpoint", UINT64_MAX});
+  if (const auto* f = std::get_if<ReadFailure>(&opened))
+    throw CheckpointError(fmt::format("cannot read checkpoint '{}': {}", file.string(), f->reason));
+  const uint64_t size = std::get<InputFile>(opened).size();
+  fd_ = std::get<InputFile>(opened).release();
   try {
-    scan(uint64_t(st.st_size));
+    scan(size);
   } catch (...) {
     ::close(fd_);
     fd_ = -1;

@@ -1,10 +1,10 @@
 #include "render/form_factors.h"
 
-#include <Eigen/Dense>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <set>
 #include <stdexcept>
 
 #include "camera/presets.h"
@@ -13,6 +13,7 @@
 #include "math/rng.h"
 #include "render/integrator.h"
 #include "render/lights.h"
+#include "render/radiosity.h"
 #include "render/surface_sampler.h"
 #include "scene/scene_schema.h"
 
@@ -36,17 +37,33 @@ std::string record_name(const Accel::Record& r, uint32_t id) {
   return n.empty() ? "object" + std::to_string(id) : n;
 }
 
-// Unique names: a repeated name gets "#2", "#3", ... in object order.
-std::vector<std::string> object_names(const Accel& accel) {
-  std::vector<std::string> names;
-  std::map<std::string, int> seen;
-  for (uint32_t id = 0; id < accel.object_count(); ++id) {
-    std::string n = record_name(accel.record(id), id);
-    const int k = ++seen[n];
-    names.push_back(k == 1 ? n : n + "#" + std::to_string(k));
+// Unique names, in object order: an object keeps its name unless an earlier one has it; a
+// repeated name gets the lowest "#2", "#3", ... that no object has. The environment column's name
+// counts as taken (an object named so is listed as "environment#2", and a note says so).
+}  // namespace
+
+std::vector<std::string> form_factor_names(const Accel& accel, std::vector<std::string>* notes) {
+  const size_t n = accel.object_count();
+  std::vector<std::string> wanted(n), names(n);
+  std::set<std::string> taken{std::string(kEnvironmentColumn)};
+  for (uint32_t id = 0; id < n; ++id) {
+    wanted[id] = record_name(accel.record(id), id);
+    if (taken.insert(wanted[id]).second) names[id] = wanted[id];
+  }
+  for (size_t id = 0; id < n; ++id) {
+    for (int k = 2; names[id].empty(); ++k)
+      if (const std::string c = wanted[id] + "#" + std::to_string(k); taken.insert(c).second)
+        names[id] = c;
+    if (wanted[id] == kEnvironmentColumn)
+      notes->push_back(fmt::format(
+          "the object named '{}' is listed as '{}': '{}' names the column of rays that hit "
+          "nothing",
+          wanted[id], names[id], kEnvironmentColumn));
   }
   return names;
 }
+
+namespace {
 
 int index_of(const std::vector<std::string>& names, const std::string& n) {
   const auto it = std::find(names.begin(), names.end(), n);
@@ -56,6 +73,13 @@ int index_of(const std::vector<std::string>& names, const std::string& n) {
     throw std::invalid_argument("no object named '" + n + "' (the scene has: " + all + ")");
   }
   return int(it - names.begin());
+}
+
+std::vector<bool> inward_flags(const std::vector<std::string>& names,
+                               const std::vector<std::string>& inward) {
+  std::vector<bool> flags(names.size(), false);
+  for (const auto& name : inward) flags[size_t(index_of(names, name))] = true;
+  return flags;
 }
 
 // The hemispherical camera: the orthographic fisheye over 180 degrees, r = sin(theta), whose
@@ -112,14 +136,18 @@ struct Sums {
 };
 
 // Runs f(point, weight, rng, counts) over a source's origins in fixed chunks, merging per-chunk
-// sums in chunk order: the same bits for any thread count.
+// sums in chunk order: the same bits for any thread count. Weights are divided by the surface's
+// reference weight (the ratio estimates do not change, and squared weights of a tiny or huge
+// object stay within double precision); sums.w * reference / origins is the area.
 template <class PerPoint>
-Sums over_points(const SurfaceSampler& sampler, int origins, size_t cols, uint64_t seed,
+Sums over_points(const MeasurableSurface& surface, int origins, size_t cols, uint64_t seed,
                  uint64_t stream, const std::atomic<bool>* cancel, PerPoint per_point) {
+  const SurfaceSampler& sampler = *surface.sampler;
   constexpr int kChunk = 16;
   const int chunks = (origins + kChunk - 1) / kChunk;
   std::vector<Sums> partial(static_cast<size_t>(chunks), Sums(cols));
   parallel_for_each(0, chunks, [&](int c) {
+    if (cancel && cancel->load(std::memory_order_relaxed)) return;
     std::vector<double> f(cols);
     for (int k = c * kChunk; k < std::min(origins, (c + 1) * kChunk); ++k) {
       if (cancel && cancel->load(std::memory_order_relaxed)) return;
@@ -127,7 +155,7 @@ Sums over_points(const SurfaceSampler& sampler, int origins, size_t cols, uint64
       const SurfacePoint s = sampler.sample((k + rng.uniform()) / origins, rng.uniform());
       std::fill(f.begin(), f.end(), 0.0);
       per_point(s, rng, f);
-      partial[size_t(c)].add(s.weight, f);
+      partial[size_t(c)].add(s.weight / surface.reference, f);
     }
   });
   Sums total(cols);
@@ -139,30 +167,30 @@ Sums over_points(const SurfaceSampler& sampler, int origins, size_t cols, uint64
 
 FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o) {
   FormFactors out;
-  out.names = object_names(accel);
+  out.names = form_factor_names(accel, &out.notes);
   const size_t n = out.names.size(), cols = n + 1;
-  std::vector<bool> inward(n, false);
-  for (const auto& name : o.inward) inward[size_t(index_of(out.names, name))] = true;
+  const std::vector<bool> inward = inward_flags(out.names, o.inward);
   std::vector<int> wanted;
   for (const auto& name : o.sources) wanted.push_back(index_of(out.names, name));
   out.areas.assign(n, 0);
-  std::vector<std::optional<SurfaceSampler>> samplers(n);
+  out.no_row.assign(n, "");
+  std::vector<MeasurableSurface> surfaces(n);
   for (size_t i = 0; i < n; ++i) {
-    try {
-      samplers[i].emplace(accel.record(uint32_t(i)), inward[i]);
-    } catch (const std::invalid_argument& e) {
-      if (std::find(wanted.begin(), wanted.end(), int(i)) != wanted.end())
-        throw std::invalid_argument("'" + out.names[i] + "': " + e.what() +
-                                    ", so it has no row of form factors");
-    }
+    surfaces[i] = measurable_surface(accel.record(uint32_t(i)), inward[i]);
+    if (surfaces[i].sampler) continue;
+    if (std::find(wanted.begin(), wanted.end(), int(i)) != wanted.end())
+      throw std::invalid_argument("'" + out.names[i] +
+                                  "' has no row of form factors: " + surfaces[i].problem);
+    if (o.sources.empty()) out.no_row[i] = surfaces[i].problem;
   }
   if (wanted.empty())
     for (size_t i = 0; i < n; ++i)
-      if (samplers[i]) wanted.push_back(int(i));
+      if (surfaces[i].sampler) wanted.push_back(int(i));
   const Hemisphere hemi(o.rays);
   for (const int i : wanted) {
+    if (o.cancel && o.cancel->load()) break;  // (the caller sees the flag)
     const Sums sums =
-        over_points(*samplers[size_t(i)], o.origins, cols, o.seed, uint64_t(i), o.cancel,
+        over_points(surfaces[size_t(i)], o.origins, cols, o.seed, uint64_t(i), o.cancel,
                     [&](const SurfacePoint& s, Rng& rng, std::vector<double>& f) {
                       const Frame frame = spun_frame(s.n, 2 * kPi * rng.uniform());
                       int valid = 0;
@@ -177,7 +205,7 @@ FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o)
                       for (double& x : f) x /= std::max(valid, 1);
                     });
     out.rows.push_back(i);
-    out.areas[size_t(i)] = sums.w / o.origins;
+    out.areas[size_t(i)] = surfaces[size_t(i)].reference * (sums.w / o.origins);
     std::vector<double> row(cols), err(cols);
     // An entry no ray hit has a spread of zero, but all it shows is F < a few / rays: its error
     // is at least one ray's worth (so reciprocity against a tiny object is judged fairly).
@@ -202,93 +230,22 @@ FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o)
   return out;
 }
 
-namespace {
-
-const Material& object_material(const Scene& scene, const Accel& accel, uint32_t id) {
-  const Accel::Record& r = accel.record(id);
-  uint32_t m = 0;
-  switch (r.kind) {
-    case Accel::Record::Kind::FlatMesh:
-      m = r.mesh->material;
-      break;
-    case Accel::Record::Kind::Instance:
-      m = r.proto->meshes.empty() ? 0 : r.proto->meshes[0].material;
-      break;
-    case Accel::Record::Kind::Shape:
-      m = r.shape->material;
-      break;
-  }
-  return scene.materials[m];
-}
-
-}  // namespace
-
-Color object_reflectance(const Scene& scene, const Accel& accel, uint32_t id) {
-  const Material& m = object_material(scene, accel, id);
-  const Color base = m.base_color.value;
-  return m.model == Material::Model::Whitted ? base * m.diffuse : base * (1 - m.metallic);
-}
-
-Color object_emission(const Scene& scene, const Accel& accel, uint32_t id) {
-  const Material& m = object_material(scene, accel, id);
-  return m.emission.value * (m.emission_strength * kPi);
-}
-
-std::vector<Color> solve_radiosity(const Scene& scene, const Accel& accel, const FormFactors& f) {
-  const int n = int(f.rows.size());
-  if (size_t(n) != f.names.size())
-    throw std::invalid_argument(
-        "radiosity needs a row of form factors for every object (all with finite area)");
-  // Each pair's exchange A_i F_ij = A_j F_ji is measured twice, from either side, usually with
-  // very different errors (a small lamp's row measures its exchange with a big room far more
-  // precisely than the room's row does): combine the two by inverse variance and use that.
-  std::vector<std::vector<double>> F(static_cast<size_t>(n),
-                                     std::vector<double>(static_cast<size_t>(n)));
-  for (int a = 0; a < n; ++a)
-    for (int j = 0; j < n; ++j) F[size_t(f.rows[size_t(a)])][size_t(j)] = f.F[size_t(a)][size_t(j)];
-  std::vector<int> row_of(static_cast<size_t>(n));
-  for (int a = 0; a < n; ++a) row_of[size_t(f.rows[size_t(a)])] = a;
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) {
-      const double Ai = f.areas[size_t(i)], Aj = f.areas[size_t(j)];
-      const auto& ri = f.error[size_t(row_of[size_t(i)])];
-      const auto& rj = f.error[size_t(row_of[size_t(j)])];
-      const double si = Ai * ri[size_t(j)], sj = Aj * rj[size_t(i)];
-      const double wi = 1 / (si * si), wj = 1 / (sj * sj);
-      const double g =
-          (wi * Ai * F[size_t(i)][size_t(j)] + wj * Aj * F[size_t(j)][size_t(i)]) / (wi + wj);
-      F[size_t(i)][size_t(j)] = g / Ai, F[size_t(j)][size_t(i)] = g / Aj;
-    }
-  std::vector<Color> B(static_cast<size_t>(n));
-  for (int c = 0; c < 3; ++c) {
-    Eigen::MatrixXd A = Eigen::MatrixXd::Identity(n, n);
-    Eigen::VectorXd E(n);
-    for (int i = 0; i < n; ++i) {
-      const double rho = object_reflectance(scene, accel, uint32_t(i))[c];
-      E(i) = object_emission(scene, accel, uint32_t(i))[c];
-      for (int j = 0; j < n; ++j) A(i, j) -= rho * F[size_t(i)][size_t(j)];
-    }
-    const Eigen::VectorXd x = A.partialPivLu().solve(E);
-    for (int i = 0; i < n; ++i) B[size_t(i)][c] = x(i);
-  }
-  return B;
-}
-
 PathRadiance path_traced_radiance(const Scene& scene, const Accel& accel, const FormFactors& f,
                                   const FormFactorOptions& o, int max_depth) {
   const Lights lights(scene, accel);
   const RenderContext ctx{scene, accel, lights, max_depth, 0, o.cancel};
   const auto path = make_integrator(IntegratorKind::Path, ctx);
   const Hemisphere hemi(o.rays);
-  std::vector<bool> inward(f.names.size(), false);
-  for (const auto& name : o.inward) inward[size_t(index_of(f.names, name))] = true;
+  const std::vector<bool> inward = inward_flags(f.names, o.inward);
   PathRadiance out;
   for (const int i : f.rows) {
-    const SurfaceSampler sampler(accel.record(uint32_t(i)), inward[size_t(i)]);
+    if (o.cancel && o.cancel->load()) break;  // (the caller sees the flag)
+    const MeasurableSurface surface =
+        measurable_surface(accel.record(uint32_t(i)), inward[size_t(i)]);
     const Color rho = object_reflectance(scene, accel, uint32_t(i));
     const Color le = object_emission(scene, accel, uint32_t(i)) / kPi;
     const Sums sums =
-        over_points(sampler, o.origins, 3, o.seed + 1, uint64_t(i), o.cancel,
+        over_points(surface, o.origins, 3, o.seed + 1, uint64_t(i), o.cancel,
                     [&](const SurfacePoint& s, Rng& rng, std::vector<double>& f3) {
                       const Frame frame = spun_frame(s.n, 2 * kPi * rng.uniform());
                       Color in;

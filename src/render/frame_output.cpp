@@ -80,6 +80,7 @@ void FrameOutput::copy_into(Strip& s, const ResolvedTile& t, const TileRect& r) 
     if (png_) std::memcpy(&s.rgba8[dst * 4], &t.rgba8[src * 4], tw * 4);
     if (!exr_) continue;
     std::memcpy(&s.rgba[dst * 4], &t.rgba[src * 4], tw * 4 * sizeof(float));
+    if (aov_floats_ == 0) continue;  // (t.aov is empty: no element to point at)
     for (size_t x = 0; x < tw; ++x) {
       const float* v = &t.aov[(src + x) * aov_floats_];
       for (size_t l = 0; l < spec_.aovs.size(); ++l) {

@@ -247,16 +247,16 @@ bool Lights::sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
       const Vec3 dc = e.p0 - p;
       const double dc2 = dot(dc, dc);
       if (dc2 <= e.radius * e.radius) return false;  // inside the light
-      const double sin2 = e.radius * e.radius / dc2;
-      const double cos_max = std::sqrt(std::max(0.0, 1 - sin2));
+      const double cone = sphere_cone_one_minus_cos(e.radius * e.radius, dc2);
+      if (!(cone > 0)) return false;  // it subtends no solid angle in double precision
       const Frame f = Frame::from_normal(dc / std::sqrt(dc2));
-      const Vec3 w = f.to_world(sample_uniform_cone(u, cos_max));
+      const Vec3 w = f.to_world(sample_uniform_cone(u, cone));
       // Distance to the sphere along w.
       const double b = dot(dc, w);
       const double disc = b * b - (dc2 - e.radius * e.radius);
       out->dist = b - std::sqrt(std::max(0.0, disc));
       out->wi = w;
-      out->pdf = uniform_cone_pdf(cos_max);
+      out->pdf = uniform_cone_pdf(cone);
       out->L = e.L;
       out->delta = false;
       return true;
@@ -304,8 +304,8 @@ double Lights::pdf_emitter(const Hit& h, const Vec3& from, const Vec3& wi) const
   }
   const double dc2 = length_squared(e.p0 - from);
   if (dc2 <= e.radius * e.radius) return 0;
-  const double cos_max = std::sqrt(std::max(0.0, 1 - e.radius * e.radius / dc2));
-  return pick * uniform_cone_pdf(cos_max);
+  const double cone = sphere_cone_one_minus_cos(e.radius * e.radius, dc2);
+  return cone > 0 ? pick * uniform_cone_pdf(cone) : 0.0;
 }
 
 }  // namespace anamorph

@@ -86,6 +86,13 @@ MemoryNeed estimate_render_memory(const Scene& scene, const RenderShape& r) {
   return need;
 }
 
+std::optional<std::string> memory_shortfall(const MemoryNeed& need, const std::string& what) {
+  const uint64_t available = available_memory();
+  if (available == 0 || need.total() <= available) return std::nullopt;
+  return fmt::format("{} about {} ({}), but {} is available", what, format_bytes(need.total()),
+                     need.describe(), format_bytes(available));
+}
+
 uint64_t available_memory() {
   uint64_t avail = proc_kb("/proc/meminfo", "MemAvailable");
   // An address-space limit counts what is mapped, not what is touched.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +30,13 @@ struct MemoryNeed {
 };
 
 MemoryNeed estimate_render_memory(const Scene& scene, const RenderShape& shape);
+
+// The check every front end makes before a render allocates (the CLI's render, Python's
+// Scene.render): none when `need` fits in available_memory() (or that is unknown), else "this
+// render needs about 128.0 GiB (film ... 128.0 GiB, ...), but 3.1 GiB is available". `what`
+// names the work with its verb ("this render needs", "these rays need").
+std::optional<std::string> memory_shortfall(const MemoryNeed& need,
+                                            const std::string& what = "this render needs");
 
 // Bytes this process can still allocate without swapping: MemAvailable, lowered by an address-
 // space or data limit (ulimit -v/-d) if one is set. 0 when unknown.

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -21,6 +23,14 @@ struct SampleResult {
   double alpha = 0;  // 0: no ray
   AovSample aov;
 };
+
+// Whether a sample's radiance can enter the film: finite, and within single precision (the film's
+// sums are floats: beyond 3.4e38 it would be stored as inf). Other samples are dropped and
+// counted as NaN/Inf samples, with the first one's pixel.
+inline bool film_storable(const Color& L) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  return std::abs(L.x) <= kMax && std::abs(L.y) <= kMax && std::abs(L.z) <= kMax;
+}
 
 // What a render's beauty shows: radiance, or one AOV (the AOV integrators).
 enum class RenderMode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };

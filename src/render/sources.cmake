@@ -6,6 +6,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/form_factors.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/radiosity.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_output.cpp
   ${CMAKE_CURRENT_LIST_DIR}/memory_estimate.cpp
   ${CMAKE_CURRENT_LIST_DIR}/surface_sampler.cpp

@@ -17,8 +17,12 @@ Vec3 axis_vector(int axis, double s) {
 }  // namespace
 
 SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(inward) {
+  bool underflow = false;  // an analytic part of positive size whose area is 0 in double
   const auto add = [&](const Piece& p, double area) {
-    if (!(area > 0)) return;
+    if (!(area > 0)) {
+      underflow |= p.part != Part::Triangle;
+      return;
+    }
     pieces_.push_back(p);
     total_ += area;
     cdf_.push_back(total_);
@@ -79,7 +83,13 @@ SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(in
       break;
     }
   }
-  if (!(total_ > 0)) throw std::invalid_argument("the object has no surface area");
+  if (!(total_ > 0))
+    throw std::invalid_argument(underflow
+                                    ? "its surface area underflows to 0 (too small for double "
+                                      "precision)"
+                                    : "it has no surface area");
+  if (!std::isfinite(total_))
+    throw std::invalid_argument("its surface area overflows (too large for double precision)");
   if (!identity_) {
     const Vec3 x = world_from_object_.vector({1, 0, 0}), y = world_from_object_.vector({0, 1, 0}),
                z = world_from_object_.vector({0, 0, 1});
@@ -130,6 +140,26 @@ SurfacePoint SurfaceSampler::sample(double u1, double u2) const {
   if (inward_) s.n = -s.n;
   s.weight = total_ * scale;
   return s;
+}
+
+MeasurableSurface measurable_surface(const Accel::Record& r, bool inward) {
+  MeasurableSurface m;
+  try {
+    m.sampler.emplace(r, inward);
+  } catch (const std::invalid_argument& e) {
+    m.problem = e.what();
+    return m;
+  }
+  m.reference = m.sampler->sample(0.5, 0.5).weight;
+  if (!std::isnormal(m.reference)) {
+    m.problem = m.reference > 1
+                    ? "its transform makes its surface area overflow (too large for double "
+                      "precision)"
+                    : "its transform makes its surface area underflow (too small for double "
+                      "precision)";
+    m.sampler.reset();
+  }
+  return m;
 }
 
 }  // namespace anamorph

@@ -2,6 +2,8 @@
 // top-level geometry (an analytic shape, a mesh, an instance of a prototype) in world space.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "accel/accel.h"
@@ -16,7 +18,8 @@ struct SurfacePoint {
 class SurfaceSampler {
  public:
   // `inward` turns every normal around (an enclosure seen from inside). Throws
-  // std::invalid_argument for a surface without finite area (an infinite plane).
+  // std::invalid_argument saying why a surface has no finite area (an infinite plane; an area
+  // that underflows or overflows double precision).
   SurfaceSampler(const Accel::Record& r, bool inward);
 
   // The point at random numbers (u1, u2) in [0, 1)^2: u1 chooses where along the surface's
@@ -40,5 +43,17 @@ class SurfaceSampler {
   Transform world_from_object_;
   bool identity_ = true, inward_ = false;
 };
+
+// Object r's surface for form factors, or why it has none: an infinite plane, an area that
+// underflows or overflows double precision in object space or, under its transform, in the
+// world. `reference` is the weight of the point at (0.5, 0.5) (a normal, finite number): form
+// factors divide weights by it, so that sums of squared weights stay within double precision
+// for areas of any size.
+struct MeasurableSurface {
+  std::optional<SurfaceSampler> sampler;
+  double reference = 0;
+  std::string problem;  // empty when `sampler` is set
+};
+MeasurableSurface measurable_surface(const Accel::Record& r, bool inward);
 
 }  // namespace anamorph

@@ -102,7 +102,7 @@ void TileSampler::trace(Packet& p, uint32_t s, double footprint, TileBuffer& til
     job_.finish(
         Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
         p.found[k] ? &p.hits[k] : nullptr, p.rng[k], st.rays, res, footprint);
-    if (!is_finite(res.L)) {
+    if (!film_storable(res.L)) {
       st.nan(p.x[k], p.y[k], int(s));  // dropped
       continue;
     }

@@ -148,4 +148,36 @@ toml::table value_node(const AnimatedKey& a, double f) {
   return t;
 }
 
+namespace {
+
+// A dotted key as errors name it ("object[0].radius") in the form keys are set ("object.0.radius").
+std::string dotted(std::string key) {
+  for (char& c : key)
+    if (c == '[' || c == ']') c = c == '[' ? '.' : '\0';
+  std::erase(key, '\0');
+  return key;
+}
+
+// Whether setting key `set` set (or replaced) the value of key `at`, or of a table around it.
+bool sets(const std::string& set, const std::string& at) {
+  return at == set || at.starts_with(set + ".");
+}
+
+}  // namespace
+
+SceneError at_animate_entry(const SceneError& e, const std::vector<AnimatedKey>& animation,
+                            const std::vector<std::string>& overrides, double frame) {
+  if (!e.loc.file.empty() || e.key.empty()) return e;
+  const std::string at = dotted(e.key);
+  for (const std::string& o : overrides)
+    if (sets(o.substr(0, o.find('=')), at)) return e;  // (--set wins over [[animate]])
+  // The last entry for the key wins, as it was set last.
+  for (auto a = animation.rbegin(); a != animation.rend(); ++a)
+    if (sets(a->key, at))
+      return SceneError(
+          a->loc, e.key,
+          fmt::format("{} (at frame {}, the value of this [[animate]] entry)", e.message, frame));
+  return e;
+}
+
 }  // namespace anamorph

@@ -34,4 +34,10 @@ std::vector<double> evaluate(const AnimatedKey& a, double f);
 // the key's value exactly as written.
 toml::table value_node(const AnimatedKey& a, double f);
 
+// An error about a value that an entry of `animation` gave its key at `frame` (such a value has
+// no place in a file, and would be reported as "--set"), unless a --set in `overrides` replaced
+// it: the same error at the entry's `key`, naming the frame. Other errors come back unchanged.
+SceneError at_animate_entry(const SceneError& e, const std::vector<AnimatedKey>& animation,
+                            const std::vector<std::string>& overrides, double frame);
+
 }  // namespace anamorph

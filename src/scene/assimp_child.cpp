@@ -2,22 +2,56 @@
 // comment; the parent reads the dump back without any.
 #include "scene/assimp_child.h"
 
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 #include <assimp/Exporter.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
 
 #include <cstdint>
 #include <cstring>
 #include <new>
+#include <string_view>
+#include <variant>
 
+#include "io/read_file.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
 
+namespace {
+
+// assimp opens the model and the files it names (an OBJ's material library, a glTF 1 buffer)
+// through this: each read whole by io/read_file.h, so a FIFO, a device or a directory is refused
+// at once and nothing is larger than a model may be (assimp's own reader would read /dev/zero
+// until its memory limit, or wait on a FIFO until its clock ran out), and the editor's confinement
+// applies (the loader program installs it).
+class InputIOSystem : public Assimp::IOSystem {
+ public:
+  bool Exists(const char* file) const override {
+    const auto opened = open_input(file, kModelInput);
+    const auto* failure = std::get_if<ReadFailure>(&opened);
+    return !failure || failure->error != ENOENT;
+  }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (std::string_view(mode).find_first_of("wa+") != std::string_view::npos) return nullptr;
+    std::vector<unsigned char> bytes;
+    if (read_whole_file(file, &bytes, kModelInput)) return nullptr;
+    auto* copy = new uint8_t[bytes.size() + 1];
+    std::memcpy(copy, bytes.data(), bytes.size());
+    return new Assimp::MemoryIOStream(copy, bytes.size(), true);
+  }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+};
+
+}  // namespace
+
 std::vector<unsigned char> assimp_answer(const std::filesystem::path& file) {
   Assimp::Importer importer;
+  importer.SetIOHandler(new InputIOSystem);  // (the importer owns it)
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                          aiProcess_SortByPType | aiProcess_ValidateDataStructure;
   const aiScene* scene = importer.ReadFile(file.string(), flags);

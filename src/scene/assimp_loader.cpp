@@ -32,7 +32,6 @@
 // its own and placed by one instance per reference.
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <optional>
 
@@ -42,6 +41,9 @@
 
 #include <fmt/format.h>
 
+#include "io/confined_folder.h"
+#include "io/read_file.h"
+#include "io/read_log.h"
 #include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/load_common.h"
@@ -289,6 +291,7 @@ class AssimpBuilder {
     fs::path file = portable;
     if (file.is_relative()) file = dir_ / file;
     std::string error;
+    const ReadRole role("an image that " + file_ + " uses");
     auto image = images_.get(file, srgb, &error);
     if (!image) {
       warnings_.add(
@@ -326,21 +329,27 @@ namespace {
 
 // assimp's answer for `file`, from the loader program, a forked child when there is no program,
 // or this process when isolation is off (scene/isolated.h).
+// The model's own files (an OBJ's materials) are read by assimp, in the child: confined to the
+// folder this thread's reads are confined to (io/read_file.h), or not at all when the model itself
+// is not.
 std::vector<unsigned char> read_isolated(const fs::path& file, const IsolationLimits& limits) {
-  if (!loaders_isolated()) return assimp_answer(file);
+  const ConfinedFolder* folder = confining_folder(file);
+  const auto answer = [&] {
+    const ScopedReadConfinement confined({folder, nullptr, nullptr});
+    return assimp_answer(file);
+  };
+  if (!loaders_isolated()) return answer();
   const std::string helper = loader_helper();
-  if (helper.empty())
-    return run_isolated(
-        "assimp", [&] { return assimp_answer(file); }, limits);
-  return run_helper("assimp", helper, {"assimp", file.string()}, limits);
+  if (helper.empty()) return run_isolated("assimp", answer, limits);
+  std::vector<std::string> args = {"assimp", file.string()};
+  if (folder) args.insert(args.end(), {"--beneath", folder->path().string()});
+  return run_helper("assimp", helper, args, limits, folder ? folder->fd() : -1);
 }
 
 // Text formats end with a line break; one that ends inside a line was most likely cut short.
 bool ends_with_newline(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in || in.tellg() <= 0) return true;
-  in.seekg(-1, std::ios::end);
-  return in.get() == '\n';
+  const std::string last = read_file_part(file, kModelInput, 1, 1, true);
+  return last.empty() || last[0] == '\n';
 }
 
 // Splits the child's answer into the assbin dump and the mesh names.
@@ -363,12 +372,10 @@ std::vector<std::string> split_mesh_names(std::vector<unsigned char>& answer) {
 }  // namespace
 
 LoadedModel load_with_assimp(const fs::path& file) {
-  require_readable(file);
-  std::error_code ec;
-  const uintmax_t size = fs::file_size(file, ec);
+  const uint64_t size = require_readable(file, kModelInput);
   try {
     if (lowercase_extension(file) == ".ply") check_ply_counts(file);
-    std::vector<unsigned char> answer = read_isolated(file, loader_limits(ec ? 0 : size));
+    std::vector<unsigned char> answer = read_isolated(file, loader_limits(size));
     std::vector<std::string> mesh_names = split_mesh_names(answer);
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFileFromMemory(answer.data(), answer.size(), 0, "assbin");

@@ -23,7 +23,7 @@ auto create_checked(const TableReader& r, const Info& info, const ParamValues& v
   try {
     return info.create(v);
   } catch (const ParamError& e) {
-    r.fail(e.key, e.what());
+    r.fail(e.key, e.message());
   }
 }
 
@@ -62,7 +62,7 @@ std::vector<Coin> read_coins(const TableReader& cam) {
     try {
       coins.push_back(coin_from_params(v));
     } catch (const ParamError& e) {
-      r.fail(e.key, e.what());
+      r.fail(e.key, e.message());
     }
   }
   return coins;
@@ -139,7 +139,7 @@ VirtualCameraParts read_preset(const TableReader& r, ImageInfo img, bool preset_
   try {
     return info.create(v, img);
   } catch (const ParamError& e) {
-    r.fail(e.key, e.what());
+    r.fail(e.key, e.message());
   }
 }
 

@@ -31,12 +31,16 @@
 #include <optional>
 #include <string_view>
 #include <tuple>
+#include <variant>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "io/image_io.h"
 #include "io/json_nesting.h"
+
+#include "io/read_file.h"
+#include "io/read_log.h"
 #include "scene/load_common.h"
 #include "scene/load_gltf_accessor.h"
 #include "scene/load_mesh_repair.h"
@@ -572,6 +576,7 @@ class GltfBuilder {
       // A missing or unreadable image file is a warning, not an error: the material's
       // factor still renders, and models often travel without some of their textures.
       const fs::path path = dir_ / percent_decode(gi.uri);
+      const ReadRole role("an image that " + file_ + " uses");
       try {
         img = read_image(path, srgb);
       } catch (const std::exception& e) {
@@ -694,14 +699,42 @@ std::string_view gltf_json(const std::vector<unsigned char>& bytes, bool binary)
   return {text + 20, std::min<size_t>(length, bytes.size() - 20)};
 }
 
+// tinygltf reads a model's external buffers through these: io/read_file.h's reader (a FIFO, a
+// device or a directory refused at once, the size bounded, the editor's confinement applied)
+// instead of tinygltf's std::ifstream, and no shell-style expansion of the name (tinygltf's
+// default runs wordexp(3) on it).
+// (a file that is there but cannot be read "exists": reading it then says why)
+bool gltf_file_exists(const std::string& file, void*) {
+  const auto opened = open_input(file, kModelInput);
+  const auto* failure = std::get_if<ReadFailure>(&opened);
+  return !failure || failure->error != ENOENT;
+}
+std::string gltf_expand_path(const std::string& file, void*) { return file; }
+bool gltf_read_file(std::vector<unsigned char>* out, std::string* err, const std::string& file,
+                    void*) {
+  if (const auto failure = read_whole_file(file, out, kModelInput)) {
+    if (err) *err += describe(*failure, file) + "\n";
+    return false;
+  }
+  return true;
+}
+bool gltf_no_writes(std::string* err, const std::string&, const std::vector<unsigned char>&,
+                    void*) {
+  if (err) *err += "the glTF loader writes no files\n";
+  return false;
+}
+const tinygltf::FsCallbacks kGltfFiles{&gltf_file_exists, &gltf_expand_path, &gltf_read_file,
+                                       &gltf_no_writes, nullptr};
+
 }  // namespace
 
 LoadedModel load_gltf(const fs::path& file) {
-  const std::vector<unsigned char> bytes = read_file_bytes(file);
+  const std::vector<unsigned char> bytes = read_file_bytes(file, kModelInput);
   if (bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file.string() + ": file too large for the glTF parser");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&decode_embedded_image, nullptr);
+  loader.SetFsCallbacks(kGltfFiles);
   tinygltf::Model model;
   std::string err, warn;
   const std::string base_dir = file.parent_path().string();
@@ -712,6 +745,8 @@ LoadedModel load_gltf(const fs::path& file) {
     throw LoadError(file.string() + ": its JSON is " + e);
   bool ok = false;
   try {
+    // (Files tinygltf opens itself are logged below with their roles, not as it reads them.)
+    const ReadLogScope unlogged(nullptr);
     ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
                                               unsigned(bytes.size()), base_dir)
                 : loader.LoadASCIIFromString(&model, &err, &warn,
@@ -723,6 +758,13 @@ LoadedModel load_gltf(const fs::path& file) {
   }
   if (!ok)
     throw LoadError(file.string() + ": " + (err.empty() ? "not a valid glTF file" : trim(err)));
+  {
+    // tinygltf read the external buffers itself.
+    const ReadRole role("a buffer of " + file.string());
+    for (const tinygltf::Buffer& b : model.buffers)
+      if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0)
+        note_read(file.parent_path() / percent_decode(b.uri));
+  }
   if (model.asset.version.empty() || model.asset.version[0] != '2')
     throw LoadError(file.string() + ": glTF version '" + model.asset.version +
                     "' is not supported (2.x only)");

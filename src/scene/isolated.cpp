@@ -227,11 +227,12 @@ bool executable(const std::string& path) { return access(path.c_str(), X_OK) == 
 struct SpawnSetup {
   posix_spawn_file_actions_t actions;
   posix_spawnattr_t attr;
-  explicit SpawnSetup(int answer_fd) {
+  SpawnSetup(int answer_fd, int folder_fd) {
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_adddup2(&actions, answer_fd, kHelperAnswerFd);
+    if (folder_fd >= 0) posix_spawn_file_actions_adddup2(&actions, folder_fd, kHelperFolderFd);
     posix_spawnattr_init(&attr);
     sigset_t none, all;
     sigemptyset(&none);
@@ -291,12 +292,12 @@ std::string loader_helper() {
 
 std::vector<unsigned char> run_helper(const std::string& what, const std::string& helper,
                                       const std::vector<std::string>& args,
-                                      const IsolationLimits& limits) {
+                                      const IsolationLimits& limits, int folder_fd) {
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0)
     throw LoadError(fmt::format("cannot create a pipe for {}: {}", what, std::strerror(errno)));
-  // Above the descriptor the helper receives it on, so dup2 always copies (and clears CLOEXEC).
-  const int answer_fd = fcntl(fds[1], F_DUPFD_CLOEXEC, kHelperAnswerFd + 1);
+  // Above the descriptors the helper receives, so dup2 always copies (and clears CLOEXEC).
+  const int answer_fd = fcntl(fds[1], F_DUPFD_CLOEXEC, kHelperFolderFd + 1);
   close(fds[1]);
   if (answer_fd < 0) {
     close(fds[0]);
@@ -312,8 +313,11 @@ std::vector<unsigned char> run_helper(const std::string& what, const std::string
   pid_t pid = 0;
   int err = 0;
   {
-    const SpawnSetup setup(answer_fd);
+    // (the folder's descriptor likewise, if it sits where the answer goes)
+    const int folder = folder_fd >= 0 ? fcntl(folder_fd, F_DUPFD_CLOEXEC, kHelperFolderFd + 1) : -1;
+    const SpawnSetup setup(answer_fd, folder);
     err = posix_spawn(&pid, helper.c_str(), &setup.actions, &setup.attr, argv.data(), environ);
+    if (folder >= 0) close(folder);
   }
   close(answer_fd);
   if (err != 0) {

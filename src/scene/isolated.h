@@ -54,10 +54,12 @@ std::vector<unsigned char> run_isolated(const std::string& what,
 std::string loader_helper();
 
 // Like run_isolated, but the work is done by `helper args...` started as a new program, which
-// answers through serve_isolated. Same errors and limits.
+// answers through serve_isolated. Same errors and limits. `folder_fd`, when not -1, is given to
+// the program as descriptor kHelperFolderFd (a ConfinedFolder's, io/confined_folder.h).
+inline constexpr int kHelperFolderFd = 4;
 std::vector<unsigned char> run_helper(const std::string& what, const std::string& helper,
                                       const std::vector<std::string>& args,
-                                      const IsolationLimits& limits);
+                                      const IsolationLimits& limits, int folder_fd = -1);
 
 // The helper's side of run_helper. parse_helper_args reads what run_helper passed (false when
 // argv is not such a call); serve_isolated applies the limits, runs work, answers and exits.

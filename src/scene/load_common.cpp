@@ -1,41 +1,60 @@
 #include "scene/load_common.h"
 
+#include <unistd.h>
+
 #include <cctype>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 
 #include <fmt/format.h>
 
 #include "io/image_io.h"
 #include "io/read_file.h"
+#include "math/user_text.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
 
 namespace fs = std::filesystem;
 
-void require_readable(const fs::path& file) {
-  std::error_code ec;
-  if (fs::is_directory(file, ec))
-    throw LoadError("cannot open " + file.string() + ": is a directory");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw LoadError("cannot open " + file.string() + ": " + std::strerror(errno));
+uint64_t require_readable(const fs::path& file, const InputKind& kind) {
+  auto opened = open_input(file, kind);
+  if (const auto* f = std::get_if<ReadFailure>(&opened)) throw LoadError(describe(*f, file));
+  return std::get<InputFile>(opened).size();
 }
 
-std::vector<unsigned char> read_file_bytes(const fs::path& file) {
-  require_readable(file);
+std::vector<unsigned char> read_file_bytes(const fs::path& file, const InputKind& kind) {
+  if (has_nul(file.native())) throw LoadError(nul_in_path_message(file.native()));
   std::vector<unsigned char> bytes;
-  if (const auto failure = read_whole_file(file, &bytes))
-    throw LoadError(fmt::format("cannot {} {}: {}", failure->step, file.string(),
-                                std::strerror(failure->error)));
+  if (const auto failure = read_whole_file(file, &bytes, kind))
+    throw LoadError(describe(*failure, file));
   return bytes;
 }
 
 std::string read_text_file(const fs::path& file) {
-  const std::vector<unsigned char> bytes = read_file_bytes(file);
+  const std::vector<unsigned char> bytes = read_file_bytes(file, kSceneInput);
   return std::string(bytes.begin(), bytes.end());
+}
+
+std::string read_file_part(const fs::path& file, const InputKind& kind, uint64_t offset, size_t max,
+                           bool from_end) {
+  auto opened = open_input(file, kind);
+  if (const auto* f = std::get_if<ReadFailure>(&opened)) throw LoadError(describe(*f, file));
+  const InputFile& in = std::get<InputFile>(opened);
+  if (from_end) offset = in.size() > offset ? in.size() - offset : 0;
+  std::string out(max, '\0');
+  size_t got = 0;
+  while (got < max) {
+    const ssize_t n = ::pread(in.fd(), out.data() + got, max - got, off_t(offset + got));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0)
+      throw LoadError(fmt::format("cannot read {}: {}", file.string(), std::strerror(errno)));
+    if (n == 0) break;
+    got += size_t(n);
+  }
+  out.resize(got);
+  return out;
 }
 
 std::string lowercase_extension(const fs::path& file) {

@@ -10,16 +10,23 @@
 #include <utility>
 #include <vector>
 
+#include "io/read_file.h"
 #include "scene/texture.h"
 
 namespace anamorph {
 
-// Throws LoadError "cannot open <path>: <reason>" (reason from the OS, e.g. "No such file or
-// directory") unless `file` is a readable regular file.
-void require_readable(const std::filesystem::path& file);
-// The whole file; same error as require_readable.
-std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file);
+// Throws LoadError "cannot open <path>: <reason>" (from the OS, e.g. "No such file or directory",
+// or io/read_file.h's: "is a FIFO, not a regular file") unless `file` is a readable regular file
+// no larger than `kind` allows; returns its size.
+uint64_t require_readable(const std::filesystem::path& file, const InputKind& kind);
+// The whole file; same errors as require_readable.
+std::vector<unsigned char> read_file_bytes(const std::filesystem::path& file,
+                                           const InputKind& kind);
+// A scene file's text (kSceneInput).
 std::string read_text_file(const std::filesystem::path& file);
+// Up to `max` bytes of `file` from `offset` (from the end when `from_end`); same errors.
+std::string read_file_part(const std::filesystem::path& file, const InputKind& kind,
+                           uint64_t offset, size_t max, bool from_end = false);
 // ".GLB" -> ".glb".
 std::string lowercase_extension(const std::filesystem::path& file);
 

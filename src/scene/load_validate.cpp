@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <sstream>
 
+#include "scene/load_common.h"
 #include "scene/loaders.h"
 
 namespace anamorph {
@@ -24,11 +24,11 @@ uint64_t min_value_bytes(const std::string& type, bool ascii) {
 }  // namespace
 
 void check_ply_counts(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::error_code ec;
-  const uint64_t size = std::filesystem::file_size(file, ec);
+  const uint64_t size = require_readable(file, kModelInput);
+  // The header: at most 10,000 lines, read from the first megabytes.
+  std::istringstream in(read_file_part(file, kModelInput, 0, size_t(4) << 20));
   std::string line;
-  if (!in || ec || !std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // not PLY
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // not PLY
   bool ascii = true;
   // Every element's count times its smallest encoding must fit in the file: a 200-byte file
   // that declares two billion vertices is rejected before anything is allocated for them.

@@ -3,6 +3,8 @@
 #include "camera/org_mesh.h"
 #include "camera/table_functions.h"
 #include "io/image_io.h"
+#include "io/read_log.h"
+#include "math/user_text.h"
 #include "scene/load_common.h"
 
 namespace anamorph {
@@ -13,6 +15,7 @@ namespace {
 // loaders and cannot call them itself.
 void read_mesh_file(const std::string& file, std::vector<Prototype>* prototypes,
                     std::vector<Instance>* instances) {
+  const ReadRole role("the camera's origin mesh");
   LoadedModel m = load_model(file);
   *prototypes = std::move(m.prototypes);
   *instances = std::move(m.instances);
@@ -23,6 +26,7 @@ void read_mesh_file(const std::string& file, std::vector<Prototype>* prototypes,
 // double to ~1e-15 (EXR has no 64-bit floats); validity is valid.V when present.
 RayTableData read_ray_table(const std::string& file, const std::string& layer) {
   RayTableData d;
+  const ReadRole role("a ray table");
   const auto ch = read_exr_channels(file, &d.width, &d.height);
   const auto plane = [&](const std::string& name) -> const std::vector<float>* {
     const auto it = ch.find(name);
@@ -57,6 +61,8 @@ RayTableData read_ray_table(const std::string& file, const std::string& layer) {
 }  // namespace
 
 LoadedModel load_model(const std::filesystem::path& file) {
+  // (The assimp child gets the name through argv, where a NUL would end it.)
+  if (has_nul(file.native())) throw LoadError(nul_in_path_message(file.native()));
   const std::string ext = lowercase_extension(file);
   if (ext == ".gltf" || ext == ".glb") return load_gltf(file);
   return load_with_assimp(file);

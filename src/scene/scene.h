@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "camera/virtual_camera.h"
+#include "io/read_log.h"
 #include "model/mesh.h"
 #include "scene/light.h"
 #include "scene/loaders.h"
@@ -77,6 +78,9 @@ struct Scene {
   std::vector<std::string> animated;       // keys with [[animate]] entries
   double first_key = 0, last_key = 0;      // frame range covered by the keys
   std::vector<ModelCamera> model_cameras;  // cameras found in loaded models (`gltf_camera`)
+  // Every file the load read (scene, includes, textures, models and their buffers, ray tables),
+  // with its role: no output of the run may overwrite one (app/output_guard.h).
+  std::vector<FileRead> inputs;
 
   size_t triangle_count() const;  // unique (prototype) triangles
   size_t instanced_triangle_count() const;

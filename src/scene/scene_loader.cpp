@@ -10,6 +10,7 @@
 #include "io/image_io.h"
 #include "math/frame.h"
 #include "math/input_limits.h"
+#include "math/user_text.h"
 #include "params/toml_parse.h"
 #include "scene/animation.h"
 #include "scene/camera_reader.h"
@@ -123,8 +124,10 @@ toml::table merge_includes(toml::table t, const fs::path& file, int depth, int* 
   }
   toml::table merged;
   for (const auto& f : files) {
+    if (has_nul(f)) r.fail("include", nul_in_path_message(f));
     const fs::path p = file.parent_path() / f;
     if (!fs::exists(p)) r.fail("include", fmt::format("included file not found: {}", p.string()));
+    const ReadRole role("a file the scene includes");
     toml::table inc_table = load_with_includes(p, depth + 1, files_read);
     anchor_paths(inc_table, p.parent_path());
     merge_into(merged, std::move(inc_table));
@@ -146,6 +149,7 @@ toml::table load_with_includes(const fs::path& file, int depth, int* files_read)
 }
 
 toml::table load_with_includes(const fs::path& file) {
+  const ReadRole role("the scene file");
   int files_read = 0;
   return load_with_includes(file, 0, &files_read);
 }
@@ -164,6 +168,9 @@ struct Context {
   fs::path dir;  // relative paths resolve against the scene file's directory
   Scene* scene;
   std::map<std::string, uint32_t> material_ids;
+  // Only checking the keys (check_scene_frame): models and images are not read (their files
+  // must exist, as always).
+  bool check_only = false;
 };
 
 Wrap wrap_of(const std::string& w) {
@@ -171,15 +178,17 @@ Wrap wrap_of(const std::string& w) {
 }
 
 // The texture (or constant colour) of parameter `key` of r's table.
-Texture read_texture(const TableReader& r, const ParamValues& v, std::string_view key, bool srgb) {
+Texture read_texture(const TableReader& r, const ParamValues& v, std::string_view key, bool srgb,
+                     bool check_only) {
   if (!v.is_table(key)) return Texture::constant(v.color(key));
   const std::string type = v.function(key).type;
   const ParamValues& t = v.function(key).values;
   Texture tex;
   if (type == "image") {
     tex.kind = Texture::Kind::Image;
+    const ReadRole role("a texture");
     try {
-      tex.image = std::make_shared<MipMap>(read_image(t.string("file"), srgb));
+      if (!check_only) tex.image = std::make_shared<MipMap>(read_image(t.string("file"), srgb));
     } catch (const std::exception& e) {
       r.fail_at(*r.node(key)->as_table()->get("file"), std::string(key) + ".file", e.what());
     }
@@ -203,14 +212,14 @@ Texture read_texture(const TableReader& r, const ParamValues& v, std::string_vie
   return tex;
 }
 
-Material read_material(const TableReader& r) {
+Material read_material(const TableReader& r, bool check_only) {
   const ParamValues v = r.params(material_schema());
   Material m;
   m.name = v.string("name");
   m.model =
       v.string("type") == "whitted" ? Material::Model::Whitted : Material::Model::MetallicRoughness;
-  m.base_color = read_texture(r, v, "color", true);
-  m.emission = read_texture(r, v, "emission", true);
+  m.base_color = read_texture(r, v, "color", true, check_only);
+  m.emission = read_texture(r, v, "emission", true, check_only);
   m.emission_strength = v.number("emission_strength");
   m.ior = v.number("ior");
   m.transmission = v.number("transmission");
@@ -263,7 +272,12 @@ Transform transform_or_identity(const ParamValues& v, std::string_view key) {
 void add_model(Context& c, const TableReader& r, const ParamValues& v, const std::string& name,
                const Transform& xf) {
   Scene& s = *c.scene;
+  if (c.check_only) {
+    material_ref(c, r, v, "material");
+    return;
+  }
   LoadedModel m;
+  const ReadRole role("a model");
   try {
     m = load_model(v.string("file"));
   } catch (const std::exception& e) {
@@ -467,13 +481,14 @@ void read_light(const TableReader& r, Scene& s, int index) {
   s.lights.push_back(l);
 }
 
-void read_environment(const TableReader& r, Scene& s) {
+void read_environment(const TableReader& r, Scene& s, bool check_only) {
   const ParamValues v = r.params({environment_schema().common});
   Environment& e = s.environment;
   e.color = v.color("color");
   e.strength = v.number("strength");
   e.rotation = v.number("rotation");
-  if (v.has("file")) {
+  if (v.has("file") && !check_only) {
+    const ReadRole role("the environment map");
     try {
       e.image = std::make_shared<Image>(read_image(v.string("file"), true));
     } catch (const std::exception& ex) {
@@ -523,7 +538,7 @@ void read_world(Context& c, const TableReader& top) {
   def.name = "default";
   s.materials.push_back(def);
   for_each_table(top, "material", [&](const TableReader& r, int) {
-    Material m = read_material(r);
+    Material m = read_material(r, c.check_only);
     if (c.material_ids.count(m.name))
       r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
     c.material_ids[m.name] = uint32_t(s.materials.size());
@@ -532,7 +547,7 @@ void read_world(Context& c, const TableReader& top) {
   for_each_table(top, "object", [&](const TableReader& r, int i) { read_object(c, r, i); });
   for_each_table(top, "light", [&](const TableReader& r, int i) { read_light(r, s, i); });
   if (const toml::table* t = sub_table(top, "environment"))
-    read_environment(TableReader(*t, "environment"), s);
+    read_environment(TableReader(*t, "environment"), s, c.check_only);
 }
 
 template <class E>
@@ -577,14 +592,18 @@ void read_render(const TableReader& r, RenderSettings& rs) {
   rs.time_limit = v.number("time_limit");
 }
 
-// `view_from`: read only image, render and camera, with the model cameras of this scene
-// (load_view).
-Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides,
-                  double frame, const Scene* view_from = nullptr) {
-  // Kept for the shutter's extra camera builds. Copies lose their source positions, so the main
-  // build works on `root` itself, whose errors point into the files.
-  const toml::table original = root;
-  const std::vector<AnimatedKey> animation = take_animation(root);
+// What build_scene reads: everything (load_scene); only image, render and camera (load_view);
+// every key without reading models and images (check_scene_frame). The last two take the model
+// cameras of `loaded`, a scene loaded from the same file.
+enum class Build { Full, View, Check };
+
+// The scene at `frame` from `root` (its [[animate]] entries taken out into `animation`;
+// `original` is root as it was, for the shutter's extra camera builds).
+Scene build_frame(toml::table& root, const toml::table& original,
+                  const std::vector<AnimatedKey>& animation, const fs::path& file,
+                  const std::vector<std::string>& overrides, double frame, Build build,
+                  const Scene* loaded) {
+  const Scene* view_from = build == Build::View ? loaded : nullptr;
   for (const AnimatedKey& a : animation)
     set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
@@ -600,6 +619,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   Context c;
   c.dir = file.parent_path();
   c.scene = &s;
+  c.check_only = build == Build::Check;
   const TableReader top(root, "");
   // The top level: `include` was merged already; the tables are read below.
   static constexpr std::string_view kTables[] = {"image",  "render", "camera",      "material",
@@ -618,6 +638,7 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
     // (The world was read, and validated, when view_from was loaded; nothing in it is animated.)
     s.model_cameras = view_from->model_cameras;
   } else {
+    if (c.check_only) s.model_cameras = loaded->model_cameras;
     read_world(c, top);
   }
 
@@ -655,11 +676,50 @@ Scene build_scene(toml::table root, const fs::path& file, const std::vector<std:
   return s;
 }
 
+Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides,
+                  double frame, Build build = Build::Full, const Scene* loaded = nullptr) {
+  // Copies lose their source positions, so the main build works on `root` itself, whose errors
+  // point into the files.
+  const toml::table original = root;
+  const std::vector<AnimatedKey> animation = take_animation(root);
+  try {
+    return build_frame(root, original, animation, file, overrides, frame, build, loaded);
+  } catch (const SceneError& e) {
+    throw at_animate_entry(e, animation, overrides, frame);
+  }
+}
+
+// The scene's own file name (from the command line, Python or the editor): a NUL would cut it
+// short.
+void check_scene_path(const fs::path& file) {
+  if (has_nul(file.native()))
+    throw SceneError({file.native()}, "", nul_in_path_message(file.native(), false));
+}
+
+}  // namespace
+
+namespace {
+
+// `load` with every file it reads recorded in the scene's `inputs`.
+template <class Load>
+Scene recording_reads(Load&& load) {
+  ReadLog log;
+  Scene s;
+  {
+    const ReadLogScope scope(&log);
+    s = load();
+  }
+  s.inputs = log.files();
+  return s;
+}
+
 }  // namespace
 
 Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides, double frame) {
+  check_scene_path(file);
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return build_scene(load_with_includes(file), file, overrides, frame);
+  return recording_reads(
+      [&] { return build_scene(load_with_includes(file), file, overrides, frame); });
 }
 
 bool animates_view_only(const Scene& s) {
@@ -670,8 +730,19 @@ bool animates_view_only(const Scene& s) {
 
 Scene load_view(const fs::path& file, const std::vector<std::string>& overrides, double frame,
                 const Scene& loaded) {
+  check_scene_path(file);
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return build_scene(load_with_includes(file), file, overrides, frame, &loaded);
+  return recording_reads([&] {
+    return build_scene(load_with_includes(file), file, overrides, frame, Build::View, &loaded);
+  });
+}
+
+void check_scene_frame(const fs::path& file, const std::vector<std::string>& overrides,
+                       double frame, const Scene& loaded) {
+  check_scene_path(file);
+  if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
+  build_scene(load_with_includes(file), file, overrides, frame,
+              animates_view_only(loaded) ? Build::View : Build::Check, &loaded);
 }
 
 namespace {
@@ -692,13 +763,25 @@ toml::table parse_scene_text(const std::string& text, const fs::path& name) {
 
 Scene load_scene_from_string(const std::string& text, const fs::path& name,
                              const std::vector<std::string>& overrides, double frame) {
-  return build_scene(parse_scene_text(text, name), name, overrides, frame);
+  return recording_reads([&] {
+    {
+      const ReadRole role("the scene file");  // (its text comes from the caller)
+      note_read(name);
+    }
+    return build_scene(parse_scene_text(text, name), name, overrides, frame);
+  });
 }
 
 Scene load_view_from_string(const std::string& text, const fs::path& name,
                             const std::vector<std::string>& overrides, double frame,
                             const Scene& loaded) {
-  return build_scene(parse_scene_text(text, name), name, overrides, frame, &loaded);
+  return recording_reads([&] {
+    {
+      const ReadRole role("the scene file");
+      note_read(name);
+    }
+    return build_scene(parse_scene_text(text, name), name, overrides, frame, Build::View, &loaded);
+  });
 }
 
 }  // namespace anamorph

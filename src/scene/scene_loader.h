@@ -31,6 +31,15 @@ bool animates_view_only(const Scene& s);
 // materials, lights or environment: its camera and settings go with `loaded`'s.
 Scene load_view(const std::filesystem::path& file, const std::vector<std::string>& overrides,
                 double frame, const Scene& loaded);
+// Checks frame `frame` of `file` as load_scene would read it, without loading models or images
+// (their files must exist) and without keeping the result: every key's value, the camera built.
+// `loaded` is a scene loaded from the same file and overrides (its model cameras serve
+// `gltf_camera`; when it animates only the view, only the view is read). Throws SceneError, an
+// [[animate]] value's at its entry with the frame (`render --frames` checks every frame so before
+// rendering the first).
+void check_scene_frame(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                       double frame, const Scene& loaded);
+
 // Same, from TOML text (the editor: a document whose edits change only the view).
 Scene load_view_from_string(const std::string& text, const std::filesystem::path& name,
                             const std::vector<std::string>& overrides, double frame,

@@ -94,6 +94,13 @@ const ParamSpec kRender[] = {
 
 // ---- [[material]] and its textures ------------------------------------------------------------
 
+// The largest value of a key that is (a factor of) emitted radiance: emission and its strength,
+// the lights' colours and strengths, the environment, texture colours. The film keeps
+// single-precision sums (at most 3.4e38), and form factors multiply emission by pi in double: a
+// key beyond 1e38 is an error at load; a product of two that overflows the film is dropped per
+// sample and counted as a NaN/Inf sample.
+constexpr double kMaxRadiance = 1e38;
+
 constexpr std::string_view kMaterialTypes[] = {"whitted", "metallic_roughness"};
 
 // clang-format off
@@ -102,10 +109,12 @@ const ParamSpec kMaterialCommon[] = {
     {"type", ParamType::String, "\"whitted\"",
      "`whitted` (the paper's model) or `metallic_roughness` (glTF 2.0, GGX microfacets).", -kInf,
      kInf, kMaterialTypes},
-    {"color", ParamType::Texture, "0.8", "Diffuse colour / glTF base colour.", 0, kInf},
+    {"color", ParamType::Texture, "0.8",
+     "Diffuse colour / glTF base colour: the fraction of light reflected, per channel (radiosity "
+     "takes it as the reflectance).", 0, 1},
     {"emission", ParamType::Texture, "0",
-     "Emitted radiance; emissive surfaces are light sources.", 0, kInf},
-    {"emission_strength", ParamType::Number, "1", "Multiplies `emission`.", 0, kInf},
+     "Emitted radiance; emissive surfaces are light sources.", 0, kMaxRadiance},
+    {"emission_strength", ParamType::Number, "1", "Multiplies `emission`.", 0, kMaxRadiance},
     {"ior", ParamType::Number, "1.5", "Index of refraction.", 1, 10},
     {"double_sided", ParamType::Bool, "true", "One-sided emitters emit only on the front."},
 };
@@ -148,15 +157,15 @@ const ParamSpec kPattern[] = {
     {"line_width", ParamType::Number, "0.05", "Grid: line width as a fraction of the period.", 0,
      1},
     {"color_a", ParamType::Color, "0.9", "Checker: one cell colour; grid: the background.", 0,
-     kInf},
+     kMaxRadiance},
     {"color_b", ParamType::Color, "0.1", "Checker: the other cell colour; grid: the lines.", 0,
-     kInf},
+     kMaxRadiance},
     {"transform", ParamType::Transform, "none", "Places the pattern in its space."},
 };
 const ParamSpec kImageTexture[] = {
     {"file", ParamType::String, "",
      "PNG, JPEG, BMP, TGA, HDR or EXR (8-bit files are sRGB), relative to the file naming it."},
-    {"scale_color", ParamType::Color, "1", "Multiplies the image.", 0, kInf},
+    {"scale_color", ParamType::Color, "1", "Multiplies the image.", 0, kMaxRadiance},
     {"wrap", ParamType::String, "\"repeat\"", "Outside [0, 1]: repeat, clamp or mirror.", -kInf,
      kInf, kWraps},
     {"nearest", ParamType::Bool, "false", "No filtering."},
@@ -259,18 +268,19 @@ const ParamSpec kLightCommon[] = {
     {"type", ParamType::String, "", "The kind of light.", -kInf, kInf, kLightTypes},
     {"name", ParamType::String, "none", "A name for messages and `info`.", -kInf, kInf, {}, false,
      false, {}, "type and index, e.g. `\"point0\"`"},
-    {"strength", ParamType::Number, "1", "Multiplies the light's colour.", 0, kInf},
+    {"strength", ParamType::Number, "1", "Multiplies the light's colour.", 0, kMaxRadiance},
 };
 const ParamSpec kPointLight[] = {
     {"position", ParamType::Vec3, "[0, 0, 0]", "Where it is.", -kInf, kInf, {}, false, false,
      "scene units"},
-    {"intensity", ParamType::Color, "1", "Radiant intensity.", 0, kInf, {}, false, false, "W/sr"},
+    {"intensity", ParamType::Color, "1", "Radiant intensity.", 0, kMaxRadiance, {}, false, false,
+     "W/sr"},
 };
 const ParamSpec kSpotLight[] = {
     {"position", ParamType::Vec3, "[0, 0, 0]", "Where it is.", -kInf, kInf, {}, false, false,
      "scene units"},
-    {"intensity", ParamType::Color, "1", "Radiant intensity on the axis.", 0, kInf, {}, false,
-     false, "W/sr"},
+    {"intensity", ParamType::Color, "1", "Radiant intensity on the axis.", 0, kMaxRadiance, {},
+     false, false, "W/sr"},
     {"direction", ParamType::Vec3, "[0, -1, 0]", "The axis (not zero); ignored with look_at."},
     {"look_at", ParamType::Vec3, "none", "A point on the axis, instead of direction.", -kInf, kInf,
      {}, false, false, "scene units"},
@@ -281,7 +291,8 @@ const ParamSpec kSpotLight[] = {
 };
 const ParamSpec kDirectionalLight[] = {
     {"direction", ParamType::Vec3, "[0, -1, 0]", "The way the light travels (not zero)."},
-    {"irradiance", ParamType::Color, "1", "Irradiance on a surface facing the light.", 0, kInf},
+    {"irradiance", ParamType::Color, "1", "Irradiance on a surface facing the light.", 0,
+     kMaxRadiance},
 };
 const ParamSpec kQuadLight[] = {
     {"corner", ParamType::Vec3, "[0, 0, 0]", "One corner.", -kInf, kInf, {}, false, false,
@@ -291,14 +302,14 @@ const ParamSpec kQuadLight[] = {
     {"edge_v", ParamType::Vec3, "[0, 0, 1]",
      "Second edge; emits on the side of edge_u x edge_v.", -kInf, kInf, {}, false, false,
      "scene units"},
-    {"radiance", ParamType::Color, "1", "Emitted radiance.", 0, kInf},
+    {"radiance", ParamType::Color, "1", "Emitted radiance.", 0, kMaxRadiance},
     {"two_sided", ParamType::Bool, "false", "Emits on both sides."},
 };
 const ParamSpec kSphereLight[] = {
     {"center", ParamType::Vec3, "[0, 0, 0]", "Center.", -kInf, kInf, {}, false, false,
      "scene units"},
     {"radius", ParamType::Number, "0.5", "Radius.", 0, kInf, {}, true, false, "scene units"},
-    {"radiance", ParamType::Color, "1", "Emitted radiance.", 0, kInf},
+    {"radiance", ParamType::Color, "1", "Emitted radiance.", 0, kMaxRadiance},
 };
 const TableVariant kLightVariants[] = {
     {"point", "A point light.", kPointLight},
@@ -313,11 +324,11 @@ const TableVariant kLightVariants[] = {
 
 // clang-format off
 const ParamSpec kEnvironment[] = {
-    {"color", ParamType::Color, "0", "Constant radiance from every direction.", 0, kInf},
+    {"color", ParamType::Color, "0", "Constant radiance from every direction.", 0, kMaxRadiance},
     {"file", ParamType::String, "none",
      "An equirectangular image (HDR, EXR, PNG, ...); longitude 0 (image center) is -z, u grows "
      "toward +x, the top row is +y."},
-    {"strength", ParamType::Number, "1", "Multiplier.", 0, kInf},
+    {"strength", ParamType::Number, "1", "Multiplier.", 0, kMaxRadiance},
     {"rotation", ParamType::Number, "0", "Rotation about +y.", -kInf, kInf, {}, false, false,
      "degrees"},
 };

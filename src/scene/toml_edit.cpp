@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "math/input_limits.h"
@@ -55,6 +58,29 @@ bool valid_utf8(std::string_view s) {
   return true;
 }
 
+namespace {
+
+// A decimal integer too large for TOML's 64 bits (Python's 2**70 in `set=`): its value as a
+// number, so that the key's reader can say it is out of range rather than "got a string".
+std::optional<double> huge_integer(const std::string& text) {
+  size_t i = text.find_first_not_of(" \t");
+  if (i == std::string::npos) return std::nullopt;
+  const bool negative = text[i] == '-';
+  if (text[i] == '+' || text[i] == '-') ++i;
+  const size_t end = text.find_last_not_of(" \t") + 1;
+  if (i >= end || text.find_first_not_of("0123456789_", i) < end) return std::nullopt;
+  std::string digits;
+  for (size_t k = i; k < end; ++k)
+    if (text[k] != '_') digits += text[k];
+  // Only a magnitude TOML cannot hold (2^63 has 19 digits): other text that failed to parse,
+  // such as 1__2 or 007, stays the string it is.
+  if (digits.size() < 19 || digits[0] == '0') return std::nullopt;
+  const double v = std::strtod(digits.c_str(), nullptr);  // (beyond doubles: the largest one)
+  return (negative ? -1 : 1) * std::min(v, std::numeric_limits<double>::max());
+}
+
+}  // namespace
+
 toml::table parse_value_text(const std::string& text, const std::string& key) {
   const std::string doc = "v = " + text;
   int line = 0, column = 0;
@@ -64,7 +90,10 @@ toml::table parse_value_text(const std::string& text, const std::string& key) {
     return toml::parse(doc);
   } catch (const toml::parse_error&) {
     toml::table t;
-    t.insert("v", text);  // a bare word: a string
+    if (const auto big = huge_integer(text))
+      t.insert("v", *big);
+    else
+      t.insert("v", text);  // a bare word: a string
     return t;
   }
 }

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "camera/functions.h"
+#include "math/user_text.h"
 
 namespace anamorph {
 
@@ -17,10 +18,11 @@ constexpr std::string_view kTypeKey[] = {"type"};
 
 SceneError::SceneError(const SourceLoc& l, std::string k, const std::string& msg)
     : std::runtime_error([&] {
-        std::string where = l.file.empty() ? std::string("--set") : l.file;
+        // File names, keys and the values a message quotes are the user's text: escaped.
+        std::string where = l.file.empty() ? std::string("--set") : printable(l.file);
         if (l.line > 0) where += fmt::format(":{}:{}", l.line, l.column);
-        return k.empty() ? fmt::format("{}: {}", where, msg)
-                         : fmt::format("{}: {}: {}", where, k, msg);
+        return k.empty() ? fmt::format("{}: {}", where, printable(msg))
+                         : fmt::format("{}: {}: {}", where, printable(k), printable(msg));
       }()),
       loc(l),
       key(std::move(k)),
@@ -51,10 +53,10 @@ std::string TableReader::full_key(std::string_view key) const {
 }
 
 void TableReader::fail(std::string_view key, const std::string& msg) const {
-  // At the key's value when the table has it (a check across keys names the one it blames), else
-  // at the table.
-  const toml::node* n = key.empty() ? nullptr : t_.get(key);
-  throw SceneError(n ? loc_of(*n) : loc_of(t_), full_key(key), msg);
+  // At the key's value when it has one (a value from --set or [[animate]] has no place in a
+  // file, and says so), else at the table.
+  const toml::node* n = t_.get(key);
+  throw SceneError(loc_of(n ? *n : static_cast<const toml::node&>(t_)), full_key(key), msg);
 }
 
 void TableReader::fail_at(const toml::node& n, std::string_view key, const std::string& msg) const {

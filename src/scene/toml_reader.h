@@ -27,7 +27,9 @@ struct SourceLoc {
   int line = 0, column = 0;
 };
 
-// A bad scene: reported to the user as "file:line:col: key: message", exit code 2.
+// A bad scene: reported to the user as "file:line:col: key: message", exit code 2. what() has
+// the user's text (file, key, quoted values) escaped (math/user_text.h); `key` and `message` are
+// kept as they are (the editor sends them as JSON).
 class SceneError : public std::runtime_error {
  public:
   SceneError(const SourceLoc& loc, std::string key, const std::string& msg);

@@ -5,11 +5,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include "io/json_nesting.h"
+#include "io/read_file.h"
 #include "scene/declarations.h"
 #include "scene/scene_schema.h"
 #include "server/web_assets.h"
@@ -61,17 +60,22 @@ bool equal_secret(const std::string& a, const std::string& b) {
   return d == 0;
 }
 
-std::string cookie_token(const std::string& cookies) {
+// The anamorph_token cookie's value ("" when there is none); `*twice` when it is there twice
+// (two values: which one would count is anyone's guess, so such a request is refused).
+std::string cookie_token(const std::string& cookies, bool* twice) {
   const std::string name = "anamorph_token=";
+  std::string found;
+  int count = 0;
   for (size_t s = 0; s < cookies.size();) {
     while (s < cookies.size() && cookies[s] == ' ') ++s;
     size_t e = cookies.find(';', s);
     if (e == std::string::npos) e = cookies.size();
-    if (cookies.compare(s, name.size(), name) == 0)
-      return cookies.substr(s + name.size(), e - s - name.size());
+    if (cookies.compare(s, name.size(), name) == 0 && count++ == 0)
+      found = cookies.substr(s + name.size(), e - s - name.size());
     s = e + 1;
   }
-  return {};
+  *twice = count > 1;
+  return found;
 }
 
 const Json& field(const Json& body, const char* name) {
@@ -150,9 +154,14 @@ std::optional<HttpResponse> Api::refuse(const HttpRequest& q) const {
   const std::string origin = q.header("origin");
   if (!origin.empty() && origin != "http://" + host)
     return error(403, "cross-origin requests are refused (Origin '" + origin + "')");
+  bool twice = false;
+  const std::string cookie = cookie_token(q.header("cookie"), &twice);
+  if (twice) return error(400, "the Cookie header names anamorph_token twice");
+  // The most explicit wins: the header a script sets, then the address the user opened (the
+  // cookie may be an earlier server's: every port of 127.0.0.1 shares it), then the cookie.
   std::string token = q.header("x-anamorph-token");
-  if (token.empty()) token = cookie_token(q.header("cookie"));
   if (token.empty() && q.query.count("token")) token = q.query.at("token");
+  if (token.empty()) token = cookie;
   if (!equal_secret(token, opt_.token))
     return error(401, "missing or wrong token: open the address `anamorph serve` printed");
   return std::nullopt;
@@ -190,10 +199,10 @@ HttpResponse Api::page(const HttpRequest& q) const {
   if (opt_.web_folder.empty()) {
     r.body = std::string(a->bytes);
   } else {  // (developers: edit web/ and reload, without building)
-    std::ifstream in(opt_.web_folder + path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    r.body = s.str();
+    std::vector<unsigned char> bytes;
+    if (const auto failure = read_whole_file(opt_.web_folder + path, &bytes, kTextInput))
+      return error(404, describe(*failure, opt_.web_folder + path));
+    r.body.assign(bytes.begin(), bytes.end());
   }
   if (path == "/index.html") {
     // The page's later requests (scripts, API) carry the token in this cookie, which the browser

@@ -1,12 +1,12 @@
 #include "server/document.h"
 
-#include <fstream>
 #include <sstream>
 
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 
+#include "io/read_file.h"
 #include "params/toml_parse.h"
 #include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
@@ -105,12 +105,10 @@ toml::table without_view(const toml::table& t) {
 }  // namespace
 
 Document::Document(std::filesystem::path file) : file_(std::move(file)) {
-  if (!std::filesystem::is_regular_file(file_))
-    throw SceneError({file_.string()}, "", "scene file not found");
-  std::ifstream in(file_, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  original_text_ = ss.str();
+  std::vector<unsigned char> bytes;
+  if (const auto failure = read_whole_file(file_, &bytes, kSceneInput))
+    throw SceneError({file_.string()}, "", describe(*failure, file_));
+  original_text_.assign(bytes.begin(), bytes.end());
   try {
     table_ = parse_toml(original_text_, file_.string());
   } catch (const toml::parse_error& e) {

@@ -4,9 +4,11 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
-#include <random>
+#include <cstdlib>
 #include <sstream>
+#include <system_error>
 
 #include "io/image_io.h"
 #include "scene/loaders.h"
@@ -50,12 +52,16 @@ void files_named(const toml::node& n, std::string_view key, std::vector<std::str
   }
 }
 
+// A new folder of this process's own (mkdtemp: created here, mode 0700; an existing one of the
+// same name, made by someone else, is never taken over).
 fs::path private_folder() {
-  std::random_device rd;
-  const fs::path p = fs::temp_directory_path() /
-                     ("anamorph-serve-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
-  fs::create_directories(p);
-  return p;
+  std::string name =
+      (fs::temp_directory_path() / ("anamorph-serve-" + std::to_string(::getpid()) + "-XXXXXX"))
+          .string();
+  if (!::mkdtemp(name.data()))
+    throw std::system_error(errno, std::generic_category(),
+                            "cannot create a folder in " + fs::temp_directory_path().string());
+  return name;
 }
 
 }  // namespace
@@ -82,12 +88,28 @@ struct Editor::Render {
   }
 };
 
+namespace {
+
+// The scene's folder with its symbolic links resolved, once: the folder the editor confines its
+// files to, and the folder the scene's relative paths are read against.
+fs::path scene_folder(const fs::path& scene_file) {
+  std::error_code ec;
+  const fs::path parent = fs::absolute(scene_file).parent_path();
+  const fs::path folder = fs::canonical(parent, ec);
+  return ec ? parent : folder;
+}
+
+}  // namespace
+
 Editor::Editor(fs::path scene_file, FinalRenderer final_renderer)
-    : folder_(fs::weakly_canonical(fs::absolute(scene_file)).parent_path()),
-      doc_(scene_file),
+    : folder_(scene_folder(scene_file)),
+      doc_(folder_.path() / scene_file.filename()),
       final_renderer_(std::move(final_renderer)),
       render_(std::make_unique<Render>()) {
   std::vector<std::string> warnings;
+  // The files this first load reads are the ones the user started the server with: later loads
+  // read them as the command line would, and any other file only through the folder.
+  const ScopedReadConfinement record({nullptr, nullptr, &trusted_});
   std::unique_ptr<Scene> s = load(doc_.table(), false, &warnings);
   warnings_ = warnings;
   preview_.show(doc_.version(), std::move(s), false);
@@ -117,9 +139,14 @@ std::optional<std::string> Editor::check_files(const toml::table& t) const {
   files_named(t, "", &after);
   for (const std::string& f : after) {
     if (std::find(before.begin(), before.end(), f) != before.end()) continue;
-    const fs::path p = fs::weakly_canonical(fs::path(f).is_absolute() ? fs::path(f) : folder_ / f);
-    if (!inside(p, folder_))
-      return "'" + f + "' is outside the scene's folder (" + folder_.string() +
+    // (as text when the name cannot be resolved, e.g. longer than the system allows: the load
+    // then says why it cannot be read)
+    const fs::path named = fs::path(f).is_absolute() ? fs::path(f) : folder() / f;
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(named, ec);
+    if (ec) p = named.lexically_normal();
+    if (!inside(p, folder()))
+      return "'" + f + "' is outside the scene's folder (" + folder().string() +
              "): the editor reads files only there";
   }
   return std::nullopt;
@@ -131,6 +158,7 @@ EditOutcome Editor::show_new(const toml::table& next, const std::function<void()
   const bool view_only = models_ && differs_only_in_view(doc_.table(), next);
   std::unique_ptr<Scene> s;
   try {
+    const ScopedReadConfinement confined(confinement());
     s = load(next, view_only, &out.warnings);
   } catch (const SceneError& e) {
     out.error = bad(e.message, e.key);
@@ -203,7 +231,7 @@ Json Editor::state() const {
   for (const std::string& s : warnings_) w.push_back(s);
   return {{"version", doc_.version()},
           {"file", doc_.file().filename().string()},
-          {"folder", folder_.string()},
+          {"folder", folder().string()},
           {"text", doc_.text()},
           {"document", toml_to_json(doc_.table())},
           {"can_undo", doc_.can_undo()},
@@ -212,27 +240,35 @@ Json Editor::state() const {
           {"warnings", w}};
 }
 
+// The longest name a save takes: the temporary it is written through (".NAME.tmp-PID-RANDOM",
+// 32 bytes more) must fit the 255 bytes a file name may have.
+constexpr size_t kMaxSaveName = 200;
+
 Editor::SaveOutcome Editor::save(const std::string& name) {
   std::lock_guard lock(mu_);
-  fs::path target = doc_.file();
+  const std::string target = name.empty() ? doc_.file().filename().string() : name;
   if (!name.empty()) {
     // (a NUL would end the name the system sees: "model.obj\0.toml" writes model.obj)
     if (name.find_first_of(std::string("/\\\0", 3)) != std::string::npos || name == "." ||
         name == "..")
       return {"save takes a file name in the scene's folder, without a path: '" + name + "'"};
     if (fs::path(name).extension() != ".toml") return {"a scene file's name ends in .toml"};
-    target = folder_ / name;
+    if (name.size() > kMaxSaveName)
+      return {fmt::format("the name is too long ({} bytes; a saved scene's name has at most {})",
+                          name.size(), kMaxSaveName)};
   }
-  if (fs::is_symlink(target))
-    return {"'" + target.filename().string() + "' is a symbolic link: the editor writes only " +
-            "plain files in the scene's folder"};
   const SavedText saved = doc_.saved();
   if (!saved.reads_back)
     return {
         "the scene cannot be written as TOML that reads back the same (a key with control "
         "characters?): not saved"};
-  write_file_atomic(target, saved.text.data(), saved.text.size());
-  if (target == doc_.file()) doc_.saved_as_file(saved.text);
+  if (auto why = folder_.write_atomic(target, saved.text)) {
+    if (*why == "it is a symbolic link")
+      return {"'" + target + "' is a symbolic link: the editor writes only plain files in the " +
+              "scene's folder"};
+    return {"cannot save '" + target + "': " + *why};
+  }
+  if (name.empty() || target == doc_.file().filename().string()) doc_.saved_as_file(saved.text);
   return {std::nullopt, saved.normalized};
 }
 
@@ -281,6 +317,8 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
     const auto start = std::chrono::steady_clock::now();
     const int count = r.last - r.first + 1;
     std::string error;
+    // (the final render reads the scene's files again, under the same rule as an edit)
+    const ScopedReadConfinement confined(confinement());
     try {
       job.cancel = &r.cancel;
       for (int f = r.first; f <= r.last && !r.cancel; ++f) {

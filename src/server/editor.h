@@ -9,12 +9,15 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "camera/coins.h"
+#include "io/confined_folder.h"
+#include "io/read_file.h"
 #include "math/vec.h"
 #include "params/param_schema.h"
 #include "server/document.h"
@@ -62,7 +65,7 @@ class Editor {
   ~Editor();
 
   const std::filesystem::path& scene_file() const { return doc_.file(); }
-  const std::filesystem::path& folder() const { return folder_; }
+  const std::filesystem::path& folder() const { return folder_.path(); }
   Preview& preview() { return preview_; }
 
   // The document's state: version, text, tree as JSON, undo/redo, frame, warnings.
@@ -97,8 +100,9 @@ class Editor {
   };
   std::optional<RayOverview> ray_overview(int nu, int nv, int64_t version);
 
-  // Writes the document to `name` (relative to the scene's folder; "" = the scene file itself).
-  // Errors (a name outside the folder, through a symlink, not .toml) are returned.
+  // Writes the document to `name` (a file name in the scene's folder; "" = the scene file
+  // itself), through the folder's descriptor (io/confined_folder.h). Errors (a path, a symbolic
+  // link, not .toml, a name too long) are returned.
   struct SaveOutcome {
     std::optional<std::string> error;
     bool normalized = false;  // written whole (comments and layout not kept)
@@ -126,9 +130,12 @@ class Editor {
                               std::vector<std::string>* warnings);
   EditOutcome show_new(const toml::table& next, const std::function<void()>& commit);
   std::optional<std::string> check_files(const toml::table& t) const;
+  // The rule for what loads after the first may read (io/read_file.h).
+  ReadConfinement confinement() const { return {&folder_, &trusted_, nullptr}; }
 
-  std::filesystem::path folder_;
-  mutable std::mutex mu_;  // doc_, frame_, model_cameras_, the render's start
+  ConfinedFolder folder_;          // opened once, when the server starts
+  std::set<std::string> trusted_;  // the files the scene read then
+  mutable std::mutex mu_;          // doc_, frame_, model_cameras_, the render's start
   Document doc_;
   double frame_ = 0;
   std::unique_ptr<Scene> models_;  // the model cameras of the geometry shown (load_view needs them)

@@ -15,6 +15,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "server/http_headers.h"
+
 namespace anamorph::server {
 
 namespace {
@@ -88,12 +90,10 @@ bool peer_closed(int fd) {
   return n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR);
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-HttpRequest to_request(const http::request<http::string_body>& r, bool* ok) {
+// `*ok` false for a malformed percent-escape; `*problem` set when the headers break a rule of
+// http_headers.h or the query names a parameter twice (which one counts would be a guess).
+HttpRequest to_request(const http::request<http::string_body>& r, bool* ok,
+                       std::optional<std::string>* problem) {
   HttpRequest q;
   q.method = std::string(r.method_string());
   const std::string target(r.target());
@@ -109,10 +109,13 @@ HttpRequest to_request(const http::request<http::string_body>& r, bool* ok) {
       std::string k, v;
       *ok = percent_decode(kv.substr(0, eq), &k, true) && *ok;
       if (eq != std::string::npos) *ok = percent_decode(kv.substr(eq + 1), &v, true) && *ok;
-      if (!k.empty()) q.query[k] = v;
+      if (!k.empty() && !q.query.emplace(k, v).second && !*problem)
+        *problem = "?" + k + "= is given twice";
     }
   }
-  for (const auto& f : r) q.headers[lower(std::string(f.name_string()))] = std::string(f.value());
+  std::vector<std::pair<std::string, std::string>> fields;
+  for (const auto& f : r) fields.emplace_back(std::string(f.name_string()), std::string(f.value()));
+  if (auto why = check_headers(fields, &q.headers)) *problem = std::move(why);
   q.body = r.body();
   return q;
 }
@@ -246,9 +249,12 @@ struct HttpServer::Impl {
         break;
       }
       bool ok = true;
-      const HttpRequest q = to_request(req, &ok);
+      std::optional<std::string> problem;
+      const HttpRequest q = to_request(req, &ok, &problem);
       HttpResponse r;
-      if (!ok) {
+      if (problem) {
+        r = plain(400, *problem + "\n");
+      } else if (!ok) {
         r = plain(400, "malformed percent-encoding in the URL\n");
       } else {
         try {

@@ -16,6 +16,7 @@ add_custom_command(OUTPUT ${web_cpp}
   COMMENT "Building the editor's page into the binary" VERBATIM)
 add_library(anamorph_server STATIC
   ${CMAKE_CURRENT_LIST_DIR}/http_server.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/http_headers.cpp
   ${CMAKE_CURRENT_LIST_DIR}/document.cpp
   ${CMAKE_CURRENT_LIST_DIR}/document_save.cpp
   ${CMAKE_CURRENT_LIST_DIR}/preview.cpp

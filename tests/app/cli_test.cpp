@@ -175,7 +175,10 @@ TEST(Cli, InfoRaysProject) {
   // The camera looks at the origin: it projects to the image center.
   const Result pr = run("project " + scene + " --point 0,0,0");
   ASSERT_EQ(pr.code, 0) << pr.out;
-  EXPECT_CONTAINS(pr.out, "12.000000 8.000000");
+  EXPECT_CONTAINS(pr.out, "px 12.000000 py 8.000000");
+  const Result json = run("project " + scene + " --point 0,0,0 --json");
+  ASSERT_EQ(json.code, 0) << json.out;
+  EXPECT_CONTAINS(json.out, "\"width\": 24, \"height\": 16, \"pixels\": [[12.000000, 8.000000]]");
   EXPECT_EQ(run("project " + scene + " --point 1,2").code, 2);
   fs::remove_all(d);
 }
@@ -204,15 +207,19 @@ TEST(Cli, RobustnessModels) {
 
 namespace anamorph {
 
-// The summary line names the sampling that happened: the AOV integrators take render.spp samples
-// under an adaptive scheme too.
+// The summary line names the sampling that happened, and which adaptive scheme: the AOV
+// integrators take render.spp samples under an adaptive scheme too.
 TEST(Cli, SummarySaysAdaptiveOnlyWhenSamplesVaried) {
   const fs::path d = temp_dir("summary");
   const std::string scene =
       write(d / "s.toml", std::string(kSmall) + "[render]\nantialias = \"adaptive\"\n");
   const Result w = run("render " + scene + " -o " + (d / "w.png").string());
   ASSERT_EQ(w.code, 0) << w.out;
-  EXPECT_CONTAINS(w.out, "adaptive, ");
+  EXPECT_CONTAINS(w.out, "adaptive (lattice), ");  // (which scheme: whitted's adaptive)
+  const Result p = run("render " + scene + " --integrator path --set render.max_spp=16 -o " +
+                       (d / "p.png").string());
+  ASSERT_EQ(p.code, 0) << p.out;
+  EXPECT_CONTAINS(p.out, "adaptive (pixel), ");
   const Result a = run("render " + scene + " --integrator depth -o " + (d / "a.png").string());
   ASSERT_EQ(a.code, 0) << a.out;
   EXPECT_CONTAINS(a.out, "1 spp, depth");
@@ -347,6 +354,32 @@ TEST(Cli, FormFactorsWritesItsMatrixAndRefusesBadRequests) {
   const Result partial = run("formfactors " + scene + " --objects d1 --radiosity");
   EXPECT_EQ(partial.code, 2) << partial.out;
   EXPECT_CONTAINS(partial.out, "radiosity needs a row of form factors for every object");
+  fs::remove_all(d);
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+// bench counts warm-up and measured frames with options of their own; its old --frames W M
+// still works with a warning, and render's meaning of --frames (A:B) is an error saying which.
+TEST(Cli, BenchWarmUpAndMeasure) {
+  const fs::path d = temp_dir("bench");
+  const std::string scene = write(d / "s.toml", kSmall);
+  const auto frames = [](const std::string& out) {
+    return std::count(out.begin(), out.end(), '\n') - 4;  // (the four BENCHMARK_ lines)
+  };
+  const Result r = run("bench " + scene + " --warm-up 1 --measure 2");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(frames(r.out), 3) << r.out;
+  EXPECT_CONTAINS(r.out, "(warm-up)");
+  const Result old = run("bench " + scene + " --frames 0 2");
+  ASSERT_EQ(old.code, 0) << old.out;
+  EXPECT_CONTAINS(old.out, "bench --frames 0 2 is deprecated: write --warm-up 0 --measure 2");
+  EXPECT_EQ(frames(old.out), 3) << old.out;  // (and the warning line)
+  const Result range = run("bench " + scene + " --frames 0:5");
+  EXPECT_EQ(range.code, 2) << range.out;
+  EXPECT_CONTAINS(range.out, "--frames A:B picks animation frames in `render` only");
   fs::remove_all(d);
 }
 

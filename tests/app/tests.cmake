@@ -5,6 +5,7 @@ add_dependencies(test_cli anamorph)
 include(${CMAKE_CURRENT_LIST_DIR}/scenes_tests.cmake)
 anamorph_add_test(test_bad_input
   ${CMAKE_CURRENT_LIST_DIR}/bad_input_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/input_kinds_test.cpp
 )
 add_dependencies(test_bad_input anamorph)
 anamorph_add_test(test_layering
@@ -33,3 +34,15 @@ anamorph_add_test(test_mpi
 target_link_libraries(test_mpi PRIVATE anamorph_dist)
 target_compile_definitions(test_mpi PRIVATE ANAMORPH_HAVE_MPI=$<BOOL:${ANAMORPH_HAVE_MPI}>)
 add_dependencies(test_mpi anamorph)
+anamorph_add_test(test_outputs
+  ${CMAKE_CURRENT_LIST_DIR}/outputs_test.cpp
+)
+add_dependencies(test_outputs anamorph)
+anamorph_add_test(test_signals
+  ${CMAKE_CURRENT_LIST_DIR}/signals_test.cpp
+)
+add_dependencies(test_signals anamorph)
+anamorph_add_test(test_honest
+  ${CMAKE_CURRENT_LIST_DIR}/honest_test.cpp
+)
+add_dependencies(test_honest anamorph)

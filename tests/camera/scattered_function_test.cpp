@@ -9,6 +9,7 @@
 
 #include "camera/functions.h"
 #include "camera/presets.h"
+#include "camera/scattered_common.h"
 #include "camera/virtual_camera.h"
 #include "function_test_util.h"
 #include "math/rbf.h"
@@ -305,6 +306,61 @@ TEST(ScatteredCamera, InverseMapFindsThePixelOfEveryPoint) {
       EXPECT_LT(best, 1e-6) << dir << ": no image position of the point seen at (" << uv.x << ", "
                             << uv.y << ")";
     }
+  }
+}
+
+}  // namespace
+}  // namespace anamorph
+
+namespace anamorph {
+namespace {
+
+// A point far outside the image was reported as collinear (u = 1e300: its coordinates swamped
+// the rank test). Beyond kScatteredUvLimit it is out of range, for all three functions; at the
+// limit, and with the largest shape, every kernel builds a surface whose rays are finite.
+TEST(ScatteredErrors, FarPointsAreOutOfRangeNotCollinear) {
+  const std::string corners =
+      "points = [[0, 0, -1, 1, 0], [1, 0, 1, 1, 0], [0, 1, -1, -1, 0], [1, 1, 1, -1, 0.1], ";
+  for (const char* far : {"1e300", "-1e300", "1000001"}) {
+    const std::string pts = corners + "[" + far + ", 0.5, 0, 0, 1]]\n";
+    for (const auto& got :
+         {error_of("org", "scattered", pts), error_of("dir", "scattered", pts),
+          error_of("dir", "scattered_sphere", pts + "layout = \"equirectangular\"\n")}) {
+      EXPECT_NE(got.find("point 4: u = "), std::string::npos) << got;
+      EXPECT_NE(got.find("is out of range (must be within [-1e+06, 1e+06]"), std::string::npos)
+          << got;
+      EXPECT_EQ(got.find("line"), std::string::npos) << got;
+    }
+  }
+  EXPECT_NE(error_of("org", "scattered", corners + "[0.5, 1e300, 0, 0, 1]]\n").find("v = 1e+300"),
+            std::string::npos);
+  for (const std::string_view kernel : kRbfKernelNames)
+    for (const char* shape : {"1e-3", "1", "1e50"}) {
+      const std::string toml = corners + "[1e6, 0.5, 0, 0, 0.5], [0.5, -1e6, 0, 0, 0.5]]\n" +
+                               cat("kernel = \"", kernel, "\"\nshape = ", shape, "\n");
+      if (kernel != "thin_plate" && kernel != "cubic" && std::string(shape) == "1e-3")
+        continue;  // (flat kernels over the image: too close together, and said so)
+      std::unique_ptr<OrgFunction> f;
+      ASSERT_NO_THROW(f = make_org("scattered", toml)) << toml;
+      for (double u : {0.0, 0.25, 1.0})
+        for (double v : {0.0, 0.5, 1.0}) {
+          SurfaceSample s;
+          ASSERT_TRUE(f->eval({u, v}, &s));
+          EXPECT_TRUE(is_finite(s.p) && is_finite(s.dpdu) && is_finite(s.dpdv))
+              << toml << " at " << u << ", " << v;
+        }
+    }
+}
+
+TEST(ScatteredErrors, ShapeLargerThanTheLimitIsOutOfRange) {
+  try {
+    make_org("scattered",
+             "points = [[0, 0, 0, 0, 0], [1, 0, 1, 0, 0], [0, 1, 0, 1, 0]]\n"
+             "kernel = \"multiquadric\"\nshape = 1e200\n");
+    ADD_FAILURE() << "shape 1e200 accepted";
+  } catch (const ParamError& e) {
+    EXPECT_EQ(e.key, "shape");
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include "accel/accel.h"
 #include "render/form_factors.h"
+#include "render/radiosity.h"
 #include "scene/scene_loader.h"
 
 namespace anamorph {
@@ -289,7 +290,7 @@ TEST(FormFactors, ErrorsNameTheObject) {
   FormFactorOptions plane;
   plane.sources = {"floor"};
   EXPECT_NE(error_of("[[object]]\ntype = \"plane\"\nname = \"floor\"\n", plane)
-                .find("'floor': an infinite plane has no finite area"),
+                .find("'floor' has no row of form factors: an infinite plane has no finite area"),
             std::string::npos);
   // Radiosity needs every object as a row.
   FormFactorOptions one;

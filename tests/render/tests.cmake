@@ -7,7 +7,9 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/metrics_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/packet_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_output_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/tiny_light_test.cpp
 )
 anamorph_add_test(test_form_factors
   ${CMAKE_CURRENT_LIST_DIR}/form_factors_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/form_factors_degenerate_test.cpp
 )

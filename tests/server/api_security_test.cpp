@@ -48,7 +48,7 @@ TEST_F(SecurityTest, PageSetsAnHttpOnlySameSiteCookie) {
 TEST_F(SecurityTest, HostMustNameTheServer) {
   const std::string p = ":" + std::to_string(port());
   for (const std::string& host :
-       std::vector<std::string>{"evil.example" + p, "127.0.0.1", "127.0.0.1:1", ""}) {
+       std::vector<std::string>{"evil.example" + p, "127.0.0.1", "127.0.0.1:1"}) {
     const Reply r = get("/api/state", {{"Host", host}});
     EXPECT_EQ(r.status, 403) << "Host '" << host << "': " << r.body;
   }
@@ -56,6 +56,92 @@ TEST_F(SecurityTest, HostMustNameTheServer) {
     const Reply r = get("/api/state", {{"Host", host}});
     EXPECT_EQ(r.status, 200) << "Host '" << host << "': " << r.body;
   }
+}
+
+// Host must be there once and not be empty (RFC 9112, 3.2): with two, the server checked the
+// last while a proxy or browser in front of it may route by the first (the probe's two Host
+// headers were answered 200).
+TEST_F(SecurityTest, HostTwiceOrEmptyIsRefused) {
+  const std::string good = host(), evil = "evil.example:" + std::to_string(port());
+  const std::vector<Headers> cases = {{{"Host", good}, {"Host", good}},
+                                      {{"Host", evil}, {"Host", good}},
+                                      {{"Host", good}, {"Host", evil}},
+                                      {{"Host", ""}},
+                                      {{"Host", "  "}}};
+  for (const Headers& h : cases) {
+    const Reply r = get("/api/state", h);
+    EXPECT_EQ(r.status, 400) << h.size() << " Host headers, '" << h[0].second << "': " << r.body;
+    EXPECT_NE(r.body.find("Host"), std::string::npos) << r.body;
+    EXPECT_EQ(r.body.find("\"document\""), std::string::npos) << r.body;
+  }
+  // HTTP/1.0 without a Host at all.
+  const Reply none =
+      fetch_raw(port(), "GET /api/state?token=" + std::string(kToken) + " HTTP/1.0\r\n\r\n", 10000);
+  EXPECT_EQ(none.status, 400) << none.body;
+  EXPECT_EQ(get("/api/state").status, 200);
+}
+
+// The siblings: every header whose meaning a second copy would change may appear once.
+TEST_F(SecurityTest, HeadersThatMayAppearOnceAreRefusedTwice) {
+  const std::string token = kToken;
+  const std::vector<std::pair<std::string, Headers>> cases = {
+      {"Origin", {{"Origin", "http://" + host()}, {"Origin", "http://evil.example"}}},
+      {"Cookie", {{"Cookie", "anamorph_token=" + token}, {"Cookie", "anamorph_token=wrong"}}},
+      {"X-Anamorph-Token", {{"X-Anamorph-Token", "wrong"}}},  // (plus the one get() adds)
+      {"Content-Type", {{"Content-Type", "application/json"}, {"Content-Type", "text/plain"}}},
+      {"Referer", {{"Referer", "http://" + host() + "/"}, {"Referer", "http://evil.example/"}}}};
+  for (const auto& [name, h] : cases) {
+    const Reply r = get("/api/state", h);
+    EXPECT_EQ(r.status, 400) << name << ": " << r.body;
+    EXPECT_NE(r.body.find("two " + name + " headers"), std::string::npos) << r.body;
+  }
+  // Content-Length twice, even with the same value (Beast takes equal ones as one).
+  const std::string head =
+      "POST /api/undo HTTP/1.1\r\nHost: " + host() + "\r\nX-Anamorph-Token: " + token + "\r\n";
+  const Reply length =
+      fetch_raw(port(), head + "Content-Length: 2\r\nContent-Length: 2\r\n\r\n{}", 10000);
+  EXPECT_EQ(length.status, 400) << length.body;
+  EXPECT_NE(length.body.find("two Content-Length headers"), std::string::npos) << length.body;
+  // A body in a transfer coding other than chunked.
+  const Reply coding =
+      fetch_raw(port(), head + "Transfer-Encoding: gzip\r\nContent-Length: 2\r\n\r\n{}", 10000);
+  EXPECT_TRUE(coding.status == 400 || coding.status == 0) << coding.status << coding.body;
+  // List headers repeated are one list (RFC 9110, 5.3): served.
+  const Reply lists = get("/api/state", {{"Accept", "application/json"}, {"Accept", "*/*"}});
+  EXPECT_EQ(lists.status, 200) << lists.body;
+  EXPECT_EQ(get("/api/state").status, 200);
+}
+
+// A Cookie header naming the token twice, or a query naming it twice: which one would count is a
+// guess (the first cookie, the last query value), so neither is taken.
+TEST_F(SecurityTest, TokenGivenTwiceInOneSourceIsRefused) {
+  const std::string t = kToken;
+  for (const std::string& cookies : {"anamorph_token=" + t + "; anamorph_token=wrong",
+                                     "anamorph_token=wrong; anamorph_token=" + t}) {
+    const Reply r = fetch(port(), {"GET", "/api/state", "", {{"Cookie", cookies}}});
+    EXPECT_EQ(r.status, 400) << cookies << ": " << r.body;
+    EXPECT_NE(r.body.find("anamorph_token twice"), std::string::npos) << r.body;
+  }
+  for (const std::string& query : {"?token=wrong&token=" + t, "?token=" + t + "&token=wrong"}) {
+    const Reply r = fetch(port(), {"GET", "/api/state" + query});
+    EXPECT_EQ(r.status, 400) << query << ": " << r.body;
+    EXPECT_NE(r.body.find("?token= is given twice"), std::string::npos) << r.body;
+  }
+}
+
+// The address the user opened wins over a cookie: every port of 127.0.0.1 shares cookies, so an
+// earlier server's token (a restarted `anamorph serve`) came first and the new address got 401.
+TEST_F(SecurityTest, TheAddressTokenWinsOverAnEarlierServersCookie) {
+  const Reply r = fetch(port(), {"GET",
+                                 "/?token=" + std::string(kToken),
+                                 "",
+                                 {{"Cookie", "anamorph_token=0123456789abcdef0000000000000000"}}});
+  EXPECT_EQ(r.status, 200) << r.body.substr(0, 200);
+  // A wrong token in the address is not saved by a right cookie either.
+  const Reply wrong = fetch(
+      port(),
+      {"GET", "/api/state?token=wrong", "", {{"Cookie", "anamorph_token=" + std::string(kToken)}}});
+  EXPECT_EQ(wrong.status, 401) << wrong.body;
 }
 
 TEST_F(SecurityTest, OriginMustBeTheServer) {

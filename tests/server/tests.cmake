@@ -3,6 +3,7 @@ anamorph_add_test(test_server
   ${CMAKE_CURRENT_LIST_DIR}/api_security_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_edit_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_files_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_confinement_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_preview_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_camera_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_declarations_test.cpp

@@ -143,8 +143,8 @@ try {
     // And the camera's inverse map takes it back to the clicked pixel (the coin leaves its own
     // center where it was).
     fs.writeFileSync(path.join(dir, 'with-coin.toml'), (await state()).text);
-    const back = run(['project', path.join(dir, 'with-coin.toml'), '--point', position.join(',')])
-      .trim().split('\n').map((l) => l.split(/\s+/).map(Number));
+    const back = JSON.parse(run(['project', path.join(dir, 'with-coin.toml'), '--point', position.join(','),
+      '--json'])).pixels;
     assert.ok(back.some(([x, y]) => Math.abs(x - (px + 0.5)) < 0.01 && Math.abs(y - (py + 0.5)) < 0.01),
               `anamorph project gives ${JSON.stringify(back)}, the click was at (${px + 0.5}, ${py + 0.5})`);
   });
