@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "math/parallel.h"
 #include "render/local_threads.h"
 #include "render/tile_session.h"
 
@@ -19,7 +20,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 RenderRun::RenderRun(const RenderOptions& o, std::unique_ptr<const TileSession> session,
                      double time_limit)
     : opt(o),
-      arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic),
+      arena(arena_concurrency(o.threads)),
       session_(std::move(session)),
       local_(session_ ? std::make_unique<LocalThreads>(*session_, arena) : nullptr),
       time_limit_(time_limit) {}
