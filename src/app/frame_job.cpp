@@ -116,6 +116,38 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   return r;
 }
 
+// A pass render's checkpoint into `film`: each tile's sums and the pass it finished, the pass
+// to continue and its active pixels. Whether it held a pass start (without one, nothing is used).
+bool read_passes(const FrameJob& job, CheckpointReader& reader, Film& film,
+                 std::vector<int>& tile_pass, PassResume& resume, FrameResult& r) {
+  const RenderSettings& rs = job.scene.render;
+  const size_t tiles = film.grid().count(), nf = aov_floats(job.aovs);
+  bool have_pass = false;
+  reader.read({nullptr,
+               [&](PassTile&& t) {
+                 if (t.index >= tiles) damaged(job.checkpoint, "a tile outside the image");
+                 TileBuffer& b = film.tile(t.index);
+                 if (t.sums.size() != b.sums().size() || t.aov.size() != b.sums().size() * nf)
+                   damaged(job.checkpoint, "a tile of the wrong size");
+                 b.sums() = std::move(t.sums);
+                 b.aov_sums() = std::move(t.aov);
+                 if (tile_pass[t.index] < 0) ++r.resumed_tiles;
+                 tile_pass[t.index] = t.pass;
+               },
+               [&](int pass, std::vector<uint8_t>&& active) {
+                 const size_t pixels = size_t(rs.width) * size_t(rs.height);
+                 if (active.size() != (Renderer::streams(rs) ? 0 : pixels) || pass < 0)
+                   damaged(job.checkpoint, "a pass record of the wrong size");
+                 resume.pass = pass;
+                 resume.active = std::move(active);
+                 have_pass = true;
+               }});
+  r.resumed = have_pass;
+  // (The reader refuses pass tiles without their pass start; none are used without one.)
+  if (!have_pass) std::fill(tile_pass.begin(), tile_pass.end(), -1), r.resumed_tiles = 0;
+  return have_pass;
+}
+
 // Per-pixel adaptive sampling (the stopping rule looks across tiles) and time-limited uniform
 // sampling: a film in passes. The checkpoint is rewritten at each pass start (every tile's sums and
 // the pass's active pixels) and gets each tile's sums as it finishes the pass.
@@ -128,31 +160,7 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   PassResume resume;
   bool have_pass = false;
   auto reader = open_checkpoint(job, id);
-  if (reader) {
-    const size_t nf = aov_floats(job.aovs);
-    reader->read({nullptr,
-                  [&](PassTile&& t) {
-                    if (t.index >= tiles) damaged(job.checkpoint, "a tile outside the image");
-                    TileBuffer& b = film.tile(t.index);
-                    if (t.sums.size() != b.sums().size() || t.aov.size() != b.sums().size() * nf)
-                      damaged(job.checkpoint, "a tile of the wrong size");
-                    b.sums() = std::move(t.sums);
-                    b.aov_sums() = std::move(t.aov);
-                    if (tile_pass[t.index] < 0) ++r.resumed_tiles;
-                    tile_pass[t.index] = t.pass;
-                  },
-                  [&](int pass, std::vector<uint8_t>&& active) {
-                    const size_t pixels = size_t(rs.width) * size_t(rs.height);
-                    if (active.size() != (Renderer::streams(rs) ? 0 : pixels) || pass < 0)
-                      damaged(job.checkpoint, "a pass record of the wrong size");
-                    resume.pass = pass;
-                    resume.active = std::move(active);
-                    have_pass = true;
-                  }});
-    r.resumed = have_pass;
-    // (The reader refuses pass tiles without their pass start; none are used without one.)
-    if (!have_pass) std::fill(tile_pass.begin(), tile_pass.end(), -1), r.resumed_tiles = 0;
-  }
+  if (reader) have_pass = read_passes(job, *reader, film, tile_pass, resume, r);
   std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, have_pass ? reader->end() : 0);
   reader.reset();
   resume.tile_pass = tile_pass;

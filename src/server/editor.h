@@ -126,6 +126,7 @@ class Editor {
 
  private:
   struct Render;
+  void render_frames(FinalRenderJob job, const std::string& stem);
   std::unique_ptr<Scene> load(const toml::table& t, bool view_only,
                               std::vector<std::string>* warnings);
   EditOutcome show_new(const toml::table& next, const std::function<void()>& commit);
