@@ -274,7 +274,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const Renderer& render
                "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
                "dropped\n",
                out.string(), scene.render.width, scene.render.height, sampling,
-               name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
+               scene.render.shown(), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
                st.nan_samples);
   }
   if (st.nan_samples > 0)
@@ -575,7 +575,7 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--seed", a->seed, "Random seed (overrides render.seed)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--integrator", a->integrator,
-                  "whitted | path | albedo | normal | depth | position | id | uv");
+                  "whitted | path, or a view: albedo | normal | depth | position | id | uv");
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
                   "Extra layers written to EXR (beside a PNG: <output>.exr): "

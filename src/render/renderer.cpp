@@ -248,9 +248,8 @@ RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const 
   const bool per_pixel = !streams(rs);
   // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
   // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
-  const StopRule stop_rule = rs.integrator == IntegratorKind::Whitted
-                                 ? StopRule::deterministic(rs.noise_threshold)
-                                 : StopRule::noisy(rs.noise_threshold);
+  const StopRule stop_rule = rs.deterministic() ? StopRule::deterministic(rs.noise_threshold)
+                                                : StopRule::noisy(rs.noise_threshold);
   const auto spp = uint32_t(per_pixel ? rs.max_spp : rs.spp);
   const std::vector<uint32_t> ends =
       pass_ends(spp, per_pixel ? uint32_t(rs.min_spp) : 1, opt.progressive || per_pixel);

@@ -1,6 +1,5 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/adaptive.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/bsdf.cpp
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint.cpp
   ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
@@ -11,6 +10,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/surface_sampler.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_metrics.cpp
   ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/path_integrator.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/whitted_integrator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lights.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/renderer.cpp

@@ -258,7 +258,7 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
           const auto names = integrator_names();
           const auto it = std::find(names.begin(), names.end(), v.get<std::string>());
           if (it == names.end()) throw std::invalid_argument("unknown integrator " + v.dump());
-          s.integrator = IntegratorKind(it - names.begin());
+          s.integrator = std::string(*it);
         }
       }
       if (body.contains("max_spp")) s.max_spp = int(number_in(body, "max_spp", 1, 4096));
@@ -266,11 +266,10 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
       if (body.contains("max_height")) s.max_height = int(number_in(body, "max_height", 16, 4096));
       editor_.preview().set_settings(s);
     }
-    return json_response(
-        200, {{"integrator", s.integrator ? std::string(name_of(*s.integrator)) : "scene"},
-              {"max_spp", s.max_spp},
-              {"max_width", s.max_width},
-              {"max_height", s.max_height}});
+    return json_response(200, {{"integrator", s.integrator ? *s.integrator : "scene"},
+                               {"max_spp", s.max_spp},
+                               {"max_width", s.max_width},
+                               {"max_height", s.max_height}});
   }
   if (post && p == "/api/pick") {
     const Vec2 uv{number_in(body, "u", 0, 1), number_in(body, "v", 0, 1)};
