@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "math/frame.h"
+#include "math/input_limits.h"
 #include "math/sampling.h"
 #include "math/simd.h"
 
@@ -169,6 +170,19 @@ double VirtualCamera::shutter_time(const CameraSample& cs) const {
 }
 
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
+  std::optional<CameraRay> r = generate_any(cs);
+  if (r && !within_world(r->org)) return std::nullopt;
+  return r;
+}
+
+void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
+  generate_batch_any(s, n, out);
+  // (The same test as generate()'s, on the same values: single rays and packets agree.)
+  for (int i = 0; i < n; ++i)
+    out->valid[i] = out->valid[i] && within_world(CameraRayBatch::at(out->org, i));
+}
+
+std::optional<CameraRay> VirtualCamera::generate_any(const CameraSample& cs) const {
   if (moving_) {
     // Motion blur: the ray in camera space, then the rig where it is at this sample's time.
     auto r = generate_general(cs, /*camera_space=*/true);
@@ -410,9 +424,9 @@ void VirtualCamera::plain_rays(const double* u, const double* v, int n, CameraRa
   finish(eval_functions(u, v, n, &org, &dir), dir, camera_space, n, out);
 }
 
-void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
+void VirtualCamera::generate_batch_any(const CameraSample* s, int n, CameraRayBatch* out) const {
   if (moving_ || dof_.aperture_radius > 0 || !rig_affine_) {
-    Camera::generate_batch(s, n, out);
+    for (int i = 0; i < n; ++i) out->set(i, generate_any(s[i]));
     return;
   }
   alignas(64) double u[kCameraBatch], v[kCameraBatch];

@@ -59,6 +59,8 @@ class VirtualCamera final : public Camera {
  public:
   VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
 
+  // A ray whose origin lies beyond kMaxCoordinate (math/input_limits.h) is no ray: the renderer
+  // never hands one to Embree, which asserts on origins past 1.8e18.
   std::optional<CameraRay> generate(const CameraSample& s) const override;
   void generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const override;
   bool uses_lens_or_time() const override { return dof_.aperture_radius > 0 || moving_; }
@@ -113,6 +115,9 @@ class VirtualCamera final : public Camera {
   void finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
               CameraRayBatch* out) const;
   std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
+  // generate() and generate_batch() before the world's bound is applied to the origins.
+  std::optional<CameraRay> generate_any(const CameraSample& s) const;
+  void generate_batch_any(const CameraSample* s, int n, CameraRayBatch* out) const;
   std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
   void to_world(CameraRay* r) const;  // the rig
   void to_world(CameraRay* r, const Transform& rig) const;
