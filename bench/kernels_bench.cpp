@@ -4,8 +4,9 @@
 #include <cmath>
 
 #include "accel/accel.h"
+#include "material/bsdf.h"
+#include "material/material_kinds.h"
 #include "math/rng.h"
-#include "render/bsdf.h"
 #include "scene/scene_loader.h"
 
 namespace anamorph {
@@ -15,7 +16,7 @@ namespace {
 // A finely tessellated sphere mesh, so the benchmark needs no external files.
 Scene tessellated_sphere_scene(int n) {
   Scene s;
-  s.materials.emplace_back();
+  s.materials.push_back(make_material("name = \"grey\""));
   Prototype p;
   TriangleMesh m;
   for (int j = 0; j <= n; ++j)

@@ -210,7 +210,7 @@ pb::dict SceneHandle::info() {
   d["path"] = s.path;
   d["width"] = s.render.width;
   d["height"] = s.render.height;
-  d["integrator"] = std::string(name_of(s.render.integrator));
+  d["integrator"] = std::string(s.render.shown());
   d["antialias"] = std::string(name_of(s.render.antialias));
   d["spp"] = s.render.spp;
   d["sampler"] = std::string(name_of(s.render.sampler));
@@ -221,7 +221,7 @@ pb::dict SceneHandle::info() {
   for (const auto& sh : s.shapes)
     shapes.append(
         pb::dict(pb::arg("type") = std::string(name_of(sh.kind)), pb::arg("name") = sh.name));
-  for (const auto& m : s.materials) materials.append(m.name);
+  for (const auto& m : s.materials) materials.append(m->name);
   for (const auto& l : s.lights)
     lights.append(
         pb::dict(pb::arg("type") = std::string(name_of(l.kind)), pb::arg("name") = l.name));

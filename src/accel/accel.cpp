@@ -20,7 +20,7 @@ using accel_detail::shape_t;
 
 namespace {
 
-unsigned mask_of(const Material& m) { return m.transmission > 0 ? kSeeThrough : kOpaque; }
+unsigned mask_of(const Material& m) { return m.shadow_transmission() > 0 ? kSeeThrough : kOpaque; }
 
 void embree_error(void*, RTCError code, const char* msg) {
   // Embree reports through this callback; failures here are programming or memory errors.
@@ -45,9 +45,7 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     const Vec2f a = m.uvs[idx[0]], b = m.uvs[idx[1]], c = m.uvs[idx[2]];
     TexCoord tc;
     tc.uv = {(1 - bu - bv) * a.x + bu * b.x + bv * c.x, (1 - bu - bv) * a.y + bu * b.y + bv * c.y};
-    double alpha = 1;
-    md->material->base_color.eval(tc, &alpha);
-    if (alpha < md->material->alpha_cutoff) args->valid[i] = 0;
+    if (!md->material->opaque_at(tc)) args->valid[i] = 0;
   }
 }
 
@@ -143,8 +141,7 @@ RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform
   auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), m.triangle_count()));
   std::copy(m.indices.begin(), m.indices.end(), ix);
-  if (mat.alpha_mode != Material::AlphaMode::Opaque &&
-      mat.base_color.kind == Texture::Kind::Image) {
+  if (mat.alpha_masked()) {
     masks.push_back(std::make_unique<MaskData>(MaskData{&m, &mat}));
     rtcSetGeometryUserData(g, masks.back().get());
     rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
@@ -216,7 +213,7 @@ Accel::Accel(const Scene& scene) {
             std::swap(w.indices[t + 1], w.indices[t + 2]);
         flat_meshes_.push_back(std::move(w));
         const TriangleMesh& fm = flat_meshes_.back();
-        const Material& mat = scene.materials[fm.material];
+        const Material& mat = *scene.materials[fm.material];
         RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks);
         auto rec = std::make_unique<Record>();
         rec->kind = Record::Kind::FlatMesh;
@@ -232,7 +229,7 @@ Accel::Accel(const Scene& scene) {
       ps = rtcNewScene(device_);
       rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
       for (const auto& m : proto.meshes) {
-        RTCGeometry g = make_triangles(device_, m, nullptr, scene.materials[m.material], masks);
+        RTCGeometry g = make_triangles(device_, m, nullptr, *scene.materials[m.material], masks);
         rtcAttachGeometry(ps, g);
         rtcReleaseGeometry(g);
         stats_.unique_triangles += m.triangle_count();
@@ -242,7 +239,7 @@ Accel::Accel(const Scene& scene) {
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(g, ps);
     unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
-    for (const auto& m : proto.meshes) mask |= mask_of(scene.materials[m.material]);
+    for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
     rtcSetGeometryMask(g, mask);
     float xfm[12];  // 3x4 column-major
     const auto& a = inst.world_from_object.matrix().m;
@@ -272,7 +269,7 @@ Accel::Accel(const Scene& scene) {
     rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
     rtcSetGeometryIntersectFunction(g, shape_intersect);
     rtcSetGeometryOccludedFunction(g, shape_occluded);
-    const unsigned mask = mask_of(scene.materials[sh.material]);
+    const unsigned mask = mask_of(*scene.materials[sh.material]);
     rtcSetGeometryMask(g, mask);
     rtcCommitGeometry(g);
     if (sh.kind == AnalyticShape::Kind::Plane) {

@@ -18,7 +18,7 @@ int run(const SceneOptions& o) {
       s.render.adaptive() ? fmt::format("adaptive antialiasing ({})", name_of(s.render.antialias))
                           : fmt::format("{} spp ({})", s.render.spp, name_of(s.render.sampler));
   fmt::print("image       {}x{}, {}, integrator {}, max_depth {}\n", s.render.width,
-             s.render.height, sampling, name_of(s.render.integrator), s.render.max_depth);
+             s.render.height, sampling, s.render.shown(), s.render.max_depth);
   fmt::print("camera      {}\n", s.camera->describe());
   const auto sites = coin_sites(*s.camera);
   if (!sites.empty()) {
@@ -38,9 +38,7 @@ int run(const SceneOptions& o) {
   for (const auto& sh : s.shapes) fmt::print("  {:<12} {}\n", name_of(sh.kind), sh.name);
   fmt::print("materials   {}\n", s.materials.size());
   for (const auto& m : s.materials)
-    fmt::print("  {:<24} {}{}\n", m.name,
-               m.model == Material::Model::Whitted ? "whitted" : "metallic_roughness",
-               m.is_emissive() ? ", emissive" : "");
+    fmt::print("  {:<24} {}{}\n", m->name, m->describe(), m->is_emissive() ? ", emissive" : "");
   fmt::print("lights      {}\n", s.lights.size());
   for (const auto& l : s.lights) fmt::print("  {:<12} {}\n", name_of(l.kind), l.name);
   fmt::print("environment {}\n", s.environment.image

@@ -111,7 +111,7 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--seed", a->seed, "Random seed (overrides render.seed)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--integrator", a->integrator,
-                  "whitted | path | albedo | normal | depth | position | id | uv");
+                  "whitted | path, or a view: albedo | normal | depth | position | id | uv");
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
                   "Extra layers written to EXR (beside a PNG: <output>.exr): "

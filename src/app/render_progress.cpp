@@ -64,9 +64,8 @@ void print_summary(const RenderSetup& s, const std::string& out, const Scene& sc
     fmt::print(messages(),
                "{}: {}x{}, {}, {} in {:.2f} s, {:.2f} Mrays/s ({:.3f} M rays), {} NaN/Inf samples "
                "dropped\n",
-               out, scene.render.width, scene.render.height, sampling,
-               name_of(scene.render.integrator), st.seconds, st.mrays_per_second(), st.rays * 1e-6,
-               st.nan_samples);
+               out, scene.render.width, scene.render.height, sampling, scene.render.shown(),
+               st.seconds, st.mrays_per_second(), st.rays * 1e-6, st.nan_samples);
   }
   if (st.nan_samples > 0)
     fmt::print(stderr,

@@ -28,7 +28,7 @@ void write_tile_stats(const std::filesystem::path& file, const Scene& scene, dou
   j["tile_size"] = grid.size;
   j["tiles_total"] = grid.count();
   j["threads"] = threads > 0 ? threads : int(std::thread::hardware_concurrency());
-  j["integrator"] = std::string(name_of(rs.integrator));
+  j["integrator"] = std::string(rs.shown());
   j["seconds"] = st.seconds;
   j["samples"] = st.samples;
   j["rays"] = st.rays;

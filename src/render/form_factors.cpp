@@ -234,7 +234,7 @@ PathRadiance path_traced_radiance(const Scene& scene, const Accel& accel, const 
                                   const FormFactorOptions& o, int max_depth) {
   const Lights lights(scene, accel);
   const RenderContext ctx{scene, accel, lights, max_depth, 0, o.cancel};
-  const auto path = make_integrator(IntegratorKind::Path, ctx);
+  const auto path = make_integrator("path", ctx);
   const Hemisphere hemi(o.rays);
   const std::vector<bool> inward = inward_flags(f.names, o.inward);
   PathRadiance out;

@@ -6,7 +6,8 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
-#include <string>
+#include <span>
+#include <string_view>
 
 #include "accel/accel.h"
 #include "math/rng.h"
@@ -43,6 +44,12 @@ class Integrator {
   // Whether radiance() draws from `rng` at all: when it does not (Whitted lit by point and
   // spot lights alone), a pixel-center render seeds no generator.
   virtual bool draws_random_numbers() const { return true; }
+  // Whether rays go on from a hit on `m` (and so need the pixel's footprint beyond the first
+  // hit): always for the path tracer; Whitted's only from mirrors and glass.
+  virtual bool continues_from(const Material& m) const {
+    (void)m;
+    return true;
+  }
 
  protected:
   // A ray leaving a surface point, offset along the geometric normal to avoid self-hits.
@@ -50,7 +57,20 @@ class Integrator {
   const RenderContext& ctx_;
 };
 
-// Whitted or Path; AOV integrators are handled by the renderer.
-std::unique_ptr<Integrator> make_integrator(IntegratorKind kind, const RenderContext& ctx);
+// Whether a light sample's shadow ray from h reaches the light (stopping short of it by a
+// relative margin).
+bool light_visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint64_t& rays);
+
+// The integrators by name (render.integrator): each one's file defines its class and its entry,
+// the one list is in integrators.cpp. (The AOV views are not integrators: the renderer shows
+// them, RenderSettings::view.) The scene reader declares the same names (scene_schema.cpp,
+// declared_integrators()); tests/render/integrator_test.cpp holds the two lists equal.
+struct IntegratorFactory {
+  std::string_view name;
+  std::unique_ptr<Integrator> (*create)(const RenderContext& ctx);
+};
+std::span<const IntegratorFactory* const> integrator_factories();
+// Throws std::invalid_argument naming the valid names for a name not in the list.
+std::unique_ptr<Integrator> make_integrator(std::string_view name, const RenderContext& ctx);
 
 }  // namespace anamorph

@@ -48,7 +48,7 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
   for (uint32_t id = 0; id < accel.object_count(); ++id) {
     const Accel::Record& rec = accel.record(id);
     auto add_mesh = [&](const TriangleMesh& m, const Transform* xf, uint32_t mesh_index) {
-      const Material& mat = scene.materials[m.material];
+      const Material& mat = *scene.materials[m.material];
       if (!mat.is_emissive()) return;
       const Color scale = mat.emission.value * mat.emission_strength;
       for (size_t t = 0; t < m.triangle_count(); ++t) {
@@ -80,7 +80,7 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
       for (uint32_t j = 0; j < rec.proto->meshes.size(); ++j)
         add_mesh(rec.proto->meshes[j], &rec.world_from_object, j);
     } else if (rec.shape->kind == AnalyticShape::Kind::Sphere) {
-      const Material& mat = scene.materials[rec.shape->material];
+      const Material& mat = *scene.materials[rec.shape->material];
       if (!mat.is_emissive()) continue;
       Emitter e{};
       e.kind = Emitter::Kind::Sphere;
@@ -283,7 +283,7 @@ bool Lights::sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
 }
 
 Color Lights::emitted(const Hit& h, const Vec3& wo) const {
-  const Material& m = scene_.materials[h.material];
+  const Material& m = *scene_.materials[h.material];
   if (!m.is_emissive()) return {};
   if (!m.double_sided && dot(wo, h.ng) <= 0) return {};
   TexCoord tc;

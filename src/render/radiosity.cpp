@@ -33,7 +33,7 @@ std::vector<uint32_t> object_materials(const Accel& accel, uint32_t id) {
 }
 
 const Material& object_material(const Scene& scene, const Accel& accel, uint32_t id) {
-  return scene.materials[object_materials(accel, id).front()];
+  return *scene.materials[object_materials(accel, id).front()];
 }
 
 // "'lamp' (material 'bright')": how messages name an object and its material.
@@ -78,9 +78,7 @@ std::vector<size_t> lossless_enclosure(const Scene& scene, const Accel& accel, c
 }  // namespace
 
 Color object_reflectance(const Scene& scene, const Accel& accel, uint32_t id) {
-  const Material& m = object_material(scene, accel, id);
-  const Color base = m.base_color.value;
-  return m.model == Material::Model::Whitted ? base * m.diffuse : base * (1 - m.metallic);
+  return object_material(scene, accel, id).diffuse_reflectance();
 }
 
 Color object_emission(const Scene& scene, const Accel& accel, uint32_t id) {
@@ -105,7 +103,7 @@ void check_radiosity_inputs(const Scene& scene, const Accel& accel,
           "radiosity needs one material per object, and '{}' has {} meshes with different "
           "materials",
           names[i], mats.size()));
-    const Material& m = scene.materials[mats.front()];
+    const Material& m = *scene.materials[mats.front()];
     for (const auto& [texture, key] :
          {std::pair{&m.base_color, "colour"}, std::pair{&m.emission, "emission"}})
       if (texture->kind != Texture::Kind::Constant)

@@ -9,22 +9,21 @@ namespace anamorph {
 
 namespace {
 
-RenderMode mode_of(IntegratorKind integrator) {
-  switch (integrator) {
-    case IntegratorKind::Albedo:
+RenderMode mode_of(View view) {
+  switch (view) {
+    case View::Albedo:
       return RenderMode::Albedo;
-    case IntegratorKind::Normal:
+    case View::Normal:
       return RenderMode::Normal;
-    case IntegratorKind::Depth:
+    case View::Depth:
       return RenderMode::Depth;
-    case IntegratorKind::Position:
+    case View::Position:
       return RenderMode::Position;
-    case IntegratorKind::Id:
+    case View::Id:
       return RenderMode::Id;
-    case IntegratorKind::Uv:
+    case View::Uv:
       return RenderMode::Uv;
-    case IntegratorKind::Whitted:
-    case IntegratorKind::Path:
+    case View::Beauty:
       break;
   }
   return RenderMode::Radiance;
@@ -43,7 +42,7 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
     : scene(s),
       accel(a),
       rs(s.render),
-      mode(mode_of(rs.integrator)),
+      mode(mode_of(rs.view)),
       integrator(mode == RenderMode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
       want_aovs(aovs || mode != RenderMode::Radiance),
       film_aovs(aovs),
@@ -56,12 +55,11 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
   uniform_scale = footprint_scale(uint32_t(rs.spp));
   du = 1.0 / W;
   dv = 1.0 / H;
-  for (const Material& m : s.materials) textured.push_back(m.textured());
+  for (const auto& m : s.materials) textured.push_back(m->textured());
   for (size_t i = 0; i < s.materials.size(); ++i) {
-    const Material& m = s.materials[i];
-    const bool goes_on = rs.integrator != IntegratorKind::Whitted || m.transmission > 0 ||
-                         m.reflectivity > 0 || m.model != Material::Model::Whitted;
-    needs_footprint.push_back(textured[i] || (mode == RenderMode::Radiance && goes_on));
+    const Material& m = *s.materials[i];
+    needs_footprint.push_back(textured[i] ||
+                              (mode == RenderMode::Radiance && integrator->continues_from(m)));
   }
   const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
   hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
@@ -73,9 +71,9 @@ double RenderJob::footprint_scale(uint32_t n) {
 }
 
 void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const {
-  // Every field for AOV layers; otherwise only the one the AOV integrator shows.
+  // Every field for AOV layers; otherwise only the one the view shows.
   const bool all = film_aovs;
-  const Material& m = scene.materials[hit.material];
+  const Material& m = *scene.materials[hit.material];
   a.hit = true;
   if (all || mode == RenderMode::Albedo)
     a.albedo =

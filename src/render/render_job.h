@@ -32,7 +32,7 @@ inline bool film_storable(const Color& L) {
   return std::abs(L.x) <= kMax && std::abs(L.y) <= kMax && std::abs(L.z) <= kMax;
 }
 
-// What a render's beauty shows: radiance, or one AOV (the AOV integrators).
+// What a render's beauty shows: radiance, or one AOV (RenderSettings::view).
 enum class RenderMode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };
 
 struct RenderJob {
@@ -44,7 +44,7 @@ struct RenderJob {
   const RenderSettings& rs;
   RenderMode mode;
   std::unique_ptr<Integrator> integrator;
-  bool want_aovs;  // AOV values: for the film's layers or an AOV integrator
+  bool want_aovs;  // AOV values: for the film's layers or a view
   bool film_aovs;  // the film has AOV layers
   // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
   // or albedo without textures when there are no AOV layers.

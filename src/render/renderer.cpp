@@ -126,9 +126,8 @@ class PassSchedule {
         uniform_spp_(uint32_t(rs.spp)),
         // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
         // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
-        stop_rule_(rs.integrator == IntegratorKind::Whitted
-                       ? StopRule::deterministic(rs.noise_threshold)
-                       : StopRule::noisy(rs.noise_threshold)),
+        stop_rule_(rs.deterministic() ? StopRule::deterministic(rs.noise_threshold)
+                                      : StopRule::noisy(rs.noise_threshold)),
         resume_(opt.resume) {
     if (per_pixel_) active_.assign(size_t(film.width()) * size_t(film.height()), 1);
     if (resume_ && per_pixel_) active_ = resume_->active;

@@ -1,11 +1,10 @@
-// From a hit and its material to a BSDF: texture lookups filtered by the ray footprint,
-// normal mapping, and the mapping of both material models onto BSDF lobes.
+// From a hit to what its material reads: the pixel's footprint at the hit, texture coordinates
+// filtered by it, and the shading point (material/material.h).
 #pragma once
 
 #include "accel/accel.h"
 #include "camera/camera.h"
-#include "render/bsdf.h"
-#include "scene/material.h"
+#include "material/material.h"
 
 namespace anamorph {
 
@@ -22,8 +21,11 @@ Footprint propagate(const Footprint& fp, const Hit& next);
 
 TexCoord texcoord_at(const Hit& h, const Footprint& fp);
 
-// `wo` points away from the surface (toward the viewer). `albedo` receives the surface colour
-// for the albedo AOV when not null.
-Bsdf make_bsdf(const Material& m, const Hit& h, const Vec3& wo, const TexCoord& tc, Color* albedo);
+// The hit as its material sees it, with texture coordinates filtered by fp, or without any (for
+// a material that is not textured()).
+inline ShadingPoint shading_point(const Hit& h, const Footprint& fp) {
+  return {h.p, h.ng, h.ns, h.dpdu, h.dpdv, texcoord_at(h, fp)};
+}
+inline ShadingPoint shading_point(const Hit& h) { return {h.p, h.ng, h.ns, h.dpdu, h.dpdv, {}}; }
 
 }  // namespace anamorph

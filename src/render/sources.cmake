@@ -1,6 +1,5 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/adaptive.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/bsdf.cpp
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint.cpp
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint_records.cpp
   ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
@@ -12,6 +11,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/surface_sampler.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_metrics.cpp
   ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/path_integrator.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/whitted_integrator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lights.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/local_threads.cpp

@@ -44,6 +44,7 @@
 #include "io/confined_folder.h"
 #include "io/read_file.h"
 #include "io/read_log.h"
+#include "material/whitted.h"
 #include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/load_common.h"
@@ -224,14 +225,15 @@ class AssimpBuilder {
     return uint32_t(slot);
   }
 
-  Material convert_material(const aiMaterial& am) {
-    Material mat;  // Whitted by default
+  std::unique_ptr<Material> convert_material(const aiMaterial& am) {
+    auto owned = std::make_unique<WhittedMaterial>();
+    WhittedMaterial& mat = *owned;
     aiString name;
     am.Get(AI_MATKEY_NAME, name);
     mat.name = name.C_Str();
     if (mat.name.empty() || mat.name == AI_DEFAULT_MATERIAL_NAME) {
       mat.name = "default";
-      return mat;
+      return owned;
     }
     aiColor3D c;
     Color kd = mat.base_color.value;
@@ -266,7 +268,7 @@ class AssimpBuilder {
       mat.normal_map = normals;
       mat.has_normal_map = true;
     }
-    return mat;
+    return owned;
   }
 
   // The material's first texture of `type` (value multiplies it), or a constant `value`.

@@ -41,6 +41,7 @@
 
 #include "io/read_file.h"
 #include "io/read_log.h"
+#include "material/metallic_roughness.h"
 #include "scene/load_common.h"
 #include "scene/load_gltf_accessor.h"
 #include "scene/load_mesh_repair.h"
@@ -415,11 +416,11 @@ class GltfBuilder {
 
   uint32_t default_material() {
     if (default_material_ < 0) {
-      Material mat;  // glTF's default: white, metallic 1, roughness 1, single-sided
-      mat.name = "glTF default";
-      mat.model = Material::Model::MetallicRoughness;
-      mat.base_color = Texture::constant({1, 1, 1});
-      mat.double_sided = false;
+      // glTF's default: white, metallic 1, roughness 1, single-sided.
+      auto mat = std::make_unique<MetallicRoughnessMaterial>();
+      mat->name = "glTF default";
+      mat->base_color = Texture::constant({1, 1, 1});
+      mat->double_sided = false;
       out_.materials.push_back(std::move(mat));
       default_material_ = int(out_.materials.size() - 1);
     }
@@ -438,10 +439,10 @@ class GltfBuilder {
     return uint32_t(slot);
   }
 
-  Material convert_material(int index) {
+  std::unique_ptr<Material> convert_material(int index) {
     const tinygltf::Material& gm = m_.materials[size_t(index)];
-    Material mat;
-    mat.model = Material::Model::MetallicRoughness;
+    auto owned = std::make_unique<MetallicRoughnessMaterial>();
+    MetallicRoughnessMaterial& mat = *owned;
     mat.name = gm.name.empty() ? fmt::format("material {}", index) : gm.name;
     if (gm.alphaMode == "MASK") {
       mat.alpha_mode = Material::AlphaMode::Mask;
@@ -511,7 +512,7 @@ class GltfBuilder {
       mat.ior = number(it->second, "ior", 1.5);
     material_uv_set_[size_t(index)] = std::max(uv_set, 0);
     material_textured_[size_t(index)] = uv_set >= 0;
-    return mat;
+    return owned;
   }
 
   static Texture constant_with_alpha(Color c, float alpha) {

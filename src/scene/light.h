@@ -5,8 +5,8 @@
 #include <memory>
 #include <string>
 
+#include "material/texture.h"
 #include "math/transform.h"
-#include "scene/texture.h"
 
 namespace anamorph {
 

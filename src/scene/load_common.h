@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "io/read_file.h"
-#include "scene/texture.h"
+#include "material/texture.h"
 
 namespace anamorph {
 

@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "material/material.h"
 #include "model/mesh.h"
-#include "scene/material.h"
 
 namespace anamorph {
 
@@ -39,7 +39,7 @@ struct ModelCamera {
 };
 
 struct LoadedModel {
-  std::vector<Material> materials;    // indices used by meshes refer to this list
+  MaterialList materials;             // indices used by meshes refer to this list
   std::vector<Prototype> prototypes;  // each mesh built once...
   std::vector<Instance> instances;    // ...and placed by nodes (model space)
   std::vector<ModelCamera> cameras;

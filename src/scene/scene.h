@@ -7,17 +7,19 @@
 
 #include "camera/virtual_camera.h"
 #include "io/read_log.h"
+#include "material/material.h"
 #include "model/mesh.h"
 #include "scene/light.h"
 #include "scene/loaders.h"
-#include "scene/material.h"
 #include "scene/shape.h"
 
 namespace anamorph {
 
-// The closed sets of [render], in the order of their names in scene_schema (integrator_names()
+// What a pixel shows instead of radiance: one AOV. Chosen by `integrator = "albedo"` and so on,
+// but not an integrator (docs/scene-format.md, "Views"); Beauty: the integrator's radiance.
+enum class View { Beauty, Albedo, Normal, Depth, Position, Id, Uv };
+// The closed sets of [render], in the order of their names in scene_schema (sampler_names()
 // and so on): an enum's value is its name's index there.
-enum class IntegratorKind { Whitted, Path, Albedo, Normal, Depth, Position, Id, Uv };
 enum class SamplerKind { Center, Stratified, Random };
 enum class PixelFilter { Box, Gaussian };
 // Resolved at load: the file's "adaptive" means Lattice for whitted, Pixel for the others.
@@ -25,7 +27,10 @@ enum class Antialias { Uniform, Lattice, Pixel };
 
 struct RenderSettings {
   int width = 640, height = 480;
-  IntegratorKind integrator = IntegratorKind::Whitted;
+  // The light transport, by name: one of declared_integrators() (scene_schema.h), made by
+  // render/'s registry. Set both through select_integrator().
+  std::string integrator = "whitted";
+  View view = View::Beauty;
   int spp = 1;
   SamplerKind sampler = SamplerKind::Stratified;
   int max_depth = 5;
@@ -52,10 +57,12 @@ struct RenderSettings {
 
   // Whether the samples per pixel vary: an adaptive scheme with a radiance integrator (the AOV
   // integrators take `spp` samples under any scheme).
-  bool adaptive() const {
-    return antialias != Antialias::Uniform &&
-           (integrator == IntegratorKind::Whitted || integrator == IntegratorKind::Path);
-  }
+  bool adaptive() const { return antialias != Antialias::Uniform && view == View::Beauty; }
+  // Whether a pixel's samples differ only by where they fall in it (Whitted's radiance, not a
+  // view): lattice antialiasing by default, two first samples, and its own stopping rule.
+  bool deterministic() const;
+  // What a pixel shows: the view's name, or the integrator's (`anamorph info`, logs).
+  std::string_view shown() const;
 };
 
 struct Scene {
@@ -67,7 +74,7 @@ struct Scene {
   // applied (checkpoints compare it to refuse resuming a changed scene).
   std::string effective_toml;
 
-  std::vector<Material> materials;
+  MaterialList materials;
   std::vector<Prototype> prototypes;
   std::vector<Instance> instances;
   std::vector<AnalyticShape> shapes;

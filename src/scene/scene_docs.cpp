@@ -9,6 +9,7 @@
 #include "camera/coins.h"
 #include "camera/functions.h"
 #include "camera/presets.h"
+#include "material/material_kinds.h"
 #include "params/param_docs.h"
 #include "params/param_schema.h"
 #include "scene/scene_schema.h"
@@ -176,7 +177,7 @@ std::string scene_json_schema() {
   props["image"] = scene_table_json(image_schema());
   props["render"] = scene_table_json(render_schema());
   props["camera"] = {{"$ref", "#/$defs/camera"}};
-  props["material"] = array_of(scene_table_json(material_schema(), "whitted"));
+  props["material"] = array_of(scene_table_json(material_schema(), default_material_type()));
   props["object"] = array_of(scene_table_json(object_schema()));
   props["light"] = array_of(scene_table_json(light_schema()));
   props["environment"] = scene_table_json(environment_schema());

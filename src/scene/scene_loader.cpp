@@ -8,6 +8,7 @@
 #include <span>
 
 #include "io/image_io.h"
+#include "material/material_kinds.h"
 #include "math/frame.h"
 #include "math/input_limits.h"
 #include "math/user_text.h"
@@ -212,30 +213,16 @@ Texture read_texture(const TableReader& r, const ParamValues& v, std::string_vie
   return tex;
 }
 
-Material read_material(const TableReader& r, bool check_only) {
+// A [[material]]: its kind (`type`) makes it from the declared keys (material/material_kinds.h).
+std::unique_ptr<Material> read_material(const TableReader& r, bool check_only) {
   const ParamValues v = r.params(material_schema());
-  Material m;
-  m.name = v.string("name");
-  m.model =
-      v.string("type") == "whitted" ? Material::Model::Whitted : Material::Model::MetallicRoughness;
-  m.base_color = read_texture(r, v, "color", true, check_only);
-  m.emission = read_texture(r, v, "emission", true, check_only);
-  m.emission_strength = v.number("emission_strength");
-  m.ior = v.number("ior");
-  m.transmission = v.number("transmission");
-  if (m.model == Material::Model::Whitted) {
-    m.diffuse = v.number("diffuse");
-    m.specular = v.color("specular");
-    m.exponent = v.number("exponent");
-    m.reflectivity = v.number("reflectivity");
-    if (m.reflectivity + m.transmission > 1)
-      r.fail("transmission", "reflectivity + transmission must not exceed 1 (energy conservation)");
-  } else {
-    m.metallic = v.number("metallic");
-    m.roughness = v.number("roughness");
+  try {
+    return make_material(v, [&](std::string_view key, bool srgb) {
+      return read_texture(r, v, key, srgb, check_only);
+    });
+  } catch (const ParamError& e) {
+    r.fail(e.key, e.message());
   }
-  m.double_sided = v.boolean("double_sided");
-  return m;
 }
 
 uint32_t material_ref(Context& c, const TableReader& r, const ParamValues& v,
@@ -399,14 +386,13 @@ void read_object(Context& c, const TableReader& r, int index) {
   c.scene->shapes.push_back(sh);
 }
 
-// A black, emitting material for an area light.
+// A black, emitting material for an area light: the default kind, black, emitting.
 uint32_t emissive_material(Scene& s, const std::string& name, Color radiance, bool two_sided) {
-  Material m;
-  m.name = name;
-  m.base_color = Texture::constant({0, 0, 0});
-  m.emission = Texture::constant(radiance);
-  m.double_sided = two_sided;
-  s.materials.push_back(m);
+  std::unique_ptr<Material> m = make_material(toml::table{{"name", name}});
+  m->base_color = Texture::constant({0, 0, 0});
+  m->emission = Texture::constant(radiance);
+  m->double_sided = two_sided;
+  s.materials.push_back(std::move(m));
   return uint32_t(s.materials.size() - 1);
 }
 
@@ -533,15 +519,13 @@ toml::table at_frame(const toml::table& original, const std::vector<std::string>
 // Materials, objects, lights and the environment of a scene.
 void read_world(Context& c, const TableReader& top) {
   Scene& s = *c.scene;
-  // Material 0 is the default for objects without one.
-  Material def;
-  def.name = "default";
-  s.materials.push_back(def);
+  // Material 0 is the default for objects without one: a [[material]] with only its name.
+  s.materials.push_back(make_material(toml::table{{"name", "default"}}));
   for_each_table(top, "material", [&](const TableReader& r, int) {
-    Material m = read_material(r, c.check_only);
-    if (c.material_ids.count(m.name))
-      r.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
-    c.material_ids[m.name] = uint32_t(s.materials.size());
+    std::unique_ptr<Material> m = read_material(r, c.check_only);
+    if (c.material_ids.count(m->name))
+      r.fail("name", fmt::format("material \"{}\" is defined twice", m->name));
+    c.material_ids[m->name] = uint32_t(s.materials.size());
     s.materials.push_back(std::move(m));
   });
   for_each_table(top, "object", [&](const TableReader& r, int i) { read_object(c, r, i); });
@@ -558,7 +542,7 @@ E choice(const ParamValues& v, std::string_view key, std::span<const std::string
 // [render]: the declared keys, and the defaults that depend on other keys.
 void read_render(const TableReader& r, RenderSettings& rs) {
   const ParamValues v = r.params({render_schema().common});
-  rs.integrator = choice<IntegratorKind>(v, "integrator", integrator_names());
+  select_integrator(rs, v.string("integrator"));  // (a declared choice: checked by params())
   rs.spp = int(v.integer("spp"));
   rs.sampler = choice<SamplerKind>(v, "sampler", sampler_names());
   rs.max_depth = int(v.integer("max_depth"));
@@ -568,7 +552,7 @@ void read_render(const TableReader& r, RenderSettings& rs) {
   rs.filter_radius = v.number("filter_radius");
   rs.tile_size = int(v.integer("tile_size"));
   // Whitted antialiases adaptively unless the file asks for a fixed sampler or scheme.
-  const bool whitted = rs.integrator == IntegratorKind::Whitted;
+  const bool whitted = rs.deterministic();
   const std::string aa = v.has("antialias")                              ? v.string("antialias")
                          : whitted && !r.has("sampler") && !r.has("spp") ? "adaptive"
                                                                          : "uniform";
@@ -576,10 +560,11 @@ void read_render(const TableReader& r, RenderSettings& rs) {
                  : aa == "lattice" || (aa == "adaptive" && whitted) ? Antialias::Lattice
                                                                     : Antialias::Pixel;
   // The lattice compares single samples: path tracing's noise would split every square.
-  if (rs.antialias == Antialias::Lattice && rs.integrator == IntegratorKind::Path)
-    r.fail("antialias",
-           "\"lattice\" compares single samples, and path tracing's noise would split every "
-           "square: use \"pixel\" (or \"adaptive\") with path tracing");
+  if (rs.antialias == Antialias::Lattice && rs.view == View::Beauty && !rs.deterministic())
+    r.fail("antialias", fmt::format("\"lattice\" compares single samples, and the noise of "
+                                    "`{}` would split every square: use \"pixel\" (or "
+                                    "\"adaptive\") with it",
+                                    rs.integrator));
   rs.aa_threshold = v.number("aa_threshold");
   rs.aa_depth = int(v.integer("aa_depth"));
   rs.aa_distortion = v.boolean("aa_distortion");

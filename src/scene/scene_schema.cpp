@@ -2,10 +2,12 @@
 // JSON Schema follow.
 #include "scene/scene_schema.h"
 
+#include <iterator>
 #include <limits>
 #include <vector>
 
 #include "camera/presets.h"
+#include "material/material_kinds.h"
 
 namespace anamorph {
 
@@ -22,8 +24,21 @@ const ParamSpec kImage[] = {
 
 // ---- [render] ---------------------------------------------------------------------------------
 
+// The integrators (render/'s registry makes them by these names: tests/render/integrator_test.cpp
+// holds the lists equal), then the views (View after Beauty, in its order); `integrator` takes
+// either.
+constexpr IntegratorDecl kIntegratorDecls[] = {{"whitted", true}, {"path", false}};
+constexpr std::string_view kViews[] = {"albedo", "normal", "depth", "position", "id", "uv"};
 constexpr std::string_view kIntegrators[] = {"whitted", "path",     "albedo", "normal",
                                              "depth",   "position", "id",     "uv"};
+constexpr bool integrator_choices_are_integrators_then_views() {
+  constexpr size_t n = std::size(kIntegratorDecls);
+  if (std::size(kIntegrators) != n + std::size(kViews)) return false;
+  for (size_t i = 0; i < std::size(kIntegrators); ++i)
+    if (kIntegrators[i] != (i < n ? kIntegratorDecls[i].name : kViews[i - n])) return false;
+  return true;
+}
+static_assert(integrator_choices_are_integrators_then_views());
 constexpr std::string_view kSamplers[] = {"center", "stratified", "random"};
 constexpr std::string_view kFilters[] = {"box", "gaussian"};
 constexpr std::string_view kAntialias[] = {"uniform", "adaptive", "lattice", "pixel"};
@@ -35,7 +50,7 @@ const ParamSpec kRender[] = {
      "refraction with Fresnel, one sample of area lights per hit; a shadow ray passes a "
      "transparent surface scaled by its `transmission`, unrefracted, as in Whitted's paper and "
      "POV-Ray). `path`: unidirectional path tracing with next-event estimation, MIS and Russian "
-     "roulette. The others show one AOV (see AOVs below).",
+     "roulette. The others are views: the image shows one AOV instead of radiance (see Views below).",
      -kInf, kInf, kIntegrators},
     {"spp", ParamType::Integer, "1", "Samples per pixel.", 1, 1 << 20},
     {"sampler", ParamType::String, "\"stratified\"",
@@ -92,54 +107,9 @@ const ParamSpec kRender[] = {
 };
 // clang-format on
 
-// ---- [[material]] and its textures ------------------------------------------------------------
-
-// The largest value of a key that is (a factor of) emitted radiance: emission and its strength,
-// the lights' colours and strengths, the environment, texture colours. The film keeps
-// single-precision sums (at most 3.4e38), and form factors multiply emission by pi in double: a
-// key beyond 1e38 is an error at load; a product of two that overflows the film is dropped per
-// sample and counted as a NaN/Inf sample.
-constexpr double kMaxRadiance = 1e38;
-
-constexpr std::string_view kMaterialTypes[] = {"whitted", "metallic_roughness"};
+// ---- textures (of [[material]]; the material keys are declared by each kind, material/) ------
 
 // clang-format off
-const ParamSpec kMaterialCommon[] = {
-    {"name", ParamType::String, "", "Referred to by objects."},
-    {"type", ParamType::String, "\"whitted\"",
-     "`whitted` (the paper's model) or `metallic_roughness` (glTF 2.0, GGX microfacets).", -kInf,
-     kInf, kMaterialTypes},
-    {"color", ParamType::Texture, "0.8",
-     "Diffuse colour / glTF base colour: the fraction of light reflected, per channel (radiosity "
-     "takes it as the reflectance).", 0, 1},
-    {"emission", ParamType::Texture, "0",
-     "Emitted radiance; emissive surfaces are light sources.", 0, kMaxRadiance},
-    {"emission_strength", ParamType::Number, "1", "Multiplies `emission`.", 0, kMaxRadiance},
-    {"ior", ParamType::Number, "1.5", "Index of refraction.", 1, 10},
-    {"double_sided", ParamType::Bool, "true", "One-sided emitters emit only on the front."},
-};
-const ParamSpec kWhitted[] = {
-    {"diffuse", ParamType::Number, "1",
-     "Diffuse weight. The diffuse part is also scaled by 1 - reflectivity - transmission.", 0, 1},
-    {"specular", ParamType::Color, "0", "Phong highlight colour ks (a normalized Phong lobe).", 0,
-     kInf},
-    {"exponent", ParamType::Number, "50", "Phong exponent.", 0, kInf},
-    {"reflectivity", ParamType::Number, "0", "Perfect mirror reflection weight.", 0, 1},
-    {"transmission", ParamType::Number, "0",
-     "Smooth dielectric (refraction with Fresnel) weight; reflectivity + transmission <= 1.", 0,
-     1},
-};
-const ParamSpec kMetallicRoughness[] = {
-    {"metallic", ParamType::Number, "0", "glTF metalness.", 0, 1},
-    {"roughness", ParamType::Number, "0.5", "glTF roughness (GGX alpha = roughness^2).", 0, 1},
-    {"transmission", ParamType::Number, "0",
-     "Smooth dielectric (refraction with Fresnel) weight.", 0, 1},
-};
-const TableVariant kMaterialVariants[] = {
-    {"whitted", "The paper's model: diffuse, Phong highlight, mirror and refraction.", kWhitted},
-    {"metallic_roughness", "glTF 2.0's metallic-roughness model.", kMetallicRoughness},
-};
-
 constexpr std::string_view kTextureTypes[] = {"checker", "grid", "image"};
 constexpr std::string_view kSpaces[] = {"uv", "object", "world"};
 constexpr std::string_view kWraps[] = {"repeat", "clamp", "mirror"};
@@ -386,8 +356,6 @@ const TableSchema kImageSchema{"image",
                                "positions [i/W, (i+1)/W] x [j/H, (j+1)/H].",
                                false, kImage};
 const TableSchema kRenderSchema{"render", "Integrator and sampling.", false, kRender};
-const TableSchema kMaterialSchema{"material", "Named materials.", true, kMaterialCommon,
-                                  "type",     kMaterialVariants};
 const TableSchema kTextureSchema{
     "texture", "A texture: the table form of a colour (`color`, `emission`).",
     false,     kTextureCommon,
@@ -400,10 +368,6 @@ const TableSchema kLightSchema{"light",      "Light sources.", true,
 const TableSchema kEnvironmentSchema{"environment", "Light from infinitely far away.", false,
                                      kEnvironment};
 const TableSchema kAnimateSchema{"animate", "Keyframes of any numeric key.", true, kAnimate};
-
-const TableSchema* const kTables[] = {&kImageSchema,       &kRenderSchema, &kMaterialSchema,
-                                      &kTextureSchema,     &kObjectSchema, &kLightSchema,
-                                      &kEnvironmentSchema, &kAnimateSchema};
 
 }  // namespace
 
@@ -432,7 +396,34 @@ const ParamSpec& camera_preset_spec() {
 std::span<const std::string_view> integrator_names() { return kIntegrators; }
 std::span<const std::string_view> sampler_names() { return kSamplers; }
 std::span<const std::string_view> filter_names() { return kFilters; }
-std::string_view name_of(IntegratorKind k) { return kIntegrators[size_t(k)]; }
+std::span<const IntegratorDecl> declared_integrators() { return kIntegratorDecls; }
+std::string_view name_of(View v) { return v == View::Beauty ? "" : kViews[size_t(v) - 1]; }
+
+bool select_integrator(RenderSettings& rs, std::string_view name) {
+  for (size_t i = 0; i < std::size(kViews); ++i)
+    if (kViews[i] == name) {
+      rs.view = View(i + 1);
+      return true;
+    }
+  for (const IntegratorDecl& d : kIntegratorDecls)
+    if (d.name == name) {
+      rs.integrator = std::string(name);
+      rs.view = View::Beauty;
+      return true;
+    }
+  return false;
+}
+
+bool RenderSettings::deterministic() const {
+  if (view != View::Beauty) return false;
+  for (const IntegratorDecl& d : kIntegratorDecls)
+    if (d.name == integrator) return d.deterministic;
+  return false;
+}
+
+std::string_view RenderSettings::shown() const {
+  return view == View::Beauty ? std::string_view(integrator) : name_of(view);
+}
 std::string_view name_of(SamplerKind k) { return kSamplers[size_t(k)]; }
 std::string_view name_of(PixelFilter k) { return kFilters[size_t(k)]; }
 std::string_view name_of(Antialias k) {
@@ -472,7 +463,17 @@ std::string_view name_of(Light::Kind k) {
 
 const TableSchema& image_schema() { return kImageSchema; }
 const TableSchema& render_schema() { return kRenderSchema; }
-const TableSchema& material_schema() { return kMaterialSchema; }
+// [[material]]: the common keys and each kind's, from the kinds' registry (material/).
+const TableSchema& material_schema() {
+  static const std::vector<TableVariant> variants = [] {
+    std::vector<TableVariant> v;
+    for (const MaterialKind* k : material_kinds()) v.push_back({k->name, k->doc, k->params});
+    return v;
+  }();
+  static const TableSchema schema{
+      "material", "Named materials.", true, material_common_params(), "type", variants};
+  return schema;
+}
 const TableSchema& texture_schema() { return kTextureSchema; }
 const TableSchema& object_schema() { return kObjectSchema; }
 const TableSchema& light_schema() { return kLightSchema; }
@@ -480,6 +481,11 @@ const TableSchema& environment_schema() { return kEnvironmentSchema; }
 const TableSchema& animate_schema() { return kAnimateSchema; }
 std::span<const ParamSpec> camera_common_params() { return kCameraCommon; }
 std::span<const ParamSpec> top_level_params() { return kTopLevel; }
-std::span<const TableSchema* const> scene_tables() { return kTables; }
+std::span<const TableSchema* const> scene_tables() {
+  static const TableSchema* const tables[] = {
+      &kImageSchema,  &kRenderSchema, &material_schema(),  &kTextureSchema,
+      &kObjectSchema, &kLightSchema,  &kEnvironmentSchema, &kAnimateSchema};
+  return tables;
+}
 
 }  // namespace anamorph

@@ -48,11 +48,23 @@ std::span<const ParamSpec> top_level_params();
 // `preset`: the camera presets by name (camera/presets.h), default "perspective".
 const ParamSpec& camera_preset_spec();
 
-// The names of [render]'s closed sets (an enum's value is its name's index) and back.
+// `integrator`'s choices: the integrators, then the views (what select_integrator() takes).
 std::span<const std::string_view> integrator_names();
+// An integrator the scene reader knows (render/'s registry makes it by this name) and whether
+// its samples of a pixel differ only by where they fall (RenderSettings::deterministic()).
+struct IntegratorDecl {
+  std::string_view name;
+  bool deterministic;
+};
+std::span<const IntegratorDecl> declared_integrators();
+// Sets rs.integrator (and the view back to Beauty), or rs.view (the integrator kept), from a
+// name of integrator_names(); false for any other name.
+bool select_integrator(RenderSettings& rs, std::string_view name);
+std::string_view name_of(View v);  // "albedo", ...; "" for Beauty
+
+// The names of [render]'s other closed sets (an enum's value is its name's index) and back.
 std::span<const std::string_view> sampler_names();
 std::span<const std::string_view> filter_names();
-std::string_view name_of(IntegratorKind k);
 std::string_view name_of(SamplerKind k);
 std::string_view name_of(PixelFilter k);
 std::string_view name_of(Antialias k);            // "uniform", "lattice" or "pixel"

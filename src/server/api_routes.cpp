@@ -97,7 +97,7 @@ HttpResponse preview(Editor& ed, const ApiCall& c) {
         const auto names = integrator_names();
         const auto it = std::find(names.begin(), names.end(), v.get<std::string>());
         if (it == names.end()) throw std::invalid_argument("unknown integrator " + v.dump());
-        s.integrator = IntegratorKind(it - names.begin());
+        s.integrator = std::string(*it);
       }
     }
     if (body.contains("max_spp")) s.max_spp = int(number_in(body, "max_spp", 1, 4096));
@@ -105,11 +105,10 @@ HttpResponse preview(Editor& ed, const ApiCall& c) {
     if (body.contains("max_height")) s.max_height = int(number_in(body, "max_height", 16, 4096));
     ed.preview().set_settings(s);
   }
-  return json_response(
-      200, {{"integrator", s.integrator ? std::string(name_of(*s.integrator)) : "scene"},
-            {"max_spp", s.max_spp},
-            {"max_width", s.max_width},
-            {"max_height", s.max_height}});
+  return json_response(200, {{"integrator", s.integrator ? *s.integrator : "scene"},
+                             {"max_spp", s.max_spp},
+                             {"max_width", s.max_width},
+                             {"max_height", s.max_height}});
 }
 
 HttpResponse pick(Editor& ed, const ApiCall& c) {

@@ -10,6 +10,7 @@
 #include "render/film.h"
 #include "render/frame_output.h"
 #include "render/renderer.h"
+#include "scene/scene_schema.h"
 
 namespace anamorph::server {
 
@@ -38,7 +39,7 @@ RenderSettings preview_settings(const RenderSettings& scene, const PreviewSettin
   RenderSettings rs = scene;
   rs.width = w;
   rs.height = h;
-  rs.integrator = p.integrator.value_or(scene.integrator);
+  if (p.integrator) select_integrator(rs, *p.integrator);
   rs.antialias = Antialias::Uniform;
   rs.spp = spp;
   rs.time_limit = 0;

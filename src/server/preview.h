@@ -35,8 +35,8 @@ struct PreviewFrame {
 };
 
 struct PreviewSettings {
-  int max_width = 960, max_height = 540;     // the preview fits in this box, keeping the aspect
-  std::optional<IntegratorKind> integrator;  // none: the scene's own
+  int max_width = 960, max_height = 540;  // the preview fits in this box, keeping the aspect
+  std::optional<std::string> integrator;  // an integrator or a view; none: the scene's own
   int max_spp = 16;
 };
 

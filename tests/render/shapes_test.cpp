@@ -145,7 +145,7 @@ TEST(Shapes, OpaqueAndSeeThroughQueriesSeeTheirOwnObjects) {
   EXPECT_TRUE(accel.occluded(through));
   ASSERT_TRUE(accel.intersect_see_through(through, &h));
   EXPECT_NEAR(h.t, 4, 1e-5);
-  EXPECT_EQ(scene.materials[h.material].transmission, 0.5);
+  EXPECT_EQ(scene.materials[h.material]->shadow_transmission(), 0.5);
   // Glass alone: not blocked, and the see-through query meets it.
   for (const Vec3 target : {Vec3{10, 0, -3}, Vec3{-17.5, 0.5, -6}, Vec3{-19, 4, -6}}) {
     const Ray r = ray({target.x, target.y, 5}, {0, 0, -1});

@@ -8,6 +8,8 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/packet_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_output_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tiny_light_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/material_kind_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/integrator_registry_test.cpp
 )
 anamorph_add_test(test_form_factors
   ${CMAKE_CURRENT_LIST_DIR}/form_factors_test.cpp

@@ -1,7 +1,7 @@
 // Procedural and image textures: exact values, footprint filtering, wrap modes.
 #include <gtest/gtest.h>
 
-#include "scene/texture.h"
+#include "material/texture.h"
 
 namespace anamorph {
 

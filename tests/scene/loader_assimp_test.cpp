@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "loader_fixture.h"
+#include "material/whitted.h"
+#include "material_util.h"
 #include "scene/loaders.h"
 #include "test_util.h"
 
@@ -32,11 +34,12 @@ TEST(AssimpLoader, ObjUvsAreFlippedSoTheImageTopIsUvZero) {
     EXPECT_EQ(tm.uvs[i], Vec2f(p.x, 1 - p.y)) << "vertex " << i << " at " << str(Vec3(p));
   }
   ASSERT_EQ(m.materials.size(), 1u);
-  const Material& mat = m.materials[0];
+  const Material& mat = *m.materials[0];
   EXPECT_EQ(mat.name, "quadrants");
-  EXPECT_EQ(mat.model, Material::Model::Whitted);
-  EXPECT_EQ(mat.specular, Color(0.5, 0.5, 0.5));
-  EXPECT_DOUBLE_EQ(mat.exponent, 20);
+  EXPECT_EQ(mat.type(), WhittedMaterial::kType);
+  const auto& whitted = test::material_as<WhittedMaterial>(mat);
+  EXPECT_EQ(whitted.specular, Color(0.5, 0.5, 0.5));
+  EXPECT_DOUBLE_EQ(whitted.exponent, 20);
   ASSERT_EQ(mat.base_color.kind, Texture::Kind::Image);
   // The corner at (0, 1, 0), top-left in the y-up plane, shows the image's top-left: red.
   for (size_t i = 0; i < tm.positions.size(); ++i) {
@@ -189,7 +192,7 @@ f 7 8 9
 )");
   const LoadedModel m = load_model(obj);
   ASSERT_EQ(m.materials.size(), 3u);
-  for (const Material& mat : m.materials) {
+  for (const Material& mat : test::each(m.materials)) {
     if (mat.name == "lamp") {
       EXPECT_EQ(mat.emission.value, Color(2, 3, 4));
     }
@@ -211,8 +214,8 @@ TEST(AssimpLoader, UnreadableTextureIsAWarningAndKdRemains) {
       dir.write("t.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n");
   const LoadedModel m = load_model(obj);
   ASSERT_EQ(m.materials.size(), 1u);
-  EXPECT_EQ(m.materials[0].base_color.kind, Texture::Kind::Constant);
-  EXPECT_EQ(m.materials[0].base_color.value, Color(0.25, 0.5, 0.75));
+  EXPECT_EQ(m.materials[0]->base_color.kind, Texture::Kind::Constant);
+  EXPECT_EQ(m.materials[0]->base_color.value, Color(0.25, 0.5, 0.75));
   // The Windows separator is read as a directory separator.
   EXPECT_TRUE(test::has_warning(m, "textures/gone.png")) << test::all_warnings(m);
 }

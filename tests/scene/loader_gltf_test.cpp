@@ -6,6 +6,8 @@
 
 #include "io/image_io.h"
 #include "loader_fixture.h"
+#include "material/metallic_roughness.h"
+#include "material_util.h"
 #include "scene/loaders.h"
 #include "test_util.h"
 
@@ -44,9 +46,9 @@ TEST(GltfLoader, MeshUsedByTwoNodesIsOnePrototypeWithTwoInstances) {
   EXPECT_NEAR(length(pa - Vec3{3, 1, 0}), 0, 1e-12) << str(pa);
   EXPECT_NEAR(length(pb - Vec3{2, 5, 0}), 0, 1e-12) << str(pb);
   ASSERT_EQ(m.materials.size(), 1u);
-  EXPECT_EQ(m.materials[0].model, Material::Model::MetallicRoughness);
-  EXPECT_DOUBLE_EQ(m.materials[0].base_color.value.x, 0.5);
-  EXPECT_DOUBLE_EQ(m.materials[0].metallic, 0);
+  EXPECT_EQ(m.materials[0]->type(), MetallicRoughnessMaterial::kType);
+  EXPECT_DOUBLE_EQ(m.materials[0]->base_color.value.x, 0.5);
+  EXPECT_DOUBLE_EQ(test::material_as<MetallicRoughnessMaterial>(*m.materials[0]).metallic, 0);
   EXPECT_TRUE(m.warnings.empty()) << test::all_warnings(m);
 }
 
@@ -66,7 +68,7 @@ TEST(GltfLoader, IndicesOfEveryComponentTypeGiveTheSameTriangles) {
     EXPECT_EQ(m.prototypes[0].meshes[0].indices, want) << "index component kind " << kind;
     // No material: glTF's default material is added.
     ASSERT_EQ(m.materials.size(), 1u);
-    EXPECT_EQ(m.materials[0].name, "glTF default");
+    EXPECT_EQ(m.materials[0]->name, "glTF default");
   }
 }
 
@@ -316,14 +318,14 @@ TEST_F(GltfMaterials, BaseColorTextureTimesFactorWithSamplerAndTopLeftOrigin) {
                                 {"roughnessFactor", 0.75}}}},
                              "quadrants.png");
   ASSERT_EQ(m.materials.size(), 1u);
-  const Material& mat = m.materials[0];
-  EXPECT_EQ(mat.model, Material::Model::MetallicRoughness);
+  const Material& mat = *m.materials[0];
+  EXPECT_EQ(mat.type(), MetallicRoughnessMaterial::kType);
   ASSERT_EQ(mat.base_color.kind, Texture::Kind::Image);
   EXPECT_EQ(mat.base_color.wrap_s, Wrap::Clamp);
   EXPECT_EQ(mat.base_color.wrap_t, Wrap::Mirror);
   EXPECT_TRUE(mat.base_color.nearest);
-  EXPECT_DOUBLE_EQ(mat.metallic, 0.25);
-  EXPECT_DOUBLE_EQ(mat.roughness, 0.75);
+  EXPECT_DOUBLE_EQ(test::material_as<MetallicRoughnessMaterial>(mat).metallic, 0.25);
+  EXPECT_DOUBLE_EQ(test::material_as<MetallicRoughnessMaterial>(mat).roughness, 0.75);
   EXPECT_FALSE(mat.double_sided);  // glTF default
   // uv (0,0) is the image's top-left: red, scaled by the factor's 0.5.
   const Color tl = texel(mat.base_color, {0.25, 0.25});
@@ -344,10 +346,12 @@ TEST_F(GltfMaterials, ColourTexturesAreSrgbDecodedDataTexturesStayLinear) {
             {"emissiveFactor", {1, 0.5, 0.25}},
             {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
            "grey128.png");
-  const Material& mat = m.materials.at(0);
+  const Material& mat = *m.materials.at(0);
   const double lin = 128.0 / 255.0, srgb = srgb_to_linear(float(lin));
   EXPECT_NEAR(texel(mat.base_color, {0.5, 0.5}).x, srgb, 1e-6);
-  EXPECT_NEAR(texel(mat.metallic_roughness, {0.5, 0.5}).y, lin, 1e-6);
+  EXPECT_NEAR(
+      texel(test::material_as<MetallicRoughnessMaterial>(mat).metallic_roughness, {0.5, 0.5}).y,
+      lin, 1e-6);
   EXPECT_TRUE(mat.has_normal_map);
   EXPECT_DOUBLE_EQ(mat.normal_scale, 0.5);
   EXPECT_NEAR(texel(mat.normal_map, {0.5, 0.5}).z, lin, 1e-6);
@@ -368,7 +372,7 @@ TEST_F(GltfMaterials, AlphaModes) {
                                 {"doubleSided", true},
                                 {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.25}}}}},
                                "quadrants.png");
-    const Material& mat = m.materials.at(0);
+    const Material& mat = *m.materials.at(0);
     EXPECT_EQ(mat.alpha_mode, Material::AlphaMode::Mask);
     EXPECT_DOUBLE_EQ(mat.alpha_cutoff, 0.3);
     EXPECT_TRUE(mat.double_sided);
@@ -384,7 +388,7 @@ TEST_F(GltfMaterials, AlphaModes) {
               {"pbrMetallicRoughness",
                {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {1, 1, 1, 0.5}}}}},
              "grey128.png");
-    const Material& mat = m.materials.at(0);
+    const Material& mat = *m.materials.at(0);
     EXPECT_EQ(mat.alpha_mode, Material::AlphaMode::Mask);
     EXPECT_DOUBLE_EQ(mat.alpha_cutoff, 0.5);
     EXPECT_TRUE(test::has_warning(m, "BLEND")) << test::all_warnings(m);
@@ -405,7 +409,7 @@ TEST_F(GltfMaterials, TextureTransformAndTexCoordOverride) {
                  {{"KHR_texture_transform",
                    {{"offset", {0.5, 0}}, {"scale", {0.5, 0.5}}, {"texCoord", 0}}}}}}}}}},
            "quadrants.png", /*uv1=*/true);
-  const Material& mat = m.materials.at(0);
+  const Material& mat = *m.materials.at(0);
   EXPECT_FALSE(mat.base_color.uv_transform.identity());
   // uv (0.5, 0.5) -> 0.5 * 0.5 + (0.5, 0) = (0.75, 0.25): the top-right texel, green.
   EXPECT_EQ(texel(mat.base_color, {0.5, 0.5}), Color(0, 1, 0));
@@ -438,7 +442,7 @@ TEST(GltfLoader, UnreadableImageFileIsAWarningAndTheFactorRemains) {
         {{"baseColorTexture", {{"index", 0}}}, {"baseColorFactor", {0.1, 0.2, 0.3, 1}}}}}};
   w.node({{"mesh", w.mesh({{"POSITION", w.floats(kQuad, "VEC3")}}, quad_indices(w), 0)}});
   const LoadedModel m = load_gltf(dir.write("missing_tex.gltf", w.text()));
-  const Material& mat = m.materials.at(0);
+  const Material& mat = *m.materials.at(0);
   EXPECT_EQ(mat.base_color.kind, Texture::Kind::Constant);
   EXPECT_EQ(mat.base_color.value, Color(0.1, 0.2, 0.3));
   // The URI is percent-decoded before the file is looked for.

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "loader_fixture.h"
+#include "material/metallic_roughness.h"
+#include "material/whitted.h"
+#include "material_util.h"
 #include "scene/loaders.h"
 #include "test_util.h"
 
@@ -42,7 +45,7 @@ TEST(SharedModels, BoxTexturedIsTheSameInAllThreeContainers) {
     ASSERT_EQ(m->prototypes[0].meshes.size(), 1u);
     EXPECT_EQ(m->triangle_count(), 12u);
     ASSERT_EQ(m->materials.size(), 1u);
-    ASSERT_EQ(m->materials[0].base_color.kind, Texture::Kind::Image);
+    ASSERT_EQ(m->materials[0]->base_color.kind, Texture::Kind::Image);
   }
   const TriangleMesh& ma = a.prototypes[0].meshes[0];
   for (const LoadedModel* m : {&b, &c}) {
@@ -53,8 +56,8 @@ TEST(SharedModels, BoxTexturedIsTheSameInAllThreeContainers) {
     EXPECT_EQ(mo.normals, ma.normals);
     // .gltf + .bin reads CesiumLogoFlat.png with read_image; the others decode the embedded PNG
     // in tinygltf: both must give the same linear pixels.
-    const Image& ia = a.materials[0].base_color.image->level(0);
-    const Image& io = m->materials[0].base_color.image->level(0);
+    const Image& ia = a.materials[0]->base_color.image->level(0);
+    const Image& io = m->materials[0]->base_color.image->level(0);
     ASSERT_EQ(io.width, ia.width);
     ASSERT_EQ(io.height, ia.height);
     ASSERT_EQ(io.pixels.size(), ia.pixels.size());
@@ -68,9 +71,9 @@ TEST(SharedModels, BoxTexturedIsTheSameInAllThreeContainers) {
     EXPECT_EQ(differ, 0u) << "largest difference " << worst;
   }
   // The sampler of this older revision: wrapS MIRRORED_REPEAT, wrapT CLAMP_TO_EDGE.
-  EXPECT_EQ(a.materials[0].base_color.wrap_s, Wrap::Mirror);
-  EXPECT_EQ(a.materials[0].base_color.wrap_t, Wrap::Clamp);
-  EXPECT_DOUBLE_EQ(a.materials[0].metallic, 0);
+  EXPECT_EQ(a.materials[0]->base_color.wrap_s, Wrap::Mirror);
+  EXPECT_EQ(a.materials[0]->base_color.wrap_t, Wrap::Clamp);
+  EXPECT_DOUBLE_EQ(test::material_as<MetallicRoughnessMaterial>(*a.materials[0]).metallic, 0);
   EXPECT_EQ(ma.uvs.size(), ma.positions.size());
 }
 
@@ -127,11 +130,11 @@ TEST(SharedModels, TextureTransformTestAppliesTheExtension) {
   const LoadedModel m =
       load_model(scene("gltf/TextureTransformTest-glTF/TextureTransformTest.gltf"));
   size_t transformed = 0;
-  for (const Material& mat : m.materials)
+  for (const Material& mat : test::each(m.materials))
     if (mat.base_color.kind == Texture::Kind::Image && !mat.base_color.uv_transform.identity())
       ++transformed;
   EXPECT_GE(transformed, 5u) << "of " << m.materials.size() << " materials";
-  for (const Material& mat : m.materials) {
+  for (const Material& mat : test::each(m.materials)) {
     if (mat.name != "Offset U") continue;
     const Vec2 o = mat.base_color.uv_transform.apply({0, 0});
     EXPECT_DOUBLE_EQ(o.x, 0.5);
@@ -184,10 +187,10 @@ TEST(SharedModels, CornellBoxObj) {
   // The MTL defines 5 materials; "blue" is only named by the front wall, whose face is
   // commented out, so the 4 materials the geometry uses are loaded.
   std::set<std::string> names;
-  for (const Material& mat : m.materials) names.insert(mat.name);
+  for (const Material& mat : test::each(m.materials)) names.insert(mat.name);
   EXPECT_EQ(names, (std::set<std::string>{"white", "red", "green", "light"}));
-  for (const Material& mat : m.materials) {
-    EXPECT_EQ(mat.model, Material::Model::Whitted);
+  for (const Material& mat : test::each(m.materials)) {
+    EXPECT_EQ(mat.type(), WhittedMaterial::kType);
     EXPECT_EQ(mat.is_emissive(), mat.name == "light") << mat.name;
     if (mat.name == "light") {
       EXPECT_EQ(mat.emission.value, Color(20, 20, 20));
@@ -223,7 +226,7 @@ TEST(SharedModels, CubePlyAsciiAndBinaryAgree) {
   EXPECT_EQ(ba.hi, bb.hi) << str(ba.hi) << " vs " << str(bb.hi);
   // PLY has no materials: our default grey, not assimp's white with a full highlight.
   ASSERT_EQ(a.materials.size(), 1u);
-  EXPECT_EQ(a.materials[0].specular, Color(0, 0, 0));
+  EXPECT_EQ(test::material_as<WhittedMaterial>(*a.materials[0]).specular, Color(0, 0, 0));
 }
 
 TEST(SharedModels, BunnyWithExtraVertexProperties) {

@@ -39,7 +39,8 @@ TEST(SceneParser, DefaultsWhenEmpty) {
   const Scene s = load_scene_from_string("", "empty.toml");
   EXPECT_EQ(s.render.width, 640);
   EXPECT_EQ(s.render.height, 480);
-  EXPECT_EQ(s.render.integrator, IntegratorKind::Whitted);
+  EXPECT_EQ(s.render.integrator, "whitted");
+  EXPECT_EQ(s.render.view, View::Beauty);
   ASSERT_TRUE(s.camera);
   EXPECT_NEAR(horizontal_fov_degrees(s), 60, 1e-9);
 }
@@ -109,7 +110,7 @@ TEST(SceneParser, SetOverridesAnyKey) {
                              {"camera.fov=90", "image.width=320", "render.integrator=path"});
   EXPECT_NEAR(horizontal_fov_degrees(s), 90, 1e-9);
   EXPECT_EQ(s.render.width, 320);
-  EXPECT_EQ(s.render.integrator, IntegratorKind::Path);
+  EXPECT_EQ(s.render.integrator, "path");
 }
 
 TEST(SceneParser, SetIntoArrayOfTables) {

@@ -1,4 +1,4 @@
-#include "render/bsdf.h"
+#include "material/bsdf.h"
 
 #include <algorithm>
 #include <cmath>

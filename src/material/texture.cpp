@@ -1,4 +1,4 @@
-#include "scene/texture.h"
+#include "material/texture.h"
 
 #include <algorithm>
 #include <cmath>

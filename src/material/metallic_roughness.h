@@ -1,0 +1,30 @@
+// `metallic_roughness`: glTF 2.0's core material. A base colour that is diffuse for dielectrics
+// and the specular tint of metals, GGX microfacet reflection with Schlick's Fresnel (a mirror of
+// the same tint when too smooth for a microfacet lobe), and a smooth dielectric for transmission.
+// The member defaults are glTF's (metallic and roughness 1); a scene file's are in its keys.
+#pragma once
+
+#include "material/material.h"
+
+namespace anamorph {
+
+class MetallicRoughnessMaterial final : public Material {
+ public:
+  static constexpr std::string_view kType = "metallic_roughness";
+
+  double metallic = 1, roughness = 1;
+  Texture metallic_roughness = Texture::constant({1, 1, 1});  // G = roughness, B = metallic
+  double transmission = 0;                                    // smooth dielectric weight
+
+  std::string_view type() const override { return kType; }
+  Bsdf bsdf(const ShadingPoint& sp, const Vec3& wo) const override;
+  Color diffuse_reflectance() const override { return base_color.value * (1 - metallic); }
+  double shadow_transmission() const override { return transmission; }
+  // (Smooth spots are mirrors: rays may go on from any hit.)
+  bool spawns_specular_rays() const override { return true; }
+  bool textured() const override {
+    return Material::textured() || metallic_roughness.kind != Texture::Kind::Constant;
+  }
+};
+
+}  // namespace anamorph

@@ -1,0 +1,151 @@
+// `whitted`: the paper's ray tracer. Hard shadows (a shadow ray crossing see-through surfaces
+// scaled by their transmission, as in Whitted's paper and POV-Ray), the classic ambient term,
+// mirror reflection and refraction with Fresnel, one sample of the area lights per hit.
+#include <cmath>
+
+#include "render/integrator.h"
+
+namespace anamorph {
+
+namespace {
+
+class Whitted final : public Integrator {
+ public:
+  explicit Whitted(const RenderContext& ctx)
+      : Integrator(ctx), see_through_(ctx.accel.has_see_through()) {
+    for (const auto& m : ctx.scene.materials) {
+      textured_.push_back(m->textured());
+      shadow_transmission_.push_back(m->shadow_transmission());
+    }
+  }
+
+  Color radiance(const Ray& ray, const Hit* first, const Footprint& fp, Rng& rng,
+                 uint64_t& rays) const override {
+    return trace(ray, first, fp, rng, 0, 1.0, rays);
+  }
+  bool draws_random_numbers() const override { return ctx_.lights.has_area(); }
+  bool continues_from(const Material& m) const override { return m.spawns_specular_rays(); }
+
+ private:
+  // `weight`: the largest component of the product of the coefficients that lead to this ray.
+  Color trace(const Ray& ray, const Hit* h, const Footprint& fp, Rng& rng, int depth, double weight,
+              uint64_t& rays) const {
+    const Lights& lights = ctx_.lights;
+    const Vec3 dir = normalize(ray.d);
+    if (!h) return lights.has_environment() ? lights.environment(dir) : Color{};
+    const Vec3 wo = -dir;
+    const Material& m = *ctx_.scene.materials[h->material];
+    // (Constant textures never read their coordinates: not worth computing for them.)
+    const Bsdf b = m.bsdf(textured_[h->material] ? shading_point(*h, fp) : shading_point(*h), wo);
+    Color L = lights.emitted(*h, wo);
+    // The classic ambient term: the environment's mean radiance on the diffuse part, unshadowed.
+    // (Sampling it with one shadow ray per hit would only add noise to the Whitted image.)
+    L += b.diffuse * lights.environment_average();
+
+    if (b.has_smooth()) {
+      // (A delta light's sample needs no random numbers: none are drawn for it.)
+      auto add = [&](size_t li, double pmf, bool delta) {
+        LightSample ls;
+        const Vec2 u = delta ? Vec2{0.5, 0.5} : Vec2{rng.uniform(), rng.uniform()};
+        if (!lights.sample(li, h->p, u, &ls) || !(ls.pdf > 0)) return;
+        const Color f = b.eval(wo, ls.wi);
+        if (max_component(f) <= 0) return;
+        const double T =
+            see_through_ ? transmittance(*h, ls, rays) : light_visible(ctx_, *h, ls, rays);
+        if (!(T > 0)) return;
+        L += f * ls.L * (T * std::abs(dot(ls.wi, b.frame.n)) / (ls.pdf * pmf));
+      };
+      for (uint32_t li : lights.delta_lights()) add(li, 1.0, true);
+      if (lights.has_area()) {
+        double pmf;
+        const size_t li = lights.pick_area(rng.uniform(), &pmf);
+        if (pmf > 0) add(li, pmf, false);
+      }
+    }
+    // The tree ends at max_depth, where a branch's weight falls below the bailout (two facing
+    // mirrors and glass at depth 1000 would otherwise take minutes a pixel), or on cancel.
+    if (depth >= ctx_.max_depth || ctx_.cancelled()) return L;
+
+    const Vec3 wr = b.frame.to_world(reflect(b.frame.to_local(wo), {0, 0, 1}));
+    const double mirror = max_component(b.mirror);
+    if (mirror > 0 && weight * mirror >= ctx_.bailout)
+      L += b.mirror * follow(*h, wr, fp, rng, depth, weight * mirror, rays);
+    if (b.transmission > 0) {
+      const double e = b.entering ? b.eta : 1 / b.eta;
+      const double cos_i = dot(wo, b.frame.n);
+      const double F = fresnel_dielectric(cos_i, e);
+      const double w = weight * b.transmission;
+      Color t;
+      if (w * F >= ctx_.bailout) t = follow(*h, wr, fp, rng, depth, w * F, rays) * F;
+      if (F < 1 && w * (1 - F) >= ctx_.bailout) {
+        const double sin2_t = (1 - cos_i * cos_i) / (e * e);
+        const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
+        const Vec3 wt = normalize(-wo / e + b.frame.n * (cos_i / e - cos_t));
+        // (The 1 / e^2 radiance scaling cancels on leaving the medium: not part of the weight.)
+        t += follow(*h, wt, fp, rng, depth, w * (1 - F), rays) * ((1 - F) / (e * e));
+      }
+      L += t * b.transmission;
+    }
+    return L;
+  }
+
+  // The light reaching h from ls through transparent surfaces, as Whitted's paper and POV-Ray
+  // shade them: each surface the shadow ray crosses scales it by its material's transmission,
+  // without bending it (no caustics); an opaque surface blocks it. (The path tracer's shadow
+  // rays stop at glass: its paths through glass find the light themselves.) The product does
+  // not depend on the order of the crossings, so an any-hit query over the opaque surfaces
+  // answers most rays at once, and only those it lets through walk the see-through surfaces,
+  // in a structure that holds only them.
+  double transmittance(const Hit& h, const LightSample& ls, uint64_t& rays) const {
+    const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
+    Vec3 o = h.p + n * ray_offset(h.p);
+    // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
+    const auto to_light = [&] {
+      return std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
+    };
+    ++rays;
+    if (!(to_light() > 0)) return 1;
+    if (ctx_.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light()})) return 0;
+    double T = 1;
+    for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
+      const double d = to_light();
+      if (!(d > 0)) return T;
+      const Ray segment{o, ls.wi, 0, d};
+      if (!ctx_.accel.near_see_through(segment)) return T;
+      Hit x;
+      if (!ctx_.accel.intersect_see_through(segment, &x)) return T;
+      ++rays;  // (the segment beyond this surface)
+      T *= shadow_transmission_[x.material];
+      if (!(T > 0)) return 0;
+      const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
+      o = x.p + nx * ray_offset(x.p);
+    }
+    return 0;  // (more surfaces than that: taken as opaque)
+  }
+  static constexpr int kMaxCrossings = 32;
+
+  Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth, double weight,
+               uint64_t& rays) const {
+    const Ray r = spawn(h, d);
+    Hit next;
+    ++rays;
+    const bool found = ctx_.accel.intersect(r, &next);
+    return trace(r, found ? &next : nullptr, found ? propagate(fp, next) : Footprint{}, rng,
+                 depth + 1, weight, rays);
+  }
+
+  bool see_through_ = false;                 // some object transmits: shadow rays may pass surfaces
+  std::vector<uint8_t> textured_;            // per material: Material::textured()
+  std::vector<double> shadow_transmission_;  // per material: Material::shadow_transmission()
+};
+
+std::unique_ptr<Integrator> create(const RenderContext& ctx) {
+  return std::make_unique<Whitted>(ctx);
+}
+
+}  // namespace
+
+extern const IntegratorFactory kWhittedIntegrator;  // (in the list of integrators.cpp)
+const IntegratorFactory kWhittedIntegrator{"whitted", create};
+
+}  // namespace anamorph
