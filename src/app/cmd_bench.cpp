@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "app/common.h"
+#include "math/simd.h"
 #include "render/frame_output.h"
 #include "render/renderer.h"
 
@@ -78,6 +79,10 @@ int run(const BenchArgs& a) {
       "BENCHMARK_MRAYPS_MIN {:.4f}\nBENCHMARK_MRAYPS_MEDIAN {:.4f}\nBENCHMARK_MRAYPS_AVG {:.4f}\n"
       "BENCHMARK_MRAYPS_MAX {:.4f}\n",
       mrays.front(), mrays[mrays.size() / 2], avg, mrays.back());
+  // The instruction set our kernels ran, and what Embree was told (math/simd.h; bench/compare).
+  const char* embree = simd::embree_config();
+  fmt::print("BENCHMARK_ISA {} (Embree: {})\n", simd::name(simd::active()),
+             embree ? embree : "its own choice");
   return kOk;
 }
 
