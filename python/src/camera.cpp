@@ -7,6 +7,7 @@
 #include "camera/coins.h"
 #include "camera/ray_field.h"
 #include "camera_handle.h"
+#include "math/parallel.h"
 #include "render/memory_estimate.h"
 
 namespace anamorph::py {
@@ -17,7 +18,7 @@ using Doubles = pb::array_t<double, pb::array::c_style | pb::array::forcecast>;
 
 template <class F>
 void in_arena(int threads, F&& f) {
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(arena_concurrency(threads));
   arena.execute(f);
 }
 

@@ -13,6 +13,7 @@
 #include "bindings.h"
 #include "camera/coins.h"
 #include "camera_handle.h"
+#include "math/parallel.h"
 #include "render/coin_layer.h"
 #include "render/form_factors.h"
 #include "render/memory_estimate.h"
@@ -129,6 +130,7 @@ struct ViewSwap {
 };
 
 pb::dict SceneHandle::render(const RenderRequest& req) {
+  arena_concurrency(req.threads);  // (the CLI's check of --threads: a ValueError, up front)
   std::vector<Aov> aovs;
   bool coins = false;
   std::string list;

@@ -112,10 +112,13 @@ def test_a_composed_camera_equals_the_same_camera_from_a_scene_file(tmp_path):
 
 def test_python_floats_reach_the_reader_exactly():
     rng = np.random.default_rng(11)
-    for x in list(rng.uniform(-1e3, 1e3, 50)) + [1e-300, 5e-324, 1.7976931348623157e308, -0.0]:
+    for x in list(rng.uniform(-1e3, 1e3, 50)) + [1e-300, 5e-324, 1e12, -0.0]:
         cam = anamorph.Camera("perspective", look_from=[float(x), 0, 0], look_at=[x, 0, -1.0],
                               width=2, height=2)
         assert cam.generate([0.5], [0.5])["org"][0, 0] == x, x
+    # Beyond the world's 1e12 scene units (docs/scene-format.md, Coordinates): the reader's error.
+    with pytest.raises(anamorph.SceneError, match="out of range"):
+        anamorph.Camera("perspective", look_from=[1.7976931348623157e308, 0, 0], width=2, height=2)
 
 
 def test_an_unknown_keyword_names_the_key_and_suggests_one():

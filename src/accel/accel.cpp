@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 #include "accel/accel_internal.h"
 #include "accel/shapes.h"
 #include "math/frame.h"
+#include "math/input_limits.h"
 #include "math/simd.h"
 
 namespace anamorph {
@@ -105,6 +107,27 @@ void shape_query(const Args* args) {
 void shape_intersect(const RTCIntersectFunctionNArguments* args) { shape_query<false>(args); }
 void shape_occluded(const RTCOccludedFunctionNArguments* args) { shape_query<true>(args); }
 
+// Whether an instance can be an Embree instance: Embree carries each ray into the instance's own
+// space, and a ray the world holds (math/input_limits.h) must stay there within what Embree takes
+// (it asserts past 1.8e18). So the prototype's own coordinates lie within the world, and the
+// inverse magnifies at most 1e5 times (2e12 from the instance's origin to 2e17). Other instances
+// (a model in micrometres scaled by 1e-6, say) are moved to world space like a single-use one.
+bool instanceable(const Instance& inst, bool prototype_within_world) {
+  const auto& a = inst.world_from_object.inverse_matrix().m;
+  double magnification = 0;
+  for (int r = 0; r < 3; ++r)
+    magnification =
+        std::max(magnification, std::abs(a[r][0]) + std::abs(a[r][1]) + std::abs(a[r][2]));
+  return prototype_within_world && magnification <= 1e5;
+}
+
+bool within_world(const Prototype& proto) {
+  for (const TriangleMesh& m : proto.meshes)
+    for (const Vec3f& p : m.positions)
+      if (!within_world(Vec3(p))) return false;
+  return true;
+}
+
 RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform* xf,
                            const Material& mat, std::vector<std::unique_ptr<MaskData>>& masks) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -157,10 +180,16 @@ Accel::Accel(const Scene& scene) {
   for (const auto& inst : scene.instances) uses[inst.prototype]++;
   prototype_scenes_.assign(scene.prototypes.size(), nullptr);
 
+  std::vector<bool> flatten(scene.instances.size()), in_world(scene.prototypes.size());
+  for (size_t p = 0; p < scene.prototypes.size(); ++p)
+    in_world[p] = uses[p] > 1 && within_world(scene.prototypes[p]);
   size_t flat_count = 0;
-  for (const auto& inst : scene.instances)
-    if (uses[inst.prototype] == 1) flat_count += scene.prototypes[inst.prototype].meshes.size();
-  flat_meshes_.reserve(flat_count);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    flatten[i] = uses[inst.prototype] == 1 || !instanceable(inst, in_world[inst.prototype]);
+    if (flatten[i]) flat_count += scene.prototypes[inst.prototype].meshes.size();
+  }
+  flat_meshes_.reserve(flat_count);  // (records point into it: no reallocation below)
 
   // (A geometry with see-through parts joins the see-through structure too, by the same id,
   // so that a hit there names the same record.)
@@ -175,9 +204,10 @@ Accel::Accel(const Scene& scene) {
     records_.push_back(std::move(rec));
   };
 
-  for (const auto& inst : scene.instances) {
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
     const Prototype& proto = scene.prototypes[inst.prototype];
-    if (uses[inst.prototype] == 1) {
+    if (flatten[i]) {
       for (const auto& m : proto.meshes) {
         // Move to world space once; normals by the inverse transpose.
         TriangleMesh w = m;

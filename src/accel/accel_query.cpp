@@ -6,6 +6,7 @@
 #include "accel/accel.h"
 #include "accel/accel_internal.h"
 #include "accel/shapes.h"
+#include "math/input_limits.h"
 
 namespace anamorph {
 
@@ -18,6 +19,15 @@ using accel_detail::shape_t;
 static float far_of(double tmax) {
   return tmax >= double(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity()
                                                            : float(tmax);
+}
+
+// Whether Embree may take the ray (math/input_limits.h): it asserts, aborting the process, on an
+// origin or direction beyond 1.8e18. The scene reader keeps every object within the world and the
+// camera gives no ray from beyond it, so this holds for every ray the renderer makes; a ray that
+// would not (a bug, a scene built in code) misses the BVH instead of ending the process.
+static bool embree_may_take(const RTCRay& r) {
+  return ray_in_range({r.org_x, r.org_y, r.org_z}, {r.dir_x, r.dir_y, r.dir_z}) && r.tnear >= 0 &&
+         !std::isnan(r.tfar);
 }
 
 static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
@@ -47,6 +57,8 @@ unsigned Accel::nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, floa
     if (tmin >= 0 && !(num * dn > 0)) continue;
     const double t = num / dn;
     if (!(t > tmin && t < *tfar)) continue;
+    // (A plane ends where the world does: a grazing ray's hit far out would start rays there.)
+    if (!within_world(o + d * t)) continue;
     const auto tf = float(t);
     if (!(tf < *tfar)) continue;  // (as the callbacks do: float rounding must not go farther)
     *tfar = tf;
@@ -70,7 +82,7 @@ bool Accel::nearest(RTCScene scene, const Ray& r, unsigned mask, Hit* hit) const
                                                                 rh.ray.tnear, &rh.ray.tfar, mask);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  if (scene) rtcIntersect1(scene, &ctx, &rh);
+  if (scene && embree_may_take(rh.ray)) rtcIntersect1(scene, &ctx, &rh);
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
     fill_hit(r, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.u, rh.hit.v,
              hit);
@@ -92,6 +104,7 @@ bool Accel::any(const Ray& r, unsigned mask) const {
         RTC_INVALID_GEOMETRY_ID)
       return true;
   }
+  if (!embree_may_take(ray)) return false;
   rtcOccluded1(top_, &ctx, &ray);
   return ray.tfar < 0;
 }
@@ -134,23 +147,26 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
   alignas(64) int v[N];
   unsigned beside[N];
   load(rh);
+  bool take[N];
   for (int i = 0; i < N; ++i) {
-    v[i] = valid[i] ? -1 : 0;
+    take[i] = valid[i] && ray_in_range({rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
+                                       {rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]});
+    v[i] = take[i] ? -1 : 0;
     rh.ray.time[i] = 0;
     rh.ray.mask[i] = kAll;
     rh.ray.id[i] = unsigned(i);
     rh.ray.flags[i] = 0;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    beside[i] = valid[i] ? bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
-                                 Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]},
-                                 rh.ray.tnear[i], &rh.ray.tfar[i])
-                         : RTC_INVALID_GEOMETRY_ID;
+    beside[i] = take[i] ? bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
+                                Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]},
+                                rh.ray.tnear[i], &rh.ray.tfar[i])
+                        : RTC_INVALID_GEOMETRY_ID;
   }
   trace(v, scene, &ctx, &rh);
   for (int i = 0; i < N; ++i) {
     const bool in_bvh = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-    found[i] = valid[i] && (in_bvh || beside[i] != RTC_INVALID_GEOMETRY_ID);
+    found[i] = take[i] && (in_bvh || beside[i] != RTC_INVALID_GEOMETRY_ID);
     if (!found[i]) continue;
     if (in_bvh)
       fill(i, rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.instID[0][i], rh.hit.u[i],

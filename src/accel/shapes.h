@@ -21,8 +21,4 @@ ShapeSurface shape_surface(const AnalyticShape& s, const Vec3& p);
 // an acos).
 Vec3 shape_normal(const AnalyticShape& s, const Vec3& p);
 
-// Object-space bounds; the infinite plane gets a large finite square (its extent where one is
-// needed; it is not clipped to it).
-Bounds3 shape_object_bounds(const AnalyticShape& s);
-
 }  // namespace anamorph

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "app/common.h"
+#include "app/thread_option.h"
 #include "math/simd.h"
 #include "render/frame_output.h"
 #include "render/renderer.h"
@@ -101,7 +102,7 @@ void add_bench(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--frames", a->frames, "Deprecated: --frames W M is --warm-up W --measure M")
       ->expected(1, 2);
   cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(thread_count_check());
   cmd->callback([a, &runner] {
     if (!a->frames.empty()) take_old_frames(*a);
     if (a->measure < 1) throw CLI::ValidationError("--frames", "need at least one measured frame");

@@ -7,8 +7,8 @@
 
 #include "accel/accel.h"
 #include "app/common.h"
-#include "app/output_guard.h"
 #include "app/form_factor_output.h"
+#include "app/output_guard.h"
 #include "io/image_io.h"
 #include "math/user_text.h"
 #include "render/form_factors.h"

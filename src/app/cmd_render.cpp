@@ -20,6 +20,7 @@
 #include "app/output_guard.h"
 #include "app/render_outputs.h"
 #include "app/resume_options.h"
+#include "app/thread_option.h"
 #include "app/tile_stats.h"
 #include "app/video.h"
 #include "dist/head.h"
@@ -571,7 +572,7 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
                   "Samples per pixel (overrides render.spp; implies uniform sampling)")
       ->check(CLI::Range(1, 1 << 20));
   cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(thread_count_check());
   cmd->add_option("--seed", a->seed, "Random seed (overrides render.seed)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--integrator", a->integrator,

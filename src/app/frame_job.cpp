@@ -155,6 +155,8 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
                     have_pass = true;
                   }});
     r.resumed = have_pass;
+    // (The reader refuses pass tiles without their pass start; none are used without one.)
+    if (!have_pass) std::fill(tile_pass.begin(), tile_pass.end(), -1), r.resumed_tiles = 0;
   }
   std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, have_pass ? reader->end() : 0);
   reader.reset();
@@ -164,10 +166,13 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   if (have_pass) opt.resume = &resume;
   opt.on_pass_start = [&](int pass, const std::vector<uint8_t>& active) {
     if (!ck) return;
-    ck->restart();
+    // The log anew, replacing the old one only once complete with its pass start.
+    ck->begin_rewrite();
     for (size_t i = 0; i < tiles; ++i)
-      if (tile_pass[i] >= 0) ck->add_pass_tile(tile_pass[i], i, *film.tile_if_any(i));
+      if (const TileBuffer* t = film.tile_if_any(i); t && tile_pass[i] >= 0)
+        ck->add_pass_tile(tile_pass[i], i, *t);
     ck->add_pass_start(pass, active);
+    ck->commit_rewrite();
   };
   opt.on_tile_pass = [&](size_t i, int pass, const TileBuffer& tile) {
     tile_pass[i] = pass;

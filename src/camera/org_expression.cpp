@@ -88,12 +88,22 @@ ExpressionSet::ExpressionSet(std::vector<std::string> variables,
     } catch (const mu::Parser::exception_type& e) {
       std::string allowed;
       for (const auto& v : vars_) allowed += (allowed.empty() ? "" : ", ") + v;
-      throw ParamError(key, key + ": " + e.GetMsg() + " in \"" + formulas[size_t(k)] +
+      const std::string& f = formulas[size_t(k)];
+      const std::string shown = f.size() <= 200 ? f : f.substr(0, 100) + "...";  // (not 20 KB)
+      throw ParamError(key, key + ": " + e.GetMsg() + " in \"" + shown +
                                 "\" (variables: " + allowed + "; constants: pi and `constants`)");
     }
   }
   joined_ = "(" + formulas[0] + "), (" + formulas[1] + "), (" + formulas[2] + ")";
-  compile();  // the joined form must compile too
+  try {
+    compile();  // the joined form must compile too
+  } catch (const mu::Parser::exception_type& e) {
+    // (Each formula alone compiled; together they can pass muParser's 20,000 characters. Its
+    // errors are not std::exceptions: one let through ended the process.)
+    const std::string key(keys[0]);
+    throw ParamError(key, key + ", " + std::string(keys[1]) + " and " + std::string(keys[2]) +
+                              " together: " + e.GetMsg());
+  }
 }
 
 ExpressionSet::~ExpressionSet() = default;

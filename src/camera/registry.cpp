@@ -26,6 +26,7 @@
 #include "params/param_docs.h"
 #include "params/param_toml.h"
 #include "params/read_params.h"
+#include "params/toml_parse.h"
 
 namespace anamorph {
 
@@ -287,7 +288,7 @@ void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
 ParamValues params_from_toml(std::span<const ParamSpec> specs, std::string_view toml_text) {
   toml::table t;
   try {
-    t = toml::parse(toml_text);
+    t = parse_toml(toml_text);
   } catch (const toml::parse_error& e) {
     throw ParamError("", "invalid TOML: " + std::string(e.description()));
   }

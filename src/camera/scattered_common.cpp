@@ -6,6 +6,8 @@
 #include <cmath>
 #include <iterator>
 
+#include "math/input_limits.h"
+
 namespace anamorph {
 
 std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::string_view key) {
@@ -25,7 +27,14 @@ std::vector<ScatteredDatum> read_scattered_data(const ParamValues& v, std::strin
                                      "precision)",
                                      i, k ? "v" : "u", rows[i][size_t(k)], kScatteredUvLimit,
                                      kScatteredUvLimit));
-    out.push_back({{rows[i][0], rows[i][1]}, {rows[i][2], rows[i][3], rows[i][4]}});
+    const Vec3 value{rows[i][2], rows[i][3], rows[i][4]};
+    // (Positions, or directions, of the world: math/input_limits.h.)
+    if (!within_world(value))
+      throw ParamError(std::string(key),
+                       fmt::format("{}: point {}: [{:g}, {:g}, {:g}] is not within the {:g} "
+                                   "scene units of the origin the world holds",
+                                   key, i, value.x, value.y, value.z, kMaxCoordinate));
+    out.push_back({{rows[i][0], rows[i][1]}, value});
   }
   return out;
 }

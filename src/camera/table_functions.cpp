@@ -1,9 +1,12 @@
 #include "camera/table_functions.h"
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 #include <utility>
 
 #include "camera/org_common.h"
+#include "math/input_limits.h"
 
 namespace anamorph {
 
@@ -66,7 +69,30 @@ RayTableData inline_table(const ParamValues& v) {
   return d;
 }
 
-RayTable read_table(const ParamValues& v, const char* default_layer) {
+// What the samples of a table must be beyond finite (RayTable checks that): origins within the
+// world (math/input_limits.h; an inline grid's are checked as it is read); a direction of zero
+// length is a sample without a ray, as `valid` = 0 would mark it (normalizing it gives no
+// direction, and interpolating towards it bends its neighbours' rays).
+enum class TableOf { Origins, Directions };
+void check_samples(RayTableData& d, TableOf what, const char* key) {
+  if (d.values.size() != size_t(d.width) * size_t(d.height)) return;  // (RayTable says so)
+  if (what == TableOf::Directions) {
+    if (d.valid.empty()) d.valid.assign(d.values.size(), true);
+    if (d.valid.size() != d.values.size()) return;
+    for (size_t i = 0; i < d.values.size(); ++i)
+      if (d.values[i] == Vec3{0, 0, 0}) d.valid[i] = false;
+    return;
+  }
+  for (size_t i = 0; i < d.values.size(); ++i)
+    if ((d.valid.empty() || d.valid[i]) && is_finite(d.values[i]) && !within_world(d.values[i]))
+      throw ParamError(key,
+                       fmt::format("{}: sample ({}, {}) at [{:g}, {:g}, {:g}] lies beyond "
+                                   "the {:g} scene units from the origin a ray may start at",
+                                   key, i % size_t(d.width), i / size_t(d.width), d.values[i].x,
+                                   d.values[i].y, d.values[i].z, kMaxCoordinate));
+}
+
+RayTable read_table(const ParamValues& v, const char* default_layer, TableOf what) {
   const bool file = v.has("file"), inline_grid = v.has("samples");
   if (file == inline_grid)
     throw ParamError(file ? "samples" : "file", "give either file or samples (one of them)");
@@ -85,6 +111,7 @@ RayTable read_table(const ParamValues& v, const char* default_layer) {
   } else {
     data = inline_table(v);
   }
+  check_samples(data, what, file ? "file" : "samples");
   try {
     return RayTable(data);
   } catch (const std::invalid_argument& e) {
@@ -118,12 +145,12 @@ const ParamSpec kDirParams[] = {
 
 std::unique_ptr<OrgFunction> create_org(const ParamValues& v) {
   check_params(kOrgParams, v);
-  return std::make_unique<TableOrg>(read_table(v, "org"));
+  return std::make_unique<TableOrg>(read_table(v, "org", TableOf::Origins));
 }
 
 std::unique_ptr<DirFunction> create_dir(const ParamValues& v) {
   check_params(kDirParams, v);
-  return std::make_unique<TableDir>(read_table(v, "dir"));
+  return std::make_unique<TableDir>(read_table(v, "dir", TableOf::Directions));
 }
 
 }  // namespace
@@ -143,7 +170,8 @@ const DirFunctionInfo kTableDirInfo{
     "Ray directions given by samples on a regular grid of pixel centers (a measured lens, a "
     "generic per-pixel calibration, or `anamorph rays` output), interpolated by Catmull-Rom "
     "bicubics with analytic derivatives and normalized by the camera; no ray where the samples "
-    "around are mostly invalid (their bilinearly interpolated validity is below 1/2).",
+    "around are mostly invalid (their bilinearly interpolated validity is below 1/2). A sample "
+    "of zero length counts as invalid.",
     kDirParams, create_dir};
 
 }  // namespace anamorph

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "math/frame.h"
+#include "math/input_limits.h"
 #include "math/sampling.h"
 
 namespace anamorph {
@@ -164,6 +165,19 @@ double VirtualCamera::shutter_time(const CameraSample& cs) const {
 }
 
 std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
+  std::optional<CameraRay> r = generate_any(cs);
+  if (r && !within_world(r->org)) return std::nullopt;
+  return r;
+}
+
+void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
+  generate_batch_any(s, n, out);
+  // (The same test as generate()'s, on the same values: single rays and packets agree.)
+  for (int i = 0; i < n; ++i)
+    out->valid[i] = out->valid[i] && within_world(CameraRayBatch::at(out->org, i));
+}
+
+std::optional<CameraRay> VirtualCamera::generate_any(const CameraSample& cs) const {
   if (!packet_) return general_ray(cs);
   CameraRayBatch b;
   (this->*packet_)(&cs.uv.x, &cs.uv.y, 1, &b);
@@ -171,9 +185,9 @@ std::optional<CameraRay> VirtualCamera::generate(const CameraSample& cs) const {
   return b.ray(0);
 }
 
-void VirtualCamera::generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const {
+void VirtualCamera::generate_batch_any(const CameraSample* s, int n, CameraRayBatch* out) const {
   if (!packet_) {
-    Camera::generate_batch(s, n, out);
+    for (int i = 0; i < n; ++i) out->set(i, general_ray(s[i]));
     return;
   }
   alignas(64) double u[kCameraBatch], v[kCameraBatch];

@@ -55,6 +55,8 @@ class VirtualCamera final : public Camera {
  public:
   VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
 
+  // A ray whose origin lies beyond kMaxCoordinate (math/input_limits.h) is no ray: the renderer
+  // never hands one to Embree, which asserts on origins past 1.8e18.
   std::optional<CameraRay> generate(const CameraSample& s) const override;
   void generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const override;
   bool uses_lens_or_time() const override { return dof_.aperture_radius > 0 || moving_; }
@@ -99,6 +101,9 @@ class VirtualCamera final : public Camera {
   // in place).
   void deform_by_coins(const double* u, const double* v, int n, CameraRayBatch* plain,
                        CameraRayBatch* out) const;
+  // generate() and generate_batch() before the world's bound is applied to the origins.
+  std::optional<CameraRay> generate_any(const CameraSample& s) const;
+  void generate_batch_any(const CameraSample* s, int n, CameraRayBatch* out) const;
   // One ray at a time: cameras with a lens, motion or a projective rig.
   std::optional<CameraRay> general_ray(const CameraSample& s) const;
   void to_world(CameraRay* r, const Transform& rig) const;  // and normalize again

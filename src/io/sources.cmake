@@ -1,6 +1,7 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/atomic_file.cpp
   ${CMAKE_CURRENT_LIST_DIR}/read_file.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/json_nesting.cpp
   ${CMAKE_CURRENT_LIST_DIR}/confined_folder.cpp
   ${CMAKE_CURRENT_LIST_DIR}/temporaries.cpp
   ${CMAKE_CURRENT_LIST_DIR}/read_log.cpp

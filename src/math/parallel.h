@@ -15,10 +15,31 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
 namespace anamorph {
+
+// The most threads a caller may ask for (0 means all cores): the one check behind the CLI's
+// --threads, the Python module's threads= and every arena built from them. TBB starts as many
+// workers as asked; 200,000 of them exhausted the process (the Python interpreter faulted).
+inline constexpr int kMaxThreads = 1024;
+
+// Why `n` is not a thread count, or "" when it is.
+inline std::string thread_count_error(long long n) {
+  if (n >= 0 && n <= kMaxThreads) return "";
+  return "threads = " + std::to_string(n) + " is out of range: 0 (all cores) to " +
+         std::to_string(kMaxThreads);
+}
+
+// The concurrency of an arena of `n` threads (0: all cores); throws std::invalid_argument with
+// thread_count_error's text for any other count.
+inline int arena_concurrency(long long n) {
+  if (const std::string e = thread_count_error(n); !e.empty()) throw std::invalid_argument(e);
+  return n > 0 ? int(n) : tbb::task_arena::automatic;
+}
 
 #if defined(__SANITIZE_THREAD__)
 inline constexpr bool kParallelWithStdThreads = true;

@@ -89,7 +89,7 @@ std::string params_markdown_table(std::span<const ParamSpec> params) {
       def = "*optional*";
     else
       def.append("`").append(cell(p.default_value)).append("`");
-    std::string range = range_text(p);
+    std::string range = range_text(with_world_range(p));
     if (!p.choices.empty()) {
       range.clear();
       for (auto c : p.choices) {

@@ -92,7 +92,8 @@ Json toml_text_to_json(std::string_view text) {
 
 }  // namespace
 
-Json param_json_schema(const ParamSpec& s) {
+Json param_json_schema(const ParamSpec& declared) {
+  const ParamSpec s = with_world_range(declared);
   Json j = value_schema(s);
   std::string doc(s.doc);
   if (!s.unit.empty()) doc += " Unit: " + std::string(s.unit) + ".";

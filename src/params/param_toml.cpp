@@ -44,15 +44,20 @@ std::string toml_type_name(const toml::node& n) {
   }
 }
 
-std::string range_error(double v, double lo, double hi, bool lo_ex, bool hi_ex) {
+std::string range_error(double v, double lo_bound, double hi_bound, bool lo_ex, bool hi_ex) {
   if (!std::isfinite(v)) return fmt::format("must be a finite number, got {}", v);
-  const bool below = lo_ex ? !(v > lo) : !(v >= lo);
-  const bool above = hi_ex ? !(v < hi) : !(v <= hi);
+  const bool below = lo_ex ? !(v > lo_bound) : !(v >= lo_bound);
+  const bool above = hi_ex ? !(v < hi_bound) : !(v <= hi_bound);
   if (!below && !above) return "";
+  // (Bounds as written in the docs: 1e+12 rather than 1000000000000.)
+  const auto text = [](double x) {
+    return std::abs(x) >= 1e9 ? fmt::format("{:.10g}", x) : fmt::format("{}", x);
+  };
+  const std::string lo = text(lo_bound), hi = text(hi_bound);
   std::string range = fmt::format("{}{}, {}{}", lo_ex ? "(" : "[", lo, hi, hi_ex ? ")" : "]");
-  if (std::isinf(hi))
+  if (std::isinf(hi_bound))
     range = fmt::format("{} {}", lo_ex ? ">" : ">=", lo);
-  else if (std::isinf(lo))
+  else if (std::isinf(lo_bound))
     range = fmt::format("{} {}", hi_ex ? "<" : "<=", hi);
   return fmt::format("value {} is out of range (must be {})", v, range);
 }
@@ -113,9 +118,13 @@ Transform transform_from_toml(const ParamSpec& spec, const toml::node& n, const 
            s.empty() ? "unknown key (valid keys here: matrix, rotate, scale, translate)"
                      : fmt::format("unknown key (did you mean '{}'?)", s));
     }
+  // (Every number of a transform within the world's range: products of a few of them still
+  // are, and placement_error checks what they compose to.)
   const auto finite = [&](const toml::node& x, std::string_view sub, const char* what) {
     const auto v = toml_number(x);
     if (!v || !std::isfinite(*v)) fail(x, sub, what);
+    if (!(std::abs(*v) <= kMaxCoordinate))
+      fail(x, sub, range_error(*v, -kMaxCoordinate, kMaxCoordinate));
     return *v;
   };
   Transform m;
@@ -146,6 +155,10 @@ Transform transform_from_toml(const ParamSpec& spec, const toml::node& n, const 
     }
     if (!is_finite(sv) || sv.x == 0 || sv.y == 0 || sv.z == 0)
       fail(*sn, "scale", "scale factors must be finite and non-zero");
+    if (!within_world(sv))
+      fail(*sn, "scale",
+           range_error(max_component(Vec3{std::abs(sv.x), std::abs(sv.y), std::abs(sv.z)}),
+                       -kMaxCoordinate, kMaxCoordinate));
     s = Transform::scale(sv);
   }
   if (const toml::node* rn = t->get("rotate")) {
@@ -200,7 +213,9 @@ void integer_out_of_reach(const toml::node& n, const ParamSpec& spec, const Fail
 
 }  // namespace
 
-ParamValue param_from_toml(const ParamSpec& spec, const toml::node& n, const ParamTomlHooks& h) {
+ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
+                           const ParamTomlHooks& h) {
+  const ParamSpec spec = with_world_range(declared);
   const std::string_view key = spec.name;
   const auto fail = [&](const toml::node& at, const std::string& msg) {
     h.fail(at, key, msg);

@@ -15,6 +15,7 @@
 #include <variant>
 #include <vector>
 
+#include "math/input_limits.h"
 #include "math/transform.h"
 #include "math/vec.h"
 
@@ -55,6 +56,19 @@ struct ParamSpec {
   // "2 with whitted, 8 otherwise"; the reader computes it.
   std::string_view default_note = {};
 };
+
+// `s` with its range narrowed to the world's (math/input_limits.h): every component of a vector
+// or of a list or grid of vectors, and every number in scene units, lies within
+// +-kMaxCoordinate. The reader checks values against this range, and the docs and the JSON
+// Schema show it.
+inline ParamSpec with_world_range(ParamSpec s) {
+  const bool vector = s.type == ParamType::Vec2 || s.type == ParamType::Vec3 ||
+                      s.type == ParamType::Vec3List || s.type == ParamType::Vec3Grid;
+  if (!vector && !(s.type == ParamType::Number && s.unit == "scene units")) return s;
+  if (!(s.min > -kMaxCoordinate)) s.min = -kMaxCoordinate, s.min_exclusive = false;
+  if (!(s.max < kMaxCoordinate)) s.max = kMaxCoordinate, s.max_exclusive = false;
+  return s;
+}
 
 struct NestedFunction;
 using ParamValue = std::variant<double, int64_t, bool, std::string, Vec2, Vec3, std::vector<double>,

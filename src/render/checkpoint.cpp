@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <toml++/toml.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <cerrno>
 #include <cstring>
@@ -16,69 +15,17 @@
 
 #include "io/image_io.h"
 #include "io/read_file.h"
+#include "render/checkpoint_records.h"
 
 namespace anamorph {
 
 namespace fs = std::filesystem;
 
+using namespace checkpoint_detail;
+
 namespace {
 
-constexpr char kSignature[16] = {'A', 'N', 'A', 'M', 'O', 'R', 'P', 'H',
-                                 '-', 'C', 'K', 'P', 'T', '-', '1', '\n'};
-enum Kind : uint32_t { kIdentity = 1, kTile = 2, kPassTile = 3, kPassStart = 4 };
-// A record larger than this is damage, not data (a 16384^2 frame's tile row is far smaller).
-constexpr uint64_t kMaxRecord = uint64_t(1) << 34;
-
 std::string sys_error() { return std::generic_category().message(errno); }
-
-// Payloads in the machine's byte order: a checkpoint continues on the machine (or cluster of
-// alike machines) that started it.
-template <class T>
-void put(std::string& s, const T& v) {
-  s.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-template <class T>
-void put_vector(std::string& s, const std::vector<T>& v) {
-  put(s, uint64_t(v.size()));
-  s.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-void put_string(std::string& s, const std::string& v) {
-  put(s, uint64_t(v.size()));
-  s += v;
-}
-
-// Reads what put() wrote; throws CheckpointError when the payload is short.
-struct Cursor {
-  const std::string& s;
-  size_t at = 0;
-  void need(size_t n) const {
-    if (n > s.size() - at) throw CheckpointError("a checkpoint record is shorter than it says");
-  }
-  template <class T>
-  T get() {
-    need(sizeof(T));
-    T v;
-    std::memcpy(&v, s.data() + at, sizeof v);
-    at += sizeof v;
-    return v;
-  }
-  template <class T>
-  std::vector<T> get_vector() {
-    const auto n = get<uint64_t>();
-    if (n > (s.size() - at) / sizeof(T)) need(s.size() + 1);
-    std::vector<T> v(n);
-    if (n) std::memcpy(v.data(), s.data() + at, n * sizeof(T));  // (data() of none may be null)
-    at += n * sizeof(T);
-    return v;
-  }
-  std::string get_string() {
-    const auto n = get<uint64_t>();
-    need(n);
-    std::string v = s.substr(at, n);
-    at += n;
-    return v;
-  }
-};
 
 void write_all(int fd, const void* p, size_t n, const fs::path& file) {
   const char* c = static_cast<const char*>(p);
@@ -91,27 +38,6 @@ void write_all(int fd, const void* p, size_t n, const fs::path& file) {
     c += w;
     n -= size_t(w);
   }
-}
-
-bool read_all(int fd, void* p, size_t n) {
-  char* c = static_cast<char*>(p);
-  while (n > 0) {
-    const ssize_t r = ::read(fd, c, n);
-    if (r < 0 && errno == EINTR) continue;
-    if (r <= 0) return false;
-    c += r;
-    n -= size_t(r);
-  }
-  return true;
-}
-
-std::string framed(uint32_t kind, const std::string& payload) {
-  std::string r;
-  put(r, kind);
-  put(r, uint32_t(crc32_z(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload.data()),
-                          payload.size())));
-  put(r, uint64_t(payload.size()));
-  return r + payload;
 }
 
 void flatten(const toml::node& n, const std::string& key, CheckpointIdentity& out) {
@@ -161,11 +87,13 @@ std::string identity_changes(const CheckpointIdentity& saved, const CheckpointId
 
 CheckpointWriter::CheckpointWriter(const fs::path& file, const CheckpointIdentity& id,
                                    double sync_every, uint64_t append_at)
-    : file_(file), every_(sync_every), last_sync_(std::chrono::steady_clock::now()) {
-  put(identity_payload_, uint64_t(id.size()));
-  for (const auto& [k, v] : id) put_string(identity_payload_, k), put_string(identity_payload_, v);
+    : file_(file),
+      identity_payload_(encode_identity(id)),
+      every_(sync_every),
+      last_sync_(std::chrono::steady_clock::now()) {
   if (append_at == 0) {
-    restart();
+    begin_rewrite();
+    commit_rewrite();
     return;
   }
   open_append();
@@ -175,6 +103,7 @@ CheckpointWriter::CheckpointWriter(const fs::path& file, const CheckpointIdentit
 }
 
 CheckpointWriter::~CheckpointWriter() {
+  rewrite_.reset();  // (an unfinished rewrite is dropped: the old log stays)
   if (fd_ < 0) return;
   ::fsync(fd_);
   ::close(fd_);
@@ -187,21 +116,45 @@ void CheckpointWriter::open_append() {
         fmt::format("cannot open checkpoint '{}': {}", file_.string(), sys_error()));
 }
 
-void CheckpointWriter::restart() {
+void CheckpointWriter::begin_rewrite() {
   const std::lock_guard<std::mutex> lock(mu_);
-  if (fd_ >= 0) ::close(fd_), fd_ = -1;
-  const std::string head = std::string(kSignature, 16) + framed(kIdentity, identity_payload_);
+  const std::string head =
+      std::string(kSignature, kSignatureSize) + framed(kIdentity, identity_payload_);
   try {
-    write_file_atomic(file_, head.data(), head.size());
+    rewrite_ = std::make_unique<AtomicFile>(file_);
+    rewrite_->write(head.data(), head.size());
   } catch (const ImageIoError& e) {
+    rewrite_.reset();
     throw CheckpointError(e.what());
   }
+}
+
+void CheckpointWriter::commit_rewrite() {
+  const std::lock_guard<std::mutex> lock(mu_);
+  if (!rewrite_) return;
+  try {
+    rewrite_->commit();  // fsync, rename over the old log, fsync the directory
+  } catch (const ImageIoError& e) {
+    rewrite_.reset();
+    throw CheckpointError(e.what());
+  }
+  rewrite_.reset();
+  if (fd_ >= 0) ::close(fd_), fd_ = -1;
   open_append();
+  last_sync_ = std::chrono::steady_clock::now();
 }
 
 void CheckpointWriter::record(uint32_t kind, const std::string& payload) {
   const std::string r = framed(kind, payload);
   const std::lock_guard<std::mutex> lock(mu_);
+  if (rewrite_) {
+    try {
+      rewrite_->write(r.data(), r.size());
+    } catch (const ImageIoError& e) {
+      throw CheckpointError(e.what());
+    }
+    return;
+  }
   write_all(fd_, r.data(), r.size(), file_);  // O_APPEND: one write per record
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_sync_).count() >= every_) {
@@ -215,99 +168,110 @@ void CheckpointWriter::sync() {
   if (fd_ >= 0) ::fsync(fd_);
 }
 
-void CheckpointWriter::add_tile(const ResolvedTile& t) {
-  std::string p;
-  put(p, uint64_t(t.index));
-  put_vector(p, t.rgba8);
-  put_vector(p, t.rgba);
-  put_vector(p, t.aov);
-  record(kTile, p);
-}
+void CheckpointWriter::add_tile(const ResolvedTile& t) { record(kTile, encode_tile(t)); }
 
 void CheckpointWriter::add_pass_tile(int pass, size_t index, const TileBuffer& tile) {
-  std::string p;
-  put(p, int32_t(pass));
-  put(p, uint64_t(index));
-  put_vector(p, tile.sums());
-  put_vector(p, tile.aov_sums());
-  record(kPassTile, p);
+  record(kPassTile, encode_pass_tile(pass, index, tile));
 }
 
 void CheckpointWriter::add_pass_start(int pass, const std::vector<uint8_t>& active) {
-  std::string p;
-  put(p, int32_t(pass));
-  put_vector(p, active);
-  record(kPassStart, p);
+  record(kPassStart, encode_pass_start(pass, active));
 }
 
+namespace {
+
+constexpr char kSignatureV1[kSignatureSize] = {'A', 'N', 'A', 'M', 'O', 'R', 'P', 'H',
+                                               '-', 'C', 'K', 'P', 'T', '-', '1', '\n'};
+
+// Decodes a record's payload (to check it: the data is dropped), naming the record when it
+// does not hold what its kind says.
+template <class Decode>
+auto decoded(RecordReader& rr, Decode&& decode, const std::string& payload) {
+  try {
+    return decode(payload);
+  } catch (const CheckpointError& e) {
+    rr.damaged(e.what(), /*last=*/true);
+  }
+}
+
+}  // namespace
+
 CheckpointReader::CheckpointReader(const fs::path& file) : file_(file) {
-  // (read record by record, so no size limit; a FIFO or device is refused: io/read_file.h)
+  // (Read record by record, so no size limit; a FIFO or a device is refused: io/read_file.h.)
   auto opened = open_input(file, InputKind{"a checkpoint", UINT64_MAX});
   if (const auto* f = std::get_if<ReadFailure>(&opened))
     throw CheckpointError(fmt::format("cannot read checkpoint '{}': {}", file.string(), f->reason));
+  const uint64_t size = std::get<InputFile>(opened).size();
   fd_ = std::get<InputFile>(opened).release();
-  char sig[16];
+  try {
+    scan(size);
+  } catch (...) {
+    ::close(fd_);
+    fd_ = -1;
+    throw;
+  }
+}
+
+void CheckpointReader::scan(uint64_t file_size) {
+  char sig[kSignatureSize] = {};
+  const bool whole = ::pread(fd_, sig, kSignatureSize, 0) == ssize_t(kSignatureSize);
+  if (whole && std::memcmp(sig, kSignatureV1, kSignatureSize) == 0)
+    throw CheckpointError(fmt::format(
+        "checkpoint '{}' was written by an earlier anamorph (checkpoint format 1), which this "
+        "version does not resume: finish it with that version, or delete it to start over",
+        file_.string()));
+  if (!whole || std::memcmp(sig, kSignature, kSignatureSize) != 0)
+    throw CheckpointError(fmt::format("'{}' is not an anamorph checkpoint", file_.string()));
+  RecordReader rr(fd_, file_, file_size, kSignatureSize);
   uint32_t kind = 0;
   std::string payload;
-  if (!read_all(fd_, sig, 16) || std::memcmp(sig, kSignature, 16) != 0)
-    throw CheckpointError(fmt::format("'{}' is not an anamorph checkpoint", file.string()));
-  end_ = 16;
-  if (!next(&kind, &payload) || kind != kIdentity)
-    throw CheckpointError(
-        fmt::format("checkpoint '{}' is damaged: no identity record", file.string()));
-  Cursor c{payload};
-  const auto n = c.get<uint64_t>();
-  for (uint64_t i = 0; i < n; ++i) {
-    std::string k = c.get_string();
-    id_.emplace_back(std::move(k), c.get_string());
+  if (rr.next(&kind, &payload) != RecordReader::Next::Record || kind != kIdentity)
+    rr.damaged("the file does not begin with the render's identity", true);
+  id_ = decoded(rr, decode_identity, payload);
+  body_ = rr.at();
+  int tiles = 0, pass_tiles = 0, pass_starts = 0;
+  RecordReader::Next n;
+  while ((n = rr.next(&kind, &payload)) == RecordReader::Next::Record) {
+    if (kind == kIdentity) rr.damaged("a second identity", true);
+    if (kind == kTile) decoded(rr, decode_tile, payload), ++tiles;
+    if (kind == kPassTile) decoded(rr, decode_pass_tile, payload), ++pass_tiles;
+    if (kind == kPassStart) {
+      decoded(rr, decode_pass_start, payload);
+      if (++pass_starts > 1) rr.damaged("a second pass start", true);
+    }
+    if (tiles > 0 && pass_tiles + pass_starts > 0)
+      rr.damaged("tiles of a streamed render and of a pass render together", true);
   }
+  // A pass render's log is rewritten whole at each pass start, ending with the pass start: its
+  // tiles without one are a log cut short by something else than an interrupted write.
+  if (pass_tiles > 0 && pass_starts == 0)
+    throw CheckpointError(fmt::format(
+        "checkpoint '{}' is damaged: it holds {} tiles of a pass whose start is missing (cut "
+        "short at byte {}?); delete it to start over",
+        file_.string(), pass_tiles, rr.at()));
+  end_ = rr.at();
+  records_ = rr.records() - 1;
+  cut_short_ = n == RecordReader::Next::Tail;
 }
 
 CheckpointReader::~CheckpointReader() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-bool CheckpointReader::next(uint32_t* kind, std::string* payload) {
-  char head[16];
-  if (!read_all(fd_, head, 16)) return false;
-  uint32_t crc;
-  uint64_t size;
-  std::memcpy(kind, head, 4);
-  std::memcpy(&crc, head + 4, 4);
-  std::memcpy(&size, head + 8, 8);
-  if (size > kMaxRecord) return false;
-  payload->resize(size);
-  if (!read_all(fd_, payload->data(), size)) return false;
-  if (crc32_z(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(payload->data()), size) != crc)
-    return false;
-  end_ += 16 + size;
-  return true;
-}
-
 void CheckpointReader::read(const Visitor& v) {
+  RecordReader rr(fd_, file_, end_, body_);
   uint32_t kind = 0;
   std::string payload;
-  while (next(&kind, &payload)) {
-    Cursor c{payload};
-    if (kind == kTile && v.tile) {
-      ResolvedTile t;
-      t.index = c.get<uint64_t>();
-      t.rgba8 = c.get_vector<unsigned char>();
-      t.rgba = c.get_vector<float>();
-      t.aov = c.get_vector<float>();
-      v.tile(std::move(t));
-    } else if (kind == kPassTile && v.pass_tile) {
-      PassTile t;
-      t.pass = c.get<int32_t>();
-      t.index = c.get<uint64_t>();
-      t.sums = c.get_vector<PixelSum>();
-      t.aov = c.get_vector<float>();
-      v.pass_tile(std::move(t));
-    } else if (kind == kPassStart && v.pass_start) {
-      const int pass = c.get<int32_t>();
-      v.pass_start(pass, c.get_vector<uint8_t>());
+  while (rr.next(&kind, &payload) == RecordReader::Next::Record) {
+    if (kind == kTile && v.tile) v.tile(decoded(rr, decode_tile, payload));
+    if (kind == kPassTile && v.pass_tile) v.pass_tile(decoded(rr, decode_pass_tile, payload));
+    if (kind == kPassStart && v.pass_start) {
+      auto [pass, active] = decoded(rr, decode_pass_start, payload);
+      v.pass_start(pass, std::move(active));
     }
   }
+  if (rr.at() != end_)
+    throw CheckpointError(fmt::format("checkpoint '{}' changed while it was read", file_.string()));
 }
 
 }  // namespace anamorph

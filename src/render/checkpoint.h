@@ -1,25 +1,29 @@
 // Checkpoints: an append-only log of what a render has finished, enough to continue it and end
 // with the same bits as an uninterrupted render.
 //
-// Layout: a 16-byte signature, then records: kind (u32), CRC-32 of the payload (u32), payload
-// size (u64), payload. The first record names the render (its identity: the scene as rendered,
-// the settings and outputs, as "key = value" lines); the others are finished tiles (streamed
-// renders: the tile as the output files take it) or, for pass renders (per-pixel adaptive
-// sampling), a tile's sums after a pass and the start of a pass with its active pixels. Records
-// are appended as work finishes and the file is fsync'd every `sync_every` seconds and when
-// closed; a record counts only when complete with a matching checksum, so a render killed at any
-// moment (SIGKILL, power loss) leaves a checkpoint that resumes from its last good record.
+// Layout (render/checkpoint_records.h): a 16-byte signature, then records of a header (kind,
+// payload size, the payload's CRC-32 and the header's own CRC-32) and a payload. The first record
+// names the render (its identity: the scene as rendered, the settings and outputs, as "key =
+// value" lines); the others are finished tiles (streamed renders: the tile as the output files
+// take it) or, for pass renders (per-pixel adaptive sampling), a tile's sums after a pass and the
+// start of a pass with its active pixels. Records are appended as work finishes and the file is
+// fsync'd every `sync_every` seconds and when closed. A render killed at any moment (SIGKILL,
+// power loss) leaves at most one record cut short at the end, which is dropped; anything else
+// that does not match its checksums, counts or order is damage, and the file is refused whole
+// before any of it is used (never resumed from part of it, never written over).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "io/image_io.h"
 #include "render/frame_output.h"
 #include "render/tile_buffer.h"
 
@@ -48,8 +52,8 @@ struct PassTile {
 
 class CheckpointWriter {
  public:
-  // A new checkpoint (replacing any file there), or, with `append_at` > 0, the existing one
-  // continued after its last good record (CheckpointReader::end()).
+  // A new checkpoint (replacing any file there, atomically), or, with `append_at` > 0, the
+  // existing one continued after its last good record (CheckpointReader::end()).
   CheckpointWriter(const std::filesystem::path& file, const CheckpointIdentity& id,
                    double sync_every_seconds, uint64_t append_at = 0);
   ~CheckpointWriter();
@@ -57,9 +61,12 @@ class CheckpointWriter {
   void add_tile(const ResolvedTile& t);
   void add_pass_tile(int pass, size_t index, const TileBuffer& tile);
   void add_pass_start(int pass, const std::vector<uint8_t>& active);
-  // Starts the file again with only the identity (a pass render compacting its log: then it
-  // writes every tile's state anew). Atomic: a new file renamed over the old.
-  void restart();
+  // A pass render compacting its log: a new file with the identity, then the records added
+  // until commit_rewrite() (every tile's state and the pass start), written beside the old one
+  // and renamed over it only then, complete and on disk. The old log stays whole until that
+  // moment (an interruption or an error in between leaves it as it was).
+  void begin_rewrite();
+  void commit_rewrite();
   void sync();  // fsync now
   const std::filesystem::path& file() const { return file_; }
 
@@ -71,29 +78,41 @@ class CheckpointWriter {
   double every_;
   std::mutex mu_;
   int fd_ = -1;
+  std::unique_ptr<AtomicFile> rewrite_;  // the new log while a rewrite is under way
   std::chrono::steady_clock::time_point last_sync_;
 };
 
-// Reads a checkpoint record by record (tiles are handed over as read, never all at once).
+// Reads a checkpoint: validated whole when opened, then record by record (tiles are handed over
+// as read, never all at once).
 class CheckpointReader {
  public:
-  explicit CheckpointReader(const std::filesystem::path& file);  // reads the identity
+  // Reads the identity and checks every record: signature and format, each header's and
+  // payload's checksum, each payload's counts against its bytes, the order of the kinds (one
+  // identity first; tiles, or pass tiles and one pass start with its tiles before it). A record
+  // cut short at the very end is left out. Anything else throws CheckpointError naming the byte.
+  explicit CheckpointReader(const std::filesystem::path& file);
   ~CheckpointReader();
+  CheckpointReader(const CheckpointReader&) = delete;
+  CheckpointReader& operator=(const CheckpointReader&) = delete;
   const CheckpointIdentity& identity() const { return id_; }
   struct Visitor {
     std::function<void(ResolvedTile&&)> tile;
     std::function<void(PassTile&&)> pass_tile;
     std::function<void(int pass, std::vector<uint8_t>&& active)> pass_start;
   };
-  // Every good record after the identity; stops at the first damaged or incomplete one.
+  // Every record after the identity, in order.
   void read(const Visitor& v);
-  uint64_t end() const { return end_; }  // offset after the last good record
+  uint64_t end() const { return end_; }          // offset after the last whole record
+  int records() const { return records_; }       // after the identity
+  bool cut_short() const { return cut_short_; }  // a record at the end was left out
 
  private:
-  bool next(uint32_t* kind, std::string* payload);
+  void scan(uint64_t file_size);
   std::filesystem::path file_;
   int fd_ = -1;
-  uint64_t end_ = 0;
+  uint64_t end_ = 0, body_ = 0;  // body_: the offset after the identity
+  int records_ = 0;
+  bool cut_short_ = false;
   CheckpointIdentity id_;
 };
 

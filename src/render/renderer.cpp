@@ -45,7 +45,7 @@ struct Renderer::Run {
   Run(const Renderer& r, const RenderOptions& o, int W, int H)
       : opt(o),
         session(local_session(r, o, W, H)),
-        arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic),
+        arena(arena_concurrency(o.threads)),
         time_limit(r.scene_.render.time_limit) {}
 
   // The tiles' shared state, for rendering here (none when a farm renders them).

@@ -8,8 +8,9 @@
 namespace anamorph {
 
 // assimp's binary dump (assbin) of the post-processed file, then the mesh names (the dump drops
-// them): NUL-terminated, then their byte count (8 bytes). Throws LoadError with assimp's message,
-// or std::bad_alloc when assimp ran out of memory.
+// them), then the files assimp opened (the model, an OBJ's material library): each a list of
+// NUL-terminated strings followed by its byte count (8 bytes). Throws LoadError with assimp's
+// message, or std::bad_alloc when assimp ran out of memory.
 std::vector<unsigned char> assimp_answer(const std::filesystem::path& file);
 
 }  // namespace anamorph

@@ -352,8 +352,8 @@ bool ends_with_newline(const fs::path& file) {
   return last.empty() || last[0] == '\n';
 }
 
-// Splits the child's answer into the assbin dump and the mesh names.
-std::vector<std::string> split_mesh_names(std::vector<unsigned char>& answer) {
+// Takes the last list of strings off the end of the child's answer (assimp_child.h).
+std::vector<std::string> pop_strings(std::vector<unsigned char>& answer) {
   uint64_t names = 0;
   if (answer.size() < sizeof names) throw LoadError("the loader's answer is cut short");
   std::memcpy(&names, answer.data() + answer.size() - sizeof names, sizeof names);
@@ -376,7 +376,12 @@ LoadedModel load_with_assimp(const fs::path& file) {
   try {
     if (lowercase_extension(file) == ".ply") check_ply_counts(file);
     std::vector<unsigned char> answer = read_isolated(file, loader_limits(size));
-    std::vector<std::string> mesh_names = split_mesh_names(answer);
+    const std::vector<std::string> opened = pop_strings(answer);
+    std::vector<std::string> mesh_names = pop_strings(answer);
+    {
+      const ReadRole role("a file that " + file.string() + " uses");
+      for (const std::string& path : opened) note_read(path);
+    }
     Assimp::Importer importer;
     const aiScene* scene = importer.ReadFileFromMemory(answer.data(), answer.size(), 0, "assbin");
     if (!scene)

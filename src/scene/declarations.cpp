@@ -13,7 +13,8 @@ namespace {
 
 Json bound(double x) { return std::isinf(x) ? Json(nullptr) : Json(x); }
 
-Json spec_json(const ParamSpec& p) {
+Json spec_json(const ParamSpec& declared) {
+  const ParamSpec p = with_world_range(declared);
   const bool required = p.default_value.empty();
   const bool optional = p.default_value == "none";
   Json choices = Json::array();

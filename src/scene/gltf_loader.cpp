@@ -37,6 +37,8 @@
 #include <fmt/ranges.h>
 
 #include "io/image_io.h"
+#include "io/json_nesting.h"
+
 #include "io/read_file.h"
 #include "io/read_log.h"
 #include "scene/load_common.h"
@@ -686,6 +688,17 @@ class GltfBuilder {
   size_t vertex_colors_ignored_ = 0;
 };
 
+// The JSON of a .gltf, or of a .glb's first chunk (its header: magic, version, length, then the
+// chunk's length and type), as far as the file holds it.
+std::string_view gltf_json(const std::vector<unsigned char>& bytes, bool binary) {
+  const auto* text = reinterpret_cast<const char*>(bytes.data());
+  if (!binary) return {text, bytes.size()};
+  if (bytes.size() < 20) return {};
+  uint32_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  return {text + 20, std::min<size_t>(length, bytes.size() - 20)};
+}
+
 // tinygltf reads a model's external buffers through these: io/read_file.h's reader (a FIFO, a
 // device or a directory refused at once, the size bounded, the editor's confinement applied)
 // instead of tinygltf's std::ifstream, and no shell-style expansion of the name (tinygltf's
@@ -728,6 +741,8 @@ LoadedModel load_gltf(const fs::path& file) {
   // The container is recognised by its magic, not its extension: a .gltf that is really a .glb
   // still loads.
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (const std::string e = json_nesting_error(gltf_json(bytes, binary)); !e.empty())
+    throw LoadError(file.string() + ": its JSON is " + e);
   bool ok = false;
   try {
     // (Files tinygltf opens itself are logged below with their roles, not as it reads them.)

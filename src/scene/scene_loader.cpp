@@ -5,16 +5,20 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <span>
 
 #include "io/image_io.h"
 #include "math/frame.h"
+#include "math/input_limits.h"
 #include "math/user_text.h"
+#include "params/toml_parse.h"
 #include "scene/animation.h"
 #include "scene/camera_reader.h"
 #include "scene/load_common.h"
 #include "scene/loaders.h"
 #include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
+#include "scene/world_extent.h"
 
 namespace anamorph {
 
@@ -34,8 +38,9 @@ void warn_if_no_rays(const Camera& cam, std::vector<std::string>* warnings) {
     }
   warnings->push_back(fmt::format(
       "camera: gives no ray at any of {} image positions tried (origins or directions that are "
-      "never finite, or vanish); the image will be transparent",
-      n * n));
+      "never finite, or vanish, or origins beyond the {:g} scene units from the origin rays may "
+      "start at); the image will be transparent",
+      n * n, kMaxCoordinate));
 }
 
 // ---- includes and overrides -------------------------------------------------------------------
@@ -50,7 +55,7 @@ toml::table parse_toml_file(const fs::path& file) {
     throw SceneError({file.string()}, "", e.what());
   }
   try {
-    return toml::parse(text, file.string());
+    return parse_toml(text, file.string());
   } catch (const toml::parse_error& e) {
     SourceLoc l;
     l.file = file.string();
@@ -153,7 +158,7 @@ void apply_override(toml::table& root, const std::string& kv) {
   const size_t eq = kv.find('=');
   if (eq == std::string::npos || eq == 0)
     throw SceneError({}, kv, "expected --set KEY=VALUE (e.g. --set camera.fov=90)");
-  const toml::table value = parse_value_text(kv.substr(eq + 1));
+  const toml::table value = parse_value_text(kv.substr(eq + 1), kv.substr(0, eq));
   set_path(root, kv.substr(0, eq), *value.get("v"), {});
 }
 
@@ -288,7 +293,14 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
     for (auto& mesh : pr.meshes) mesh.material = override_mat ? mat : mesh.material + mat_base;
     s.prototypes.push_back(std::move(pr));
   }
+  std::vector<Bounds3> boxes;  // of the model's prototypes, in their own space
+  for (const Prototype& pr : std::span(s.prototypes).subspan(proto_base))
+    boxes.push_back(prototype_bounds(pr));
   for (auto& inst : m.instances) {
+    const std::string e = placement_error(xf * inst.world_from_object, boxes[inst.prototype]);
+    if (!e.empty())
+      r.fail(v.has("transform") ? "transform" : "file",
+             inst.name.empty() ? e : fmt::format("node \"{}\": {}", inst.name, e));
     inst.prototype += proto_base;
     inst.world_from_object = xf * inst.world_from_object;
     inst.name = name + (inst.name.empty() ? "" : "/" + inst.name);
@@ -372,6 +384,18 @@ void read_object(Context& c, const TableReader& r, int index) {
   sh.name = name;
   sh.material = material_ref(c, r, v, "material");
   place_shape(r, v, type, xf, sh);
+  if (const std::string e = placement_error(sh.world_from_object, shape_object_bounds(sh));
+      !e.empty()) {
+    // (Each key is within the world alone: the sum of a position and a size, or a transform,
+    // takes the shape beyond it.)
+    const char* size_key = type == "sphere" || type == "disk" ? "radius"
+                           : type == "plane"                  ? "point"
+                           : type == "cylinder"               ? "top"
+                           : type == "rectangle"              ? "edge_u"
+                           : v.has("max")                     ? "max"
+                                                              : "size";
+    r.fail(v.has("transform") ? "transform" : size_key, e);
+  }
   c.scene->shapes.push_back(sh);
 }
 
@@ -402,6 +426,9 @@ void add_area_light(const TableReader& r, const ParamValues& v, const std::strin
     // Counter-clockwise seen from the emitting side (edge_u x edge_v).
     m.indices = {0, 1, 2, 0, 2, 3};
     m.material = mat;
+    Bounds3 box;
+    for (const Vec3f& p : m.positions) box.extend(Vec3(p));
+    if (const std::string e = placement_error(Transform(), box); !e.empty()) r.fail("edge_u", e);
     Prototype pr;
     pr.name = name;
     pr.meshes.push_back(std::move(m));
@@ -414,6 +441,9 @@ void add_area_light(const TableReader& r, const ParamValues& v, const std::strin
   sh.name = name;
   sh.radius = v.number("radius");
   sh.world_from_object = Transform::translate(v.vec3("center"));
+  if (const std::string e = placement_error(sh.world_from_object, shape_object_bounds(sh));
+      !e.empty())
+    r.fail("radius", e);
   sh.material = emissive_material(s, name, v.color("radiance") * strength, true);
   s.shapes.push_back(sh);
 }
@@ -702,8 +732,9 @@ Scene load_view(const fs::path& file, const std::vector<std::string>& overrides,
                 const Scene& loaded) {
   check_scene_path(file);
   if (!fs::exists(file)) throw SceneError({file.string()}, "", "scene file not found");
-  return recording_reads(
-      [&] { return build_scene(load_with_includes(file), file, overrides, frame, Build::View, &loaded); });
+  return recording_reads([&] {
+    return build_scene(load_with_includes(file), file, overrides, frame, Build::View, &loaded);
+  });
 }
 
 void check_scene_frame(const fs::path& file, const std::vector<std::string>& overrides,
@@ -719,7 +750,7 @@ namespace {
 toml::table parse_scene_text(const std::string& text, const fs::path& name) {
   toml::table t;
   try {
-    t = toml::parse(text, name.string());
+    t = parse_toml(text, name.string());
   } catch (const toml::parse_error& e) {
     SourceLoc l{name.string(), int(e.source().begin.line), int(e.source().begin.column)};
     throw SceneError(l, "", fmt::format("TOML syntax error: {}", e.description()));

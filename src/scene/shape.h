@@ -27,4 +27,8 @@ struct AnalyticShape {
   std::string name;
 };
 
+// Object-space bounds; the infinite plane gets a large finite square (its extent where one is
+// needed, the scene's bounds and the editor's boxes; it is not clipped to it).
+Bounds3 shape_object_bounds(const AnalyticShape& s);
+
 }  // namespace anamorph

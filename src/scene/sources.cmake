@@ -1,6 +1,8 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/texture.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scene.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/shape.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/world_extent.cpp
 )
 include(${CMAKE_CURRENT_LIST_DIR}/loaders.cmake)  # glTF and assimp loaders
 list(APPEND ANAMORPH_SOURCES

@@ -9,6 +9,9 @@
 #include <optional>
 #include <vector>
 
+#include "math/input_limits.h"
+#include "params/toml_parse.h"
+
 namespace anamorph {
 
 namespace {
@@ -78,9 +81,13 @@ std::optional<double> huge_integer(const std::string& text) {
 
 }  // namespace
 
-toml::table parse_value_text(const std::string& text) {
+toml::table parse_value_text(const std::string& text, const std::string& key) {
+  const std::string doc = "v = " + text;
+  int line = 0, column = 0;
+  if (const std::string e = toml_nesting_error(doc, &line, &column); !e.empty())
+    throw SceneError({}, shown_key(key), "the value is " + e);
   try {
-    return toml::parse("v = " + text);
+    return toml::parse(doc);
   } catch (const toml::parse_error&) {
     toml::table t;
     if (const auto big = huge_integer(text))
@@ -91,9 +98,18 @@ toml::table parse_value_text(const std::string& text) {
   }
 }
 
+std::string shown_key(const std::string& key) {
+  return key.size() <= 80 ? key
+                          : key.substr(0, 60) + "... (" + std::to_string(key.size()) + " bytes)";
+}
+
 void set_path(toml::table& root, const std::string& key, const toml::node& value,
               const SourceLoc& where) {
   const std::vector<std::string> parts = split_key(key);
+  if (parts.size() > size_t(kMaxNesting))
+    throw SceneError(where, shown_key(key),
+                     fmt::format("a key of {} parts nests deeper than the {} levels anamorph reads",
+                                 parts.size(), kMaxNesting));
   auto index = [&](const toml::array& a, const std::string& p) {
     const long idx = array_index(a, p);
     if (idx < 0)

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "io/json_nesting.h"
 #include "io/read_file.h"
 #include "scene/declarations.h"
 #include "scene/scene_schema.h"
@@ -219,6 +220,8 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
   const std::string& p = q.path;
   const bool get = q.method == "GET", post = q.method == "POST";
   if (!get && !post) return error(405, "the API takes GET and POST");
+  if (const std::string e = json_nesting_error(q.body); !e.empty())
+    throw std::invalid_argument("the body is " + e);
   const Json body = post && !q.body.empty() ? Json::parse(q.body) : Json::object();
   if (!body.is_object()) throw std::invalid_argument("the body must be a JSON object");
 

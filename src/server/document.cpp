@@ -7,6 +7,7 @@
 #include <charconv>
 
 #include "io/read_file.h"
+#include "params/toml_parse.h"
 #include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
 #include "server/document_save.h"
@@ -109,7 +110,7 @@ Document::Document(std::filesystem::path file) : file_(std::move(file)) {
     throw SceneError({file_.string()}, "", describe(*failure, file_));
   original_text_.assign(bytes.begin(), bytes.end());
   try {
-    table_ = toml::parse(original_text_, file_.string());
+    table_ = parse_toml(original_text_, file_.string());
   } catch (const toml::parse_error& e) {
     SourceLoc l{file_.string(), int(e.source().begin.line), int(e.source().begin.column)};
     throw SceneError(l, "", std::string("TOML syntax error: ") + std::string(e.description()));
@@ -144,7 +145,7 @@ toml::table Document::edited(std::span<const KeyEdit> edits) const {
     if (!valid_utf8(e.key) || (e.value && !valid_utf8(*e.value)))
       throw SceneError({file_.string()}, e.key, "not valid UTF-8 (a scene file is UTF-8 text)");
     if (e.value)
-      set_path(t, e.key, *parse_value_text(*e.value).get("v"), {file_.string()});
+      set_path(t, e.key, *parse_value_text(*e.value, e.key).get("v"), {file_.string()});
     else
       remove_path(t, e.key);
   }

@@ -97,8 +97,8 @@ TEST(HonestMessages, AnimateErrorsNameTheEntryAndFrameBeforeAnyFrameIsWritten) {
        "view.toml:7:7: camera.fov: value 180 is out of range (must be (0, 180)) (at frame 5, the "
        "value of this [[animate]] entry)"},
       {world, "0:3",
-       "world.toml:10:7: object[0].radius: value 0 is out of range (must be > 0) (at frame 2, the "
-       "value of this [[animate]] entry)"},
+       "world.toml:10:7: object[0].radius: value 0 is out of range (must be (0, 1e+12]) (at frame "
+       "2, the value of this [[animate]] entry)"},
   };
   for (const auto& c : cases) {
     const Result r = run("render '" + c.scene + "' --frames " + c.frames + " -o '" +
@@ -205,7 +205,7 @@ TEST(HonestNumbers, FormFactorsOfDegenerateScenesAreErrorsOrSayWhy) {
     int code;
   } cases[] = {
       {"formfactors '" + scene("zero.toml", "0", "1", "0.6") + "'" + args,
-       "zero.toml:11:10: object[0].radius: value 0 is out of range (must be > 0)", 2},
+       "zero.toml:11:10: object[0].radius: value 0 is out of range (must be (0, 1e+12])", 2},
       {"formfactors '" + scene("tiny.toml", "1e-200", "1", "0.6") + "'" + args,
        "lamp: no row (its surface area underflows to 0 (too small for double precision)); a "
        "receiver only",

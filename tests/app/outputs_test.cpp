@@ -137,7 +137,8 @@ TEST(Outputs, TheFixtureReadsEveryKindOfFileAndRenders) {
       "a texture",
       "a model",
       "a buffer of " + (fx.dir.dir / "tri.gltf").string(),
-      "an image that " + (fx.dir.dir / "tri.gltf").string() + " uses"};
+      "an image that " + (fx.dir.dir / "tri.gltf").string() + " uses",
+      "a file that " + (fx.dir.dir / "tri.obj").string() + " uses"};
   std::set<std::string> seen;
   for (const Input& i : in) seen.insert(i.role);
   for (const std::string& r : roles) EXPECT_EQ(seen.count(r), 1u) << "no input with role " << r;

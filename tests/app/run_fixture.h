@@ -76,6 +76,9 @@ inline std::string write_reading_scene(const std::filesystem::path& dir,
   write_test_png(dir / "tex.png", 1);
   write_test_png(dir / "env.png", 2);
   write_test_gltf(dir);
+  std::ofstream(dir / "tri.obj")
+      << "mtllib tri.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+  std::ofstream(dir / "tri.mtl") << "newmtl red\nKd 1 0 0\n";
   std::ofstream(dir / "inc.toml")
       << "[[light]]\ntype = \"point\"\nposition = [2, 3, 2]\nintensity = 10\n";
   std::ofstream(dir / "scene.toml")
@@ -86,10 +89,11 @@ inline std::string write_reading_scene(const std::filesystem::path& dir,
          "[environment]\nfile = \"env.png\"\n"
          "[[material]]\nname = \"tex\"\ncolor = { type = \"image\", file = \"tex.png\" }\n"
          "[[object]]\ntype = \"sphere\"\nmaterial = \"tex\"\n"
-         "[[object]]\ntype = \"mesh\"\nfile = \"tri.gltf\"\n";
+         "[[object]]\ntype = \"mesh\"\nfile = \"tri.gltf\"\n"
+         "[[object]]\ntype = \"mesh\"\nfile = \"tri.obj\"\n";
   if (files)
-    for (const char* f :
-         {"inc.toml", "rays.exr", "env.png", "tex.png", "tri.gltf", "tri.bin", "gtex.png"})
+    for (const char* f : {"inc.toml", "rays.exr", "env.png", "tex.png", "tri.gltf", "tri.bin",
+                          "gtex.png", "tri.obj", "tri.mtl"})
       files->push_back(dir / f);
   return (dir / "scene.toml").string();
 }

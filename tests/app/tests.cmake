@@ -18,6 +18,7 @@ anamorph_add_test(test_table_camera
 add_dependencies(test_table_camera anamorph)
 anamorph_add_test(test_checkpoint
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/checkpoint_damage_test.cpp
 )
 add_dependencies(test_checkpoint anamorph)
 anamorph_add_test(test_memory

@@ -23,12 +23,13 @@ class DeclarationsTest : public ServerTest {
 };
 
 // `got` (a list of declared keys from the API) against the C++ table `want`, key by key: names
-// in order, type, whether required, and the range, null exactly where it is unbounded.
+// in order, type, whether required, and the range the reader checks (the declared one within
+// the world's, with_world_range), null exactly where it is unbounded.
 void expect_specs(const json& got, std::span<const ParamSpec> want, const std::string& where) {
   ASSERT_TRUE(got.is_array()) << where << ": " << got.dump().substr(0, 200);
   ASSERT_EQ(got.size(), want.size()) << where;
   for (size_t i = 0; i < want.size(); ++i) {
-    const ParamSpec& p = want[i];
+    const ParamSpec p = with_world_range(want[i]);
     const json& g = got[i];
     const std::string at = where + "." + std::string(p.name);
     EXPECT_EQ(g.value("name", ""), p.name) << where << "[" << i << "]";
@@ -142,11 +143,17 @@ TEST_F(DeclarationsTest, RangesAreNullExactlyWhenUnbounded) {
   EXPECT_EQ((*fov)["max_exclusive"], true) << *fov;
   EXPECT_EQ((*fov)["unit"], "degrees") << *fov;
   EXPECT_EQ((*fov)["default"], "60") << *fov;
+  // A position: within the world (math/input_limits.h).
   const json* from = spec_named(persp, "look_from");
   ASSERT_NE(from, nullptr);
-  EXPECT_TRUE((*from)["min"].is_null()) << *from;
-  EXPECT_TRUE((*from)["max"].is_null()) << *from;
+  EXPECT_EQ((*from)["min"], -kMaxCoordinate) << *from;
+  EXPECT_EQ((*from)["max"], kMaxCoordinate) << *from;
   EXPECT_EQ((*from)["min_exclusive"], false) << *from;
+  // An angle without bounds.
+  const json* rotation = spec_named(d["tables"]["environment"]["common"], "rotation");
+  ASSERT_NE(rotation, nullptr);
+  EXPECT_TRUE((*rotation)["min"].is_null()) << *rotation;
+  EXPECT_TRUE((*rotation)["max"].is_null()) << *rotation;
   const json* axis = spec_named(persp, "fov_axis");
   ASSERT_NE(axis, nullptr);
   EXPECT_EQ((*axis)["choices"], json::array({"horizontal", "vertical", "diagonal"})) << *axis;
