@@ -163,16 +163,20 @@ template <class T, int kNormalize, class Batch>
   }
   for (int i = 0; i < kCameraBatch; ++i) o->valid[i] = u[i] >= 0;
 }
-ANAMORPH_SIMD_CLONES void write_rays(const double* u, const double* v, CameraRayBatch* o) {
+ANAMORPH_KERNEL_BODY void write_rays_body(const double* u, const double* v, CameraRayBatch* o) {
   floor_kernel<double, 0>(u, v, o);
 }
-ANAMORPH_SIMD_CLONES void write_normalized_rays(const double* u, const double* v,
-                                                CameraRayBatch* o) {
+constexpr simd::Kernel<write_rays_body> write_rays;
+ANAMORPH_KERNEL_BODY void write_normalized_rays_body(const double* u, const double* v,
+                                                     CameraRayBatch* o) {
   floor_kernel<double, 1>(u, v, o);
 }
-ANAMORPH_SIMD_CLONES void write_float_rays(const double* u, const double* v, FloatRayBatch* o) {
+constexpr simd::Kernel<write_normalized_rays_body> write_normalized_rays;
+ANAMORPH_KERNEL_BODY void write_float_rays_body(const double* u, const double* v,
+                                                FloatRayBatch* o) {
   floor_kernel<float, 0>(u, v, o);
 }
+constexpr simd::Kernel<write_float_rays_body> write_float_rays;
 
 // state.range(0): 0 = writing the rays only, 1 = with one normalization per ray, 2 = writing
 // them in single precision.

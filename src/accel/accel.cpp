@@ -11,6 +11,7 @@
 #include "accel/shapes.h"
 #include "math/frame.h"
 #include "math/input_limits.h"
+#include "math/simd.h"
 
 namespace anamorph {
 
@@ -158,7 +159,8 @@ struct Accel::MaskStore {
 };
 
 Accel::Accel(const Scene& scene) {
-  device_ = rtcNewDevice(nullptr);
+  // Embree picks its own kernels, unless ANAMORPH_ISA chose ours (math/simd.h): then the same set.
+  device_ = rtcNewDevice(simd::embree_config());
   if (!device_)
     throw std::runtime_error(
         fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));

@@ -9,6 +9,7 @@
 
 #include "app/common.h"
 #include "app/thread_option.h"
+#include "math/simd.h"
 #include "render/frame_output.h"
 #include "render/renderer.h"
 
@@ -80,6 +81,10 @@ int run(const BenchArgs& a) {
       "BENCHMARK_MRAYPS_MIN {:.4f}\nBENCHMARK_MRAYPS_MEDIAN {:.4f}\nBENCHMARK_MRAYPS_AVG {:.4f}\n"
       "BENCHMARK_MRAYPS_MAX {:.4f}\n",
       mrays.front(), mrays[mrays.size() / 2], avg, mrays.back());
+  // The instruction set our kernels ran, and what Embree was told (math/simd.h; bench/compare).
+  const char* embree = simd::embree_config();
+  fmt::print("BENCHMARK_ISA {} (Embree: {})\n", simd::name(simd::active()),
+             embree ? embree : "its own choice");
   return kOk;
 }
 

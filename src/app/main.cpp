@@ -8,6 +8,7 @@
 
 #include "app/common.h"
 #include "dist/world.h"
+#include "math/simd.h"
 #include "math/user_text.h"
 
 int main(int argc, char** argv) {
@@ -51,6 +52,12 @@ int main(int argc, char** argv) {
   if (anamorph::dist::World::size() > 1 && !app.got_subcommand("render")) {
     if (anamorph::dist::World::rank() == 0)
       std::fputs("error: only `anamorph render` runs across MPI ranks\n", stderr);
+    return kBadInput;
+  }
+  // The kernels' instruction set (math/simd.h): an ANAMORPH_ISA that names none, or one this CPU
+  // lacks, is refused rather than measured as something else.
+  if (const std::string problem = anamorph::simd::override_problem(); !problem.empty()) {
+    std::fprintf(stderr, "error: %s\n", anamorph::printable(problem).c_str());
     return kBadInput;
   }
   return flush_standard_output(run_guarded(run));

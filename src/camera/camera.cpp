@@ -9,8 +9,10 @@ namespace anamorph {
 
 // In a full packet the arrays are written as vectors: the kernels read them as vectors, and a
 // vector load waits for scalar stores to reach the cache (no store-to-load forwarding).
-ANAMORPH_SIMD_CLONES void split_sample_positions(const CameraSample* s, int n, double* __restrict u,
-                                                 double* __restrict v) {
+namespace {
+
+ANAMORPH_KERNEL_BODY void split_body(const CameraSample* s, int n, double* __restrict u,
+                                     double* __restrict v) {
   if (n != kCameraBatch) {
     for (int i = 0; i < n; ++i) u[i] = s[i].uv.x, v[i] = s[i].uv.y;
     return;
@@ -33,6 +35,12 @@ ANAMORPH_SIMD_CLONES void split_sample_positions(const CameraSample* s, int n, d
     std::memcpy(u + h, &us, sizeof(D8));
     std::memcpy(v + h, &vs, sizeof(D8));
   }
+}
+
+}  // namespace
+
+void split_sample_positions(const CameraSample* s, int n, double* u, double* v) {
+  simd::Kernel<split_body>{}(s, n, u, v);
 }
 
 }  // namespace anamorph

@@ -386,9 +386,9 @@ template <CoinFalloff kF>
   }
 }
 
-ANAMORPH_SIMD_CLONES void add_site_lanes(const SiteLanes& site, CoinFalloff falloff,
-                                         CoinAffects affects, const double* u, const double* v,
-                                         const CameraRayBatch& r, int n, CoinSums* acc) {
+ANAMORPH_KERNEL_BODY void add_site_lanes_body(const SiteLanes& site, CoinFalloff falloff,
+                                              CoinAffects affects, const double* u, const double* v,
+                                              const CameraRayBatch& r, int n, CoinSums* acc) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         switch (falloff) {
@@ -401,6 +401,7 @@ ANAMORPH_SIMD_CLONES void add_site_lanes(const SiteLanes& site, CoinFalloff fall
         }
       });
 }
+constexpr simd::Kernel<add_site_lanes_body> add_site_lanes;
 
 // The deformed rays from the sums; ok[i] = 0 where the bent direction vanishes (no ray).
 [[gnu::always_inline]] inline void deform_kernel(const CoinSums& __restrict s, int n,
@@ -436,10 +437,12 @@ ANAMORPH_SIMD_CLONES void add_site_lanes(const SiteLanes& site, CoinFalloff fall
   }
 }
 
-ANAMORPH_SIMD_CLONES void deform_lanes(const CoinSums& s, int n, CameraRayBatch* r, double* ok) {
+ANAMORPH_KERNEL_BODY void deform_lanes_body(const CoinSums& s, int n, CameraRayBatch* r,
+                                            double* ok) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) { deform_kernel(s, m, r, ok); });
 }
+constexpr simd::Kernel<deform_lanes_body> deform_lanes;
 
 }  // namespace
 

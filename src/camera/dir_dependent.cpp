@@ -13,7 +13,8 @@ namespace {
 
 // The normal fields of an origin batch as directions, scaled by s (1 or -1): compiled for several
 // ISAs (math/simd.h), as the baseline build would copy them 16 bytes at a time.
-ANAMORPH_SIMD_CLONES void scaled_normals(const SurfaceBatch& o, double s, int n, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void scaled_normals_body(const SurfaceBatch& o, double s, int n,
+                                              DirBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         for (int c = 0; c < 3; ++c)
@@ -25,6 +26,7 @@ ANAMORPH_SIMD_CLONES void scaled_normals(const SurfaceBatch& o, double s, int n,
         for (int i = 0; i < m; ++i) out->ok[i] = true;
       });
 }
+constexpr simd::Kernel<scaled_normals_body> scaled_normals;
 
 class NormalDir final : public DirFunction {
  public:

@@ -128,14 +128,15 @@ namespace {
   for (int i = 0; i < n; ++i) out->ok[i] = true;
 }
 
-ANAMORPH_SIMD_CLONES void cross_normal_clones(const LocalGeomBatch& g, double su, double sv,
-                                              double sign, double min_ps2, double min_pt2, int n,
-                                              SurfaceBatch* out, bool* check) {
+ANAMORPH_KERNEL_BODY void cross_normal_clones_body(const LocalGeomBatch& g, double su, double sv,
+                                                   double sign, double min_ps2, double min_pt2,
+                                                   int n, SurfaceBatch* out, bool* check) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         cross_normal_kernel(g, su, sv, sign, min_ps2, min_pt2, m, out, check);
       });
 }
+constexpr simd::Kernel<cross_normal_clones_body> cross_normal_clones;
 
 }  // namespace
 

@@ -90,8 +90,8 @@ template <LatMap M>
       n, [&](auto m) __attribute__((always_inline)) { latlong_kernel<M>(g, u, v, m, out); });
 }
 
-ANAMORPH_SIMD_CLONES void latlong_dirs(const LatLongGeometry& g, const double* u, const double* v,
-                                       int n, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void latlong_dirs_body(const LatLongGeometry& g, const double* u,
+                                            const double* v, int n, DirBatch* out) {
   switch (g.map) {
     case LatMap::kLatitude:
       return latlong_run<LatMap::kLatitude>(g, u, v, n, out);
@@ -105,6 +105,7 @@ ANAMORPH_SIMD_CLONES void latlong_dirs(const LatLongGeometry& g, const double* u
       return latlong_run<LatMap::kMercator>(g, u, v, n, out);
   }
 }
+constexpr simd::Kernel<latlong_dirs_body> latlong_dirs;
 
 class LatLongDir final : public DirFunction {
  public:

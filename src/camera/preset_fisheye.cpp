@@ -221,8 +221,8 @@ template <FisheyeMapping::Kind K>
       n, [&](auto m) __attribute__((always_inline)) { fisheye_kernel<K>(g, u, v, m, out); });
 }
 
-ANAMORPH_SIMD_CLONES void fisheye_dirs(const FisheyeGeometry& g, const double* u, const double* v,
-                                       int n, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void fisheye_dirs_body(const FisheyeGeometry& g, const double* u,
+                                            const double* v, int n, DirBatch* out) {
   switch (g.map.kind) {
     case FisheyeMapping::kEquidistant:
       return fisheye_run<FisheyeMapping::kEquidistant>(g, u, v, n, out);
@@ -236,6 +236,7 @@ ANAMORPH_SIMD_CLONES void fisheye_dirs(const FisheyeGeometry& g, const double* u
       return;
   }
 }
+constexpr simd::Kernel<fisheye_dirs_body> fisheye_dirs;
 
 class FisheyeDir final : public DirFunction {
  public:

@@ -111,18 +111,19 @@ template <bool kFirstOrder>
         for (int i = 0; i < m; ++i) out->ok[i] = true;
       });
 }
-ANAMORPH_SIMD_CLONES void tile_orgs(const TileGeometry& g, bool first_order, const double* u,
-                                    const double* v, int n, SurfaceBatch* out) {
+ANAMORPH_KERNEL_BODY void tile_orgs_body(const TileGeometry& g, bool first_order, const double* u,
+                                         const double* v, int n, SurfaceBatch* out) {
   if (first_order)
     tile_org_kernel<true>(g, u, v, n, out);
   else
     tile_org_kernel<false>(g, u, v, n, out);
 }
+constexpr simd::Kernel<tile_orgs_body> tile_orgs;
 
 // TileGeometry::direction for a batch, with the tile origins the origin function gave (before
 // coins, which deform the finished rays).
-ANAMORPH_SIMD_CLONES void tile_dirs(const TileGeometry& geo, const double* u, const double* v,
-                                    int n, const SurfaceBatch& org, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void tile_dirs_body(const TileGeometry& geo, const double* u, const double* v,
+                                         int n, const SurfaceBatch& org, DirBatch* out) {
   const bool lf = geo.light_field;
   const Vec2 h = lf ? geo.half_window : geo.half_field;
   const double z = lf ? -geo.focus : -1.0, cols = geo.cols, rows = geo.rows;
@@ -140,6 +141,7 @@ ANAMORPH_SIMD_CLONES void tile_dirs(const TileGeometry& geo, const double* u, co
         for (int i = 0; i < m; ++i) out->ok[i] = true;
       });
 }
+constexpr simd::Kernel<tile_dirs_body> tile_dirs;
 
 class TileOrg final : public OrgFunction {
  public:

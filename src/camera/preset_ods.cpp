@@ -123,13 +123,14 @@ template <bool kFirstOrder>
           ods_org_kernel<false, kFirstOrder>(g, u, v, m, out);
       });
 }
-ANAMORPH_SIMD_CLONES void ods_orgs(const OdsGeometry& g, bool first_order, const double* u,
-                                   const double* v, int n, SurfaceBatch* out) {
+ANAMORPH_KERNEL_BODY void ods_orgs_body(const OdsGeometry& g, bool first_order, const double* u,
+                                        const double* v, int n, SurfaceBatch* out) {
   if (first_order)
     ods_orgs_any_layout<true>(g, u, v, n, out);
   else
     ods_orgs_any_layout<false>(g, u, v, n, out);
 }
+constexpr simd::Kernel<ods_orgs_body> ods_orgs;
 
 template <bool sbs>
 [[gnu::always_inline]] inline void ods_dir_kernel(const OdsGeometry& geo,
@@ -149,8 +150,8 @@ template <bool sbs>
   for (int i = 0; i < n; ++i) out->ok[i] = true;
 }
 
-ANAMORPH_SIMD_CLONES void ods_dirs(const OdsGeometry& g, const double* u, const double* v, int n,
-                                   DirBatch* out) {
+ANAMORPH_KERNEL_BODY void ods_dirs_body(const OdsGeometry& g, const double* u, const double* v,
+                                        int n, DirBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         if (g.side_by_side)
@@ -159,6 +160,7 @@ ANAMORPH_SIMD_CLONES void ods_dirs(const OdsGeometry& g, const double* u, const 
           ods_dir_kernel<false>(g, u, v, m, out);
       });
 }
+constexpr simd::Kernel<ods_dirs_body> ods_dirs;
 
 class OdsOrg final : public OrgFunction {
  public:

@@ -260,8 +260,9 @@ struct NewtonLanes {
 
 // The whole direction batch in one clone: targets (pixels to normalized distorted coordinates),
 // Newton, directions.
-ANAMORPH_SIMD_CLONES void pinhole_dirs(const Intrinsics& in, const BrownConrady& D, const double* u,
-                                       const double* v, int n, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void pinhole_dirs_body(const Intrinsics& in, const BrownConrady& D,
+                                            const double* u, const double* v, int n,
+                                            DirBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) {
         NewtonLanes S;
@@ -274,6 +275,7 @@ ANAMORPH_SIMD_CLONES void pinhole_dirs(const Intrinsics& in, const BrownConrady&
         pinhole_kernel(K, S, m, out);
       });
 }
+constexpr simd::Kernel<pinhole_dirs_body> pinhole_dirs;
 
 class PinholeDir final : public DirFunction {
  public:
@@ -408,11 +410,12 @@ struct KannalaBrandt {
   for (int i = 0; i < n; ++i) out->ok[i] = ok[i] != 0;
 }
 
-ANAMORPH_SIMD_CLONES void kb_dirs(const KannalaBrandt& D, const Intrinsics& K, double top,
-                                  const double* u, const double* v, int n, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void kb_dirs_body(const KannalaBrandt& D, const Intrinsics& K, double top,
+                                       const double* u, const double* v, int n, DirBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) { kb_kernel(D, K, top, u, v, m, out); });
 }
+constexpr simd::Kernel<kb_dirs_body> kb_dirs;
 
 class FisheyeCvDir final : public DirFunction {
  public:

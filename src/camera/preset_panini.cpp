@@ -67,11 +67,12 @@ struct PaniniGeometry {
   for (int i = 0; i < n; ++i) out->ok[i] = dc[i] > 0;
 }
 
-ANAMORPH_SIMD_CLONES void panini_dirs(const PaniniGeometry& g, const double* u, const double* v,
-                                      int n, DirBatch* out) {
+ANAMORPH_KERNEL_BODY void panini_dirs_body(const PaniniGeometry& g, const double* u,
+                                           const double* v, int n, DirBatch* out) {
   with_trip_count<kCameraBatch>(
       n, [&](auto m) __attribute__((always_inline)) { panini_kernel(g, u, v, m, out); });
 }
+constexpr simd::Kernel<panini_dirs_body> panini_dirs;
 
 class PaniniDir final : public DirFunction {
  public:

@@ -261,8 +261,9 @@ template <bool kRational>
   }
 }
 
-ANAMORPH_SIMD_CLONES void row_lanes_clones(const double (&c)[3][4][4], bool rational,
-                                           const double* h, int a, int m, LocalGeomBatch* out) {
+ANAMORPH_KERNEL_BODY void row_lanes_clones_body(const double (&c)[3][4][4], bool rational,
+                                                const double* h, int a, int m,
+                                                LocalGeomBatch* out) {
   // A 4x4 packet of pixel centers has rows of 4 lanes.
   with_trip_count<4>(
       m, [&](auto k) __attribute__((always_inline)) {
@@ -272,6 +273,7 @@ ANAMORPH_SIMD_CLONES void row_lanes_clones(const double (&c)[3][4][4], bool rati
           row_lanes<false>(c, h, a, k, out);
       });
 }
+constexpr simd::Kernel<row_lanes_clones_body> row_lanes_clones;
 
 }  // namespace
 

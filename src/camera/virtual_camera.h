@@ -10,6 +10,7 @@
 #include "camera/camera.h"
 #include "camera/coins.h"
 #include "camera/functions.h"
+#include "camera/ray_kernels.h"
 #include "math/rigid_motion.h"
 #include "math/transform.h"
 
@@ -50,11 +51,6 @@ struct DepthOfField {
   double focus_distance = 1;   // along each ray, from its origin
 };
 
-// The rig's upper 3x4 (an affine map), as the batch kernels apply it.
-struct AffineRig {
-  double m[3][4];
-};
-
 class VirtualCamera final : public Camera {
  public:
   VirtualCamera(VirtualCameraParts parts, DepthOfField dof = {});
@@ -86,65 +82,59 @@ class VirtualCamera final : public Camera {
   double shutter_time(const CameraSample& s) const;
 
  private:
+  // What the constructor finds out about the functions and the rig.
   void detect_linear_field();
   void detect_point_origin();
-  // The rays of n <= kCameraBatch samples with no lens, motion or coin: functions in batch, then
-  // one vectorized pass for the rig, normalization and differentials. generate() runs the same
-  // code with n = 1, so both give the same bits.
-  // camera_space: without the rig (coins deform the field there).
-  void plain_rays(const double* u, const double* v, int n, CameraRayBatch* out,
-                  bool camera_space = false) const;
-  // Rays of n <= kCameraBatch samples of a curved camera with coins (no lens or motion): the
-  // functions once in batch; samples no coin reaches finish as plain_rays does, the others in
-  // camera space, then per ray the coins and the rig. generate() runs it with n = 1, so single
-  // rays and packets agree.
-  void coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
-  // An affine field's rays with coins: the closed form for all samples, and for the samples a
-  // coin reaches the camera-space closed form deformed and taken through the rig (generate()
-  // runs it with n = 1).
-  void linear_coin_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
+  // The kernels, chosen once (called again when the coins are built; see the .cpp for the table).
+  void choose_kernels(bool rig_affine, bool rig_rotation);
+
+  // Rays of n <= kCameraBatch samples of a camera with no lens or motion under an affine rig:
+  // the packet kernels. generate() runs the camera's one with n = 1, so single rays and packets
+  // agree bit for bit. An affine field's closed form, or the functions in batch and then the
+  // finishing pass; with coins, the samples a coin reaches again in camera space, deformed, and
+  // taken through the rig.
+  template <bool kCoins>
+  void affine_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
+  template <bool kPointOrg, bool kCoins>
+  void function_rays(const double* u, const double* v, int n, CameraRayBatch* out) const;
   // The lanes of `out` that coins reach, from `plain` (the same rays in camera space; deformed
   // in place).
   void deform_by_coins(const double* u, const double* v, int n, CameraRayBatch* plain,
                        CameraRayBatch* out) const;
-  // The org and dir functions for a batch; returns the origin samples (`org` or, for a point
-  // origin, the precomputed lanes).
-  const SurfaceBatch& eval_functions(const double* u, const double* v, int n, SurfaceBatch* org,
-                                     DirBatch* dir) const;
-  // The rig (or none, camera_space), normalization and differentials for evaluated functions.
-  void finish(const SurfaceBatch& org, const DirBatch& dir, bool camera_space, int n,
-              CameraRayBatch* out) const;
-  std::optional<CameraRay> generate_general(const CameraSample& s, bool camera_space = false) const;
   // generate() and generate_batch() before the world's bound is applied to the origins.
   std::optional<CameraRay> generate_any(const CameraSample& s) const;
   void generate_batch_any(const CameraSample* s, int n, CameraRayBatch* out) const;
-  std::optional<CameraRay> linear_coin_ray(Vec2 uv) const;
-  void to_world(CameraRay* r) const;  // the rig
-  void to_world(CameraRay* r, const Transform& rig) const;
+  // One ray at a time: cameras with a lens, motion or a projective rig.
+  std::optional<CameraRay> general_ray(const CameraSample& s) const;
+  void to_world(CameraRay* r, const Transform& rig) const;  // and normalize again
 
   std::unique_ptr<OrgFunction> org_;
   std::unique_ptr<DirFunction> dir_;
   std::unique_ptr<InverseMap> inverse_;
   Transform world_from_camera_;
   bool rig_identity_;
-  bool rig_affine_;                 // no projective row: plain_rays applies it as 3x4
-  bool rig_rotation_ = false;       // its 3x3 part is orthonormal (keeps lengths)
-  bool unit_dirs_ = false;          // dir_->unit_length(): the finish need not normalize
-  bool org_first_order_ = false;    // dir_ reads only p, dpdu, dpdv of its origin samples
-  AffineRig rig34_{}, camera34_{};  // that 3x4, and the identity (camera space)
-  bool point_org_ = false;  // org is one point (most presets): evaluated once, in every lane
-  std::unique_ptr<SurfaceBatch> point_batch_;
+  AffineRig rig34_{};  // the rig's upper 3x4, as the kernels apply it
   DepthOfField dof_;
   std::string description_;
-  // Affine ray field in world space: org = o0 + u o_u + v o_v, raw dir = d0 + u d_u + v d_v.
+  // An affine ray field (detect_linear_field), in world space and in camera space (rays under
+  // coins).
   bool linear_ = false;
-  Vec3 o0_, o_u_, o_v_, d0_, d_u_, d_v_;
-  Vec3 co0_, co_u_, co_v_, cd0_, cd_u_, cd_v_;  // the same in camera space (rays under coins)
+  AffineField world_field_, camera_field_;
+  // A point origin (most presets): evaluated once, in every lane; null otherwise.
+  std::unique_ptr<SurfaceBatch> point_batch_;
   CoinField coins_;
   std::vector<std::string> coin_warnings_;
   bool moving_ = false;
   RigidMotion motion_;
   Shutter shutter_;
+
+  // The chosen kernels. packet_ null: one ray at a time (general_ray).
+  using PacketKernel = void (VirtualCamera::*)(const double* u, const double* v, int n,
+                                               CameraRayBatch* out) const;
+  PacketKernel packet_ = nullptr;
+  AffineKernel affine_ = nullptr;
+  void (OrgFunction::*org_batch_)(const double*, const double*, int, SurfaceBatch*) const = nullptr;
+  FinishKernel finish_world_ = nullptr, finish_camera_ = nullptr;
 };
 
 // Numeric inverse map for any camera: a coarse grid over [0,1]^2, then Gauss-Newton on the

@@ -370,7 +370,7 @@ TEST(Cli, BenchWarmUpAndMeasure) {
   const fs::path d = temp_dir("bench");
   const std::string scene = write(d / "s.toml", kSmall);
   const auto frames = [](const std::string& out) {
-    return std::count(out.begin(), out.end(), '\n') - 4;  // (the four BENCHMARK_ lines)
+    return std::count(out.begin(), out.end(), '\n') - 5;  // (the five BENCHMARK_ lines)
   };
   const Result r = run("bench " + scene + " --warm-up 1 --measure 2");
   ASSERT_EQ(r.code, 0) << r.out;
