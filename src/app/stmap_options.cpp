@@ -11,12 +11,9 @@
 namespace anamorph::app {
 
 std::string source_option_help() {
-  std::string s = "Source projection (the image's layout, looking along -z, y up): ";
-  bool first = true;
-  for (const SourceProjectionInfo* i : source_projections()) {
-    s += fmt::format("{}{} ({})", first ? "" : "; ", i->usage, i->doc);
-    first = false;
-  }
+  std::string s = "Source projection, the input's layout (looking along -z, y up).";
+  for (const SourceProjectionInfo* i : source_projections())
+    s += fmt::format(" {}: {}", i->usage, i->doc);
   return s;
 }
 
