@@ -59,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       w.add_pass_tile(before.pass_starts, 0, t);
     } else {
       ResolvedTile t;
-      t.rgba8.assign(16, 7);
+      t.planes.emplace_back().u8.assign(16, 7);
       w.add_tile(t);
     }
   }

@@ -55,12 +55,13 @@ int run(const BenchArgs& a) {
   const int W = scene.render.width, H = scene.render.height;
   const TileGrid grid(W, H, scene.render.tile_size);
   std::vector<unsigned char> frame(size_t(W) * size_t(H) * 4);
+  const std::vector<LayerRequest> rgba8{{"", Encoding::Srgb8}};
   const TileSink to_frame = [&](size_t i, std::unique_ptr<TileBuffer>& tile) {
-    const ResolvedTile t = resolve(i, *tile, true, false);
+    const ResolvedTile t = resolve(i, *tile, rgba8);
     const TileRect& r = tile->rect();
     const size_t row = size_t(r.x1 - r.x0) * 4;
     for (int y = r.y0; y < r.y1; ++y)
-      std::copy_n(t.rgba8.begin() + ptrdiff_t(size_t(y - r.y0) * row), row,
+      std::copy_n(t.planes[0].u8.begin() + ptrdiff_t(size_t(y - r.y0) * row), row,
                   frame.begin() + ptrdiff_t((size_t(y) * size_t(W) + size_t(r.x0)) * 4));
   };
   // Per-pixel adaptive sampling looks across tiles: that one renders into a film.

@@ -18,50 +18,39 @@ struct RaysArgs {
   std::string output;
 };
 
-int run_rays(const RaysArgs& a) {
-  namespace fs = std::filesystem;
-  const fs::path out = a.output;
-  // (A device or pipe without an extension, `-o /dev/stdout`, gets CSV.)
-  const std::string ext =
-      out.extension().empty() && written_directly(out) ? ".csv" : out.extension().string();
-  if (ext != ".csv" && ext != ".exr") {
-    print_error(fmt::format("-o {}: use .csv or .exr", a.output));
-    return kBadInput;
-  }
-  const std::vector<std::pair<fs::path, std::string>> outputs{{out, "-o " + a.output}};
-  check_outputs(scene_file_input(a.scene.scene), outputs);
-  set_interrupt_note(a.output + " not written");
-  const Scene s = load(a.scene);
-  check_outputs(s.inputs, outputs);
+// Every pixel centre's ray as CSV rows, streamed a row at a time: a 30000 x 30000 table is
+// 80 GB, never held in memory.
+void write_rays_csv(const std::filesystem::path& out, const Scene& s) {
   const int W = s.render.width, H = s.render.height;
-  if (ext == ".csv") {
-    // Streamed a row at a time: a 30000 x 30000 table is 80 GB, never held in memory.
-    AtomicFile file(out);
-    std::string row = "px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n";
-    for (int y = 0; y < H; ++y) {
-      for (int x = 0; x < W; ++x) {
-        const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
-        const auto r = s.camera->generate({uv});
-        if (r)
-          fmt::format_to(
-              std::back_inserter(row),
-              "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n", x, y,
-              uv.x, uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z);
-        else
-          fmt::format_to(std::back_inserter(row), "{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y,
-                         uv.x, uv.y);
-      }
-      file.write(row.data(), row.size());
-      row.clear();
+  AtomicFile file(out);
+  std::string row = "px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n";
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
+      const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+      const auto r = s.camera->generate({uv});
+      if (r)
+        fmt::format_to(std::back_inserter(row),
+                       "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n",
+                       x, y, uv.x, uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
+                       r->dir.z);
+      else
+        fmt::format_to(std::back_inserter(row), "{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y, uv.x,
+                       uv.y);
     }
-    file.commit();
-    return kOk;
+    file.write(row.data(), row.size());
+    row.clear();
   }
+  file.commit();
+}
+
+// Every pixel centre's ray as EXR layers: org and dir as floats, and org_lo, dir_lo the float
+// residuals: hi + lo carries each double to about 1e-15 (EXR has no 64-bit floats), which the
+// table camera reads back.
+void write_rays_exr(const std::filesystem::path& out, const Scene& s) {
+  const int W = s.render.width, H = s.render.height;
   OutputImage img;
   img.width = W;
   img.height = H;
-  // org and dir as floats, and org_lo, dir_lo the float residuals: hi + lo carries each double
-  // to about 1e-15 (EXR has no 64-bit floats), which the table camera reads back.
   ImageLayer org{"org", {"X", "Y", "Z"}, {}}, dir{"dir", {"X", "Y", "Z"}, {}},
       org_lo{"org_lo", {"X", "Y", "Z"}, {}}, dir_lo{"dir_lo", {"X", "Y", "Z"}, {}},
       valid{"valid", {"V"}, {}};
@@ -85,6 +74,27 @@ int run_rays(const RaysArgs& a) {
   img.metadata["anamorph.command"] = command_line();
   img.metadata["anamorph.camera"] = s.camera->describe() + "\n" + s.camera_toml;
   write_exr(out, img);
+}
+
+int run_rays(const RaysArgs& a) {
+  namespace fs = std::filesystem;
+  const fs::path out = a.output;
+  // (A device or pipe without an extension, `-o /dev/stdout`, gets CSV.)
+  const std::string ext =
+      out.extension().empty() && written_directly(out) ? ".csv" : out.extension().string();
+  if (ext != ".csv" && ext != ".exr") {
+    print_error(fmt::format("-o {}: use .csv or .exr", a.output));
+    return kBadInput;
+  }
+  const std::vector<std::pair<fs::path, std::string>> outputs{{out, "-o " + a.output}};
+  check_outputs(scene_file_input(a.scene.scene), outputs);
+  set_interrupt_note(a.output + " not written");
+  const Scene s = load(a.scene);
+  check_outputs(s.inputs, outputs);
+  if (ext == ".csv")
+    write_rays_csv(out, s);
+  else
+    write_rays_exr(out, s);
   return kOk;
 }
 

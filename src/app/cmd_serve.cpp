@@ -45,11 +45,15 @@ bool is_loopback(const std::string& host) {
 void final_render(const server::FinalRenderJob& j, int threads) {
   Scene scene = load_scene_from_string(j.text, j.scene_file, {}, j.frame);
   const Renderer renderer(scene);
-  FrameJob job{scene,   renderer,
-               {},      j.png,
-               j.exr,   frame_metadata(scene, j.frame),
-               {},      60,
-               threads, [&](const Progress& p) { j.progress(p.fraction, p.seconds); }};
+  FrameJob job{scene,
+               renderer,
+               {},
+               j.files,
+               frame_metadata(scene, j.frame),
+               {},
+               60,
+               threads,
+               [&](const Progress& p) { j.progress(p.fraction, p.seconds); }};
   job.cancel = j.cancel;  // (the page's Cancel, or the server stopping)
   const FrameResult r = render_to_files(job);
   if (r.interrupted) throw std::runtime_error("cancelled");

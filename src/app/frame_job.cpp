@@ -35,7 +35,7 @@ std::unique_ptr<CheckpointReader> open_checkpoint(const FrameJob& job,
 
 FrameOutputSpec output_spec(const FrameJob& job) {
   const RenderSettings& rs = job.scene.render;
-  return {rs.width, rs.height, rs.tile_size, job.aovs, job.png, job.exr, job.metadata};
+  return {rs.width, rs.height, rs.tile_size, job.aovs, job.files, job.metadata};
 }
 
 RenderOptions render_options(const FrameJob& job) {
@@ -61,8 +61,7 @@ void finish(const FrameJob& job, FrameOutput& out, std::unique_ptr<CheckpointWri
   ck.reset();
   std::error_code ec;
   if (!job.checkpoint.empty() && !time_limited) fs::remove(job.checkpoint, ec);
-  for (const fs::path& p : {job.png, job.exr})
-    if (!p.empty()) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
+  for (const fs::path& p : job.files) fs::remove(FrameOutput::with_suffix(p, kPartial), ec);
 }
 
 // The checkpoint written from here on: a new one, or the one read continued after `append_at`.
@@ -91,16 +90,12 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   FrameResult r;
   auto reader = open_checkpoint(job, id);
   FrameOutput out(output_spec(job));
-  const bool png = !job.png.empty(), exr = !job.exr.empty();
-  const size_t nf = aov_floats(job.aovs);
   std::vector<uint8_t> skip(out.grid().count(), 0);
   if (reader) {
     reader->read({[&](ResolvedTile&& t) {
                     if (t.index >= skip.size() || skip[t.index])
                       damaged(job.checkpoint, "a tile twice");
-                    const size_t n = out.grid().rect(t.index).pixels();
-                    if (t.rgba8.size() != (png ? n * 4 : 0) || t.rgba.size() != (exr ? n * 4 : 0) ||
-                        t.aov.size() != (exr ? n * nf : 0))
+                    if (!fits(t, out.plan(), out.grid().rect(t.index), job.aovs))
                       damaged(job.checkpoint, "a tile of the wrong size");
                     skip[t.index] = 1;
                     ++r.resumed_tiles;
@@ -111,7 +106,7 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   }
   std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, reader ? reader->end() : 0);
   reader.reset();
-  r.stats = job.renderer.render_resolved(out.grid(), render_options(job), skip, png, exr,
+  r.stats = job.renderer.render_resolved(out.grid(), render_options(job), skip, out.plan(),
                                          [&](ResolvedTile&& rt) {
                                            if (ck) ck->add_tile(rt);
                                            out.add(std::move(rt));
@@ -119,6 +114,38 @@ FrameResult render_streamed(const FrameJob& job, const CheckpointIdentity& id) {
   conclude(job, out, std::move(ck), r,
            [&] { return fmt::format("{} of {} tiles", out.tiles_added(), out.grid().count()); });
   return r;
+}
+
+// A pass render's checkpoint into `film`: each tile's sums and the pass it finished, the pass
+// to continue and its active pixels. Whether it held a pass start (without one, nothing is used).
+bool read_passes(const FrameJob& job, CheckpointReader& reader, Film& film,
+                 std::vector<int>& tile_pass, PassResume& resume, FrameResult& r) {
+  const RenderSettings& rs = job.scene.render;
+  const size_t tiles = film.grid().count(), nf = aov_floats(job.aovs);
+  bool have_pass = false;
+  reader.read({nullptr,
+               [&](PassTile&& t) {
+                 if (t.index >= tiles) damaged(job.checkpoint, "a tile outside the image");
+                 TileBuffer& b = film.tile(t.index);
+                 if (t.sums.size() != b.sums().size() || t.aov.size() != b.sums().size() * nf)
+                   damaged(job.checkpoint, "a tile of the wrong size");
+                 b.sums() = std::move(t.sums);
+                 b.aov_sums() = std::move(t.aov);
+                 if (tile_pass[t.index] < 0) ++r.resumed_tiles;
+                 tile_pass[t.index] = t.pass;
+               },
+               [&](int pass, std::vector<uint8_t>&& active) {
+                 const size_t pixels = size_t(rs.width) * size_t(rs.height);
+                 if (active.size() != (Renderer::streams(rs) ? 0 : pixels) || pass < 0)
+                   damaged(job.checkpoint, "a pass record of the wrong size");
+                 resume.pass = pass;
+                 resume.active = std::move(active);
+                 have_pass = true;
+               }});
+  r.resumed = have_pass;
+  // (The reader refuses pass tiles without their pass start; none are used without one.)
+  if (!have_pass) std::fill(tile_pass.begin(), tile_pass.end(), -1), r.resumed_tiles = 0;
+  return have_pass;
 }
 
 // Per-pixel adaptive sampling (the stopping rule looks across tiles) and time-limited uniform
@@ -133,31 +160,7 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   PassResume resume;
   bool have_pass = false;
   auto reader = open_checkpoint(job, id);
-  if (reader) {
-    const size_t nf = aov_floats(job.aovs);
-    reader->read({nullptr,
-                  [&](PassTile&& t) {
-                    if (t.index >= tiles) damaged(job.checkpoint, "a tile outside the image");
-                    TileBuffer& b = film.tile(t.index);
-                    if (t.sums.size() != b.sums().size() || t.aov.size() != b.sums().size() * nf)
-                      damaged(job.checkpoint, "a tile of the wrong size");
-                    b.sums() = std::move(t.sums);
-                    b.aov_sums() = std::move(t.aov);
-                    if (tile_pass[t.index] < 0) ++r.resumed_tiles;
-                    tile_pass[t.index] = t.pass;
-                  },
-                  [&](int pass, std::vector<uint8_t>&& active) {
-                    const size_t pixels = size_t(rs.width) * size_t(rs.height);
-                    if (active.size() != (Renderer::streams(rs) ? 0 : pixels) || pass < 0)
-                      damaged(job.checkpoint, "a pass record of the wrong size");
-                    resume.pass = pass;
-                    resume.active = std::move(active);
-                    have_pass = true;
-                  }});
-    r.resumed = have_pass;
-    // (The reader refuses pass tiles without their pass start; none are used without one.)
-    if (!have_pass) std::fill(tile_pass.begin(), tile_pass.end(), -1), r.resumed_tiles = 0;
-  }
+  if (reader) have_pass = read_passes(job, *reader, film, tile_pass, resume, r);
   std::unique_ptr<CheckpointWriter> ck = open_writer(job, id, have_pass ? reader->end() : 0);
   reader.reset();
   resume.tile_pass = tile_pass;
@@ -180,9 +183,7 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   };
   r.stats = job.renderer.render(film, opt);
   FrameOutput out(output_spec(job));
-  for (size_t i = 0; i < tiles; ++i)
-    if (const TileBuffer* t = film.tile_if_any(i))
-      out.add(resolve(i, *t, !job.png.empty(), !job.exr.empty()));
+  out.add_tiles(film);
   conclude(job, out, std::move(ck), r, [&] {
     const int pass = r.stats.pass;
     const auto done =
@@ -201,13 +202,13 @@ bool renders_in_passes(const RenderSettings& rs) {
 }
 
 CheckpointIdentity frame_identity(const FrameJob& job) {
-  CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION},
-                           {"output.png", job.png.string()},
-                           {"output.exr", job.exr.string()},
-                           {"frame", fmt::format("{}", job.scene.frame)}};
+  CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION}};
+  for (const fs::path& f : job.files) id.emplace_back("output." + sink_kind(f).name, f.string());
+  id.emplace_back("frame", fmt::format("{}", job.scene.frame));
   std::string aovs;
   for (Aov a : job.aovs) aovs += std::string(aovs.empty() ? "" : ",") + aov_info(a).name;
   id.emplace_back("aovs", aovs);
+  id.emplace_back("layers", describe_plan(output_plan(job.files, job.aovs)));
   for (auto& e : flatten_toml(job.scene.effective_toml)) id.push_back(std::move(e));
   std::string args;
   for (const std::string& a : command_args()) args += a + '\0';

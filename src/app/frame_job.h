@@ -22,7 +22,8 @@ struct FrameJob {
   const Scene& scene;
   const Renderer& renderer;
   std::vector<Aov> aovs;
-  std::filesystem::path png, exr;  // the files written (either may be empty)
+  // The files written, each by the sink its name chooses (io/image_sink.h: output_files).
+  std::vector<std::filesystem::path> files;
   std::map<std::string, std::string> metadata;
   std::filesystem::path checkpoint;  // empty: none
   double checkpoint_every = 60;      // seconds between fsyncs of the checkpoint
@@ -48,7 +49,8 @@ struct FrameResult {
 // The files' metadata: version, command line, scene, camera, frame.
 std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame);
 
-// What a checkpoint of this frame must match: the scene as rendered, outputs and AOVs.
+// What a checkpoint of this frame must match: the scene as rendered, the outputs, the AOVs and
+// the layers the outputs take.
 CheckpointIdentity frame_identity(const FrameJob& job);
 
 // Whether the frame renders in passes over a film kept whole (per-pixel adaptive sampling, and

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 
+#include "io/image_io.h"
+
 namespace anamorph::app {
 
 namespace fs = std::filesystem;
@@ -37,12 +39,7 @@ std::string mode_text(mode_t m) { return fmt::format("{:04o}", m & 07777); }
 
 }  // namespace
 
-bool written_directly(const fs::path& file) {
-  struct stat st {};
-  if (::stat(file.c_str(), &st) != 0 || S_ISDIR(st.st_mode)) return false;
-  if (!S_ISREG(st.st_mode)) return true;  // a device, FIFO or socket
-  return same_as_fd(st, STDOUT_FILENO) || same_as_fd(st, STDERR_FILENO);
-}
+bool written_directly(const fs::path& file) { return AtomicFile::writes_directly(file); }
 
 bool is_standard_output(const fs::path& file) {
   struct stat st {};

@@ -21,11 +21,8 @@ std::string default_render_output(const fs::path& scene, bool frames) {
   return (fs::path("out") / (stem + ".png")).string();
 }
 
-std::string render_format(const fs::path& out) {
-  std::string ext = out.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".png" || ext == ".exr") return ext;
-  return ext.empty() && written_directly(out) ? ".png" : "";
+fs::path coin_overlay_file(const fs::path& out) {
+  return fs::path(out).replace_extension(".coins.png");
 }
 
 std::vector<std::pair<fs::path, std::string>> render_output_files(const RenderOutputs& o) {
@@ -34,21 +31,24 @@ std::vector<std::pair<fs::path, std::string>> render_output_files(const RenderOu
                                ? fmt::format("the default output {} (no -o given)", o.out.string())
                                : fmt::format("-o {}", o.out.string());
   files.emplace_back(o.out, main + o.frame);
-  const bool png = render_format(o.out) == ".png";
-  const auto beside = [&](const fs::path& p, const char* what) {
+  const auto beside = [&](const fs::path& p, const std::string& what) {
     files.emplace_back(p,
                        fmt::format("{} {} (written beside {}){}", what, p.string(), main, o.frame));
   };
-  fs::path exr = o.out;
-  exr.replace_extension(".exr");
-  if (png && (o.aovs || o.coins_overlay)) beside(exr, "the AOVs' EXR");
+  // The layers the output's format cannot hold go to a file of a format that can: "the AOVs' EXR".
+  const std::vector<fs::path> written = output_files(o.out, o.layers);
+  std::string second;
+  if (written.size() > 1)
+    for (char c : sink_kind(written[1]).name)
+      second += char(std::toupper(static_cast<unsigned char>(c)));
+  if (written.size() > 1) beside(written[1], "the AOVs' " + second);
   if (o.coins_overlay) {
-    fs::path marked = o.out;
-    beside(marked.replace_extension(".coins.png"), "the coin overlay");
+    beside(coin_overlay_file(o.out), "the coin overlay");
   } else {
     // The image so far, when the render is interrupted.
-    beside(FrameOutput::with_suffix(o.out, ".partial"), "the image so far");
-    if (png && o.aovs) beside(FrameOutput::with_suffix(exr, ".partial"), "the AOVs so far");
+    for (size_t i = 0; i < written.size(); ++i)
+      beside(FrameOutput::with_suffix(written[i], ".partial"),
+             i == 0 ? "the image so far" : "the AOVs so far");
   }
   if (!o.checkpoint.empty())
     files.emplace_back(o.checkpoint,

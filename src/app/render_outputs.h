@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/image_sink.h"
 #include "io/read_log.h"
 
 namespace anamorph::app {
@@ -16,15 +17,14 @@ namespace anamorph::app {
 // the repository ignores it), out/<scene name>_%04d.png with --frames.
 std::string default_render_output(const std::filesystem::path& scene, bool frames);
 
-// The output's format: ".png" or ".exr" by its extension; a device, FIFO or the standard output
-// without one (`-o /dev/stdout`) gets PNG; "" otherwise (unsupported).
-std::string render_format(const std::filesystem::path& out);
+// `--aov coins`: the image with the coins' markers drawn in, beside the output (out.coins.png).
+std::filesystem::path coin_overlay_file(const std::filesystem::path& out);
 
 struct RenderOutputs {
   std::filesystem::path out;  // the image (-o, or the default)
   bool default_output = false;
-  bool aovs = false;           // --aov with sampled layers
-  bool coins_overlay = false;  // --aov coins
+  std::vector<LayerSpec> layers;  // what the render writes: the beauty, the AOVs, the coins
+  bool coins_overlay = false;     // --aov coins
   std::filesystem::path checkpoint, stats, video;
   std::string frame;  // " (frame N)" in a sequence, else ""
 };

@@ -3,6 +3,13 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/common.cpp
   ${CMAKE_CURRENT_LIST_DIR}/interrupt.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_render.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_options.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_progress.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_frame.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/coin_overlay.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_sequence.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_worker.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_resume.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_pattern.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/output_guard.cpp

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "app/common.h"
@@ -14,6 +15,32 @@
 namespace anamorph::app {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+bool on_path(const std::string& exe) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::string p = path;
+  for (size_t s = 0, e; s <= p.size(); s = e + 1) {
+    e = p.find(':', s);
+    if (e == std::string::npos) e = p.size();
+    const fs::path cand = fs::path(p.substr(s, e - s)) / exe;
+    if (!p.substr(s, e - s).empty() && access(cand.c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool video_tool_found() {
+  if (on_path("ffmpeg")) return true;
+  fmt::print(stderr,
+             "error: --video needs ffmpeg, which is not on the PATH (install it, e.g. `apt-get "
+             "install ffmpeg`, "
+             "or drop --video; the frames alone need nothing else)\n");
+  return false;
+}
 
 int assemble_video(const std::string& pattern, int first, int count, int fps,
                    const std::string& video, bool quiet) {

@@ -5,6 +5,9 @@
 
 namespace anamorph::app {
 
+// Whether ffmpeg is on the PATH; if not, says so (the caller exits 2 before rendering a frame).
+bool video_tool_found();
+
 // Runs ffmpeg over the frames `pattern` (printf, frames from `first`, `count` of them) into
 // `video`. ffmpeg writes a temporary file beside it (the same extension, so it picks the same
 // container), renamed into place once ffmpeg succeeds: a failed or interrupted run leaves the

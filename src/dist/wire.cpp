@@ -73,14 +73,47 @@ std::vector<uint8_t> mask_slice(const std::vector<uint8_t>* active, int image_wi
   return slice;
 }
 
+namespace {
+
+// The layers and encodings a whole tile is resolved to: their count, then each one's encoding
+// and layer name.
+constexpr uint32_t kMaxPlan = 256;
+constexpr size_t kMaxLayerName = 255;
+
+void put_plan(WireWriter& w, const std::vector<LayerRequest>& plan) {
+  w.put(uint32_t(plan.size()));
+  for (const LayerRequest& r : plan) {
+    w.put(uint8_t(r.encoding));
+    w.put_array(r.layer.data(), r.layer.size());
+  }
+}
+
+std::vector<LayerRequest> get_plan(WireReader& r) {
+  const auto n = r.get<uint32_t>();
+  if (n > kMaxPlan) throw std::runtime_error("a tile resolved to too many layers");
+  std::vector<LayerRequest> plan(n);
+  for (LayerRequest& q : plan) {
+    const auto e = r.get<uint8_t>();
+    if (e > uint8_t(Encoding::Float32)) throw std::runtime_error("a layer in an unknown encoding");
+    q.encoding = Encoding(e);
+    std::vector<char> name;
+    r.get_array(name);
+    if (name.size() > kMaxLayerName) throw std::runtime_error("a layer name too long");
+    q.layer.assign(name.begin(), name.end());
+  }
+  return plan;
+}
+
+}  // namespace
+
 std::vector<char> encode_work(const FarmTile& t, const std::vector<uint8_t>& mask) {
   WireWriter w;
   w.put(uint64_t(t.index));
   put_rect(w, t.rect);
   w.put(uint8_t(t.whole));
   if (t.whole) {
-    w.put(uint8_t(t.png));
-    w.put(uint8_t(t.exr));
+    w.put(uint8_t(t.plan != nullptr));
+    if (t.plan) put_plan(w, *t.plan);
   } else {
     w.put(t.range.begin);
     w.put(t.range.end);
@@ -100,8 +133,8 @@ WorkMessage decode_work(const char* data, size_t size) {
   m.rect = get_rect(r);
   m.whole = r.get<uint8_t>() != 0;
   if (m.whole) {
-    m.png = r.get<uint8_t>() != 0;
-    m.exr = r.get<uint8_t>() != 0;
+    m.resolve = r.get<uint8_t>() != 0;
+    if (m.resolve) m.plan = get_plan(r);
   } else {
     m.begin = r.get<uint32_t>();
     m.end = r.get<uint32_t>();
@@ -139,12 +172,33 @@ void put_header(WireWriter& w, size_t index, const TileRect& rect, Kind kind, co
 }
 
 template <class T>
-std::vector<T> get_sized(WireReader& r, size_t expected, const char* what) {
+std::vector<T> get_sized(WireReader& r, size_t expected) {
   std::vector<T> v;
   r.get_array(v);
   if (v.size() != expected)
-    throw std::runtime_error(std::string("a resolved tile's ") + what + " do not fit its pixels");
+    throw std::runtime_error("a resolved tile's layers do not fit its pixels");
   return v;
+}
+
+// A resolved tile's planes, each as many values as its layer (among the head's) and encoding
+// take over `rect`.
+ResolvedTile get_resolved(WireReader& r, size_t index, const TileRect& rect,
+                          const std::vector<LayerRequest>& plan, const std::vector<Aov>& aovs) {
+  const std::vector<LayerSpec> layers = render_layers(aovs);
+  ResolvedTile t;
+  t.index = index;
+  for (const LayerRequest& q : plan) {
+    const auto layer = std::find_if(layers.begin(), layers.end(),
+                                    [&](const LayerSpec& l) { return l.name == q.layer; });
+    if (layer == layers.end()) throw std::runtime_error("a resolved tile of another layer");
+    const size_t n = rect.pixels() * values_per_pixel(*layer, q.encoding);
+    Plane& p = t.planes.emplace_back();
+    if (q.encoding == Encoding::Srgb8)
+      p.u8 = get_sized<unsigned char>(r, n);
+    else
+      p.f32 = get_sized<float>(r, n);
+  }
+  return t;
 }
 
 }  // namespace
@@ -162,9 +216,11 @@ std::vector<char> encode_resolved(const ResolvedTile& tile, const TileRect& rect
                                   const TileStats& st, double seconds) {
   WireWriter w;
   put_header(w, tile.index, rect, kResolved, st, seconds);
-  w.put_array(tile.rgba8.data(), tile.rgba8.size());
-  w.put_array(tile.rgba.data(), tile.rgba.size());
-  w.put_array(tile.aov.data(), tile.aov.size());
+  for (const Plane& p : tile.planes)  // (the one vector of its encoding: a count and the values)
+    if (p.f32.empty())
+      w.put_array(p.u8.data(), p.u8.size());
+    else
+      w.put_array(p.f32.data(), p.f32.size());
   return std::move(w.bytes());
 }
 
@@ -191,16 +247,10 @@ FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& 
   if (out.index != sent.index || t.x0 != rect.x0 || t.y0 != rect.y0 || t.x1 != rect.x1 ||
       t.y1 != rect.y1)
     throw std::runtime_error("a result for another tile");
-  const Kind expected = !sent.whole ? kPassSums : (sent.png || sent.exr) ? kResolved : kWholeSums;
+  const Kind expected = !sent.whole ? kPassSums : sent.plan ? kResolved : kWholeSums;
   if (kind != expected) throw std::runtime_error("a result of another kind of tile");
   if (kind == kResolved) {
-    const size_t n = rect.pixels();
-    ResolvedTile rt;
-    rt.index = out.index;
-    rt.rgba8 = get_sized<unsigned char>(r, sent.png ? 4 * n : 0, "colours");
-    rt.rgba = get_sized<float>(r, sent.exr ? 4 * n : 0, "colours");
-    rt.aov = get_sized<float>(r, sent.exr ? aov_floats(aovs) * n : 0, "layers");
-    out.resolved = std::move(rt);
+    out.resolved = get_resolved(r, out.index, rect, *sent.plan, aovs);
   } else {
     std::vector<PixelSum> sums;
     std::vector<float> aov;

@@ -80,7 +80,9 @@ struct WorkMessage {
   size_t index = 0;
   TileRect rect;
   bool whole = true;
-  bool png = false, exr = false;  // a whole tile resolved to these formats (FarmTile)
+  // A whole tile resolved where rendered to `plan` (FarmTile::plan), else its sums come back.
+  bool resolve = false;
+  std::vector<LayerRequest> plan;
   uint32_t begin = 0, end = 0;
   double footprint = 1;
   std::vector<uint8_t> active;  // the rect's part of the mask, row by row (empty: all pixels on)
@@ -103,12 +105,13 @@ void unpack_work(WorkMessage& m, TileBuffer& tile);
 std::vector<char> encode_result(size_t index, const TileBuffer& tile, bool whole,
                                 const std::vector<uint8_t>& mask, const TileStats& st,
                                 double seconds);
-// A whole tile resolved where it was rendered.
+// A whole tile resolved where it was rendered: each plane of its plan.
 std::vector<char> encode_resolved(const ResolvedTile& tile, const TileRect& rect,
                                   const TileStats& st, double seconds);
 // The result of tile `sent` (as the head handed it out): a whole tile into a new buffer with the
-// head's AOVs, or resolved; a pass into `sent.sums` (the head's tile), of which the message
-// carries the pixels `mask` leaves on. Throws when it does not fit what was sent.
+// head's AOVs, or resolved to `sent.plan` (each plane as many values as the layer and encoding
+// take); a pass into `sent.sums` (the head's tile), of which the message carries the pixels
+// `mask` leaves on. Throws when it does not fit what was sent.
 FarmResult decode_result(const char* data, size_t size, const std::vector<Aov>& aovs,
                          const FarmTile& sent, const std::vector<uint8_t>& mask = {});
 // The tile index a result is for.

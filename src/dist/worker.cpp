@@ -112,25 +112,21 @@ class TilePool {
     }
   }
 
+  // The tile through TileSession::render, as a local thread renders it. A pass tile's sums so
+  // far are unpacked into a buffer first and go back as the pixels the mask leaves on.
   std::vector<char> render(WorkMessage& m, const TileSession& session,
                            const std::vector<uint8_t>* active) const {
-    TileBuffer tile(m.rect, aovs_);
-    TileStats st;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (m.whole) {
-      session.whole(tile, st);
-      if (m.png || m.exr) {
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        return encode_resolved(resolve(m.index, tile, m.png, m.exr), m.rect, st, seconds);
-      }
-    } else {
-      unpack_work(m, tile);
-      session.samples({m.begin, m.end, m.footprint, active}, tile, st);
+    std::unique_ptr<TileBuffer> sums;
+    if (!m.whole) {
+      sums = std::make_unique<TileBuffer>(m.rect, aovs_);
+      unpack_work(m, *sums);
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return encode_result(m.index, tile, m.whole, m.active, st, seconds);
+    FarmTile t{m.index, m.rect, width_, m.whole, {m.begin, m.end, m.footprint, active}, sums.get()};
+    if (m.resolve) t.plan = &m.plan;
+    std::unique_ptr<TileBuffer> buffer;
+    const FarmResult r = session.render(t, buffer);
+    if (r.resolved) return encode_resolved(*r.resolved, m.rect, r.stats, r.seconds);
+    return encode_result(m.index, m.whole ? *r.tile : *sums, m.whole, m.active, r.stats, r.seconds);
   }
 
   const std::vector<Aov>& aovs_;
@@ -206,8 +202,7 @@ void load_frame(const std::vector<char>& bytes, TilePool& pool, const std::vecto
   WireReader r(bytes.data(), bytes.size());
   pool.set_frame(nullptr, 0, 0);  // the last frame's session goes before its scene
   const WorkerFrame f = load(r.get<double>());
-  pool.set_frame(std::make_unique<TileSession>(*f.renderer, !aovs.empty(), f.width, f.height),
-                 f.width, f.height);
+  pool.set_frame(f.renderer->session(aovs, f.width, f.height), f.width, f.height);
 }
 
 }  // namespace

@@ -63,6 +63,12 @@ int standard_stream_of(const struct stat& st) {
 
 }  // namespace
 
+bool AtomicFile::writes_directly(const fs::path& file) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0 || S_ISDIR(st.st_mode)) return false;
+  return !S_ISREG(st.st_mode) || standard_stream_of(st) >= 0;
+}
+
 AtomicFile::AtomicFile(const fs::path& file, Access access) : target_(resolve_links(file)) {
   using io_detail::fail;
   if (has_nul(file.native())) fail("cannot write", file, nul_in_path_message(file.native(), false));

@@ -326,16 +326,6 @@ Image decode_image(const std::vector<unsigned char>& bytes, bool srgb, const fs:
   return img;
 }
 
-void write_image(const fs::path& file, const OutputImage& img) {
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".png") return write_png(file, img);
-  if (ext == ".exr") return write_exr(file, img);
-  fail("cannot write image", file,
-       fmt::format("unsupported extension '{}' (supported: .png, .exr)", ext));
-}
-
 std::map<std::string, std::string> read_metadata(const fs::path& file) {
   const std::vector<unsigned char> bytes = io_detail::read_file_bytes(file);
   if (io_detail::is_png(bytes)) return io_detail::png_metadata(bytes, file);

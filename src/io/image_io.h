@@ -57,7 +57,8 @@ void encode_rgba8(const float* rgba, unsigned char* out);
 // `n` pixels at once, the same bytes (one call per row: the table is looked up once).
 void encode_rgba8(const float* rgba, size_t n, unsigned char* out);
 
-// Chooses the format by extension (.png, .exr). PNG writes only layers[0].
+// Through the sink the file's extension chooses (io/image_sink.h): PNG takes only layers[0], EXR
+// every layer. An extension no sink writes: ImageIoError listing the ones that are.
 void write_image(const std::filesystem::path& file, const OutputImage& img);
 void write_png(const std::filesystem::path& file, const OutputImage& img);
 // The same file from pixels already in 8 bits (a render's beauty without a float layer first).
@@ -82,6 +83,9 @@ class AtomicFile {
   // from a spool file at commit() instead of as the bytes come.
   enum class Access { Sequential, Seeks };
   explicit AtomicFile(const std::filesystem::path& file, Access access = Access::Sequential);
+  // Whether `file` is written directly rather than replaced: an existing device, FIFO or socket,
+  // or the file the process's standard output or error is.
+  static bool writes_directly(const std::filesystem::path& file);
   ~AtomicFile();
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "io/image_io.h"
+#include "io/image_sink.h"
 
 namespace anamorph {
 
@@ -50,10 +51,6 @@ class PngStream {
 
 // EXR through OpenEXR: 32-bit float channels named "<layer>.<c>" (bare "<c>" for the unnamed
 // beauty layer), ZIP-compressed scanlines in increasing y, metadata as string attributes.
-struct LayerSpec {
-  std::string name;                   // "" for the main RGBA layer
-  std::vector<std::string> channels;  // component names
-};
 class ExrStream {
  public:
   ExrStream(const std::filesystem::path& file, int width, int height,

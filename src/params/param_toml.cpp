@@ -98,102 +98,121 @@ std::string join_choices(std::span<const std::string_view> c) {
 namespace {
 
 // A transform table { matrix, scale, rotate, translate }, applied to points as T * R * S * M.
-// Errors name the sub-key from the outer key ("transform.scale").
-Transform transform_from_toml(const ParamSpec& spec, const toml::node& n, const ParamTomlHooks& h) {
-  const std::string outer(spec.name);
-  const auto fail = [&](const toml::node& at, std::string_view sub, const std::string& msg) {
-    h.fail(at, sub.empty() ? outer : outer + "." + std::string(sub), msg);
+// Errors name the sub-key from the outer key ("transform.scale"). One method a sub-key.
+class TransformReader {
+ public:
+  TransformReader(const ParamSpec& spec, const ParamTomlHooks& h) : outer_(spec.name), h_(h) {}
+
+  Transform read(const toml::node& n) const {
+    const toml::table* t = n.as_table();
+    if (!t)
+      fail(n, "",
+           "expected a table { translate = [...], rotate = [deg, x, y, z], scale = ..., matrix = "
+           "[16 numbers] }");
+    static const std::string kKeys[] = {"matrix", "rotate", "scale", "translate"};
+    for (const auto& [k, v] : *t)
+      if (std::find(std::begin(kKeys), std::end(kKeys), k.str()) == std::end(kKeys)) {
+        const std::string s = suggest(k.str(), kKeys);
+        fail(v, k.str(),
+             s.empty() ? "unknown key (valid keys here: matrix, rotate, scale, translate)"
+                       : fmt::format("unknown key (did you mean '{}'?)", s));
+      }
+    Transform m, s, rot, tr;
+    if (const toml::node* mn = t->get("matrix")) m = matrix(*mn);
+    if (const toml::node* sn = t->get("scale")) s = scale(*sn);
+    if (const toml::node* rn = t->get("rotate")) rot = rotate(*rn);
+    if (const toml::node* tn = t->get("translate")) tr = translate(*tn);
+    return tr * rot * s * m;
+  }
+
+ private:
+  [[noreturn]] void fail(const toml::node& at, std::string_view sub, const std::string& msg) const {
+    h_.fail(at, sub.empty() ? outer_ : outer_ + "." + std::string(sub), msg);
     std::abort();  // (fail hooks throw)
-  };
-  const toml::table* t = n.as_table();
-  if (!t)
-    fail(n, "",
-         "expected a table { translate = [...], rotate = [deg, x, y, z], scale = ..., matrix = [16 "
-         "numbers] }");
-  static const std::string kKeys[] = {"matrix", "rotate", "scale", "translate"};
-  for (const auto& [k, v] : *t)
-    if (std::find(std::begin(kKeys), std::end(kKeys), k.str()) == std::end(kKeys)) {
-      const std::string s = suggest(k.str(), kKeys);
-      fail(v, k.str(),
-           s.empty() ? "unknown key (valid keys here: matrix, rotate, scale, translate)"
-                     : fmt::format("unknown key (did you mean '{}'?)", s));
-    }
+  }
+
   // (Every number of a transform within the world's range: products of a few of them still
   // are, and placement_error checks what they compose to.)
-  const auto finite = [&](const toml::node& x, std::string_view sub, const char* what) {
+  double finite(const toml::node& x, std::string_view sub, const char* what) const {
     const auto v = toml_number(x);
     if (!v || !std::isfinite(*v)) fail(x, sub, what);
     if (!(std::abs(*v) <= kMaxCoordinate))
       fail(x, sub, range_error(*v, -kMaxCoordinate, kMaxCoordinate));
     return *v;
-  };
-  Transform m;
-  if (const toml::node* mn = t->get("matrix")) {
-    const toml::array* a = mn->as_array();
-    if (!a || a->size() != 16) fail(*mn, "matrix", "expected 16 numbers (row-major 4x4)");
+  }
+
+  Transform matrix(const toml::node& mn) const {
+    const toml::array* a = mn.as_array();
+    if (!a || a->size() != 16) fail(mn, "matrix", "expected 16 numbers (row-major 4x4)");
     Mat4 mat;
     for (int i = 0; i < 16; ++i)
       mat.m[i / 4][i % 4] = finite(*a->get(size_t(i)), "matrix", "expected 16 finite numbers");
     bool ok = false;
     const Mat4 inv = inverse(mat, &ok);
-    if (!ok) fail(*mn, "matrix", "matrix is singular");
-    m = Transform(mat, inv);
+    if (!ok) fail(mn, "matrix", "matrix is singular");
+    return Transform(mat, inv);
   }
-  Transform s, rot, tr;
-  if (const toml::node* sn = t->get("scale")) {
+
+  Transform scale(const toml::node& sn) const {
     Vec3 sv;
-    if (const auto x = toml_number(*sn)) {
+    if (const auto x = toml_number(sn)) {
       sv = Vec3(*x);
     } else {
-      const toml::array* a = sn->as_array();
-      if (!a || a->size() != 3) fail(*sn, "scale", "expected a number or [sx, sy, sz]");
+      const toml::array* a = sn.as_array();
+      if (!a || a->size() != 3) fail(sn, "scale", "expected a number or [sx, sy, sz]");
       for (int i = 0; i < 3; ++i) {
         const auto x3 = toml_number(*a->get(size_t(i)));
-        if (!x3) fail(*sn, "scale", "expected a number or [sx, sy, sz]");
+        if (!x3) fail(sn, "scale", "expected a number or [sx, sy, sz]");
         sv[i] = *x3;
       }
     }
     if (!is_finite(sv) || sv.x == 0 || sv.y == 0 || sv.z == 0)
-      fail(*sn, "scale", "scale factors must be finite and non-zero");
+      fail(sn, "scale", "scale factors must be finite and non-zero");
     if (!within_world(sv))
-      fail(*sn, "scale",
+      fail(sn, "scale",
            range_error(max_component(Vec3{std::abs(sv.x), std::abs(sv.y), std::abs(sv.z)}),
                        -kMaxCoordinate, kMaxCoordinate));
-    s = Transform::scale(sv);
+    return Transform::scale(sv);
   }
-  if (const toml::node* rn = t->get("rotate")) {
-    // [deg, ax, ay, az] or a list of them, applied in order.
+
+  // [deg, ax, ay, az] or a list of them, applied in order.
+  Transform rotate(const toml::node& rn) const {
     const auto one = [&](const toml::array& a) {
-      if (a.size() != 4) fail(*rn, "rotate", "expected [degrees, axis_x, axis_y, axis_z]");
+      if (a.size() != 4) fail(rn, "rotate", "expected [degrees, axis_x, axis_y, axis_z]");
       double v[4];
       for (int i = 0; i < 4; ++i)
         v[i] = finite(*a.get(size_t(i)), "rotate", "expected 4 finite numbers");
       if (Vec3{v[1], v[2], v[3]} == Vec3{0, 0, 0})
-        fail(*rn, "rotate", "rotation axis must not be zero");
+        fail(rn, "rotate", "rotation axis must not be zero");
       return Transform::rotate(v[0], {v[1], v[2], v[3]});
     };
-    const toml::array* a = rn->as_array();
-    if (!a || a->empty()) fail(*rn, "rotate", "expected [degrees, x, y, z] or a list of them");
-    if (a->get(0)->is_array()) {
-      for (const auto& e : *a) {
-        if (!e.is_array()) fail(*rn, "rotate", "expected a list of [degrees, x, y, z]");
-        rot = one(*e.as_array()) * rot;
-      }
-    } else {
-      rot = one(*a);
+    const toml::array* a = rn.as_array();
+    if (!a || a->empty()) fail(rn, "rotate", "expected [degrees, x, y, z] or a list of them");
+    if (!a->get(0)->is_array()) return one(*a);
+    Transform rot;
+    for (const auto& e : *a) {
+      if (!e.is_array()) fail(rn, "rotate", "expected a list of [degrees, x, y, z]");
+      rot = one(*e.as_array()) * rot;
     }
+    return rot;
   }
-  if (const toml::node* tn = t->get("translate")) {
-    const toml::array* a = tn->as_array();
+
+  Transform translate(const toml::node& tn) const {
+    const toml::array* a = tn.as_array();
     if (!a || a->size() != 3)
-      fail(*tn, "translate",
-           "expected an array of 3 numbers [x, y, z], got " + toml_type_name(*tn));
+      fail(tn, "translate", "expected an array of 3 numbers [x, y, z], got " + toml_type_name(tn));
     Vec3 v;
     for (int i = 0; i < 3; ++i)
       v[i] = finite(*a->get(size_t(i)), "translate", "components must be finite numbers");
-    tr = Transform::translate(v);
+    return Transform::translate(v);
   }
-  return tr * rot * s * m;
+
+  const std::string outer_;
+  const ParamTomlHooks& h_;
+};
+
+Transform transform_from_toml(const ParamSpec& spec, const toml::node& n, const ParamTomlHooks& h) {
+  return TransformReader(spec, h).read(n);
 }
 
 // A number where an integer key wants one, and toml_integer did not take it: not finite, or

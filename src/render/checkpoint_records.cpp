@@ -172,9 +172,8 @@ CheckpointIdentity decode_identity(const std::string& payload) {
 std::string encode_tile(const ResolvedTile& t) {
   std::string p;
   put(p, uint64_t(t.index));
-  put_vector(p, t.rgba8);
-  put_vector(p, t.rgba);
-  put_vector(p, t.aov);
+  put(p, uint64_t(t.planes.size()));
+  for (const Plane& plane : t.planes) put_vector(p, plane.u8), put_vector(p, plane.f32);
   return p;
 }
 
@@ -182,9 +181,13 @@ ResolvedTile decode_tile(const std::string& payload) {
   Cursor c{payload};
   ResolvedTile t;
   t.index = size_t(c.get<uint64_t>());
-  t.rgba8 = c.get_vector<unsigned char>();
-  t.rgba = c.get_vector<float>();
-  t.aov = c.get_vector<float>();
+  const auto planes = c.get<uint64_t>();
+  if (planes > (payload.size() - c.at) / 16) Cursor::short_record();  // (two counts a plane)
+  for (uint64_t i = 0; i < planes; ++i) {
+    Plane& plane = t.planes.emplace_back();
+    plane.u8 = c.get_vector<unsigned char>();
+    plane.f32 = c.get_vector<float>();
+  }
   c.end();
   return t;
 }

@@ -1,56 +1,152 @@
 #include "render/frame_output.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+
+#include "math/parallel.h"
 
 namespace anamorph {
 
 namespace fs = std::filesystem;
 
-ResolvedTile resolve(size_t index, const TileBuffer& tile, bool png, bool exr) {
+namespace {
+
+// The index of `name` among `layers`, or throws std::invalid_argument.
+size_t layer_index(const std::vector<LayerSpec>& layers, const std::string& name) {
+  for (size_t i = 0; i < layers.size(); ++i)
+    if (layers[i].name == name) return i;
+  throw std::invalid_argument(fmt::format("no layer '{}' in this render", name));
+}
+
+void check_request(const std::vector<LayerSpec>& layers, const LayerRequest& r) {
+  if (layer_index(layers, r.layer) != 0 && r.encoding == Encoding::Srgb8)
+    throw std::invalid_argument(
+        fmt::format("8-bit sRGB is for the beauty's colour, not the layer '{}'", r.layer));
+}
+
+void add_once(std::vector<LayerRequest>& plan, const LayerRequest& r) {
+  if (std::find(plan.begin(), plan.end(), r) == plan.end()) plan.push_back(r);
+}
+
+// The beauty's requests of a tile row: straight RGBA floats of the row, then each encoding.
+void resolve_beauty_row(const TileBuffer& tile, int y, std::vector<float>& row,
+                        const std::vector<LayerRequest>& plan, size_t first, ResolvedTile& out) {
+  const TileRect& r = tile.rect();
+  const size_t w = size_t(r.width());
+  for (int x = r.x0; x < r.x1; ++x) tile.beauty_rgba(x, y, &row[size_t(x - r.x0) * 4]);
+  for (size_t i = 0; i < plan.size(); ++i) {
+    if (!plan[i].layer.empty()) continue;
+    if (plan[i].encoding == Encoding::Srgb8)
+      encode_rgba8(row.data(), w, &out.planes[i].u8[first * 4]);
+    else
+      std::copy(row.begin(), row.end(), out.planes[i].f32.begin() + ptrdiff_t(first * 4));
+  }
+}
+
+}  // namespace
+
+std::vector<LayerSpec> render_layers(const std::vector<Aov>& aovs) {
+  std::vector<LayerSpec> layers{{"", {"R", "G", "B", "A"}}};
+  for (Aov a : aovs) layers.push_back({aov_info(a).name, aov_info(a).channels});
+  return layers;
+}
+
+std::vector<LayerRequest> output_plan(const std::vector<fs::path>& files,
+                                      const std::vector<Aov>& aovs) {
+  const std::vector<LayerSpec> layers = render_layers(aovs);
+  std::vector<LayerRequest> plan;
+  for (const fs::path& f : files)
+    for (const LayerRequest& r : sink_kind(f).takes(layers)) add_once(plan, r);
+  return plan;
+}
+
+std::string describe_plan(const std::vector<LayerRequest>& plan) {
+  std::string s;
+  for (const LayerRequest& r : plan)
+    s += fmt::format("{}{}{}{}", s.empty() ? "" : " ", r.layer, r.layer.empty() ? "" : ":",
+                     encoding_name(r.encoding));
+  return s;
+}
+
+ResolvedTile resolve(size_t index, const TileBuffer& tile, const std::vector<LayerRequest>& plan) {
+  const std::vector<LayerSpec> layers = render_layers(tile.aovs());
   ResolvedTile out;
   out.index = index;
   const TileRect& r = tile.rect();
-  const size_t n = r.pixels(), nf = tile.aov_floats();
-  if (png) out.rgba8.resize(n * 4);
-  if (exr) out.rgba.resize(n * 4), out.aov.resize(n * nf);
-  const size_t w = size_t(r.x1 - r.x0);
+  const size_t n = r.pixels(), w = size_t(r.width());
+  bool beauty = false;
+  for (const LayerRequest& q : plan) {
+    check_request(layers, q);
+    const size_t values = n * values_per_pixel(layers[layer_index(layers, q.layer)], q.encoding);
+    Plane& p = out.planes.emplace_back();
+    if (q.encoding == Encoding::Srgb8)
+      p.u8.resize(values);
+    else
+      p.f32.resize(values);
+    beauty = beauty || q.layer.empty();
+  }
   std::vector<float> row(w * 4);
-  size_t i = 0;
-  for (int y = r.y0; y < r.y1; ++y, i += w) {
-    for (int x = r.x0; x < r.x1; ++x) tile.beauty_rgba(x, y, &row[size_t(x - r.x0) * 4]);
-    if (png) encode_rgba8(row.data(), w, &out.rgba8[i * 4]);
-    if (!exr) continue;
-    std::copy(row.begin(), row.end(), out.rgba.begin() + ptrdiff_t(i * 4));
-    if (nf)
+  for (int y = r.y0; y < r.y1; ++y) {
+    const size_t first = size_t(y - r.y0) * w;
+    if (beauty) resolve_beauty_row(tile, y, row, plan, first, out);
+    for (size_t i = 0; i < plan.size(); ++i) {
+      if (plan[i].layer.empty()) continue;
+      const size_t layer = layer_index(layers, plan[i].layer) - 1,
+                   nc = layers[layer + 1].channels.size();
       for (int x = r.x0; x < r.x1; ++x)
-        tile.aov_values(x, y, &out.aov[(i + size_t(x - r.x0)) * nf]);
+        tile.aov_layer_values(x, y, layer, &out.planes[i].f32[(first + size_t(x - r.x0)) * nc]);
+    }
   }
   return out;
 }
 
-struct FrameOutput::Strip {
-  int rows = 0;
+bool fits(const ResolvedTile& t, const std::vector<LayerRequest>& plan, const TileRect& rect,
+          const std::vector<Aov>& aovs) {
+  const std::vector<LayerSpec> layers = render_layers(aovs);
+  if (t.planes.size() != plan.size()) return false;
+  for (size_t i = 0; i < plan.size(); ++i) {
+    const LayerSpec* layer = nullptr;
+    for (const LayerSpec& l : layers)
+      if (l.name == plan[i].layer) layer = &l;
+    if (!layer) return false;
+    const size_t values = rect.pixels() * values_per_pixel(*layer, plan[i].encoding);
+    const bool srgb8 = plan[i].encoding == Encoding::Srgb8;
+    if (t.planes[i].u8.size() != (srgb8 ? values : 0) ||
+        t.planes[i].f32.size() != (srgb8 ? 0 : values))
+      return false;
+  }
+  return true;
+}
+
+// One tile row of the image for every sink: sinks[s] holds sink s's planes.
+struct FrameOutput::Row {
   int received = 0;
-  std::vector<unsigned char> rgba8;
-  std::vector<float> rgba;
-  std::vector<std::vector<float>> layers;  // per AOV, interleaved
-  PngStream::Band band;
+  std::vector<Strip> sinks;
 };
 
-FrameOutput::FrameOutput(const FrameOutputSpec& spec)
+FrameOutput::FrameOutput(const FrameOutputSpec& spec, std::vector<std::unique_ptr<ImageSink>> more)
     : spec_(spec),
       grid_(spec.width, spec.height, spec.tile_size),
-      aov_floats_(aov_floats(spec.aovs)),
+      layers_(render_layers(spec.aovs)),
       added_(grid_.count(), 0) {
-  if (!spec.png.empty())
-    png_ = std::make_unique<PngStream>(spec.png, spec.width, spec.height, spec.metadata);
-  if (!spec.exr.empty()) {
-    std::vector<LayerSpec> layers{{"", {"R", "G", "B", "A"}}};
-    for (Aov a : spec.aovs) layers.push_back({aov_info(a).name, aov_info(a).channels});
-    exr_ = std::make_unique<ExrStream>(spec.exr, spec.width, spec.height, layers, spec.metadata);
+  for (const fs::path& f : spec.files) {
+    sinks_.push_back(make_file_sink({f, spec.width, spec.height, layers_, spec.metadata}));
+    sink_files_.push_back(f);
   }
+  for (auto& s : more) sinks_.push_back(std::move(s)), sink_files_.emplace_back();
+  for (const auto& s : sinks_) {
+    std::vector<size_t>& map = sink_plan_.emplace_back();
+    for (const LayerRequest& r : s->requests()) {
+      check_request(layers_, r);
+      add_once(plan_, r);
+      map.push_back(size_t(std::find(plan_.begin(), plan_.end(), r) - plan_.begin()));
+    }
+  }
+  for (const LayerRequest& r : plan_)
+    plan_values_.push_back(values_per_pixel(layers_[layer_index(layers_, r.layer)], r.encoding));
 }
 
 FrameOutput::~FrameOutput() = default;
@@ -60,76 +156,82 @@ size_t FrameOutput::tiles_added() const {
   return size_t(std::count(added_.begin(), added_.end(), 1));
 }
 
-std::unique_ptr<FrameOutput::Strip> FrameOutput::new_strip(int rows) const {
-  auto s = std::make_unique<Strip>();
-  s->rows = rows;
+std::unique_ptr<FrameOutput::Row> FrameOutput::new_row(int rows) const {
+  auto row = std::make_unique<Row>();
   const size_t n = size_t(spec_.width) * size_t(rows);
-  if (png_) s->rgba8.resize(n * 4);
-  if (exr_) {
-    s->rgba.resize(n * 4);
-    for (Aov a : spec_.aovs) s->layers.emplace_back(n * aov_info(a).channels.size());
-  }
-  return s;
-}
-
-// Row by row into the strip; AOV values split into their layers.
-void FrameOutput::copy_into(Strip& s, const ResolvedTile& t, const TileRect& r) const {
-  const size_t W = size_t(spec_.width), tw = size_t(r.width());
-  for (int y = 0; y < r.height(); ++y) {
-    const size_t src = size_t(y) * tw, dst = size_t(y) * W + size_t(r.x0);
-    if (png_) std::memcpy(&s.rgba8[dst * 4], &t.rgba8[src * 4], tw * 4);
-    if (!exr_) continue;
-    std::memcpy(&s.rgba[dst * 4], &t.rgba[src * 4], tw * 4 * sizeof(float));
-    if (aov_floats_ == 0) continue;  // (t.aov is empty: no element to point at)
-    for (size_t x = 0; x < tw; ++x) {
-      const float* v = &t.aov[(src + x) * aov_floats_];
-      for (size_t l = 0; l < spec_.aovs.size(); ++l) {
-        const size_t nc = aov_info(spec_.aovs[l]).channels.size();
-        std::copy(v, v + nc, &s.layers[l][(dst + x) * nc]);
-        v += nc;
-      }
+  for (const std::vector<size_t>& map : sink_plan_) {
+    Strip& s = row->sinks.emplace_back();
+    s.rows = rows;
+    for (size_t p : map) {
+      Plane& plane = s.planes.emplace_back();
+      if (plan_[p].encoding == Encoding::Srgb8)
+        plane.u8.resize(n * plan_values_[p]);
+      else
+        plane.f32.resize(n * plan_values_[p]);
     }
   }
+  return row;
+}
+
+// Row by row of the tile into each sink's planes.
+void FrameOutput::copy_into(Row& row, const ResolvedTile& t, const TileRect& r) const {
+  const size_t W = size_t(spec_.width), tw = size_t(r.width());
+  for (size_t s = 0; s < sinks_.size(); ++s)
+    for (size_t k = 0; k < sink_plan_[s].size(); ++k) {
+      const size_t p = sink_plan_[s][k], nv = plan_values_[p];
+      const Plane& from = t.planes[p];
+      Plane& to = row.sinks[s].planes[k];
+      for (int y = 0; y < r.height(); ++y) {
+        const size_t src = size_t(y) * tw * nv, dst = (size_t(y) * W + size_t(r.x0)) * nv;
+        if (plan_[p].encoding == Encoding::Srgb8)
+          std::memcpy(&to.u8[dst], &from.u8[src], tw * nv);
+        else
+          std::memcpy(&to.f32[dst], &from.f32[src], tw * nv * sizeof(float));
+      }
+    }
 }
 
 void FrameOutput::add(ResolvedTile t) {
   const TileRect r = grid_.rect(t.index);
-  const int row = r.y0 / grid_.size;
-  std::unique_ptr<Strip> done;
+  const int index = r.y0 / grid_.size;
+  if (!fits(t, plan_, r, spec_.aovs))
+    throw std::logic_error("FrameOutput: a tile resolved to another plan");
+  std::unique_ptr<Row> done;
   {
     const std::lock_guard<std::mutex> lock(mu_);
     if (t.index >= added_.size() || added_[t.index])
       throw std::logic_error("FrameOutput: tile added twice");
     added_[t.index] = 1;
-    std::unique_ptr<Strip>& s = strips_[row];
-    if (!s) s = new_strip(r.height());
-    copy_into(*s, t, r);
-    if (++s->received == grid_.cols) {
-      done = std::move(s);
-      strips_.erase(row);
+    std::unique_ptr<Row>& row = rows_[index];
+    if (!row) row = new_row(r.height());
+    copy_into(*row, t, r);
+    if (++row->received == grid_.cols) {
+      done = std::move(row);
+      rows_.erase(index);
     }
   }
-  if (done) write_ready(row, std::move(done));
+  if (done) write_ready(index, std::move(done));
 }
 
-void FrameOutput::write_ready(int row, std::unique_ptr<Strip> strip) {
-  // Encoding needs no lock: strips are deflated in parallel, written in order.
-  if (png_) {
-    strip->band = PngStream::encode(strip->rgba8.data(), spec_.width, strip->rows);
-    strip->rgba8 = {};
-  }
+void FrameOutput::add_tiles(const Film& film) {
+  parallel_for_each(0, int(grid_.count()), [&](int i) {
+    if (const TileBuffer* t = film.tile_if_any(size_t(i))) add(resolve(size_t(i), *t, plan_));
+  });
+}
+
+void FrameOutput::prepare(Row& row) const {
+  for (size_t s = 0; s < sinks_.size(); ++s) sinks_[s]->prepare(row.sinks[s]);
+}
+
+void FrameOutput::write_ready(int index, std::unique_ptr<Row> row) {
+  prepare(*row);  // without a lock: strips are encoded in parallel, written in order
   const std::lock_guard<std::mutex> lock(write_mu_);
-  ready_[row] = std::move(strip);
+  ready_[index] = std::move(row);
   drain_ready();
 }
 
-void FrameOutput::append(const Strip& s) {
-  if (png_) png_->append(s.band, s.rows);
-  if (exr_) {
-    std::vector<const float*> layers{s.rgba.data()};
-    for (const auto& l : s.layers) layers.push_back(l.data());
-    exr_->write_rows(layers, s.rows);
-  }
+void FrameOutput::append(const Row& row) {
+  for (size_t s = 0; s < sinks_.size(); ++s) sinks_[s]->append(row.sinks[s]);
   ++next_row_;
 }
 
@@ -143,16 +245,15 @@ void FrameOutput::drain_ready() {
 void FrameOutput::commit() {
   if (next_row_ != grid_.rows)
     throw std::logic_error("FrameOutput::commit: the frame is incomplete");
-  if (png_) png_->commit();
-  if (exr_) exr_->commit();
+  for (auto& s : sinks_) s->commit();
 }
 
 // Missing tiles are resolved empty (transparent, AOVs "nothing"), row by row from the top so
 // nothing waits in ready_. A row none of whose tiles arrived is the same strip every time:
-// built and encoded once per height and appended as often as needed, so an interrupted
+// built and prepared once per height and appended as often as needed, so an interrupted
 // 65536^2 render writes its image so far without encoding billions of empty pixels.
 void FrameOutput::flush_all_missing() {
-  std::map<int, std::unique_ptr<Strip>> empty;  // by height
+  std::map<int, std::unique_ptr<Row>> empty;  // by height
   for (int row = 0; row < grid_.rows; ++row) {
     std::vector<size_t> missing;
     bool whole_row = false;
@@ -167,12 +268,11 @@ void FrameOutput::flush_all_missing() {
         for (size_t i : missing) added_[i] = 1;
     }
     if (!whole_row) {
-      for (size_t i : missing)
-        add(resolve(i, TileBuffer(grid_.rect(i), spec_.aovs), bool(png_), bool(exr_)));
+      for (size_t i : missing) add(resolve(i, TileBuffer(grid_.rect(i), spec_.aovs), plan_));
       continue;
     }
-    std::unique_ptr<Strip>& e = empty[grid_.rect(missing[0]).height()];
-    if (!e) e = empty_strip(row);
+    std::unique_ptr<Row>& e = empty[grid_.rect(missing[0]).height()];
+    if (!e) e = empty_row(row);
     const std::lock_guard<std::mutex> lock(write_mu_);
     if (next_row_ != row) throw std::logic_error("FrameOutput: rows out of order");
     append(*e);
@@ -180,16 +280,15 @@ void FrameOutput::flush_all_missing() {
   }
 }
 
-std::unique_ptr<FrameOutput::Strip> FrameOutput::empty_strip(int row) const {
+std::unique_ptr<FrameOutput::Row> FrameOutput::empty_row(int row) const {
   const size_t first = size_t(row) * size_t(grid_.cols);
-  std::unique_ptr<Strip> s = new_strip(grid_.rect(first).height());
+  std::unique_ptr<Row> r = new_row(grid_.rect(first).height());
   for (size_t i = first; i < first + size_t(grid_.cols); ++i) {
-    const TileRect r = grid_.rect(i);
-    copy_into(*s, resolve(i, TileBuffer(r, spec_.aovs), bool(png_), bool(exr_)), r);
+    const TileRect t = grid_.rect(i);
+    copy_into(*r, resolve(i, TileBuffer(t, spec_.aovs), plan_), t);
   }
-  if (png_) s->band = PngStream::encode(s->rgba8.data(), spec_.width, s->rows);
-  s->rgba8 = {};
-  return s;
+  prepare(*r);
+  return r;
 }
 
 fs::path FrameOutput::with_suffix(const fs::path& p, const std::string& suffix) {
@@ -205,8 +304,11 @@ void FrameOutput::commit_incomplete() {
 
 void FrameOutput::commit_partial(const std::string& suffix) {
   flush_all_missing();
-  if (png_) png_->commit_as(with_suffix(spec_.png, suffix));
-  if (exr_) exr_->commit_as(with_suffix(spec_.exr, suffix));
+  for (size_t s = 0; s < sinks_.size(); ++s)
+    if (sink_files_[s].empty())
+      sinks_[s]->commit();
+    else
+      sinks_[s]->commit_as(with_suffix(sink_files_[s], suffix));
 }
 
 }  // namespace anamorph

@@ -73,10 +73,9 @@ MemoryNeed estimate_render_memory(const Scene& scene, const RenderShape& r) {
     const uint64_t tile = uint64_t(r.tile_size) * uint64_t(r.tile_size);
     need.parts.emplace_back("tiles in flight", uint64_t(std::max(1, r.threads)) * tile * per_pixel);
   }
-  // The output's strips, one tile row each: PNG as 8-bit RGBA (plus its deflate band), EXR as
-  // float RGBA and AOV layers.
+  // The output's strips, one tile row each, in the layers and encodings the sinks take.
   const uint64_t strip_pixels = uint64_t(r.width) * uint64_t(r.tile_size);
-  const uint64_t strip = strip_pixels * ((r.png ? 4 * 2 : 0) + (r.exr ? 16 + 4 * r.aov_floats : 0));
+  const uint64_t strip = strip_pixels * r.strip_bytes_per_pixel;
   need.parts.emplace_back("output strips", strip * strips_in_flight(r.threads));
   if (r.output_image)
     need.parts.emplace_back("the whole output image", pixels * (16 + 4 * r.aov_floats + 4));

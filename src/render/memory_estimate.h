@@ -19,7 +19,9 @@ struct RenderShape {
   size_t aov_floats = 0;     // per pixel
   bool whole_film = false;   // the frame kept in a film (pass renders), not streamed tiles
   bool active_mask = false;  // per-pixel adaptive sampling's one byte a pixel
-  bool png = false, exr = false;
+  // What a pixel of an output strip (a tile row) costs the sinks, their copies included
+  // (io/image_sink.h: strip_bytes_per_pixel): 8 for a PNG, 16 + 4 * aov_floats for an EXR.
+  size_t strip_bytes_per_pixel = 0;
   bool output_image = false;  // a whole output image as well (the coin overlay)
 };
 

@@ -26,6 +26,7 @@ namespace anamorph {
 class Accel;
 class Lights;
 class TileFarm;
+class TileSession;
 
 struct Progress {
   double fraction = 0;  // of all samples
@@ -106,20 +107,24 @@ class Renderer {
   // samples, handed to `sink` as it completes. Only for settings streams() accepts.
   RenderStats render_tiles(const TileGrid& grid, const RenderOptions& opt,
                            const std::vector<uint8_t>& skip, const TileSink& sink) const;
-  // The same, each tile resolved to the output files' formats where it was rendered (on this
-  // process's threads, or on a farm's workers, which then send 4 or 16 bytes a pixel, not 32).
+  // The same, each tile resolved to `plan` (the layers and encodings the outputs take:
+  // FrameOutput::plan) where it was rendered: on this process's threads, or on a farm's workers,
+  // which then send 4 or 16 bytes a pixel, not 32.
   RenderStats render_resolved(const TileGrid& grid, const RenderOptions& opt,
-                              const std::vector<uint8_t>& skip, bool png, bool exr,
+                              const std::vector<uint8_t>& skip,
+                              const std::vector<LayerRequest>& plan,
                               const std::function<void(ResolvedTile&&)>& sink) const;
   // Whether a tile can be rendered alone: all but per-pixel adaptive sampling.
   static bool streams(const RenderSettings& rs);
+  // The state tiles of a `width` x `height` frame of this renderer's scene are rendered with
+  // (render/tile_session.h), summing `aovs`; a FarmOnly renderer has none (std::logic_error).
+  std::unique_ptr<TileSession> session(std::vector<Aov> aovs, int width, int height,
+                                       const std::atomic<bool>* cancel = nullptr) const;
   const Accel& accel() const { return *accel_; }
 
  private:
-  friend class TileSession;
-  struct Run;
   RenderStats whole_tiles(const TileGrid& grid, const RenderOptions& opt,
-                          const std::vector<uint8_t>& skip, bool png, bool exr,
+                          const std::vector<uint8_t>& skip, const std::vector<LayerRequest>* plan,
                           const TileSink& sink,
                           const std::function<void(ResolvedTile&&)>& resolved) const;
   RenderStats render_passes(Film& film, const RenderOptions& opt) const;

@@ -14,6 +14,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/integrators.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lights.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_job.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/local_threads.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/render_run.cpp
   ${CMAKE_CURRENT_LIST_DIR}/renderer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/shading.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_buffer.cpp

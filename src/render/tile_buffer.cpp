@@ -73,7 +73,13 @@ TileBuffer::TileBuffer(const TileRect& rect, const std::vector<Aov>& aovs)
       aovs_(aovs),
       aov_floats_(anamorph::aov_floats(aovs)),
       px_(rect.pixels()),
-      aov_(rect.pixels() * aov_floats_) {}
+      aov_(rect.pixels() * aov_floats_) {
+  size_t offset = 0;
+  for (Aov a : aovs_) {
+    aov_offsets_.push_back(offset);
+    offset += aov_info(a).channels.size();
+  }
+}
 
 void TileBuffer::reset(const TileRect& rect) {
   rect_ = rect;
@@ -131,22 +137,38 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
   }
 }
 
+namespace {
+
+// One AOV's resolved channels from its sums `v` (a pixel's share of aov_sums()).
+void resolve_aov(Aov k, size_t channels, const PixelSum& p, const float* v, float* out) {
+  for (size_t c = 0; c < channels; ++c, ++v, ++out) {
+    if (k == Aov::Id)
+      *out = *v > 0 ? *v - 1 : -1.0f;
+    else if (k == Aov::Spp)
+      *out = float(p.spp);
+    else if (p.hits == 0)
+      *out = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
+    else
+      *out = *v / float(p.hits);
+  }
+}
+
+}  // namespace
+
 void TileBuffer::aov_values(int x, int y, float* out) const {
   const PixelSum& p = at(x, y);
   const float* v = aov_at(x, y);
   for (Aov k : aovs_) {
     const size_t nc = aov_info(k).channels.size();
-    for (size_t c = 0; c < nc; ++c, ++v, ++out) {
-      if (k == Aov::Id)
-        *out = *v > 0 ? *v - 1 : -1.0f;
-      else if (k == Aov::Spp)
-        *out = float(p.spp);
-      else if (p.hits == 0)
-        *out = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
-      else
-        *out = *v / float(p.hits);
-    }
+    resolve_aov(k, nc, p, v, out);
+    v += nc;
+    out += nc;
   }
+}
+
+void TileBuffer::aov_layer_values(int x, int y, size_t layer, float* out) const {
+  const Aov k = aovs_[layer];
+  resolve_aov(k, aov_info(k).channels.size(), at(x, y), aov_at(x, y) + aov_offsets_[layer], out);
 }
 
 double TileBuffer::standard_error(int x, int y) const {

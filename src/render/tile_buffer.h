@@ -116,6 +116,8 @@ class TileBuffer {
     out[3] = p.alpha / n;
   }
   void aov_values(int x, int y, float* out) const;  // aov_floats() values
+  // The resolved values of one AOV layer (aovs()[layer]) at a pixel: its channels.
+  void aov_layer_values(int x, int y, size_t layer, float* out) const;
   // Standard error of the pixel's mean luminance (per-pixel adaptive sampling).
   double standard_error(int x, int y) const;
 
@@ -126,6 +128,7 @@ class TileBuffer {
   void add_aovs(int x, int y, const AovSample& a);
   TileRect rect_;
   std::vector<Aov> aovs_;
+  std::vector<size_t> aov_offsets_;  // per layer: its first float in a pixel's AOV sums
   size_t aov_floats_;
   std::vector<PixelSum> px_;  // zeroed: a new tile has no samples
   std::vector<float> aov_;

@@ -1,8 +1,9 @@
-// Tiles rendered by other processes. A render given a TileFarm (RenderOptions::farm) renders no
-// tile itself: it decides which tiles to render and in what order, as it always does, and the
-// farm hands each one to whichever process asks for work next (dist/: MPI ranks), giving back the
-// tile's sums. The tiles' bits do not depend on where they were rendered (per-sample RNG), so a
-// farmed render equals a local one. The interface keeps MPI out of the renderer.
+// Where tiles are rendered. The renderer's tile loop (render/render_run.h) decides which tiles to
+// render and in what order, and a farm renders them: this process's threads
+// (render/local_threads.h), or, given as RenderOptions::farm, other processes (dist/: MPI ranks),
+// each tile handed to whichever asks for work next. A tile's bits do not depend on where it was
+// rendered (per-sample RNG, and every place renders through TileSession::render), so a farmed
+// render equals a local one. The interface keeps MPI out of the renderer.
 #pragma once
 
 #include <cstddef>
@@ -27,16 +28,17 @@ struct FarmTile {
   bool whole = true;
   SampleRange range;
   TileBuffer* sums = nullptr;
-  // Whole tiles for output files: resolved where rendered into the files' formats (8-bit sRGB for
-  // a PNG, floats for an EXR), 4 or 16 bytes a pixel to send instead of 32 of sums.
-  bool png = false, exr = false;
+  // Whole tiles for the outputs: resolved where rendered to these layers and encodings (what the
+  // sinks take: 4 bytes a pixel for 8-bit colour, 16 for float RGBA, instead of 32 of sums);
+  // null: the sums come back. Owned by the caller until the tile is back.
+  const std::vector<LayerRequest>* plan = nullptr;
 };
 
 // A tile back from the farm, with what it cost where it ran.
 struct FarmResult {
   size_t index = 0;
   std::unique_ptr<TileBuffer> tile;      // a whole tile (a pass's result is in FarmTile::sums)
-  std::optional<ResolvedTile> resolved;  // instead, when FarmTile::png or exr
+  std::optional<ResolvedTile> resolved;  // instead, when FarmTile::plan
   TileStats stats;
   double seconds = 0;
   int rank = 0;  // the process that rendered it (an MPI rank)
@@ -46,7 +48,8 @@ class TileFarm {
  public:
   virtual ~TileFarm() = default;
   // Asks `next` for a tile whenever a process wants work, until it returns nothing, and calls
-  // `done` (on the calling thread) for every tile as it comes back; returns when all are back.
+  // `done` for every tile as it comes back; returns when all are back. (Other processes: `done` on
+  // the calling thread; this process's threads: on each thread, for the tiles it rendered.)
   // A pass's `range.active` (the whole image's mask) is sent as the tile's part of it.
   virtual void run(const std::function<std::optional<FarmTile>()>& next,
                    const std::function<void(FarmResult&)>& done) = 0;

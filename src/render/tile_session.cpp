@@ -2,10 +2,11 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <chrono>
+
 #include "accel/accel.h"
 #include "render/adaptive.h"
 #include "render/lights.h"
-#include "render/renderer.h"
 
 namespace anamorph {
 
@@ -42,21 +43,43 @@ struct TileSession::Workspaces {
   tbb::enumerable_thread_specific<AdaptiveWorkspace> local;
 };
 
-TileSession::TileSession(const Renderer& r, bool aovs, int width, int height,
+TileSession::TileSession(const World& w, std::vector<Aov> aovs, int width, int height,
                          const std::atomic<bool>* cancel)
-    : rs_(r.scene_.render),
-      ctx_{r.scene_, *r.accel_, *r.lights_, rs_.max_depth, rs_.bailout, cancel},
-      job_(r.scene_, *r.accel_, ctx_, width, height, aovs),
+    : rs_(w.scene.render),
+      aovs_(std::move(aovs)),
+      ctx_{w.scene, w.accel, w.lights, rs_.max_depth, rs_.bailout, cancel},
+      job_(w.scene, w.accel, ctx_, width, height, !aovs_.empty()),
       sampler_(job_),
       spaces_(std::make_unique<Workspaces>()) {
   // The paper's adaptive supersampling: corners shared between pixels, squares split where they
   // differ, stretched pixels split from the start.
   if (rs_.adaptive() && rs_.antialias == Antialias::Lattice)
     lattice_ =
-        std::make_unique<AdaptiveGrid>(*r.scene_.camera, width, height, rs_, r.accel_->bounds());
+        std::make_unique<AdaptiveGrid>(*w.scene.camera, width, height, rs_, w.accel.bounds());
 }
 
 TileSession::~TileSession() = default;
+
+FarmResult TileSession::render(const FarmTile& t, std::unique_ptr<TileBuffer>& buffer) const {
+  FarmResult r;
+  r.index = t.index;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!t.whole) {
+    samples(t.range, *t.sums, r.stats);
+  } else {
+    if (buffer)
+      buffer->reset(t.rect);
+    else
+      buffer = std::make_unique<TileBuffer>(t.rect, aovs_);
+    whole(*buffer, r.stats);
+    if (t.plan)
+      r.resolved = resolve(t.index, *buffer, *t.plan);
+    else
+      r.tile = std::move(buffer);
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
 
 void TileSession::whole(TileBuffer& tile, TileStats& st) const {
   if (lattice_)

@@ -27,9 +27,9 @@ class Api {
 
  private:
   std::optional<HttpResponse> refuse(const HttpRequest& q) const;
+  // An /api/ call through the route table (server/api_routes.cpp).
   HttpResponse route_api(const HttpRequest& q, const std::function<bool()>& client_gone);
   HttpResponse page(const HttpRequest& q) const;
-  HttpResponse frame(const HttpRequest& q, const std::function<bool()>& client_gone);
   Editor& editor_;
   ApiOptions opt_;
 };

@@ -313,39 +313,45 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
     r.last = req.frames ? req.frames->second : r.first;
     r.done_frames = 0;
   }
-  r.thread = std::thread([this, job = std::move(job), &r, stem]() mutable {
-    const auto start = std::chrono::steady_clock::now();
-    const int count = r.last - r.first + 1;
-    std::string error;
-    // (the final render reads the scene's files again, under the same rule as an edit)
-    const ScopedReadConfinement confined(confinement());
-    try {
-      job.cancel = &r.cancel;
-      for (int f = r.first; f <= r.last && !r.cancel; ++f) {
-        if (r.sequence) job.frame = f;
-        job.png = r.png ? r.folder / r.file_name(stem, f, "png") : fs::path();
-        job.exr = r.exr ? r.folder / r.file_name(stem, f, "exr") : fs::path();
-        const int done = f - r.first;
-        job.progress = [&r, start, done, count](double fraction, double) {
-          std::lock_guard rl(r.mu);
-          r.fraction = (done + fraction) / count;
-          r.seconds =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        };
-        final_renderer_(job);
-        std::lock_guard rl(r.mu);
-        r.done_frames = done + 1;
-      }
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    std::lock_guard rl(r.mu);
-    r.state = r.cancel ? "cancelled" : error.empty() ? "done" : "failed";
-    r.error = r.cancel ? "" : error;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (r.state == "done") r.fraction = 1;
-  });
+  r.thread = std::thread(
+      [this, job = std::move(job), stem]() mutable { render_frames(std::move(job), stem); });
   return std::nullopt;
+}
+
+// The render thread: every frame asked for into the render folder, the progress and the outcome
+// in render_.
+void Editor::render_frames(FinalRenderJob job, const std::string& stem) {
+  Render& r = *render_;
+  const auto start = std::chrono::steady_clock::now();
+  const int count = r.last - r.first + 1;
+  std::string error;
+  // (the final render reads the scene's files again, under the same rule as an edit)
+  const ScopedReadConfinement confined(confinement());
+  try {
+    job.cancel = &r.cancel;
+    for (int f = r.first; f <= r.last && !r.cancel; ++f) {
+      if (r.sequence) job.frame = f;
+      job.files.clear();
+      if (r.png) job.files.push_back(r.folder / r.file_name(stem, f, "png"));
+      if (r.exr) job.files.push_back(r.folder / r.file_name(stem, f, "exr"));
+      const int done = f - r.first;
+      job.progress = [&r, start, done, count](double fraction, double) {
+        std::lock_guard rl(r.mu);
+        r.fraction = (done + fraction) / count;
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      };
+      final_renderer_(job);
+      std::lock_guard rl(r.mu);
+      r.done_frames = done + 1;
+    }
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  std::lock_guard rl(r.mu);
+  r.state = r.cancel ? "cancelled" : error.empty() ? "done" : "failed";
+  r.error = r.cancel ? "" : error;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (r.state == "done") r.fraction = 1;
 }
 
 bool Editor::cancel_render() {

@@ -45,7 +45,7 @@ struct FinalRenderJob {
   std::string text;
   std::filesystem::path scene_file;  // where relative paths resolve
   double frame = 0;
-  std::filesystem::path png, exr;
+  std::vector<std::filesystem::path> files;  // each in the format its name says
   std::function<void(double fraction, double seconds)> progress;
   const std::atomic<bool>* cancel = nullptr;  // set: stop as soon as possible (throw)
 };
@@ -126,6 +126,7 @@ class Editor {
 
  private:
   struct Render;
+  void render_frames(FinalRenderJob job, const std::string& stem);
   std::unique_ptr<Scene> load(const toml::table& t, bool view_only,
                               std::vector<std::string>* warnings);
   EditOutcome show_new(const toml::table& next, const std::function<void()>& commit);

@@ -8,6 +8,7 @@
 #include <chrono>
 
 #include "render/film.h"
+#include "render/frame_output.h"
 #include "render/renderer.h"
 
 namespace anamorph::server {
@@ -47,6 +48,30 @@ RenderSettings preview_settings(const RenderSettings& scene, const PreviewSettin
     rs.sampler = SamplerKind::Stratified;
   return rs;
 }
+
+// The preview as a sink of the render's output: the beauty as 8-bit sRGB RGBA rows gathered into
+// a frame, published once complete.
+class PreviewSink final : public ImageSink {
+ public:
+  PreviewSink(std::shared_ptr<PreviewFrame> frame,
+              std::function<void(std::shared_ptr<PreviewFrame>)> publish)
+      : frame_(std::move(frame)), publish_(std::move(publish)) {}
+  const std::vector<LayerRequest>& requests() const override {
+    static const std::vector<LayerRequest> r{{"", Encoding::Srgb8}};
+    return r;
+  }
+  void prepare(Strip&) const override {}
+  void append(const Strip& s) override {
+    const std::vector<unsigned char>& px = s.planes[0].u8;
+    frame_->rgba.append(px.begin(), px.end());
+  }
+  void commit() override { publish_(std::move(frame_)); }
+  void commit_as(const std::filesystem::path&) override { commit(); }
+
+ private:
+  std::shared_ptr<PreviewFrame> frame_;
+  std::function<void(std::shared_ptr<PreviewFrame>)> publish_;
+};
 
 // Samples per pixel of the refined preview: the scene's own count, or for an adaptive scheme
 // (whose count varies) the preview's limit.
@@ -257,9 +282,13 @@ bool Preview::render_frames(const Job& job) {
       frame->pass = step.coarse ? 0 : pass + 1;
       frame->passes = step.coarse ? 0 : passes.load();
       frame->seconds = seconds_since(job.arrived);
-      const std::vector<unsigned char> px = f.output_rgba8();
-      frame->rgba.assign(px.begin(), px.end());
-      publish(std::move(frame));
+      std::vector<std::unique_ptr<ImageSink>> sink;
+      sink.push_back(std::make_unique<PreviewSink>(
+          std::move(frame),
+          [this](std::shared_ptr<PreviewFrame> done) { publish(std::move(done)); }));
+      FrameOutput out({step.w, step.h, f.grid().size, {}, {}, {}}, std::move(sink));
+      out.add_tiles(f);
+      out.commit_incomplete();
     };
     const RenderStats st = renderer_->render(film, opt);
     if (st.cancelled || cancel_) {

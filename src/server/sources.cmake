@@ -23,6 +23,8 @@ add_library(anamorph_server STATIC
   ${CMAKE_CURRENT_LIST_DIR}/editor.cpp
   ${CMAKE_CURRENT_LIST_DIR}/editor_views.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_json.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/api_routes.cpp
   ${web_cpp})
 # (its headers name toml++ and nlohmann::json types: their users compile them the same way)
 target_link_libraries(anamorph_server PUBLIC anamorph_core Boost::headers Threads::Threads

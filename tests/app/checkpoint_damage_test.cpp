@@ -37,7 +37,7 @@ const CheckpointIdentity kId = {{"anamorph", "test"}, {"camera.fov", "90"}, {"co
 ResolvedTile tile(size_t index) {
   ResolvedTile t;
   t.index = index;
-  t.rgba8.assign(4, static_cast<unsigned char>(index));
+  t.planes.emplace_back().u8.assign(4, static_cast<unsigned char>(index));
   return t;
 }
 

@@ -118,7 +118,10 @@ TEST(Cli, BadSceneExitCode2WithLocationAndNoOutput) {
     EXPECT_FALSE(fs::exists(out)) << "no output for a bad scene";
   }
   EXPECT_EQ(run("render " + (d / "nope.toml").string()).code, 2);
-  EXPECT_EQ(run("render " + write(d / "s.toml", kSmall) + " -o " + (d / "x.jpg").string()).code, 2);
+  // An output no sink writes: the one message, naming the extension and every supported one.
+  const Result jpg = run("render " + write(d / "s.toml", kSmall) + " -o " + (d / "x.jpg").string());
+  EXPECT_EQ(jpg.code, 2) << jpg.out;
+  EXPECT_CONTAINS(jpg.out, "unsupported extension '.jpg' (supported: .png, .exr)");
   fs::remove_all(d);
 }
 

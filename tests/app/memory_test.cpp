@@ -28,7 +28,7 @@ TEST(MemoryEstimate, FilmAndStreamedFramesCostWhatTheLayoutSays) {
   film.aov_floats = 6;
   film.whole_film = true;
   film.active_mask = true;
-  film.exr = true;
+  film.strip_bytes_per_pixel = 16 + 4 * 6;  // an EXR with the AOVs
   const MemoryNeed f = estimate_render_memory(scene, film);
   ASSERT_FALSE(f.parts.empty());
   EXPECT_EQ(f.parts[0].second, 1000u * 500u * (32u + 24u)) << f.describe();
@@ -91,7 +91,7 @@ TEST(MemoryLimit, AnAddressSpaceLimitIsRespected) {
   // estimate, not rendered: it would take minutes.)
   RenderShape shape;
   shape.width = shape.height = 16384;
-  shape.exr = true;
+  shape.strip_bytes_per_pixel = 16;  // an EXR
   shape.threads = 2;
   EXPECT_LT(estimate_render_memory(Scene{}, shape).total(), uint64_t(100) << 20);
 #endif

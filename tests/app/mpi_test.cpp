@@ -374,16 +374,18 @@ TEST(MpiWire, WholeTilesComeBackWithEveryPixelOrResolved) {
   EXPECT_THROW(dist::decode_result(back.data(), back.size(), {}, sent), std::runtime_error);
 
   // Resolved where rendered: the output's bytes, exactly as resolving at the head would give.
-  sent.png = sent.exr = true;
-  const ResolvedTile local = resolve(3, tile, true, true);
+  // (The layers and encodings a PNG and an EXR with the albedo take.)
+  const std::vector<LayerRequest> png_and_exr{
+      {"", Encoding::Srgb8}, {"", Encoding::Float32}, {"albedo", Encoding::Float32}};
+  sent.plan = &png_and_exr;
+  const ResolvedTile local = resolve(3, tile, png_and_exr);
   const std::vector<char> bytes = dist::encode_resolved(local, tile.rect(), TileStats{}, 0.25);
   const FarmResult rr = dist::decode_result(bytes.data(), bytes.size(), {Aov::Albedo}, sent);
   ASSERT_TRUE(rr.resolved.has_value());
-  EXPECT_EQ(rr.resolved->rgba8, local.rgba8);
-  EXPECT_EQ(rr.resolved->rgba, local.rgba);
-  EXPECT_EQ(rr.resolved->aov, local.aov);
+  EXPECT_EQ(rr.resolved->planes, local.planes);
   // Sent for a PNG only, the EXR's floats do not fit.
-  sent.exr = false;
+  const std::vector<LayerRequest> png{{"", Encoding::Srgb8}};
+  sent.plan = &png;
   EXPECT_THROW(dist::decode_result(bytes.data(), bytes.size(), {Aov::Albedo}, sent),
                std::runtime_error);
 }

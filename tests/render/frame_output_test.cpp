@@ -21,8 +21,7 @@ FrameOutputSpec spec(const fs::path& dir) {
   FrameOutputSpec s;
   s.width = 70, s.height = 100, s.tile_size = 32;
   s.aovs = {Aov::Albedo, Aov::Depth};
-  s.png = dir / "out.png";
-  s.exr = dir / "out.exr";
+  s.files = {dir / "out.png", dir / "out.exr"};
   return s;
 }
 
@@ -35,7 +34,15 @@ ResolvedTile rendered(const FrameOutput& out, size_t index) {
   const Color c{0.1 * double(index + 1), 0.5, 0.25};
   for (int y = r.y0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x) t.add(x, y, c, 1.0, a);
-  return resolve(index, t, true, true);
+  return resolve(index, t, out.plan());
+}
+
+// The plane of `t` holding `layer` as floats.
+const std::vector<float>& floats(const FrameOutput& out, const ResolvedTile& t,
+                                 const std::string& layer) {
+  const auto& plan = out.plan();
+  const auto at = std::find(plan.begin(), plan.end(), LayerRequest{layer, Encoding::Float32});
+  return t.planes.at(size_t(at - plan.begin())).f32;
 }
 
 struct Expected {
@@ -53,14 +60,16 @@ Expected expected(const FrameOutput& out, const std::vector<size_t>& added) {
     const TileRect r = g.rect(i);
     const bool done = std::find(added.begin(), added.end(), i) != added.end();
     const ResolvedTile t =
-        done ? rendered(out, i) : resolve(i, TileBuffer(r, out.spec().aovs), true, true);
+        done ? rendered(out, i) : resolve(i, TileBuffer(r, out.spec().aovs), out.plan());
+    const std::vector<float>&rgba = floats(out, t, ""), &albedo = floats(out, t, "albedo"),
+          &depth = floats(out, t, "depth");
     size_t k = 0;
     for (int y = r.y0; y < r.y1; ++y)
       for (int x = r.x0; x < r.x1; ++x, ++k) {
         const size_t p = size_t(y) * size_t(g.width) + size_t(x);
-        std::copy_n(&t.rgba[k * 4], 4, &e.rgba[p * 4]);
-        std::copy_n(&t.aov[k * 4], 3, &e.albedo[p * 3]);
-        e.depth[p] = t.aov[k * 4 + 3];
+        std::copy_n(&rgba[k * 4], 4, &e.rgba[p * 4]);
+        std::copy_n(&albedo[k * 3], 3, &e.albedo[p * 3]);
+        e.depth[p] = depth[k];
       }
   }
   return e;

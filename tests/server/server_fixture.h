@@ -105,7 +105,7 @@ inline std::vector<unsigned char> render_rgba8(const Scene& scene) {
   return film.output_rgba8();
 }
 
-// Stands in for `anamorph render` (app/cmd_serve.cpp): loads the job's text and writes the PNG.
+// Stands in for `anamorph render` (app/cmd_serve.cpp): loads the job's text and writes its files.
 inline void test_final_render(const server::FinalRenderJob& j) {
   const Scene scene = load_scene_from_string(j.text, j.scene_file, {}, j.frame);
   const Renderer renderer(scene);
@@ -113,7 +113,7 @@ inline void test_final_render(const server::FinalRenderJob& j) {
   RenderOptions opt;
   opt.on_progress = [&](const Progress& p) { j.progress(p.fraction, p.seconds); };
   renderer.render(film, opt);
-  if (!j.png.empty()) write_png(j.png, film.output());
+  for (const fs::path& f : j.files) write_image(f, film.output());
 }
 
 // Whether `done()` becomes true within `seconds` (checked every 20 ms).
