@@ -66,5 +66,7 @@ void add_bench(CLI::App& app, std::function<int()>& run);
 void add_compare(CLI::App& app, std::function<int()>& run);
 void add_schema(CLI::App& app, std::function<int()>& run);
 void add_serve(CLI::App& app, std::function<int()>& run);
+void add_stmap(CLI::App& app, std::function<int()>& run);
+void add_warp(CLI::App& app, std::function<int()>& run);
 
 }  // namespace anamorph::app

@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   add_compare(app, run);
   add_schema(app, run);
   add_serve(app, run);
+  add_stmap(app, run);
+  add_warp(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

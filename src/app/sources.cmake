@@ -26,4 +26,8 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/form_factor_output.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_schema.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_serve.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cmd_stmap.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cmd_warp.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/stmap_options.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/source_texture.cpp
 )

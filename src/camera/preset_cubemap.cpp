@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 
+#include "camera/cube_faces.h"
 #include "camera/org_basic.h"
 #include "camera/preset_list.h"
 #include "camera/preset_util.h"
@@ -19,33 +20,12 @@ namespace anamorph {
 
 namespace {
 
-struct Face {
-  Vec3 axis, right, down;
-};
+using Face = CubeFace;
+using FaceTable = CubeFaceTable;
 
-using FaceTable = std::array<Face, 6>;
-
-constexpr Vec3 X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
-
-// right = axis x up, down = -up.
-const FaceTable kInside = {{
-    {X, Z, -Y},    // +X: up +y
-    {-X, -Z, -Y},  // -X: up +y
-    {Y, X, -Z},    // +Y: up +z (back), so -Z (front) is at the bottom edge
-    {-Y, X, Z},    // -Y: up -z (front), at the top edge
-    {Z, -X, -Y},   // +Z: up +y
-    {-Z, X, -Y},   // -Z: up +y
-}};
-
-// OpenGL 4.6 table 8.19: s = (sc / |ma| + 1) / 2, t = (tc / |ma| + 1) / 2.
-const FaceTable kOpenGl = {{
-    {X, -Z, -Y},   // +rx: sc = -rz, tc = -ry
-    {-X, Z, -Y},   // -rx: sc = +rz, tc = -ry
-    {Y, X, Z},     // +ry: sc = +rx, tc = +rz
-    {-Y, X, -Z},   // -ry: sc = +rx, tc = -rz
-    {Z, X, -Y},    // +rz: sc = +rx, tc = -ry
-    {-Z, -X, -Y},  // -rz: sc = -rx, tc = -ry
-}};
+// The tables (camera/cube_faces.h).
+const FaceTable& kInside = kCubeInside;
+const FaceTable& kOpenGl = kCubeOpenGl;
 
 struct CubeGeometry {
   const FaceTable* faces = &kInside;
@@ -69,20 +49,9 @@ class CubemapDir final : public DirFunctionLoop<CubemapDir> {
 };
 
 std::vector<Vec2> cubemap_project(const CubeGeometry& g, const Vec3& q) {
-  // The face whose axis has the largest projection.
-  int best = -1;
-  double best_dot = 0;
-  for (int i = 0; i < 6; ++i) {
-    const double d = dot(q, (*g.faces)[size_t(i)].axis);
-    if (d > best_dot) best_dot = d, best = i;
-  }
-  if (best < 0) return {};
-  const Face& f = (*g.faces)[size_t(best)];
-  const double s = 0.5 * (dot(q, f.right) / best_dot + 1),
-               t = 0.5 * (dot(q, f.down) / best_dot + 1);
-  Vec2 uv{((best % g.cols) + s) / g.cols, ((best / g.cols) + t) / g.rows};
-  if (!clamp_to_image(&uv)) return {};
-  return {uv};
+  std::optional<Vec2> uv = cube_layout_position(*g.faces, g.cols, g.rows, q);
+  if (!uv || !clamp_to_image(&*uv)) return {};
+  return {*uv};
 }
 
 const std::string_view kLayouts[] = {"3x2", "6x1"};

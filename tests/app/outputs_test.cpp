@@ -82,6 +82,9 @@ const OutputOption kOptions[] = {
     {"formfactors", "ff.csv", "{scene} --samples 1 --rays 1 -o {d}/ff.csv", "-o "},
     {"formfactors", "ff.json", "{scene} --samples 1 --rays 1 -o {d}/ff.json", "-o "},
     {"schema", "schema.json", "-o {d}/schema.json", "-o "},
+    {"stmap", "m.exr", "{scene} --source equirect -o {d}/m.exr", "-o "},
+    // (The input image is not read before the outputs are checked: it need not exist.)
+    {"warp", "w.png", "{scene} {d}/in.png --source fisheye:180 -o {d}/w.png", "-o "},
 };
 // Commands that write no file of their own (stdout only), and serve, whose files are the
 // editor's (its save replaces the scene it edits on purpose; tests/server hold it).

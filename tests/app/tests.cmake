@@ -47,3 +47,7 @@ anamorph_add_test(test_honest
   ${CMAKE_CURRENT_LIST_DIR}/honest_test.cpp
 )
 add_dependencies(test_honest anamorph)
+anamorph_add_test(test_stmap_cli
+  ${CMAKE_CURRENT_LIST_DIR}/stmap_cli_test.cpp
+)
+add_dependencies(test_stmap_cli anamorph)

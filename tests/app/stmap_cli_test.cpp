@@ -1,0 +1,191 @@
+// `anamorph stmap` and `anamorph warp` end to end: the map's channels and convention, warp
+// (bilinear) against the STMap applied by an independent implementation (numpy, reading both
+// EXRs with OpenImageIO's Python bindings), warp (anisotropic) of an equirect render against a
+// direct render of the fisheye, and bad inputs (exit 2, named).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "cli_util.h"
+#include "io/image_io.h"
+#include "run_fixture.h"
+#include "test_util.h"
+
+namespace anamorph {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CliResult;
+
+#define EXPECT_CONTAINS(hay, needle) \
+  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
+
+// The plaza (eight columns capped in eight hues around a checkered floor) seen from one eye
+// point; the equirect looks along -z with y up, the frame of the source projections.
+std::string scene(const std::string& camera, int w, int h, int spp) {
+  return "include = \"" + (test::source_dir() / "examples/apps/plaza_world.toml").string() +
+         "\"\n[image]\nwidth = " + std::to_string(w) + "\nheight = " + std::to_string(h) +
+         "\n[render]\nintegrator = \"whitted\"\nmax_depth = 3\nspp = " + std::to_string(spp) +
+         "\n[camera]\nlook_from = [0.3, 0.9, 1.5]\n" + camera;
+}
+const char* kEquirect = "preset = \"equirectangular\"\nlook_at = [0.3, 0.9, 0.5]\n";
+const char* kFisheye = "preset = \"fisheye\"\nfov = 180\nlook_at = [1.3, 1.4, 0.8]\n";
+
+struct Fixture {
+  test::ScratchDir dir{"stmap"};
+  std::string path(const std::string& name) const { return (dir.dir / name).string(); }
+};
+
+bool have_python_oiio() {
+  return test::run_shell("/usr/bin/python3 -c 'import OpenImageIO, numpy'").code == 0;
+}
+
+TEST(StmapCli, WritesAFloatMapWithTheDocumentedChannels) {
+  Fixture fx;
+  const std::string eq = fx.dir.write("eq.toml", scene(kEquirect, 32, 16, 1));
+  const CliResult r = test::run_cli("stmap " + eq + " --source equirect -o " + fx.path("m.exr"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  int w = 0, h = 0;
+  auto ch = read_exr_channels(fx.path("m.exr"), &w, &h);
+  ASSERT_EQ(w * h, 32 * 16);
+  for (const char* c : {"R", "G", "B", "A", "direction.X", "direction.Y", "direction.Z"})
+    ASSERT_EQ(ch.count(c), 1u) << "no channel " << c;
+  // The identity: s = (x + 0.5) / W, t from the bottom, direction the equirect's.
+  double worst = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      worst = std::max({worst, std::abs(ch["R"][i] - (x + 0.5) / w),
+                        std::abs(ch["G"][i] - (1 - (y + 0.5) / h)), std::abs(ch["A"][i] - 1.0)});
+    }
+  EXPECT_LT(worst, 1e-6);
+  // Top row center looks up: direction.Y near 1; the center looks along -z.
+  EXPECT_GT(ch["direction.Y"][16], 0.99f);
+  EXPECT_LT(ch["direction.Z"][size_t(8) * w + 16], -0.99f);
+  if (!have_python_oiio()) GTEST_SKIP() << "no /usr/bin/python3 with OpenImageIO and numpy";
+  const CliResult f = test::run_shell(
+      "/usr/bin/python3 -c 'import OpenImageIO as o, sys; s = "
+      "o.ImageInput.open(sys.argv[1]).spec(); "
+      "print(s.format, s.channelnames)' " +
+      fx.path("m.exr"));
+  EXPECT_CONTAINS(f.out, "float");
+  EXPECT_CONTAINS(f.out, "'R', 'G', 'B', 'A'");
+}
+
+// numpy's bilinear lookup through the STMap (s * W - 0.5, (1 - t) * H - 0.5, u wrapping, v
+// clamped, times alpha) against warp --filter bilinear: max |difference|.
+const char* kApplyStmap = R"(
+import sys, numpy as np, OpenImageIO as o
+def read(p):
+    i = o.ImageInput.open(p); a = i.read_image(format='float'); i.close(); return a
+src, m, w = read(sys.argv[1]), read(sys.argv[2]), read(sys.argv[3])
+H, W = src.shape[:2]
+x = m[..., 0].astype(np.float64) * W - 0.5
+y = (1 - m[..., 1].astype(np.float64)) * H - 0.5
+x0, y0 = np.floor(x), np.floor(y)
+fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+def at(xi, yi):
+    return src[np.clip(yi, 0, H - 1).astype(int), np.mod(xi, W).astype(int)].astype(np.float64)
+out = ((1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+       fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1))) * m[..., 3:4]
+d = np.abs(out[..., :3] - w[..., :3])
+print('max_abs_diff %.3g at %s, covered %d' % (d.max(), np.unravel_index(d.argmax(), d.shape),
+      int(m[..., 3].sum())))
+sys.exit(0 if d.max() <= 1e-4 else 1)
+)";
+
+TEST(StmapCli, WarpBilinearEqualsTheStmapAppliedByNumpy) {
+  if (!have_python_oiio()) GTEST_SKIP() << "no /usr/bin/python3 with OpenImageIO and numpy";
+  Fixture fx;
+  const std::string eq = fx.dir.write("eq.toml", scene(kEquirect, 128, 64, 2));
+  const std::string fish = fx.dir.write("fish.toml", scene(kFisheye, 48, 48, 1));
+  ASSERT_EQ(test::run_cli("render -q " + eq + " -o " + fx.path("eq.exr")).code, 0);
+  CliResult r = test::run_cli("warp " + fish + " " + fx.path("eq.exr") +
+                              " --source equirect --filter bilinear -o " + fx.path("w.exr"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = test::run_cli("stmap " + fish + " --source equirect -o " + fx.path("m.exr"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string py = fx.dir.write("apply.py", kApplyStmap);
+  r = test::run_shell("/usr/bin/python3 " + py + " " + fx.path("eq.exr") + " " + fx.path("m.exr") +
+                      " " + fx.path("w.exr"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "max_abs_diff");
+}
+
+// Mean |warp - direct| and mean (warp - direct) over the covered pixels (RGB).
+void compare(const std::string& a, const std::string& b, double* mad, double* bias) {
+  int w = 0, h = 0, w2 = 0, h2 = 0;
+  auto x = read_exr_channels(a, &w, &h), y = read_exr_channels(b, &w2, &h2);
+  ASSERT_TRUE(w == w2 && h == h2);
+  double sum = 0, signed_sum = 0;
+  size_t n = 0;
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    if (y["A"][i] < 1) continue;
+    for (const char* c : {"R", "G", "B"}) {
+      sum += std::abs(x[c][i] - y[c][i]);
+      signed_sum += x[c][i] - y[c][i];
+      ++n;
+    }
+  }
+  *mad = sum / double(n), *bias = signed_sum / double(n);
+}
+
+// A fisheye warped from a 512 x 256 equirect render against the fisheye rendered directly (64 x
+// 64, both 16 spp): mean absolute difference (linear RGB) below 0.012 and |bias| below 0.002
+// (measured: 0.0061 and 0.0004; the equirect's 0.7 degree pixels against the fisheye's 2.8
+// degree ones, with both renders' noise).
+TEST(StmapCli, WarpOfAnEquirectRenderMatchesADirectRender) {
+  Fixture fx;
+  const std::string eq = fx.dir.write("eq.toml", scene(kEquirect, 512, 256, 16));
+  const std::string fish = fx.dir.write("fish.toml", scene(kFisheye, 64, 64, 16));
+  ASSERT_EQ(test::run_cli("render -q " + eq + " -o " + fx.path("eq.exr")).code, 0);
+  ASSERT_EQ(test::run_cli("render -q " + fish + " -o " + fx.path("direct.exr")).code, 0);
+  const CliResult r = test::run_cli("warp " + fish + " " + fx.path("eq.exr") +
+                                    " --source equirect -o " + fx.path("w.exr"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  double mad = 0, bias = 0;
+  compare(fx.path("w.exr"), fx.path("direct.exr"), &mad, &bias);
+  EXPECT_LT(mad, 0.012) << "mean |warp - direct|";
+  EXPECT_LT(std::abs(bias), 0.002) << "mean (warp - direct)";
+  std::printf("warp vs direct: mean abs %.4f, bias %.5f\n", mad, bias);
+}
+
+TEST(StmapCli, BadInputsExitTwoNamed) {
+  Fixture fx;
+  const std::string eq = fx.dir.write("eq.toml", scene(kEquirect, 32, 16, 1));
+  const std::string ortho =
+      fx.dir.write("o.toml", scene("preset = \"orthographic\"\nview_width = 2\n", 16, 16, 1));
+  const std::string img = fx.path("img.exr");
+  ASSERT_EQ(test::run_cli("render -q " + eq + " --width 30 --height 20 -o " + img).code, 0);
+  fx.dir.write("bad.png", "not a png at all");
+  struct Case {
+    std::string args, expect;
+  };
+  const Case cases[] = {
+      {"stmap " + eq + " --source mercator -o " + fx.path("m.exr"), "unknown projection"},
+      {"stmap " + eq + " --source fisheye:0 -o " + fx.path("m.exr"), "fisheye FOV"},
+      {"stmap " + eq + " --source equirect -o " + fx.path("m.png"), "use .exr"},
+      {"stmap " + ortho + " --source equirect -o " + fx.path("m.exr"), "not central"},
+      {"stmap " + eq + " --source equirect --inverse --source-size 0x3 -o " + fx.path("m.exr"),
+       "--source-size 0x3"},
+      {"warp " + eq + " " + img + " --source equirect -o " + fx.path("w.png"),
+       "needs an aspect of 2"},
+      {"warp " + eq + " " + fx.path("bad.png") + " --source equirect -o " + fx.path("w.png"),
+       "bad.png"},
+      {"warp " + eq + " " + fx.path("missing.exr") + " --source equirect -o " + fx.path("w.png"),
+       "missing.exr"},
+      {"warp " + ortho + " " + img + " --source fisheye:180 -o " + fx.path("w.png"), "not central"},
+      {"warp " + eq + " " + img + " --source equirect -o " + img, "the input image"},
+  };
+  for (const Case& c : cases) {
+    const CliResult r = test::run_cli(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.out;
+    EXPECT_CONTAINS(r.out, c.expect);
+  }
+  EXPECT_FALSE(fs::exists(fx.path("m.exr")) || fs::exists(fx.path("w.png")));
+}
+
+}  // namespace
+}  // namespace anamorph
