@@ -105,7 +105,7 @@ Bsdf make_bsdf(const Material& m, const Hit& h, const Vec3& wo, const TexCoord& 
     const double metallic = std::clamp(m.metallic * mr.z, 0.0, 1.0);
     const double rough = std::clamp(m.roughness * mr.y, 0.0, 1.0);
     b.diffuse = base * ((1 - metallic) * (1 - m.transmission));
-    const Color f0 = lerp(metallic, Color(0.04), base);
+    const Color f0 = lerp(metallic, m.dielectric_f0, base);
     const double a = rough * rough;
     if (a < 0.02) {
       b.mirror = f0;  // too sharp for a microfacet lobe: a mirror with the same tint

@@ -28,6 +28,9 @@ struct Material {
 
   // glTF metallic-roughness
   double metallic = 1, roughness = 1;
+  // A dielectric's reflectance at normal incidence (KHR_materials_specular: F0(ior) x
+  // specularColorFactor, at most 1, x specularFactor; 0.04 without the extension).
+  Color dielectric_f0{0.04, 0.04, 0.04};
   Texture metallic_roughness = Texture::constant({1, 1, 1});  // G = roughness, B = metallic
   Texture normal_map;  // tangent-space normal map (Kind::Constant = none)
   bool has_normal_map = false;
