@@ -14,7 +14,7 @@ Bsdf MetallicRoughnessMaterial::bsdf(const ShadingPoint& sp, const Vec3& wo) con
   const double metal = std::clamp(metallic * mr.z, 0.0, 1.0);
   const double rough = std::clamp(roughness * mr.y, 0.0, 1.0);
   b.diffuse = base * ((1 - metal) * (1 - transmission));
-  const Color f0 = lerp(metal, Color(0.04), base);
+  const Color f0 = lerp(metal, dielectric_f0, base);
   const double a = rough * rough;
   if (a < 0.02) {
     b.mirror = f0;  // too sharp for a microfacet lobe: a mirror with the same tint

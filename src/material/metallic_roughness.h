@@ -13,6 +13,9 @@ class MetallicRoughnessMaterial final : public Material {
   static constexpr std::string_view kType = "metallic_roughness";
 
   double metallic = 1, roughness = 1;
+  // A dielectric's reflectance at normal incidence (KHR_materials_specular: F0(ior) x
+  // specularColorFactor, at most 1, x specularFactor; 0.04 without the extension).
+  Color dielectric_f0{0.04, 0.04, 0.04};
   Texture metallic_roughness = Texture::constant({1, 1, 1});  // G = roughness, B = metallic
   double transmission = 0;                                    // smooth dielectric weight
 

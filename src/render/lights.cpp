@@ -1,5 +1,6 @@
 #include "render/lights.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "math/frame.h"
@@ -25,6 +26,7 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     e.L = l.intensity;
     e.p0 = l.position;
     e.dir = normalize(l.direction);
+    e.range = l.range;
     switch (l.kind) {
       case Light::Kind::Point:
         e.kind = Emitter::Kind::Point;
@@ -34,6 +36,9 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
         e.kind = Emitter::Kind::Spot;
         e.cos_inner = std::cos(radians(l.cone_angle));
         e.cos_outer = std::cos(radians(std::min(180.0, l.cone_angle + l.cone_falloff)));
+        e.falloff = l.spot_falloff;
+        if (l.cone_angle + l.cone_falloff > 0)
+          e.cycles_band = (1 - e.cos_outer) * (1 - l.cone_angle / (l.cone_angle + l.cone_falloff));
         power.push_back(2 * kPi * (1 - 0.5 * (e.cos_inner + e.cos_outer)) * luminance(e.L));
         break;
       case Light::Kind::Directional:
@@ -188,6 +193,40 @@ double Lights::pdf_environment(const Vec3& d) const {
   return pick * env_dist_.pdf(uv) / (2 * kPi * kPi * s);
 }
 
+double Lights::punctual_factor(const Emitter& e, const Vec3& wi, double dist) {
+  double f = 1;
+  if (e.range > 0) {
+    const double r = dist / e.range, w = std::clamp(1 - r * r * r * r, 0.0, 1.0);
+    f = w * w;
+  }
+  if (e.kind != Emitter::Kind::Spot) return f;
+  const double c = dot(-wi, e.dir);
+  if (c <= e.cos_outer) return 0;
+  switch (e.falloff) {
+    case Light::SpotFalloff::Smoothstep:
+      if (c < e.cos_inner) {
+        const double t = (c - e.cos_outer) / (e.cos_inner - e.cos_outer);
+        f *= t * t * (3 - 2 * t);
+      }
+      return f;
+    case Light::SpotFalloff::Gltf:
+      if (c < e.cos_inner) {
+        const double t = (c - e.cos_outer) / (e.cos_inner - e.cos_outer);
+        f *= t * t;
+      }
+      return f;
+    case Light::SpotFalloff::Cycles: {
+      const double x = c - e.cos_outer;
+      if (x < e.cycles_band) {
+        const double t = x / e.cycles_band;
+        f *= t * t * (3 - 2 * t);
+      }
+      return f * c;
+    }
+  }
+  return f;
+}
+
 Color Lights::emission_at(const Emitter& e, Vec2 uv) const {
   if (!e.material || e.material->emission.kind == Texture::Kind::Constant) return e.L;
   TexCoord tc;
@@ -205,15 +244,8 @@ bool Lights::sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
       if (!(d2 > 0)) return false;
       out->dist = std::sqrt(d2);
       out->wi = d / out->dist;
-      double falloff = 1;
-      if (e.kind == Emitter::Kind::Spot) {
-        const double c = dot(-out->wi, e.dir);
-        if (c <= e.cos_outer) return false;
-        if (c < e.cos_inner) {
-          const double t = (c - e.cos_outer) / (e.cos_inner - e.cos_outer);
-          falloff = t * t * (3 - 2 * t);  // smoothstep
-        }
-      }
+      const double falloff = punctual_factor(e, out->wi, out->dist);
+      if (!(falloff > 0)) return false;
       out->L = e.L * (falloff / d2);
       out->pdf = 1;
       out->delta = true;

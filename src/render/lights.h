@@ -55,6 +55,9 @@ class Lights {
     Vec2 uv0, uv1, uv2;                   // triangle uvs (textured emission)
     Vec3 dir;                             // spot axis / directional travel direction
     double cos_inner = 1, cos_outer = 1;  // spot
+    Light::SpotFalloff falloff = Light::SpotFalloff::Smoothstep;
+    double cycles_band = 0;  // spot, Cycles' falloff: the blend band in the cosine
+    double range = 0;        // point, spot: 0 unlimited
     double radius = 0, area = 0;
     const Material* material = nullptr;  // triangles and spheres: emission texture
     bool two_sided = true;
@@ -71,6 +74,9 @@ class Lights {
   };
 
   Color emission_at(const Emitter& e, Vec2 uv) const;
+  // A point or spot light's factor toward -wi beyond its intensity / distance^2: the spot's
+  // cone and the range's window.
+  static double punctual_factor(const Emitter& e, const Vec3& wi, double dist);
   Vec2 env_uv(const Vec3& d) const;
   Vec3 env_dir(Vec2 uv) const;
 

@@ -145,6 +145,41 @@ VirtualCameraParts read_preset(const TableReader& r, ImageInfo img, bool preset_
 
 }  // namespace
 
+namespace {
+
+// The model camera `gltf_camera` names.
+const ModelCamera& named_model_camera(const TableReader& r,
+                                      const std::vector<ModelCamera>& model_cameras) {
+  const toml::node* n = r.node("gltf_camera");
+  const std::optional<int64_t> idx = n->value<int64_t>();
+  if (!idx || *idx < 0) r.fail("gltf_camera", "expected the index of a camera (0, 1, ...)");
+  if (model_cameras.empty())
+    r.fail("gltf_camera",
+           "no loaded model contains a camera (Blender exports no camera for its panoramic "
+           "cameras; docs/gltf.md)");
+  if (size_t(*idx) >= model_cameras.size())
+    r.fail("gltf_camera", fmt::format("there are {} cameras in the loaded models (0..{})",
+                                      model_cameras.size(), model_cameras.size() - 1));
+  return model_cameras[size_t(*idx)];
+}
+
+// gltf_camera without a preset or functions takes the glTF camera's own projection: a preset's
+// key then has nothing to apply to, which the message says instead of "unknown key".
+void refuse_preset_keys(const TableReader& r) {
+  for (const auto& [k, v] : r.table()) {
+    const std::string_view key = k.str();
+    if (key == "coin" || find_param({camera_common_params()}, key)) continue;
+    for (const PresetInfo& p : camera_presets())
+      if (find_param({p.params}, key))
+        r.fail(key, fmt::format("a key of camera presets (e.g. \"{}\"): gltf_camera without a "
+                                "preset uses the glTF camera's own projection; name a preset "
+                                "(preset = \"{}\") to use {} with the glTF camera's pose",
+                                p.name, p.name, key));
+  }
+}
+
+}  // namespace
+
 CameraSpec read_camera(const TableReader& r, ImageInfo img,
                        const std::vector<ModelCamera>& model_cameras, bool preset_overridden,
                        std::vector<std::string>* warnings) {
@@ -152,17 +187,19 @@ CameraSpec read_camera(const TableReader& r, ImageInfo img,
   VirtualCameraParts& parts = spec.parts;
   ParamValues v;
   const bool composed = r.has("org") || r.has("dir");
-  if (r.has("gltf_camera")) {
+  const bool gltf_camera = r.has("gltf_camera");
+  // A preset's own look_from / look_at / up would place it a second time.
+  if (gltf_camera && r.has("preset"))
+    for (const char* key : {"look_from", "look_at", "up"})
+      if (r.has(key))
+        r.fail(key,
+               "conflicts with gltf_camera: the glTF camera node places the camera (move the "
+               "whole rig with `transform`)");
+  if (gltf_camera && !composed && !r.has("preset")) {
+    refuse_preset_keys(r);
     static constexpr std::string_view kAlso[] = {"coin"};
     v = r.params({camera_common_params()}, kAlso);
-    const auto idx = v.integer("gltf_camera");
-    if (model_cameras.empty()) r.fail("gltf_camera", "no loaded model contains a camera");
-    if (size_t(idx) >= model_cameras.size())
-      r.fail("gltf_camera", fmt::format("there are {} cameras in the loaded models (0..{})",
-                                        model_cameras.size(), model_cameras.size() - 1));
-    if (composed || r.has("preset"))
-      r.fail("gltf_camera", "cannot be combined with preset or org/dir");
-    parts = from_model_camera(model_cameras[size_t(idx)], img);
+    parts = from_model_camera(named_model_camera(r, model_cameras), img);
   } else if (composed) {
     if (r.has("preset")) r.fail("preset", "give either a preset or org/dir functions, not both");
     if (!r.has("org")) r.fail("org", "is required when dir is given");
@@ -181,6 +218,12 @@ CameraSpec read_camera(const TableReader& r, ImageInfo img,
           "image)");
   } else {
     parts = read_preset(r, img, preset_overridden, warnings, &v);
+  }
+  if (gltf_camera) {
+    const ModelCamera& mc = named_model_camera(r, model_cameras);
+    parts.world_from_camera = mc.world_from_camera;
+    if (composed || r.has("preset"))
+      parts.description += fmt::format(" at glTF camera '{}'", mc.name);
   }
   DepthOfField& dof = spec.dof;
   dof.aperture_radius = v.number("aperture_radius");

@@ -5,8 +5,14 @@
 //                 every root node. Nodes: `matrix` or T * R * S, accumulated down the hierarchy.
 //   meshes        each glTF mesh used by any node becomes ONE Prototype (one TriangleMesh per
 //                 primitive); every node using it adds an Instance. TRIANGLES are read, strips
-//                 and fans converted, points and lines skipped with a warning. Morph targets
-//                 are applied with the mesh's default weights (the static pose); skins ignored.
+//                 and fans converted, points and lines skipped with a warning. A node whose mesh
+//                 deforms (a skin, or morph targets whose weights are animated or its own) gets
+//                 a prototype of its own and a Deformer (gltf_rig.h) with the rest data; the
+//                 static pose is the file's nodes as written, deformed (skinned meshes live in
+//                 model space: their instance has the identity transform).
+//   animation     nodes, animations and skins into LoadedModel::rig (gltf_rig_reader.h).
+//   lights        KHR_lights_punctual, placed by their nodes, in the file's units
+//                 (gltf_lights.h converts them).
 //   attributes    POSITION, NORMAL, TEXCOORD_n (n from the material's textures) in any
 //                 component type, normalized or not, sparse, any byteStride (0 = packed).
 //                 Missing normals stay empty: the spec asks for flat shading then.
@@ -16,6 +22,7 @@
 //                 the texture itself is kept unscaled, value white), normal texture + scale,
 //                 emissive factor x texture (sRGB) x KHR_materials_emissive_strength, alphaMode
 //                 (BLEND becomes MASK at 0.5, with a warning), doubleSided, KHR_materials_ior,
+//                 KHR_materials_specular (its factors: the dielectric F0; textures not read),
 //                 samplers (wrap modes; magFilter NEAREST), KHR_texture_transform.
 //   cameras       perspective and orthographic, placed by their node.
 // Embedded images are decoded by tinygltf (stb); image files are read with read_image.
@@ -42,10 +49,13 @@
 #include "io/read_file.h"
 #include "io/read_log.h"
 #include "material/metallic_roughness.h"
+#include "scene/gltf_lights.h"
+#include "scene/gltf_rig_reader.h"
 #include "scene/load_common.h"
 #include "scene/load_gltf_accessor.h"
 #include "scene/load_mesh_repair.h"
 #include "scene/loaders.h"
+#include "scene/skinning.h"
 
 namespace anamorph {
 
@@ -54,9 +64,10 @@ namespace fs = std::filesystem;
 namespace {
 
 // Extensions whose content this loader maps into our data. Others are warned about.
-constexpr std::array<std::string_view, 4> kSupportedExtensions = {
-    "KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_mesh_quantization",
-    "KHR_materials_ior"};
+constexpr std::array<std::string_view, 6> kSupportedExtensions = {
+    "KHR_texture_transform", "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization", "KHR_materials_ior",
+    "KHR_lights_punctual",   "KHR_materials_specular"};
 
 bool supported(const std::string& ext) {
   return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), ext) !=
@@ -99,6 +110,23 @@ double number(const tinygltf::Value& obj, const char* key, double fallback) {
   if (!obj.IsObject() || !obj.Has(key)) return fallback;
   const tinygltf::Value& v = obj.Get(key);
   return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+// KHR_materials_specular's factors (its textures are not read): a dielectric's F0 =
+// min(F0(ior) x specularColorFactor, 1) x specularFactor, F0(ior) = ((ior - 1) / (ior + 1))^2.
+Color specular_f0(const tinygltf::Value& ext, double ior) {
+  const double f = std::clamp(number(ext, "specularFactor", 1.0), 0.0, 1.0);
+  Color c{1, 1, 1};
+  if (ext.IsObject() && ext.Has("specularColorFactor")) {
+    const tinygltf::Value& v = ext.Get("specularColorFactor");
+    if (v.IsArray() && v.ArrayLen() == 3)
+      for (int k = 0; k < 3; ++k)
+        if (v.Get(k).IsNumber()) c[k] = std::max(0.0, v.Get(k).GetNumberAsDouble());
+  }
+  const double r = (ior - 1) / (ior + 1), f0 = std::isfinite(r) ? r * r : 0.04;
+  Color out;
+  for (int k = 0; k < 3; ++k) out[k] = std::min(f0 * c[k], 1.0) * f;
+  return out;
 }
 
 Vec2 vec2(const tinygltf::Value& obj, const char* key, Vec2 fallback) {
@@ -195,9 +223,17 @@ class GltfBuilder {
         if (!is_child[i]) roots.push_back(int(i));
     }
     check_tree();
+    {
+      std::vector<std::string> w;
+      rig_ = read_rig(m_, w);
+      for (auto& x : w) warnings_.add(file_ + ": " + x);
+    }
     for (int r : roots) visit(r, Mat4::identity(), 0);
+    finish_rig(rig_);
+    rest_pose();
     finish_warnings();
     out_.warnings = warnings_.take();
+    out_.rig = std::make_shared<const GltfRig>(std::move(rig_));
     return std::move(out_);
   }
 
@@ -248,21 +284,92 @@ class GltfBuilder {
     if (n.mesh >= 0) {
       if (size_t(n.mesh) >= m_.meshes.size())
         throw LoadError(fmt::format("node {}: mesh {} does not exist", index, n.mesh));
-      if (n.skin >= 0) ++skinned_nodes_;
-      if (!n.weights.empty() && n.weights != m_.meshes[size_t(n.mesh)].weights)
-        ++node_weights_ignored_;
-      const int proto = prototype(n.mesh);
+      if (n.skin >= 0 && size_t(n.skin) >= m_.skins.size())
+        throw LoadError(fmt::format("node {}: skin {} does not exist ({} skins)", index, n.skin,
+                                    m_.skins.size()));
+      const bool skinned = n.skin >= 0;
+      const int proto = deforms(index) ? deformed_prototype(index) : prototype(n.mesh);
       if (proto >= 0) {
         bool ok = false;
-        const Mat4 inv = inverse(world, &ok);
-        if (ok)
-          out_.instances.push_back({uint32_t(proto), Transform(world, inv), name});
-        else
+        const Mat4 placed = skinned ? Mat4::identity() : world;
+        const Mat4 inv = inverse(placed, &ok);
+        if (ok) {
+          out_.instances.push_back({uint32_t(proto), Transform(placed, inv), name});
+          rig_.instance_nodes.push_back(index);
+          rig_.instance_skinned.push_back(skinned);
+        } else {
           ++singular_nodes_;
+        }
       }
     }
-    if (n.camera >= 0) add_camera(n, name, world);
+    if (n.camera >= 0) {
+      add_camera(n, name, world);
+      rig_.camera_nodes.push_back(index);
+    }
+    std::vector<std::string> w;
+    if (auto l = read_node_light(m_, n, name, world, w)) {
+      out_.lights.push_back(std::move(*l));
+      rig_.light_nodes.push_back(index);
+    }
+    for (auto& x : w) warnings_.add(file_ + ": " + x);
     for (int c : n.children) visit(c, world, depth + 1);
+  }
+
+  // Whether node `index`'s mesh deforms: a skin, or morph targets with weights of its own or
+  // animated.
+  bool deforms(int index) const {
+    const tinygltf::Node& n = m_.nodes[size_t(index)];
+    if (n.skin >= 0) return true;
+    const tinygltf::Mesh& gm = m_.meshes[size_t(n.mesh)];
+    const bool targets = std::any_of(gm.primitives.begin(), gm.primitives.end(),
+                                     [](const auto& p) { return !p.targets.empty(); });
+    if (!targets) return false;
+    if (!n.weights.empty() && n.weights != gm.weights) return true;
+    return morph_animated(index);
+  }
+  bool morph_animated(int index) const {
+    return std::any_of(rig_.channels.begin(), rig_.channels.end(), [&](const AnimChannel& c) {
+      return c.node == index && c.path == AnimPath::Weights;
+    });
+  }
+
+  // A prototype of node `index`'s own for its deforming mesh, with its Deformer; -2 when it
+  // has nothing to render.
+  int deformed_prototype(int index) {
+    const tinygltf::Node& n = m_.nodes[size_t(index)];
+    const tinygltf::Mesh& gm = m_.meshes[size_t(n.mesh)];
+    Deformer d;
+    d.node = index;
+    d.skin = n.skin;
+    d.morph_animated = morph_animated(index);
+    const Skin* skin = n.skin >= 0 ? &rig_.skins[size_t(n.skin)] : nullptr;
+    Prototype p;
+    p.name = (gm.name.empty() ? fmt::format("mesh {}", n.mesh) : gm.name) +
+             fmt::format(" (node {})", index);
+    for (size_t i = 0; i < gm.primitives.size(); ++i) {
+      std::string name = p.name;
+      if (gm.primitives.size() > 1) name += fmt::format(" primitive {}", i);
+      Deformer::Part part;
+      PartRequest req{&part, &rig_.nodes[size_t(index)].weights, skin};
+      if (auto tm = primitive(gm, gm.primitives[i], name, &req)) {
+        p.meshes.push_back(std::move(*tm));
+        d.parts.push_back(std::move(part));
+      }
+    }
+    if (p.meshes.empty()) return kEmpty;
+    out_.prototypes.push_back(std::move(p));
+    const auto proto = uint32_t(out_.prototypes.size() - 1);
+    d.prototype = proto;
+    rig_.deformers.push_back(std::move(d));
+    return int(proto);
+  }
+
+  // The static pose of deforming meshes: the file's nodes as written.
+  void rest_pose() {
+    if (rig_.deformers.empty()) return;
+    const RigPose pose = pose_rig(rig_, 0, false);
+    for (const Deformer& d : rig_.deformers)
+      deform(rig_, d, pose, out_.prototypes[d.prototype].meshes);
   }
 
   void add_camera(const tinygltf::Node& n, const std::string& node_name, const Mat4& world) {
@@ -311,8 +418,16 @@ class GltfBuilder {
     return slot = int(out_.prototypes.size() - 1);
   }
 
+  // What a deforming node's primitive also needs: its rest data, its morph weights (instead of
+  // the mesh's), its skin.
+  struct PartRequest {
+    Deformer::Part* part;
+    const std::vector<double>* weights;
+    const Skin* skin;
+  };
+
   std::optional<TriangleMesh> primitive(const tinygltf::Mesh& gm, const tinygltf::Primitive& pr,
-                                        const std::string& name) {
+                                        const std::string& name, PartRequest* req = nullptr) {
     const int mode = pr.mode < 0 ? TINYGLTF_MODE_TRIANGLES : pr.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         mode != TINYGLTF_MODE_TRIANGLE_FAN) {
@@ -352,7 +467,7 @@ class GltfBuilder {
           fmt::format("{}: mesh '{}' has a textured material but no TEXCOORD_{}; its "
                       "textures are read at uv (0, 0)",
                       file_, name, uv_set));
-    apply_morph_targets(gm, pr, tm, name);
+    apply_morph_targets(req ? *req->weights : gm.weights, pr, tm, name);
     if (attr("COLOR_0") >= 0) ++vertex_colors_ignored_;
 
     std::vector<uint32_t> idx;
@@ -369,6 +484,15 @@ class GltfBuilder {
     tm.indices = to_triangles(idx, mode);
     check_mesh(tm, repairs_);
     if (tm.indices.empty()) return std::nullopt;
+    if (req) {
+      std::vector<std::string> w;
+      try {
+        *req->part = read_deformer_part(m_, pr, tm.normals, req->skin, w);
+      } catch (const LoadError& e) {
+        throw LoadError(where("deformation") + e.what());
+      }
+      for (auto& x : w) warnings_.add(file_ + ": " + x);
+    }
     return tm;
   }
 
@@ -394,11 +518,11 @@ class GltfBuilder {
     return out;
   }
 
-  // Static pose: base + sum of weight * target for the mesh's default weights.
-  void apply_morph_targets(const tinygltf::Mesh& gm, const tinygltf::Primitive& pr,
+  // Static pose: base + sum of weight * target for the given weights.
+  void apply_morph_targets(const std::vector<double>& weights, const tinygltf::Primitive& pr,
                            TriangleMesh& tm, const std::string& name) {
-    for (size_t t = 0; t < pr.targets.size() && t < gm.weights.size(); ++t) {
-      const double w = gm.weights[t];
+    for (size_t t = 0; t < pr.targets.size() && t < weights.size(); ++t) {
+      const double w = weights[t];
       if (w == 0) continue;
       auto add = [&](const char* key, std::vector<Vec3f>& dst) {
         auto it = pr.targets[t].find(key);
@@ -510,6 +634,8 @@ class GltfBuilder {
     }
     if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end())
       mat.ior = number(it->second, "ior", 1.5);
+    if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
+      mat.dielectric_f0 = specular_f0(it->second, mat.ior);
     material_uv_set_[size_t(index)] = std::max(uv_set, 0);
     material_textured_[size_t(index)] = uv_set >= 0;
     return owned;
@@ -651,14 +777,6 @@ class GltfBuilder {
     for (const auto& [mode, count] : skipped_modes_)
       warnings_.add(fmt::format("{}: {} primitive(s) of mode {} (points or lines) skipped", file_,
                                 count, mode));
-    if (skinned_nodes_ > 0)
-      warnings_.add(fmt::format("{}: skins ignored on {} node(s); meshes are shown unskinned",
-                                file_, skinned_nodes_));
-    if (node_weights_ignored_ > 0)
-      warnings_.add(
-          fmt::format("{}: morph weights of {} node(s) ignored; the mesh's default "
-                      "weights are used",
-                      file_, node_weights_ignored_));
     if (singular_nodes_ > 0)
       warnings_.add(
           fmt::format("{}: {} mesh node(s) with a singular (zero-scale) transform "
@@ -667,9 +785,6 @@ class GltfBuilder {
     if (vertex_colors_ignored_ > 0)
       warnings_.add(fmt::format("{}: COLOR_0 vertex colours ignored on {} primitive(s)", file_,
                                 vertex_colors_ignored_));
-    if (!m_.animations.empty())
-      warnings_.add(fmt::format("{}: {} animation(s) ignored; the static pose is used", file_,
-                                m_.animations.size()));
   }
 
   const tinygltf::Model& m_;
@@ -685,7 +800,8 @@ class GltfBuilder {
   std::map<std::tuple<int, bool, float>, std::shared_ptr<const MipMap>> images_;
   std::map<int, size_t> skipped_modes_;
   std::vector<std::string> blend_materials_;
-  size_t skinned_nodes_ = 0, node_weights_ignored_ = 0, singular_nodes_ = 0;
+  size_t singular_nodes_ = 0;
+  GltfRig rig_;
   size_t vertex_colors_ignored_ = 0;
 };
 

@@ -15,12 +15,14 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "material/material.h"
 #include "model/mesh.h"
+#include "scene/gltf_rig.h"
 
 namespace anamorph {
 
@@ -38,11 +40,29 @@ struct ModelCamera {
   Transform world_from_camera;  // camera looks along -z, +y up (glTF convention)
 };
 
+// A light found in the file (glTF KHR_lights_punctual), in the file's photometric units,
+// placed in the model's space. scene/gltf_lights.h converts it to a Light.
+struct ModelLight {
+  enum class Type { Point, Spot, Directional };
+  std::string name;
+  Type type = Type::Point;
+  Color color{1, 1, 1};
+  double intensity = 1;   // candela (point, spot) or lux (directional)
+  double range = 0;       // 0: unlimited (point, spot)
+  double inner_cone = 0;  // spot: radians from the axis
+  double outer_cone = kPi / 4;
+  Transform world_from_light;  // the light shines along -z
+};
+
 struct LoadedModel {
   MaterialList materials;             // indices used by meshes refer to this list
   std::vector<Prototype> prototypes;  // each mesh built once...
   std::vector<Instance> instances;    // ...and placed by nodes (model space)
   std::vector<ModelCamera> cameras;
+  std::vector<ModelLight> lights;
+  // glTF: the node hierarchy, animations, skins and deforming meshes (null for other formats).
+  // The lists above hold the file's static pose (its nodes as written, no animation applied).
+  std::shared_ptr<const GltfRig> rig;
   std::vector<std::string> warnings;  // repaired problems (zero normals, unknown extensions)
 
   size_t triangle_count() const {  // unique triangles (each prototype once)

@@ -65,6 +65,16 @@ struct RenderSettings {
   std::string_view shown() const;
 };
 
+// A glTF model's rig placed in the scene (scene/scene_pose.h poses it at a frame): which of
+// the scene's instances, prototypes, cameras and lights its model's lists start at.
+struct SceneRig {
+  std::shared_ptr<const GltfRig> rig;
+  Transform world_from_model;  // the object's transform
+  uint32_t first_instance = 0, first_prototype = 0;
+  int first_camera = -1, first_light = -1;  // -1: the object dropped them
+  bool animate = true;                      // false: the file's static pose, always
+};
+
 struct Scene {
   std::string path;  // the scene file
   RenderSettings render;
@@ -85,6 +95,8 @@ struct Scene {
   std::vector<std::string> animated;       // keys with [[animate]] entries
   double first_key = 0, last_key = 0;      // frame range covered by the keys
   std::vector<ModelCamera> model_cameras;  // cameras found in loaded models (`gltf_camera`)
+  std::vector<SceneRig> rigs;              // glTF models' animation
+  double fps = 24;                         // [animation] fps: glTF time = frame / fps
   // Every file the load read (scene, includes, textures, models and their buffers, ray tables),
   // with its role: no output of the run may overwrite one (app/output_guard.h).
   std::vector<FileRead> inputs;

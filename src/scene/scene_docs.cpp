@@ -29,8 +29,9 @@ void table_markdown(std::ostringstream& os, const TableSchema& t) {
   }
 }
 
-constexpr std::string_view kBlocks[] = {"top",     "image",  "render", "camera",      "material",
-                                        "texture", "object", "light",  "environment", "animate"};
+constexpr std::string_view kBlocks[] = {"top",         "image",   "render",   "camera",
+                                        "material",    "texture", "object",   "light",
+                                        "environment", "animate", "animation"};
 
 }  // namespace
 
@@ -124,12 +125,14 @@ Json scene_table_json(const TableSchema& t, std::string_view default_form = {}) 
                            [](const TableVariant& v) { return v.params; });
 }
 
-// The camera's three forms: org/dir functions (when either is given), a glTF camera (when
-// gltf_camera is given), else a preset (perspective when none is named).
+// The camera's three forms: org/dir functions (when either is given), a glTF camera alone (when
+// gltf_camera is given without a preset or functions), else a preset (perspective when none is
+// named). gltf_camera may give the other two their pose.
 Json camera_json() {
   const Json coins = {{"type", "array"}, {"items", {{"$ref", "#/$defs/coin"}}}};
   const Json composed_when = {{"anyOf", {{{"required", {"org"}}}, {{"required", {"dir"}}}}}};
-  const Json gltf_when = {{"required", {"gltf_camera"}}};
+  const Json gltf_when = {{"required", {"gltf_camera"}},
+                          {"not", {{"anyOf", {{{"required", {"preset"}}}, composed_when}}}}};
   Json presets =
       forms_by_selector(camera_presets(), "preset", "perspective", camera_common_params(),
                         {{"coin", coins}}, [](const PresetInfo& p) { return p.params; });
@@ -139,7 +142,6 @@ Json camera_json() {
       {camera_common_params()},
       {{"org", {{"$ref", "#/$defs/org"}}}, {"dir", {{"$ref", "#/$defs/dir"}}}, {"coin", coins}});
   composed["required"] = {"org", "dir"};
-  composed["not"] = gltf_when;
   presets["allOf"].push_back({{"if", composed_when}, {"then", composed}});
   Json gltf = table_json_schema({camera_common_params()}, {{"coin", coins}});
   presets["allOf"].push_back({{"if", gltf_when}, {"then", gltf}});
@@ -182,6 +184,7 @@ std::string scene_json_schema() {
   props["light"] = array_of(scene_table_json(light_schema()));
   props["environment"] = scene_table_json(environment_schema());
   props["animate"] = array_of(animate_json());
+  props["animation"] = scene_table_json(animation_schema());
   Json defs = Json::object();
   defs["camera"] = camera_json();
   defs["org"] = functions_json(org_functions());

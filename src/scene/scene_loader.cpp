@@ -15,8 +15,10 @@
 #include "params/toml_parse.h"
 #include "scene/animation.h"
 #include "scene/camera_reader.h"
+#include "scene/gltf_lights.h"
 #include "scene/load_common.h"
 #include "scene/loaders.h"
+#include "scene/scene_pose.h"
 #include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
 #include "scene/world_extent.h"
@@ -256,6 +258,33 @@ Transform transform_or_identity(const ParamValues& v, std::string_view key) {
   return v.has(key) ? v.transform(key) : Transform();
 }
 
+// A model's cameras and lights (unless the object drops them) and its rig (glTF): what moves
+// is marked so, and the rig remembers where its parts went in the scene.
+void add_model_rig(Scene& s, const ParamValues& v, LoadedModel& m, const Transform& xf,
+                   uint32_t proto_base, uint32_t inst_base) {
+  SceneRig rig;
+  rig.world_from_model = xf;
+  rig.first_instance = inst_base;
+  rig.first_prototype = proto_base;
+  if (v.boolean("cameras")) {
+    rig.first_camera = int(s.model_cameras.size());
+    for (auto& cam : m.cameras) {
+      cam.world_from_camera = xf * cam.world_from_camera;
+      s.model_cameras.push_back(cam);
+    }
+  }
+  if (v.boolean("lights")) {
+    rig.first_light = int(s.lights.size());
+    const bool cycles = v.string("spot_falloff") == "cycles";
+    for (const ModelLight& l : m.lights)
+      s.lights.push_back(scene_light(l, xf * l.world_from_light, cycles));
+  }
+  if (!m.rig) return;
+  rig.rig = m.rig;
+  rig.animate = v.boolean("animation") && m.rig->animated();
+  s.rigs.push_back(std::move(rig));
+}
+
 void add_model(Context& c, const TableReader& r, const ParamValues& v, const std::string& name,
                const Transform& xf) {
   Scene& s = *c.scene;
@@ -276,6 +305,7 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
   if (!override_mat)
     for (auto& mm : m.materials) s.materials.push_back(std::move(mm));
   const auto proto_base = uint32_t(s.prototypes.size());
+  const auto inst_base = uint32_t(s.instances.size());
   for (auto& pr : m.prototypes) {
     for (auto& mesh : pr.meshes) mesh.material = override_mat ? mat : mesh.material + mat_base;
     s.prototypes.push_back(std::move(pr));
@@ -293,10 +323,7 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
     inst.name = name + (inst.name.empty() ? "" : "/" + inst.name);
     s.instances.push_back(std::move(inst));
   }
-  for (auto& cam : m.cameras) {
-    cam.world_from_camera = xf * cam.world_from_camera;
-    c.scene->model_cameras.push_back(cam);
-  }
+  add_model_rig(s, v, m, xf, proto_base, inst_base);
   for (auto& w : m.warnings) s.warnings.push_back(w);
 }
 
@@ -607,9 +634,14 @@ Scene build_frame(toml::table& root, const toml::table& original,
   c.check_only = build == Build::Check;
   const TableReader top(root, "");
   // The top level: `include` was merged already; the tables are read below.
-  static constexpr std::string_view kTables[] = {"image",  "render", "camera",      "material",
-                                                 "object", "light",  "environment", "animate"};
+  static constexpr std::string_view kTables[] = {"image",       "render",  "camera",
+                                                 "material",    "object",  "light",
+                                                 "environment", "animate", "animation"};
   top.params({top_level_params()}, kTables);
+  if (const toml::table* t = sub_table(top, "animation")) {
+    const ParamValues v = TableReader(*t, "animation").params({animation_schema().common});
+    s.fps = v.number("fps");
+  }
 
   if (const toml::table* t = sub_table(top, "image")) {
     const ParamValues v = TableReader(*t, "image").params({image_schema().common});
@@ -619,13 +651,27 @@ Scene build_frame(toml::table& root, const toml::table& original,
   if (const toml::table* t = sub_table(top, "render"))
     read_render(TableReader(*t, "render"), s.render);
 
+  // The glTF rigs that move the model cameras: the loaded scene's unless this one reads them.
+  const std::vector<SceneRig>* rigs = &s.rigs;
   if (view_from) {
-    // (The world was read, and validated, when view_from was loaded; nothing in it is animated.)
+    // (The world was read, and validated, when view_from was loaded; nothing in it is animated
+    // by [[animate]] keys.)
     s.model_cameras = view_from->model_cameras;
+    rigs = &view_from->rigs;
   } else {
-    if (c.check_only) s.model_cameras = loaded->model_cameras;
+    if (c.check_only) {
+      s.model_cameras = loaded->model_cameras;
+      rigs = &loaded->rigs;
+    }
     read_world(c, top);
   }
+  const std::vector<ModelCamera> rest_cameras = s.model_cameras;
+  const auto cameras_at = [&](double f) {
+    std::vector<ModelCamera> cams = rest_cameras;
+    pose_model_cameras(*rigs, s.fps, f, cams);
+    return cams;
+  };
+  s.model_cameras = cameras_at(frame);
 
   const toml::table* cn = sub_table(top, "camera");
   const toml::table empty;
@@ -643,8 +689,8 @@ Scene build_frame(toml::table& root, const toml::table& original,
       const toml::table r2 = at_frame(original, overrides, frame + t);
       const toml::node* n2 = r2.get("camera");
       const TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
-      return read_camera(cr2, {s.render.width, s.render.height}, s.model_cameras, preset_overridden,
-                         nullptr);
+      return read_camera(cr2, {s.render.width, s.render.height}, cameras_at(frame + t),
+                         preset_overridden, nullptr);
     };
     const Shutter shutter = cam.parts.shutter;
     if (cam.shutter_open != 0) {
@@ -655,6 +701,7 @@ Scene build_frame(toml::table& root, const toml::table& original,
     }
     cam.parts.world_from_camera_close = camera_at(cam.shutter_close).parts.world_from_camera;
   }
+  if (build == Build::Full) pose_scene(s, frame);
   s.camera = std::make_unique<VirtualCamera>(std::move(cam.parts), cam.dof);
   for (const std::string& w : s.camera->coin_warnings()) s.warnings.push_back("camera." + w);
   warn_if_no_rays(*s.camera, &s.warnings);
@@ -708,6 +755,7 @@ Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides
 }
 
 bool animates_view_only(const Scene& s) {
+  if (gltf_moves_world(s)) return false;
   return std::all_of(s.animated.begin(), s.animated.end(), [](const std::string& k) {
     return k.rfind("camera.", 0) == 0 || k.rfind("image.", 0) == 0 || k.rfind("render.", 0) == 0;
   });

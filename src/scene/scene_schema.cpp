@@ -166,10 +166,23 @@ const ParamSpec kObjectCommon[] = {
     {"material", ParamType::String, "none",
      "A material name (default grey); for a mesh, replaces the file's materials."},
 };
+constexpr std::string_view kSpotFalloffs[] = {"gltf", "cycles"};
 const ParamSpec kMesh[] = {
     {"file", ParamType::String, "",
      "glTF 2.0 (.gltf, .glb, data URIs), OBJ/MTL, PLY, STL and every other format assimp "
      "reads, relative to the file naming it."},
+    {"lights", ParamType::Bool, "true",
+     "glTF: the file's KHR_lights_punctual lights join the scene's lights (gltf.md: units)."},
+    {"cameras", ParamType::Bool, "true",
+     "glTF: the file's cameras join the cameras `camera.gltf_camera` chooses from."},
+    {"animation", ParamType::Bool, "true",
+     "glTF: the file's animations play (all at once, at time = frame / animation.fps); false "
+     "keeps its static pose."},
+    {"spot_falloff", ParamType::String, "\"gltf\"",
+     "glTF spot lights: `gltf` is KHR_lights_punctual's recommended falloff; `cycles` is "
+     "Blender 3.4 Cycles' spot (an extra cos of the angle to the axis, the blend band in the "
+     "cosine), to match renders of files Blender exported (gltf.md).",
+     -kInf, kInf, kSpotFalloffs},
 };
 const ParamSpec kSphere[] = {
     {"center", ParamType::Vec3, "[0, 0, 0]", "Center.", -kInf, kInf, {}, false, false,
@@ -339,9 +352,19 @@ const ParamSpec kCameraCommon[] = {
      "With rolling_shutter = \"angle\": the readout direction from +u toward +v.", -kInf, kInf, {},
      false, false, "degrees", "90 (top to bottom)"},
     {"gltf_camera", ParamType::Integer, "none",
-     "Use camera N of the loaded glTF files (in the order objects load them), instead of a "
-     "preset or org/dir.",
+     "Camera N of the loaded glTF files (in the order objects load them) gives the camera its "
+     "pose, following its animation. Alone, the camera is that glTF camera (its perspective "
+     "yfov and aspectRatio, or orthographic xmag and ymag); with a preset or org/dir, that "
+     "camera rides the glTF camera node (look_from, look_at and up are then not given). See "
+     "gltf.md.",
      0, 1 << 20},
+};
+
+const ParamSpec kAnimation[] = {
+    {"fps", ParamType::Number, "24",
+     "Frames per second of the animation clock: a glTF animation is at time frame / fps "
+     "(seconds), as Blender's glTF exporter writes its frames (frame 1 at 1/24 s at 24 fps).",
+     0, 1e6, {}, true, false, "frames/s"},
 };
 
 const ParamSpec kTopLevel[] = {
@@ -368,6 +391,8 @@ const TableSchema kLightSchema{"light",      "Light sources.", true,
 const TableSchema kEnvironmentSchema{"environment", "Light from infinitely far away.", false,
                                      kEnvironment};
 const TableSchema kAnimateSchema{"animate", "Keyframes of any numeric key.", true, kAnimate};
+const TableSchema kAnimationSchema{"animation", "The animation clock (glTF animations).", false,
+                                   kAnimation};
 
 }  // namespace
 
@@ -479,12 +504,13 @@ const TableSchema& object_schema() { return kObjectSchema; }
 const TableSchema& light_schema() { return kLightSchema; }
 const TableSchema& environment_schema() { return kEnvironmentSchema; }
 const TableSchema& animate_schema() { return kAnimateSchema; }
+const TableSchema& animation_schema() { return kAnimationSchema; }
 std::span<const ParamSpec> camera_common_params() { return kCameraCommon; }
 std::span<const ParamSpec> top_level_params() { return kTopLevel; }
 std::span<const TableSchema* const> scene_tables() {
   static const TableSchema* const tables[] = {
-      &kImageSchema,  &kRenderSchema, &material_schema(),  &kTextureSchema,
-      &kObjectSchema, &kLightSchema,  &kEnvironmentSchema, &kAnimateSchema};
+      &kImageSchema, &kRenderSchema,      &material_schema(), &kTextureSchema,  &kObjectSchema,
+      &kLightSchema, &kEnvironmentSchema, &kAnimateSchema,    &kAnimationSchema};
   return tables;
 }
 

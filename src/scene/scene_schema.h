@@ -39,8 +39,9 @@ const TableSchema& object_schema();
 const TableSchema& light_schema();
 const TableSchema& environment_schema();
 const TableSchema& animate_schema();
+const TableSchema& animation_schema();
 // The keys every camera takes, besides its preset's or its org/dir functions' (`preset`, `org`,
-// `dir`, `gltf_camera`, `coin` and the common ones).
+// `dir`, `coin` and the common ones, `gltf_camera` among them).
 std::span<const ParamSpec> camera_common_params();
 // The top level: include and the tables above.
 std::span<const ParamSpec> top_level_params();
@@ -75,7 +76,8 @@ std::string_view name_of(Light::Kind k);          // a light's `type`: "point", 
 std::span<const TableSchema* const> scene_tables();
 
 // The key tables of docs/scene-format.md, one generated block per table ("top", "image",
-// "render", "camera", "material", "texture", "object", "light", "environment", "animate"), and
+// "render", "camera", "material", "texture", "object", "light", "environment", "animate",
+// "animation"), and
 // the function reference docs/functions.md (block "functions"), from the declarations.
 std::span<const std::string_view> scene_doc_blocks();
 std::string scene_doc_block(std::string_view name);

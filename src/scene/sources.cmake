@@ -12,5 +12,6 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/declarations.cpp
   ${CMAKE_CURRENT_LIST_DIR}/animation.cpp
   ${CMAKE_CURRENT_LIST_DIR}/camera_reader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scene_pose.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scene_loader.cpp
 )

@@ -116,12 +116,16 @@ TEST(SharedModels, ClearCoatTestCountsAndIgnoredExtension) {
   expect_unit_normals(m);
 }
 
-TEST(SharedModels, AnimatedMorphCubeLoadsItsBaseMesh) {
+TEST(SharedModels, AnimatedMorphCubeLoadsItsBaseMeshAndItsMorphAnimation) {
   ANAMORPH_REQUIRE_SHARED();
   const LoadedModel m = load_model(scene("gltf/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf"));
   EXPECT_EQ(m.triangle_count(), 12u);
   ASSERT_EQ(m.instances.size(), 1u);
-  EXPECT_TRUE(test::has_warning(m, "animation")) << test::all_warnings(m);
+  // Its weights animation is read (no warning), the mesh deforms.
+  EXPECT_FALSE(test::has_warning(m, "animation")) << test::all_warnings(m);
+  ASSERT_TRUE(m.rig);
+  EXPECT_TRUE(m.rig->animated());
+  EXPECT_EQ(m.rig->deformers.size(), 1u);
   expect_unit_normals(m);
 }
 

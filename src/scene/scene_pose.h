@@ -1,0 +1,33 @@
+// Posing a scene's glTF rigs at a frame: the instances, lights, cameras and deforming meshes
+// their animations drive. glTF animation time is in seconds: time = frame / fps ([animation]
+// fps, default 24), the mapping Blender's glTF exporter writes (its frame F at F / fps), so a
+// Blender file's frame F renders as anamorph's frame F. Before a sampler's first key and after
+// its last its value is held.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace anamorph {
+
+// Whether some rig of the scene animates.
+bool has_gltf_animation(const Scene& s);
+// The frames the scene's glTF animations span, [first key, last key] x fps (0, 0 without any).
+std::pair<double, double> gltf_frame_range(const Scene& s);
+
+// Whether some rig's animation moves geometry or lights (not only cameras): then every frame
+// needs the whole scene posed again, not only its view.
+bool gltf_moves_world(const Scene& s);
+
+// Poses every animating rig at `frame`: its instances' transforms, its lights' positions and
+// directions, its deforming meshes' vertices (no object motion blur: the pose at the frame's
+// time). Model cameras are left alone (pose_model_cameras).
+void pose_scene(Scene& s, double frame);
+
+// `cameras` (a scene's model cameras, in its order) at `frame`, as `rigs` move them.
+void pose_model_cameras(const std::vector<SceneRig>& rigs, double fps, double frame,
+                        std::vector<ModelCamera>& cameras);
+
+}  // namespace anamorph
