@@ -1,36 +1,66 @@
+// The source texture over the OpenImageIO plugin (plugins/oiio_texture.h), loaded on first use:
+// beside the program, else where the build made it. The MIP-mapped copy is a temporary file this
+// side owns (registered, so an interrupted warp removes it too).
 #include "app/source_texture.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/texture.h>
+#include <dlfcn.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <stdexcept>
+#include <vector>
 
 #include "io/temporary_files.h"
+#include "plugins/oiio_texture.h"
 
 namespace anamorph::app {
 
 namespace fs = std::filesystem;
 
-struct SourceTexture::State {
-  fs::path file;
-  int slot = -1;
-  OIIO::TextureSystem* ts = nullptr;
-  OIIO::ustring name;
-  OIIO::TextureOpt options;
-  TextureFilter filter = TextureFilter::Aniso;
-  ~State() {
-    if (ts) OIIO::TextureSystem::destroy(ts);
-    std::error_code ignored;
-    if (!file.empty()) fs::remove(file, ignored);
-    if (slot >= 0) unregister_temporary(slot);
-  }
+namespace {
+
+struct Plugin {
+  decltype(&anamorph_oiio_texture_open) open = nullptr;
+  decltype(&anamorph_oiio_texture_lookup) lookup = nullptr;
+  decltype(&anamorph_oiio_texture_close) close = nullptr;
 };
 
-namespace {
+std::vector<fs::path> plugin_places() {
+  std::vector<fs::path> places;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) places.push_back(self.parent_path() / kOiioTexturePlugin);
+#ifdef ANAMORPH_OIIO_PLUGIN_BUILT
+  places.emplace_back(ANAMORPH_OIIO_PLUGIN_BUILT);
+#endif
+  return places;
+}
+
+// The plugin's functions; throws naming the places looked in when it cannot be loaded.
+const Plugin& plugin() {
+  static const Plugin p = [] {
+    std::string tried;
+    for (const fs::path& place : plugin_places()) {
+      void* h = ::dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
+      if (!h) {
+        tried += fmt::format("\n  {}: {}", place.string(), ::dlerror());
+        continue;
+      }
+      Plugin q;
+      q.open = reinterpret_cast<decltype(q.open)>(::dlsym(h, "anamorph_oiio_texture_open"));
+      q.lookup = reinterpret_cast<decltype(q.lookup)>(::dlsym(h, "anamorph_oiio_texture_lookup"));
+      q.close = reinterpret_cast<decltype(q.close)>(::dlsym(h, "anamorph_oiio_texture_close"));
+      if (q.open && q.lookup && q.close) return q;
+      tried += fmt::format("\n  {}: not anamorph's texture plugin", place.string());
+    }
+    throw std::runtime_error(fmt::format(
+        "warp filters through OpenImageIO in {}, which could not be loaded (install it beside "
+        "anamorph, and libopenimageio2.4):{}",
+        kOiioTexturePlugin, tried));
+  }();
+  return p;
+}
 
 fs::path temporary_texture() {
   static std::atomic<int> counter{0};
@@ -40,47 +70,41 @@ fs::path temporary_texture() {
 
 }  // namespace
 
+struct SourceTexture::State {
+  fs::path file;
+  int slot = -1;
+  void* texture = nullptr;
+  ~State() {
+    if (texture) plugin().close(texture);
+    std::error_code ignored;
+    if (!file.empty()) fs::remove(file, ignored);
+    if (slot >= 0) unregister_temporary(slot);
+  }
+};
+
 SourceTexture::SourceTexture(const Image& image, bool wrap_u, TextureFilter filter)
     : state_(std::make_unique<State>()) {
+  const Plugin& p = plugin();
   State& s = *state_;
-  s.filter = filter;
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
-  // (ImageBuf wraps the pixels without copying; make_texture only reads them.)
-  const OIIO::ImageBuf buf(spec, const_cast<float*>(image.pixels.data()));
   s.file = temporary_texture();
   s.slot = register_temporary(s.file);
-  OIIO::ImageSpec config;
-  config.attribute("wrapmodes", wrap_u ? "periodic,clamp" : "black,black");
-  if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, buf, s.file.string(),
-                                        config))
-    throw std::runtime_error("making the MIP-mapped texture: " + OIIO::geterror());
-  s.ts = OIIO::TextureSystem::create(false);
-  s.ts->attribute("max_memory_MB", 1024.0f);
-  s.name = OIIO::ustring(s.file.string());
-  OIIO::TextureOpt& o = s.options;
-  o.swrap = wrap_u ? OIIO::TextureOpt::WrapPeriodic : OIIO::TextureOpt::WrapBlack;
-  o.twrap = wrap_u ? OIIO::TextureOpt::WrapClamp : OIIO::TextureOpt::WrapBlack;
-  o.firstchannel = 0;
-  if (filter == TextureFilter::Aniso) {
-    o.mipmode = OIIO::TextureOpt::MipModeAniso;
-    o.interpmode = OIIO::TextureOpt::InterpSmartBicubic;
-  } else {
-    o.mipmode = OIIO::TextureOpt::MipModeNoMIP;
-    o.interpmode = filter == TextureFilter::Bilinear ? OIIO::TextureOpt::InterpBilinear
-                                                     : OIIO::TextureOpt::InterpBicubic;
-  }
+  const int mode = filter == TextureFilter::Aniso      ? kOiioFilterAniso
+                   : filter == TextureFilter::Bilinear ? kOiioFilterBilinear
+                                                       : kOiioFilterBicubic;
+  char error[512] = "";
+  s.texture = p.open(image.pixels.data(), image.width, image.height, image.channels, s.file.c_str(),
+                     wrap_u, mode, error, sizeof error);
+  if (!s.texture) throw std::runtime_error(error);
 }
 
 SourceTexture::~SourceTexture() = default;
 
 void SourceTexture::lookup(Vec2 uv, Vec2 duv_dx, Vec2 duv_dy, float rgba[4]) const {
-  OIIO::TextureOpt o = state_->options;  // (texture() may write into its options)
-  const bool footprint = state_->filter == TextureFilter::Aniso;
-  if (!state_->ts->texture(state_->name, o, float(uv.x), float(uv.y),
-                           footprint ? float(duv_dx.x) : 0.0f, footprint ? float(duv_dx.y) : 0.0f,
-                           footprint ? float(duv_dy.x) : 0.0f, footprint ? float(duv_dy.y) : 0.0f,
-                           4, rgba))
-    throw std::runtime_error("texture lookup: " + state_->ts->geterror());
+  const float st[2] = {float(uv.x), float(uv.y)};
+  const float footprint[4] = {float(duv_dx.x), float(duv_dx.y), float(duv_dy.x), float(duv_dy.y)};
+  char error[512] = "";
+  if (!plugin().lookup(state_->texture, st, footprint, rgba, error, sizeof error))
+    throw std::runtime_error(error);
 }
 
 }  // namespace anamorph::app
