@@ -13,10 +13,8 @@ namespace {
 class PngSink final : public ImageSink {
  public:
   explicit PngSink(const SinkSpec& s) : png_(s.file, s.width, s.height, s.metadata) {}
-  const std::vector<LayerRequest>& requests() const override {
-    static const std::vector<LayerRequest> r{{"", Encoding::Srgb8}};
-    return r;
-  }
+  // (A member, not a function's static: a thread may write while the process exits.)
+  const std::vector<LayerRequest>& requests() const override { return requests_; }
   void prepare(Strip& s) const override {
     s.prepared = PngStream::encode(s.planes[0].u8.data(), png_.width(), s.rows);
     s.planes[0].u8 = {};  // (the band is what append() writes)
@@ -28,6 +26,7 @@ class PngSink final : public ImageSink {
   void commit_as(const std::filesystem::path& as) override { png_.commit_as(as); }
 
  private:
+  std::vector<LayerRequest> requests_{{"", Encoding::Srgb8}};
   PngStream png_;
 };
 

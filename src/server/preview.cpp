@@ -57,10 +57,9 @@ class PreviewSink final : public ImageSink {
   PreviewSink(std::shared_ptr<PreviewFrame> frame,
               std::function<void(std::shared_ptr<PreviewFrame>)> publish)
       : frame_(std::move(frame)), publish_(std::move(publish)) {}
-  const std::vector<LayerRequest>& requests() const override {
-    static const std::vector<LayerRequest> r{{"", Encoding::Srgb8}};
-    return r;
-  }
+  // (A member, not a function's static: the preview thread may still render while the process
+  // exits, after statics are destroyed; fuzz_api found it.)
+  const std::vector<LayerRequest>& requests() const override { return requests_; }
   void prepare(Strip&) const override {}
   void append(const Strip& s) override {
     const std::vector<unsigned char>& px = s.planes[0].u8;
@@ -70,6 +69,7 @@ class PreviewSink final : public ImageSink {
   void commit_as(const std::filesystem::path&) override { commit(); }
 
  private:
+  std::vector<LayerRequest> requests_{{"", Encoding::Srgb8}};
   std::shared_ptr<PreviewFrame> frame_;
   std::function<void(std::shared_ptr<PreviewFrame>)> publish_;
 };
