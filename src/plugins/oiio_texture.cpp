@@ -20,8 +20,11 @@ struct Texture {
   OIIO::ustring name;
   OIIO::TextureOpt options;
   bool footprint = false;
+  // The process's shared texture system, never destroyed here: OpenImageIO 2.4's
+  // TextureSystem::destroy deletes through a type of another size (AddressSanitizer's
+  // new-delete-type-mismatch). Each texture's own file is dropped from its cache instead.
   ~Texture() {
-    if (ts) OIIO::TextureSystem::destroy(ts);
+    if (ts) ts->invalidate(name, true);
   }
 };
 
@@ -63,7 +66,7 @@ extern "C" void* anamorph_oiio_texture_open(const float* pixels, int width, int 
       return nullptr;
     }
     auto* t = new Texture;
-    t->ts = OIIO::TextureSystem::create(false);
+    t->ts = OIIO::TextureSystem::create(true);
     t->ts->attribute("max_memory_MB", 1024.0f);
     t->name = OIIO::ustring(mip_file);
     t->footprint = filter == kOiioFilterAniso;
