@@ -1,0 +1,95 @@
+"""The camera panel's properties reach anamorph: a preset switch with its keys, Blender's own
+panoramic lens types as the matching presets, and coin edits on the empty."""
+
+import math
+import os
+import sys
+import tomllib
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+
+scene = common.small_scene(width=48, height=48, spp=2)
+from anamorph_blender import bl  # noqa: E402
+
+keep = os.path.join(common.OUT, "scenes")
+scene.anamorph.keep_folder = keep
+cam = scene.camera.data
+n = [0]
+
+
+def render():
+    """Renders frame 1; returns (the scene file's tables, RGBA)."""
+    n[0] += 1
+    path = common.render_still(os.path.join(common.OUT, "r%02d.exr" % n[0]))
+    common.check(bl.last_error == "", "render %d without error (%r)" % (n[0], bl.last_error))
+    with open(os.path.join(keep, "frame_0001.toml"), "rb") as f:
+        return tomllib.load(f), common.read_rgba(path)
+
+
+# Preset switch: a 180-degree equisolid fisheye from the panel's properties.
+cam.anamorph.preset = "fisheye"
+cam.anamorph.p_fisheye.mapping = "equisolid"
+cam.anamorph.p_fisheye.fov = 170.0
+toml, img = render()
+c = toml["camera"]
+common.check(c["preset"] == "fisheye" and c["mapping"] == "equisolid"
+             and abs(c["fov"] - 170) < 1e-9 and "fit" not in c,
+             "the fisheye's set keys, and only those, reach the scene: %s" % c)
+common.check(img[0, 0, 3] == 0 and img[24, 24, 3] == 1,
+             "outside the image circle no ray (alpha %g), inside one (alpha %g)"
+             % (img[0, 0, 3], img[24, 24, 3]))
+
+# Blender's own lens types: the matching presets.
+cam.anamorph.preset = "BLENDER"
+cam.type = "PANO"
+cam.cycles.panorama_type = "FISHEYE_EQUIDISTANT"
+cam.cycles.fisheye_fov = math.radians(150)
+toml, _ = render()
+c = toml["camera"]
+common.check(c["preset"] == "fisheye" and c["mapping"] == "equidistant"
+             and abs(c["fov"] - 150) < 1e-4, "Blender's equidistant fisheye: %s" % c)
+cam.cycles.panorama_type = "EQUIRECTANGULAR"
+toml, _ = render()
+c = toml["camera"]
+common.check(c["preset"] == "equirectangular"
+             and np.allclose(c["longitude_range"], [-180, 180])
+             and np.allclose(c["latitude_range"], [-90, 90]),
+             "Blender's equirectangular: %s" % c)
+cam.type = "PERSP"
+cam.lens_unit = "FOV"
+cam.angle = math.radians(60)
+toml, plain = render()
+c = toml["camera"]
+common.check(c["preset"] == "perspective" and abs(c["fov"] - 60) < 1e-4,
+             "Blender's perspective: %s" % c)
+# The camera's pose: Blender's camera looks along its -Z; in anamorph's +Y-up world the rig's
+# third column (camera +z) is minus the view direction.
+m = np.array(c["transform"]["matrix"]).reshape(4, 4)
+view_b = scene.camera.matrix_world.to_3x3() @ __import__("mathutils").Vector((0, 0, -1))
+common.check(np.allclose(-m[:3, 2], [view_b.x, view_b.z, -view_b.y], atol=1e-6)
+             and np.allclose(m[:3, 3], [scene.camera.location.x, scene.camera.location.z,
+                                        -scene.camera.location.y], atol=1e-6),
+             "the rig is Blender's camera in glTF axes: %s" % m[:3])
+
+# Coin edits through the empty's properties.
+coin = bl.add_coin(scene.camera, (0.0, 0.0, -7.0))
+coin.anamorph_coin.strength = 0.0
+toml, zero = render()
+common.check(toml["camera"]["coin"][0]["strength"] == 0.0 and np.array_equal(zero, plain),
+             "a coin of strength 0 changes no bit of the image")
+coin.anamorph_coin.strength = 0.7
+coin.anamorph_coin.radius = 0.4
+coin.anamorph_coin.falloff = "gaussian"
+toml, strong = render()
+k = toml["camera"]["coin"][0]
+common.check(abs(k["strength"] - 0.7) < 1e-6 and abs(k["radius"] - 0.4) < 1e-6
+             and k["falloff"] == "gaussian", "the coin's edited keys: %s" % k)
+common.check(not np.array_equal(strong, plain), "a coin of strength 0.7 changes the image")
+coin.anamorph_coin.is_coin = False
+toml, _ = render()
+common.check("coin" not in toml["camera"], "an empty no longer marked as coin is not one")
+common.finish()
