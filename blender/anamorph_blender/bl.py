@@ -14,7 +14,7 @@ import traceback
 import bpy
 import numpy as np
 
-from . import locate, scene_toml, schema_props
+from . import glb_default, locate, scene_toml, schema_props
 
 ADDON = __package__
 # What the engine's progress callback asks to stop a render: the engine's own test_break (Esc).
@@ -155,6 +155,7 @@ def _export_glb(path, frame, subframe):
         filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
         export_lights=False, export_animations=False, export_current_frame=True,
         export_extras=False, use_renderable=True, export_yup=True, check_existing=False)
+    glb_default.patch(path)
     return True
 
 
