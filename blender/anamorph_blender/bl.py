@@ -5,6 +5,7 @@ A new Blender API is one place to change: this module. Tested with Debian 12's B
 
 import math
 import os
+import queue
 import shutil
 import tempfile
 import threading
@@ -12,6 +13,7 @@ import time
 import traceback
 
 import bpy
+import mathutils
 import numpy as np
 
 from . import glb_default, locate, scene_toml, schema_props
@@ -136,27 +138,70 @@ def _register_declared(am):
 # Scene transfer
 
 
-def _export_glb(path, frame, subframe):
-    """The scene's renderable meshes and materials at the current frame, modifiers applied, by
-    Blender's own glTF exporter. False when there is no mesh to export.
+def _export_glb(path, scene_name, frame, subframe):
+    """The scene's renderable meshes and materials at `frame`, modifiers applied, by Blender's
+    own glTF exporter. False when there is no mesh to export.
 
-    The exporter reads the scene's original objects, not the render's depsgraph: on Blender's
-    main thread (background renders, -b -a) the scene is set to the frame first, so that its
-    objects hold that frame's animated values even when a script edited them since the last
-    frame change. A render in Blender's window runs on a render thread, where changing the frame
-    is not safe; there the scene is exported as the window shows it (the frame being rendered)."""
-    scene = bpy.context.scene
-    if threading.current_thread() is threading.main_thread():
-        scene.frame_set(frame, subframe=subframe)
+    The exporter is an operator reading the scene's original objects, not the render's
+    depsgraph, so it runs on Blender's main thread (main_thread_call) with the scene first set
+    to the frame: its objects then hold that frame's animated values, also in an animation
+    rendered from Blender's window and after a script edited them since the last frame change."""
+    scene = bpy.data.scenes[scene_name]
+    scene.frame_set(frame, subframe=subframe)
     if not any(o.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"} and not o.hide_render
                for o in scene.objects):
         return False
-    bpy.ops.export_scene.gltf(
-        filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
-        export_lights=False, export_animations=False, export_current_frame=True,
-        export_extras=False, use_renderable=True, export_yup=True, check_existing=False)
+    override = {"scene": scene}
+    window = next((w for w in bpy.context.window_manager.windows if w.scene == scene), None)
+    if window is not None:  # the exporter asks for the active object: a window's context has it
+        override["window"] = window
+    with bpy.context.temp_override(**override):
+        bpy.ops.export_scene.gltf(
+            filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
+            export_lights=False, export_animations=False, export_current_frame=True,
+            export_extras=False, use_renderable=True, export_yup=True, check_existing=False)
     glb_default.patch(path)
     return True
+
+
+# Calls from a render thread to Blender's main thread: (function, result box, done event).
+_main_queue = queue.Queue()
+
+
+def _serve_main_queue():
+    """A timer on Blender's main thread (registered with the add-on): runs queued calls."""
+    while True:
+        try:
+            fn, box, done = _main_queue.get_nowait()
+        except queue.Empty:
+            return 0.05
+        try:
+            box["value"] = fn()
+        except BaseException as e:  # handed to the waiting render thread
+            box["error"] = e
+        finally:
+            done.set()
+
+
+def main_thread_call(fn, should_stop):
+    """fn() on Blender's main thread: directly when called there (background renders), else
+    through the add-on's timer, waiting (and honouring Esc) until it ran. A render started from
+    Blender's window runs on a render thread, where operators are not safe."""
+    if threading.current_thread() is threading.main_thread():
+        return fn()
+    box, done = {}, threading.Event()
+    _main_queue.put((fn, box, done))
+    waited = 0.0
+    while not done.wait(0.05):
+        waited += 0.05
+        if should_stop():
+            raise Cancelled()
+        if waited > 120:
+            raise RuntimeError("anamorph: the scene export waited 2 minutes for Blender's main "
+                               "thread (is Render > Lock Interface on? The add-on needs it off)")
+    if "error" in box:
+        raise box["error"]
+    return box["value"]
 
 
 def _panorama(cam):
@@ -204,6 +249,22 @@ def blender_lens(cam, width, height):
                      "anamorph preset yet; choose a preset in the camera's anamorph panel")
 
 
+def _blender_dof(cam_ob, common):
+    """Blender's depth of field (Camera > Depth of Field) unless the anamorph section sets
+    aperture_radius: Cycles' aperture radius, focal length / (2 f-stop), and the focus distance
+    (to the focus object along the view axis, when there is one)."""
+    dof = cam_ob.data.dof
+    if not dof.use_dof or common.is_property_set("aperture_radius"):
+        return {}
+    distance = dof.focus_distance
+    if dof.focus_object is not None:
+        axis = cam_ob.matrix_world.to_3x3() @ mathutils.Vector((0.0, 0.0, -1.0))
+        to = dof.focus_object.matrix_world.translation - cam_ob.matrix_world.translation
+        distance = max(1e-6, to.dot(axis.normalized()))
+    return {"aperture_radius": cam_ob.data.lens * 1e-3 / (2 * dof.aperture_fstop),
+            "focus_distance": distance}
+
+
 def _camera_table(cam_ob, width, height):
     cam = cam_ob.data
     settings = cam.anamorph
@@ -212,7 +273,8 @@ def _camera_table(cam_ob, width, height):
     else:
         preset = settings.preset
         keys = set_values(getattr(settings, "p_" + preset), "camera")
-    table = {"preset": preset, **keys, **set_values(settings.common, "camera")}
+    table = {"preset": preset, **keys, **_blender_dof(cam_ob, settings.common),
+             **set_values(settings.common, "camera")}
     table["matrix"] = scene_toml.rig_matrix([list(r) for r in cam_ob.matrix_world])
     return table
 
@@ -275,7 +337,7 @@ def _environment(world, warnings):
     return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
 
 
-def build_scene(depsgraph, folder, frame):
+def build_scene(depsgraph, folder, frame, should_stop=lambda: False):
     """Writes frame_NNNN.toml (and .glb) into `folder`; returns (toml path, warnings)."""
     scene = depsgraph.scene_eval
     if scene.camera is None:
@@ -291,8 +353,9 @@ def build_scene(depsgraph, folder, frame):
         "camera": _camera_table(scene.camera, width, height),
         "coins": _coins(depsgraph, scene.camera),
         "environment": _environment(scene.world, warnings),
-        "mesh_file": os.path.basename(stem + ".glb")
-        if _export_glb(stem + ".glb", frame, scene.frame_subframe) else None,
+        "mesh_file": os.path.basename(stem + ".glb") if main_thread_call(
+            lambda: _export_glb(stem + ".glb", scene.original.name, frame,
+                                scene.frame_subframe), should_stop) else None,
         "lights": _lights(depsgraph, warnings),
     }
     am = locate.import_anamorph()
@@ -345,7 +408,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         os.makedirs(folder, exist_ok=True)
         try:
             self.update_stats("anamorph", "exporting the scene")
-            path, warnings = build_scene(depsgraph, folder, scene.frame_current)
+            path, warnings = build_scene(depsgraph, folder, scene.frame_current,
+                                         lambda: break_requested(self))
             for w in warnings:
                 self.report({"WARNING"}, "anamorph: " + w)
             self.update_stats("anamorph", "loading")
@@ -409,6 +473,7 @@ class AnamorphPreferences(bpy.types.AddonPreferences):
 
 
 def _draw_group(layout, group):
+    layout.use_property_split = True
     for spec in group.specs:
         layout.prop(group, spec["prop"])
 
@@ -516,7 +581,7 @@ def _panels_for_engine(add):
                  "RENDER_PT_color_management", "DATA_PT_camera", "DATA_PT_lens",
                  "DATA_PT_camera_display", "DATA_PT_context_camera", "VIEWLAYER_PT_layer_passes",
                  "DATA_PT_light", "DATA_PT_context_light", "DATA_PT_EEVEE_light",
-                 "CYCLES_CAMERA_PT_dof"):
+                 "DATA_PT_camera_dof", "DATA_PT_camera_dof_aperture"):
         panel = getattr(bpy.types, name, None)
         if panel is None or not hasattr(panel, "COMPAT_ENGINES"):
             continue
@@ -529,6 +594,8 @@ def register():
     for cls in _STATIC:
         bpy.utils.register_class(cls)
     _panels_for_engine(True)
+    if not bpy.app.timers.is_registered(_serve_main_queue):
+        bpy.app.timers.register(_serve_main_queue, first_interval=0.05, persistent=True)
     try:
         am = locate.import_anamorph(_prefs_path())
         _register_declared(am)
@@ -538,6 +605,8 @@ def register():
 
 
 def unregister():
+    if bpy.app.timers.is_registered(_serve_main_queue):
+        bpy.app.timers.unregister(_serve_main_queue)
     _panels_for_engine(False)
     for attr, owner in (("anamorph", bpy.types.Camera), ("anamorph_coin", bpy.types.Object),
                         ("anamorph", bpy.types.Scene)):

@@ -76,6 +76,18 @@ common.check(np.allclose(-m[:3, 2], [view_b.x, view_b.z, -view_b.y], atol=1e-6)
                                         -scene.camera.location.y], atol=1e-6),
              "the rig is Blender's camera in glTF axes: %s" % m[:3])
 
+# Blender's depth of field: Cycles' aperture radius and the focus distance.
+cam.dof.use_dof = True
+cam.dof.aperture_fstop = 2.0
+cam.dof.focus_distance = 6.5
+toml, _ = render()
+c = toml["camera"]
+common.check(abs(c["aperture_radius"] - cam.lens * 1e-3 / 4) < 1e-9
+             and abs(c["focus_distance"] - 6.5) < 1e-6,
+             "Blender's depth of field: aperture_radius %s (lens %s mm, f/2), focus_distance %s"
+             % (c.get("aperture_radius"), cam.lens, c.get("focus_distance")))
+cam.dof.use_dof = False
+
 # Coin edits through the empty's properties.
 coin = bl.add_coin(scene.camera, (0.0, 0.0, -7.0))
 coin.anamorph_coin.strength = 0.0
