@@ -158,25 +158,11 @@ struct Accel::MaskStore {
   std::vector<std::unique_ptr<MaskData>> list;
 };
 
-Accel::Accel(const Scene& scene) {
-  // Embree picks its own kernels, unless ANAMORPH_ISA chose ours (math/simd.h): then the same set.
-  device_ = rtcNewDevice(simd::embree_config());
-  if (!device_)
-    throw std::runtime_error(
-        fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
-  top_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
-
-  masks_ = std::make_unique<MaskStore>();
-  auto& masks = masks_->list;
-
-  // Count uses of each prototype: single-use ones are flattened into the top level, which
-  // saves a level of traversal for the common one-model scene.
+// Which instances are flattened into the top level: single-use prototypes (a level of traversal
+// saved for the common one-model scene) and instances Embree cannot carry (instanceable()).
+std::vector<bool> Accel::plan_flattening(const Scene& scene) {
   std::vector<int> uses(scene.prototypes.size(), 0);
   for (const auto& inst : scene.instances) uses[inst.prototype]++;
-  prototype_scenes_.assign(scene.prototypes.size(), nullptr);
-
   std::vector<bool> flatten(scene.instances.size()), in_world(scene.prototypes.size());
   for (size_t p = 0; p < scene.prototypes.size(); ++p)
     in_world[p] = uses[p] > 1 && within_world(scene.prototypes[p]);
@@ -186,113 +172,140 @@ Accel::Accel(const Scene& scene) {
     flatten[i] = uses[inst.prototype] == 1 || !instanceable(inst, in_world[inst.prototype]);
     if (flatten[i]) flat_count += scene.prototypes[inst.prototype].meshes.size();
   }
-  flat_meshes_.reserve(flat_count);  // (records point into it: no reallocation below)
+  flat_meshes_.reserve(flat_count);  // (records point into it: no reallocation later)
+  return flatten;
+}
 
-  // (A geometry with see-through parts joins the see-through structure too, by the same id,
-  // so that a hit there names the same record.)
-  auto attach = [&](RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
-    const unsigned id = rtcAttachGeometry(top_, g);
-    if (mask & kSeeThrough) {
-      if (!see_through_) see_through_ = rtcNewScene(device_);
-      rtcAttachGeometryByID(see_through_, g, id);
-    }
-    rtcReleaseGeometry(g);
-    if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
-    records_.push_back(std::move(rec));
-  };
+Accel::Accel(const Scene& scene) {
+  // Embree picks its own kernels, unless ANAMORPH_ISA chose ours (math/simd.h): then the same set.
+  device_ = rtcNewDevice(simd::embree_config());
+  if (!device_)
+    throw std::runtime_error(
+        fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+  top_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
+  masks_ = std::make_unique<MaskStore>();
+  prototype_scenes_.assign(scene.prototypes.size(), nullptr);
 
+  const std::vector<bool> flatten = plan_flattening(scene);
   for (size_t i = 0; i < scene.instances.size(); ++i) {
-    const Instance& inst = scene.instances[i];
-    const Prototype& proto = scene.prototypes[inst.prototype];
-    if (flatten[i]) {
-      for (const auto& m : proto.meshes) {
-        // Move to world space once; normals by the inverse transpose.
-        TriangleMesh w = m;
-        for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
-        for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
-        if (inst.world_from_object.swaps_handedness())
-          for (size_t t = 0; t < w.indices.size(); t += 3)
-            std::swap(w.indices[t + 1], w.indices[t + 2]);
-        flat_meshes_.push_back(std::move(w));
-        const TriangleMesh& fm = flat_meshes_.back();
-        const Material& mat = *scene.materials[fm.material];
-        RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks);
-        auto rec = std::make_unique<Record>();
-        rec->kind = Record::Kind::FlatMesh;
-        rec->mesh = &fm;
-        attach(g, std::move(rec), mask_of(mat));
-        stats_.unique_triangles += fm.triangle_count();
-        stats_.instanced_triangles += fm.triangle_count();
-      }
-      continue;
-    }
-    RTCScene& ps = prototype_scenes_[inst.prototype];
-    if (!ps) {
-      ps = rtcNewScene(device_);
-      rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
-      for (const auto& m : proto.meshes) {
-        RTCGeometry g = make_triangles(device_, m, nullptr, *scene.materials[m.material], masks);
-        rtcAttachGeometry(ps, g);
-        rtcReleaseGeometry(g);
-        stats_.unique_triangles += m.triangle_count();
-      }
-      rtcCommitScene(ps);
-    }
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(g, ps);
-    unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
-    for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
-    rtcSetGeometryMask(g, mask);
-    float xfm[12];  // 3x4 column-major
-    const auto& a = inst.world_from_object.matrix().m;
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
-    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
-    rtcCommitGeometry(g);
-    auto rec = std::make_unique<Record>();
-    rec->kind = Record::Kind::Instance;
-    rec->proto = &proto;
-    rec->world_from_object = inst.world_from_object;
-    rec->object_from_world = inst.world_from_object.inverse();
-    attach(g, std::move(rec), mask);
-    stats_.instances++;
-    for (const auto& m : proto.meshes) stats_.instanced_triangles += m.triangle_count();
+    if (flatten[i])
+      add_flat_meshes(scene, scene.instances[i]);
+    else
+      add_instance(scene, scene.instances[i]);
   }
+  for (const auto& sh : scene.shapes) add_shape(scene, sh);
+  commit_and_bound();
+}
 
-  for (const auto& sh : scene.shapes) {
-    auto rec = std::make_unique<Record>();
-    rec->kind = Record::Kind::Shape;
-    rec->shape = &sh;
-    rec->world_from_object = sh.world_from_object;
-    rec->object_from_world = sh.world_from_object.inverse();
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(g, 1);
-    rtcSetGeometryUserData(g, rec.get());
-    rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
-    rtcSetGeometryIntersectFunction(g, shape_intersect);
-    rtcSetGeometryOccludedFunction(g, shape_occluded);
-    const unsigned mask = mask_of(*scene.materials[sh.material]);
-    rtcSetGeometryMask(g, mask);
-    rtcCommitGeometry(g);
-    if (sh.kind == AnalyticShape::Kind::Plane) {
-      // An infinite plane's box holds every ray: in the BVH it would be a leaf that every ray
-      // enters and calls back. It is tested beside the BVH instead, first, so that its hit
-      // also shortens the BVH's query (a ray toward the floor skips all beyond it).
-      const unsigned id = unsigned(records_.size());
-      unbounded_.push_back({id, mask, rec->world_from_object.point({0, 0, 0}),
-                            normalize(rec->world_from_object.normal({0, 1, 0}))});
-      unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
-      if (mask & kSeeThrough) see_through_unbounded_ = true;
-      rtcDisableGeometry(g);
-      const unsigned got = rtcAttachGeometry(top_, g);  // (for its id and record only)
-      rtcReleaseGeometry(g);
-      if (got != id) throw std::logic_error("Embree geometry ids are not sequential");
-      records_.push_back(std::move(rec));
-    } else {
-      attach(g, std::move(rec), mask);
-    }
-    stats_.shapes++;
+// (A geometry with see-through parts joins the see-through structure too, by the same id, so
+// that a hit there names the same record.)
+void Accel::attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
+  const unsigned id = rtcAttachGeometry(top_, g);
+  if (mask & kSeeThrough) {
+    if (!see_through_) see_through_ = rtcNewScene(device_);
+    rtcAttachGeometryByID(see_through_, g, id);
   }
+  rtcReleaseGeometry(g);
+  if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
+  records_.push_back(std::move(rec));
+}
+
+// Each mesh of the instance's prototype moved to world space once (normals by the inverse
+// transpose), as a top-level geometry of its own.
+void Accel::add_flat_meshes(const Scene& scene, const Instance& inst) {
+  for (const auto& m : scene.prototypes[inst.prototype].meshes) {
+    TriangleMesh w = m;
+    for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
+    for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
+    if (inst.world_from_object.swaps_handedness())
+      for (size_t t = 0; t < w.indices.size(); t += 3)
+        std::swap(w.indices[t + 1], w.indices[t + 2]);
+    flat_meshes_.push_back(std::move(w));
+    const TriangleMesh& fm = flat_meshes_.back();
+    const Material& mat = *scene.materials[fm.material];
+    RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks_->list);
+    auto rec = std::make_unique<Record>();
+    rec->kind = Record::Kind::FlatMesh;
+    rec->mesh = &fm;
+    attach(g, std::move(rec), mask_of(mat));
+    stats_.unique_triangles += fm.triangle_count();
+    stats_.instanced_triangles += fm.triangle_count();
+  }
+}
+
+// An Embree instance of the prototype's scene (built on its first use).
+void Accel::add_instance(const Scene& scene, const Instance& inst) {
+  const Prototype& proto = scene.prototypes[inst.prototype];
+  RTCScene& ps = prototype_scenes_[inst.prototype];
+  if (!ps) {
+    ps = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
+    for (const auto& m : proto.meshes) {
+      RTCGeometry g =
+          make_triangles(device_, m, nullptr, *scene.materials[m.material], masks_->list);
+      rtcAttachGeometry(ps, g);
+      rtcReleaseGeometry(g);
+      stats_.unique_triangles += m.triangle_count();
+    }
+    rtcCommitScene(ps);
+  }
+  RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(g, ps);
+  unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
+  for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
+  rtcSetGeometryMask(g, mask);
+  float xfm[12];  // 3x4 column-major
+  const auto& a = inst.world_from_object.matrix().m;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
+  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  rtcCommitGeometry(g);
+  auto rec = std::make_unique<Record>();
+  rec->kind = Record::Kind::Instance;
+  rec->proto = &proto;
+  rec->world_from_object = inst.world_from_object;
+  rec->object_from_world = inst.world_from_object.inverse();
+  attach(g, std::move(rec), mask);
+  stats_.instances++;
+  for (const auto& m : proto.meshes) stats_.instanced_triangles += m.triangle_count();
+}
+
+// An analytic shape as a user geometry with its exact intersection.
+void Accel::add_shape(const Scene& scene, const AnalyticShape& sh) {
+  auto rec = std::make_unique<Record>();
+  rec->kind = Record::Kind::Shape;
+  rec->shape = &sh;
+  rec->world_from_object = sh.world_from_object;
+  rec->object_from_world = sh.world_from_object.inverse();
+  RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, 1);
+  rtcSetGeometryUserData(g, rec.get());
+  rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, shape_intersect);
+  rtcSetGeometryOccludedFunction(g, shape_occluded);
+  const unsigned mask = mask_of(*scene.materials[sh.material]);
+  rtcSetGeometryMask(g, mask);
+  rtcCommitGeometry(g);
+  stats_.shapes++;
+  if (sh.kind != AnalyticShape::Kind::Plane) return attach(g, std::move(rec), mask);
+  // An infinite plane's box holds every ray: in the BVH it would be a leaf that every ray
+  // enters and calls back. It is tested beside the BVH instead, first, so that its hit also
+  // shortens the BVH's query (a ray toward the floor skips all beyond it).
+  const unsigned id = unsigned(records_.size());
+  unbounded_.push_back({id, mask, rec->world_from_object.point({0, 0, 0}),
+                        normalize(rec->world_from_object.normal({0, 1, 0}))});
+  unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
+  if (mask & kSeeThrough) see_through_unbounded_ = true;
+  rtcDisableGeometry(g);
+  const unsigned got = rtcAttachGeometry(top_, g);  // (for its id and record only)
+  rtcReleaseGeometry(g);
+  if (got != id) throw std::logic_error("Embree geometry ids are not sequential");
+  records_.push_back(std::move(rec));
+}
+
+void Accel::commit_and_bound() {
   rtcCommitScene(top_);
   if (see_through_) {
     rtcCommitScene(see_through_);
@@ -301,7 +314,6 @@ Accel::Accel(const Scene& scene) {
     see_through_bounds_ = {{sb.lower_x, sb.lower_y, sb.lower_z},
                            {sb.upper_x, sb.upper_y, sb.upper_z}};
   }
-
   RTCBounds b;
   rtcGetSceneBounds(top_, &b);
   if (records_.size() > unbounded_.size()) {
