@@ -32,8 +32,8 @@ sc.anamorph.spp = 64
 scenes.world_black()
 bg = sc.world.node_tree.nodes["Background"]
 bg.inputs["Color"].default_value, bg.inputs["Strength"].default_value = (0.3, 0.4, 0.55, 1), 1.0
-scenes.add_plane("floor", scenes.textured("floor", tempfile.mkdtemp(), roughness=0.4, specular=0.0), (0, 0, 0),
-                 12, 12)
+floor = scenes.textured("floor", tempfile.mkdtemp(), roughness=0.4, specular=0.0)
+scenes.add_plane("floor", floor, (0, 0, 0), 12, 12)
 scenes.add_sphere("white", scenes.diffuse("white", (0.8, 0.8, 0.8)), (-1.2, 0.5, 0.7), 0.7)
 scenes.add_box("red", scenes.diffuse("red", (0.8, 0.1, 0.08)), (1.3, 0.8, 0.5), 1.0,
                rotation=(0, 0, math.radians(30)))

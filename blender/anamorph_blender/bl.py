@@ -138,16 +138,19 @@ def _register_declared(am):
 # Scene transfer
 
 
-def _export_glb(path, scene_name, frame, subframe):
+def _export_glb(path, scene_name, frame, subframe, set_frame=True):
     """The scene's renderable meshes and materials at `frame`, modifiers applied, by Blender's
     own glTF exporter. False when there is no mesh to export.
 
     The exporter is an operator reading the scene's original objects, not the render's
     depsgraph, so it runs on Blender's main thread (main_thread_call) with the scene first set
     to the frame: its objects then hold that frame's animated values, also in an animation
-    rendered from Blender's window and after a script edited them since the last frame change."""
+    rendered from Blender's window and after a script edited them since the last frame change.
+    The viewport exports the scene as it is (set_frame False: setting the frame would update the
+    depsgraph, and so the viewport again)."""
     scene = bpy.data.scenes[scene_name]
-    scene.frame_set(frame, subframe=subframe)
+    if set_frame:
+        scene.frame_set(frame, subframe=subframe)
     if not any(o.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"} and not o.hide_render
                for o in scene.objects):
         return False
@@ -174,7 +177,7 @@ def _serve_main_queue():
         try:
             fn, box, done = _main_queue.get_nowait()
         except queue.Empty:
-            return 0.05
+            return 0.02
         try:
             box["value"] = fn()
         except BaseException as e:  # handed to the waiting render thread
@@ -265,9 +268,9 @@ def _blender_dof(cam_ob, common):
             "focus_distance": distance}
 
 
-def _camera_table(cam_ob, width, height):
+def _camera_table(cam_ob, width, height, src=lambda x: x):
     cam = cam_ob.data
-    settings = cam.anamorph
+    settings = src(cam).anamorph
     if settings.preset == "BLENDER":
         preset, keys = blender_lens(cam, width, height)
     else:
@@ -279,16 +282,16 @@ def _camera_table(cam_ob, width, height):
     return table
 
 
-def _coins(depsgraph, cam_ob):
+def _coins(depsgraph, cam_ob, src=lambda x: x):
     """The camera's coins: empties parented to it with Coin on, by name."""
     out = []
     for ob in depsgraph.objects:
-        if ob.type != "EMPTY" or not ob.anamorph_coin.is_coin:
+        if ob.type != "EMPTY" or not src(ob).anamorph_coin.is_coin:
             continue
         if ob.parent is None or ob.parent.original != cam_ob.original:
             continue
         coin = {"position": scene_toml.to_gltf(list(ob.matrix_world.translation))}
-        coin.update(set_values(ob.anamorph_coin, f"coin '{ob.name}'"))
+        coin.update(set_values(src(ob).anamorph_coin, f"coin '{ob.name}'"))
         out.append((ob.name, coin))
     return [c for _, c in sorted(out, key=lambda nc: nc[0])]
 
@@ -337,32 +340,49 @@ def _environment(world, warnings):
     return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
 
 
-def build_scene(depsgraph, folder, frame, should_stop=lambda: False):
-    """Writes frame_NNNN.toml (and .glb) into `folder`; returns (toml path, warnings)."""
+def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
+    """The scene as scene_toml.write takes it (the meshes exported to stem.glb unless `export`
+    is False: the viewport exports later, outside its update) and warnings.
+
+    A render reads the add-on's properties from its depsgraph's copies, which hold their
+    animated values. The viewport (export False) reads them from the original data: its
+    depsgraph's copies kept the values they had when the viewport began (seen: a preset and a
+    coin's strength set afterwards did not reach them), and Blender writes the current frame's
+    animated values into the originals anyway."""
+    src = (lambda x: x) if export else (lambda x: x.original)
     scene = depsgraph.scene_eval
     if scene.camera is None:
         raise ValueError(f"scene '{scene.name}' has no camera")
     r = scene.render
     width = max(1, r.resolution_x * r.resolution_percentage // 100)
     height = max(1, r.resolution_y * r.resolution_percentage // 100)
-    stem = os.path.join(folder, "frame_%04d" % frame)
     warnings = []
     data = {
         "image": {"width": width, "height": height},
-        "render": {"integrator": "path", **set_values(scene.anamorph, "render")},
-        "camera": _camera_table(scene.camera, width, height),
-        "coins": _coins(depsgraph, scene.camera),
+        "render": {"integrator": "path", **set_values(src(scene).anamorph, "render")},
+        "camera": _camera_table(scene.camera, width, height, src),
+        "coins": _coins(depsgraph, scene.camera, src),
         "environment": _environment(scene.world, warnings),
-        "mesh_file": os.path.basename(stem + ".glb") if main_thread_call(
+        "mesh_file": os.path.basename(stem + ".glb") if export and main_thread_call(
             lambda: _export_glb(stem + ".glb", scene.original.name, frame,
                                 scene.frame_subframe), should_stop) else None,
         "lights": _lights(depsgraph, warnings),
     }
+    return data, warnings
+
+
+def write_toml(data, path):
     am = locate.import_anamorph()
-    text = scene_toml.write(data, scene_toml.Formatter(am))
-    with open(stem + ".toml", "w", encoding="utf-8") as f:
-        f.write(text)
-    return stem + ".toml", warnings
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(scene_toml.write(data, scene_toml.Formatter(am)))
+    return path
+
+
+def build_scene(depsgraph, folder, frame, should_stop=lambda: False):
+    """Writes frame_NNNN.toml (and .glb) into `folder`; returns (toml path, warnings)."""
+    stem = os.path.join(folder, "frame_%04d" % frame)
+    data, warnings = scene_data(depsgraph, stem, frame, should_stop)
+    return write_toml(data, stem + ".toml"), warnings
 
 
 # ---------------------------------------------------------------------------------------------
@@ -452,6 +472,229 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             # anamorph's world is glTF's (+Y up): back to Blender's axes.
             layer.passes["Normal"].rect = np.stack([n[:, 0], -n[:, 2], n[:, 1]], axis=1)
         self.end_result(result)
+
+    # The viewport (Rendered shading).
+
+    def _preview(self):
+        if getattr(self, "_anamorph_preview", None) is None:
+            self._anamorph_preview = _Preview()
+        return self._anamorph_preview
+
+    def __del__(self):
+        preview = getattr(self, "_anamorph_preview", None)
+        if preview is not None:
+            preview.close()
+
+    def view_update(self, context, depsgraph):
+        """The scene changed. Camera, coins, lights, world and settings are read again at once;
+        the meshes are exported again only when geometry, shading or a mesh's placement changed,
+        on the add-on's timer (an operator cannot run inside a depsgraph update: the exporter's
+        view layer update would wait for it forever). The preview restarts at the next draw
+        when anything it shows changed."""
+        preview = self._preview()
+        try:
+            data, _ = scene_data(depsgraph, "", 0, export=False)
+        except Exception as e:
+            preview.data = preview.latest = None
+            self.report({"ERROR"}, str(e))
+            return
+        data["mesh_file"] = (preview.latest or {}).get("mesh_file")
+        preview.latest = data
+        if preview.exports and not _meshes_changed(depsgraph):
+            if data != preview.data:
+                preview.data, preview.key = data, None
+                self.tag_redraw()
+            return
+        preview.exports += 1
+        token, scene_name = preview.exports, depsgraph.scene_eval.original.name
+
+        def export():
+            if token != preview.exports:  # a newer update superseded this one
+                return
+            preview.stop()
+            stem = os.path.join(preview.folder, "view_%d" % token)
+            for name in os.listdir(preview.folder):
+                if name.endswith(".glb"):
+                    os.remove(os.path.join(preview.folder, name))
+            del viewport_exports[:-20]
+            viewport_exports.append(time.monotonic())
+            has_meshes = _export_glb(stem + ".glb", scene_name, 0, 0.0, set_frame=False)
+            latest = dict(preview.latest)
+            latest["mesh_file"] = os.path.basename(stem + ".glb") if has_meshes else None
+            preview.data = preview.latest = latest
+            preview.key = None
+            self.tag_redraw()
+
+        _main_queue.put((export, {}, threading.Event()))
+
+    def view_draw(self, context, depsgraph):
+        preview = self._preview()
+        if preview.data is None:
+            return
+        scene = depsgraph.scene_eval
+        region, rv3d = context.region, context.region_data
+        if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
+            frame = _camera_frame(context, scene)
+            if frame is None:
+                return
+            camera = preview.data["camera"]
+            aspect = preview.data["image"]["width"] / preview.data["image"]["height"]
+            width = max(1, min(int(frame[2]), 1280))
+            height = max(1, int(round(width / aspect)))
+            data = preview.data
+        else:
+            frame = (0, 0, region.width, region.height)
+            width, height = region.width, region.height
+            camera = _view_camera(region, rv3d)
+            data = dict(preview.data, camera=camera, coins=[])
+        key = (width, height, tuple(camera["matrix"]), tuple(sorted(
+            (k, str(v)) for k, v in camera.items() if k != "matrix")))
+        if key != preview.key:
+            preview.key = key
+            preview.start(self, data, width, height)
+        self._draw_image(preview, scene, frame)
+
+    def _draw_image(self, preview, scene, frame):
+        import gpu
+        from gpu_extras.presets import draw_texture_2d
+
+        with preview.lock:
+            img = preview.image
+        if img is None:
+            return
+        h, w = img.shape[:2]
+        rgba = np.flipud(img).copy()
+        rgba[..., :3] *= rgba[..., 3:4]  # premultiplied, as Blender draws
+        texture = gpu.types.GPUTexture((w, h), format="RGBA16F", data=gpu.types.Buffer(
+            "FLOAT", rgba.size, rgba.ravel()))
+        gpu.state.blend_set("ALPHA_PREMULT")
+        self.bind_display_space_shader(scene)
+        draw_texture_2d(texture, (frame[0], frame[1]), frame[2], frame[3])
+        self.unbind_display_space_shader()
+        gpu.state.blend_set("NONE")
+
+
+# ---------------------------------------------------------------------------------------------
+# The viewport: Rendered shading, progressive
+
+
+# What the viewport renders after each restart: (fraction of the size, samples per pixel).
+VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4), (1.0, 16), (1.0, 64))
+# The last viewport restarts, for scripts and tests: [{started, first_image, passes}] (seconds
+# of time.monotonic()), newest last; and the times of the viewport's exports.
+viewport_log = []
+viewport_exports = []
+
+
+class _Preview:
+    """One viewport's progressive preview: a thread renders VIEWPORT_PASSES of a scene file,
+    the newest image is drawn; a restart cancels the thread at its next progress report."""
+
+    def __init__(self):
+        self.folder = tempfile.mkdtemp(prefix="anamorph-viewport-")
+        self.data = None  # scene_data of the last view_update
+        self.key = None  # the view the running preview shows
+        self.image = None  # (H, W, 4) float32, rows from the top, straight alpha
+        self.lock = threading.Lock()
+        self.cancel = threading.Event()
+        self.thread = None
+        self.count = 0
+        self.exports = 0
+        self.latest = None  # the newest scene_data, its mesh_file the last export's
+
+    def stop(self):
+        self.cancel.set()
+        if self.thread is not None:
+            self.thread.join()
+        self.thread = None
+
+    def start(self, engine, data, width, height):
+        self.stop()
+        self.count += 1
+        path = write_toml(dict(data, image={"width": width, "height": height}),
+                          os.path.join(self.folder, "view_%d.toml" % self.count))
+        log = {"started": time.monotonic(), "first_image": None, "passes": 0}
+        del viewport_log[:-20]
+        viewport_log.append(log)
+        self.cancel = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True,
+                                       args=(engine, path, width, height, self.cancel, log))
+        self.thread.start()
+
+    def _run(self, engine, path, width, height, cancel, log):
+        am = locate.import_anamorph()
+
+        def progress(p):
+            if cancel.is_set():
+                raise Cancelled()
+
+        try:
+            loaded = am.load(path)
+            for fraction, spp in VIEWPORT_PASSES:
+                img = loaded.render(width=max(1, int(width * fraction)),
+                                    height=max(1, int(height * fraction)), spp=spp,
+                                    progress=progress)["rgba"]
+                with self.lock:
+                    self.image = img
+                log["passes"] += 1
+                log["first_image"] = log["first_image"] or time.monotonic()
+                _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+        except Cancelled:
+            pass
+        except Exception as e:  # shown in the status of the next draw
+            log["error"] = str(e)
+            _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+        finally:
+            try:
+                os.remove(path)
+            except OSError:
+                pass
+
+    def close(self):
+        self.stop()
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+_MESH_DATA = (bpy.types.Mesh, bpy.types.Material, bpy.types.Image, bpy.types.Curve,
+              bpy.types.NodeTree, bpy.types.Collection)
+
+
+def _meshes_changed(depsgraph):
+    """Whether an update can change what the glTF export holds."""
+    for u in depsgraph.updates:
+        if u.is_updated_geometry or u.is_updated_shading or isinstance(u.id, _MESH_DATA):
+            return True
+        if isinstance(u.id, bpy.types.Object) and u.id.type not in {"CAMERA", "EMPTY", "LIGHT"}:
+            return True
+    return False
+
+
+def _view_camera(region, rv3d):
+    """The camera table of the viewport's own view (outside the camera view): perspective or
+    orthographic, from Blender's view and projection matrices."""
+    p = rv3d.window_matrix
+    world_from_view = rv3d.view_matrix.inverted()
+    rows = [list(r) for r in world_from_view]
+    if rv3d.is_perspective:
+        fov = math.degrees(2 * math.atan(1 / p[0][0]))
+        table = {"preset": "perspective", "fov": min(179.0, fov), "fov_axis": "horizontal"}
+    else:
+        table = {"preset": "orthographic", "view_width": 2 / p[0][0]}
+    table["matrix"] = scene_toml.rig_matrix(rows)
+    return table
+
+
+def _camera_frame(context, scene):
+    """The camera view's frame in region pixels: (x, y, width, height)."""
+    from bpy_extras.view3d_utils import location_3d_to_region_2d
+
+    cam = scene.camera
+    corners = [cam.matrix_world @ c for c in cam.data.view_frame(scene=scene)]
+    pts = [location_3d_to_region_2d(context.region, context.region_data, c) for c in corners]
+    if any(p is None for p in pts):
+        return None
+    xs, ys = [p.x for p in pts], [p.y for p in pts]
+    return min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -595,7 +838,7 @@ def register():
         bpy.utils.register_class(cls)
     _panels_for_engine(True)
     if not bpy.app.timers.is_registered(_serve_main_queue):
-        bpy.app.timers.register(_serve_main_queue, first_interval=0.05, persistent=True)
+        bpy.app.timers.register(_serve_main_queue, first_interval=0.02, persistent=True)
     try:
         am = locate.import_anamorph(_prefs_path())
         _register_declared(am)

@@ -14,6 +14,10 @@ rm -rf "$out" && mkdir -p "$out"
 # A user folder of the test's own: installing the zip must not touch the user's Blender.
 export BLENDER_USER_CONFIG="$out/user/config" BLENDER_USER_SCRIPTS="$out/user/scripts"
 export ANAMORPH_PYTHONPATH="$pydir"
+# Temporary files (the engine's scene folders, the viewport's) inside the test's own folder:
+# Blender quits with os._exit, which leaves them behind.
+export TMPDIR="$out/tmp"
+mkdir -p "$TMPDIR"
 cd "$out"
 case "$test" in
   test_window*)

@@ -1,7 +1,10 @@
-"""F12 and an animation render started from Blender's window (a render thread, where the
-exporter cannot run: the add-on hands it to the main thread), on a virtual X server: the
-animation's frames equal `anamorph render` of the kept scene files bit for bit and the exported
-sphere follows its keys. Also the camera panel's picture for docs/blender.md."""
+"""Blender with its window, on a virtual X server. An animation render started from the window
+(a render thread, where the exporter cannot run: the add-on hands it to the main thread): the
+frames equal `anamorph render` of the kept scene files bit for bit and the exported cube follows
+its keys. The camera panel's picture for docs/blender.md. The viewport's Rendered shading in the
+camera view: the progressive preview completes its passes; a coin edit restarts it with a
+different picture and no export, moving the cube exports the meshes once; leaving the camera
+view restarts it without an export."""
 
 import os
 import subprocess
@@ -106,6 +109,80 @@ def after_animation():
                      % (frame, got[0], want))
 
 
+def viewport_area():
+    win = bpy.context.window_manager.windows[0]
+    return max(win.screen.areas, key=lambda a: a.width * a.height)
+
+
+def area_picture(name):
+    win = bpy.context.window_manager.windows[0]
+    path = os.path.join(common.OUT, name)
+    with bpy.context.temp_override(window=win, screen=win.screen, area=viewport_area()):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    img = bpy.data.images.load(path)
+    pixels = np.array(img.pixels[:], dtype=np.float32)
+    bpy.data.images.remove(img)
+    return pixels
+
+
+def preview_done(after):
+    """The newest preview started after `after` and finished all its passes."""
+    log = bl.viewport_log
+    return bool(log) and log[-1]["started"] > after and \
+        log[-1]["passes"] == len(bl.VIEWPORT_PASSES)
+
+
+def viewport_step():
+    phase = state["phase"]
+    if phase == "viewport":
+        bl.VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4))  # lean: the test's time
+        space = viewport_area().spaces.active
+        space.shading.type = "RENDERED"
+        space.overlay.show_overlays = False
+        space.region_3d.view_perspective = "CAMERA"
+        state.update(phase="viewport_wait", t_on=time.monotonic())
+    elif phase == "viewport_wait" and preview_done(state["t_on"]):
+        log = bl.viewport_log[-1]
+        print("measured: viewport on to first image %.3f s (%d exports)"
+              % (log["first_image"] - state["t_on"], len(bl.viewport_exports)))
+        state["before"] = area_picture("viewport.png")
+        state["exports"] = len(bl.viewport_exports)
+        state.update(phase="edit", t_edit=time.monotonic())
+        bpy.data.objects["coin"].anamorph_coin.strength = 0.8
+    elif phase == "edit" and preview_done(state["t_edit"]):
+        log = bl.viewport_log[-1]
+        print("measured: coin edit to first image %.3f s, to the last pass %.3f s"
+              % (log["first_image"] - state["t_edit"], time.monotonic() - state["t_edit"]))
+        common.check(len(bl.viewport_exports) == state["exports"],
+                     "a coin edit restarts the preview without exporting the meshes (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        after = area_picture("viewport_edit.png")
+        common.check(not np.array_equal(after, state["before"]),
+                     "the viewport shows the edited coin (the picture changed)")
+        state["before"] = after
+        bpy.data.objects["Cube"].location.z += 0.5
+        state.update(phase="move", t_move=time.monotonic())
+    elif phase == "move" and preview_done(state["t_move"]):
+        common.check(len(bl.viewport_exports) == state["exports"] + 1,
+                     "moving the cube exported the meshes once (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        common.check(not np.array_equal(area_picture("viewport_move.png"), state["before"]),
+                     "the viewport shows the moved cube (the picture changed)")
+        state["exports"] = len(bl.viewport_exports)
+        viewport_area().spaces.active.region_3d.view_perspective = "PERSP"
+        state.update(phase="orbit", t_orbit=time.monotonic())
+    elif phase == "orbit" and preview_done(state["t_orbit"]):
+        common.check(len(bl.viewport_exports) == state["exports"],
+                     "leaving the camera view restarted the preview without an export (%d)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        common.finish()
+    elif time.monotonic() - state.get("t_on", time.monotonic()) > 60:
+        common.fail("the viewport phase %s did not finish in 60 s (log %s)"
+                    % (phase, bl.viewport_log[-3:]))
+        common.finish()
+    return 0.05
+
+
 def step():
     if state["phase"] == "start":
         setup()
@@ -127,7 +204,11 @@ def step():
     if state["phase"] == "picture":
         path = panel_picture()
         common.check(os.path.getsize(path) > 0, "the panel's picture: %s" % path)
-        common.finish()
+        viewport_area().type = "VIEW_3D"
+        state["phase"] = "viewport"
+        return 0.5
+    if state["phase"].startswith("viewport") or state["phase"] in {"edit", "move", "orbit"}:
+        return viewport_step()
     if time.monotonic() - state["t0"] > 120:
         common.fail("the render from the window did not finish in 120 s")
         common.finish()
