@@ -334,6 +334,46 @@ Accel::~Accel() {
   if (device_) rtcReleaseDevice(device_);
 }
 
+namespace {
+
+// dp/du, dp/dv from a triangle's uv layout (a frame about its normal ng when the layout is
+// degenerate).
+void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec2 uv0, Vec2 uv1, Vec2 uv2,
+                       const Vec3& ng, Vec3* dpdu, Vec3* dpdv) {
+  const Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+  const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+  const double det = duv02.x * duv12.y - duv02.y * duv12.x;
+  if (std::abs(det) > 1e-20) {
+    const double inv = 1 / det;
+    *dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
+    *dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
+  } else {
+    const Frame f = Frame::from_normal(normalize(ng));
+    *dpdu = f.s;
+    *dpdv = f.t;
+  }
+}
+
+// An analytic shape's hit, recomputed in double from the object-space ray for an exact point.
+void fill_shape_hit(const Accel::Record& rec, const Ray& r, float t, Hit* h) {
+  const AnalyticShape& s = *rec.shape;
+  const Vec3 oo = rec.object_from_world.point(r.o), od = rec.object_from_world.vector(r.d);
+  Vec3 po = oo + od * double(t);
+  const ShapeSurface ss = shape_surface(s, po);
+  h->p = rec.world_from_object.point(po);
+  h->ng = normalize(rec.world_from_object.normal(ss.n));
+  h->ns = h->ng;
+  h->uv = ss.uv;
+  h->dpdu = rec.world_from_object.vector(ss.dpdu);
+  h->dpdv = rec.world_from_object.vector(ss.dpdv);
+  h->material = s.material;
+  h->p_object = po;
+  h->n_object = ss.n;
+  h->object_from_world = &rec.object_from_world;
+}
+
+}  // namespace
+
 void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
                      float bv, Hit* h, bool surface) const {
   h->t = t;
@@ -348,24 +388,7 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
                                                        : rec.proto->meshes[geom].material;
     return;
   }
-  if (rec.kind == Record::Kind::Shape) {
-    const AnalyticShape& s = *rec.shape;
-    // Recompute in double from the object-space ray for an exact surface point.
-    const Vec3 oo = rec.object_from_world.point(r.o), od = rec.object_from_world.vector(r.d);
-    Vec3 po = oo + od * double(t);
-    const ShapeSurface ss = shape_surface(s, po);
-    h->p = rec.world_from_object.point(po);
-    h->ng = normalize(rec.world_from_object.normal(ss.n));
-    h->ns = h->ng;
-    h->uv = ss.uv;
-    h->dpdu = rec.world_from_object.vector(ss.dpdu);
-    h->dpdv = rec.world_from_object.vector(ss.dpdv);
-    h->material = s.material;
-    h->p_object = po;
-    h->n_object = ss.n;
-    h->object_from_world = &rec.object_from_world;
-    return;
-  }
+  if (rec.kind == Record::Kind::Shape) return fill_shape_hit(rec, r, t, h);
   const TriangleMesh* m;
   const Transform* xf = nullptr;
   if (rec.kind == Record::Kind::FlatMesh) {
@@ -379,27 +402,14 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   const double w = 1.0 - bu - bv;
   Vec3 po = p0 * w + p1 * double(bu) + p2 * double(bv);
   Vec3 ngo = cross(p1 - p0, p2 - p0);
-  Vec2 uv0{0, 0}, uv1{1, 0}, uv2{0, 1};
-  if (!m->uvs.empty()) {
-    uv0 = {m->uvs[idx[0]].x, m->uvs[idx[0]].y};
-    uv1 = {m->uvs[idx[1]].x, m->uvs[idx[1]].y};
-    uv2 = {m->uvs[idx[2]].x, m->uvs[idx[2]].y};
-  }
+  const auto uv_of = [&](int k) {  // (without uvs: the triangle's own (0,0), (1,0), (0,1))
+    return m->uvs.empty() ? Vec2{double(k == 1), double(k == 2)}
+                          : Vec2{m->uvs[idx[k]].x, m->uvs[idx[k]].y};
+  };
+  const Vec2 uv0 = uv_of(0), uv1 = uv_of(1), uv2 = uv_of(2);
   h->uv = uv0 * w + uv1 * double(bu) + uv2 * double(bv);
-  // dp/du, dp/dv from the triangle's uv layout.
-  const Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
-  const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
-  const double det = duv02.x * duv12.y - duv02.y * duv12.x;
   Vec3 dpdu, dpdv;
-  if (std::abs(det) > 1e-20) {
-    const double inv = 1 / det;
-    dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
-    dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
-  } else {
-    const Frame f = Frame::from_normal(normalize(ngo));
-    dpdu = f.s;
-    dpdv = f.t;
-  }
+  triangle_tangents(p0, p1, p2, uv0, uv1, uv2, ngo, &dpdu, &dpdv);
   const bool smooth = !m->normals.empty();
   Vec3 ns;
   if (smooth)
