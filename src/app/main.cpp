@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   add_serve(app, run);
   add_stmap(app, run);
   add_warp(app, run);
+  add_calib(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
