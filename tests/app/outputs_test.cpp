@@ -85,6 +85,8 @@ const OutputOption kOptions[] = {
     {"stmap", "m.exr", "{scene} --source equirect -o {d}/m.exr", "-o "},
     // (The input image is not read before the outputs are checked: it need not exist.)
     {"warp", "w.png", "{scene} {d}/in.png --source fisheye:180 -o {d}/w.png", "-o "},
+    {"calib", "c.yml", "{scene} --format opencv -o {d}/c.yml", "-o "},
+    {"calib", "cameras.txt", "{scene} --format colmap -o {d}", "-o "},
 };
 // Commands that write no file of their own (stdout only), and serve, whose files are the
 // editor's (its save replaces the scene it edits on purpose; tests/server hold it).
