@@ -4,13 +4,16 @@
 // direct render of the fisheye, and bad inputs (exit 2, named).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
 
+#include "camera/source_projection.h"
 #include "cli_util.h"
 #include "io/image_io.h"
 #include "run_fixture.h"
+#include "scene/scene_loader.h"
 #include "test_util.h"
 
 namespace anamorph {
@@ -112,6 +115,53 @@ TEST(StmapCli, WarpBilinearEqualsTheStmapAppliedByNumpy) {
                       " " + fx.path("w.exr"));
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_CONTAINS(r.out, "max_abs_diff");
+}
+
+// `stmap --inverse` from the command line: for each source pixel whose alpha is 1, the scene's
+// camera at the written (s, t) sees the source pixel's center again (forward o inverse) within
+// 1e-3 source pixels; alpha is 0 where no camera pixel sees the direction (more than 90 degrees
+// off a 180 degree fisheye's axis) and 1 where one does (less than 89 degrees off).
+TEST(StmapCli, InverseMapThroughTheCameraIsTheIdentity) {
+  Fixture fx;
+  const std::string fish = fx.dir.write("fish.toml", scene(kFisheye, 32, 32, 1));
+  const int SW = 96, SH = 48;
+  const CliResult r =
+      test::run_cli("stmap " + fish + " --source equirect --inverse --source-size " +
+                    std::to_string(SW) + "x" + std::to_string(SH) + " -o " + fx.path("inv.exr"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  int w = 0, h = 0;
+  auto ch = read_exr_channels(fx.path("inv.exr"), &w, &h);
+  ASSERT_TRUE(w == SW && h == SH) << w << "x" << h;
+  const Scene s = load_scene(fish);
+  const auto source = make_source_projection("equirect");
+  const Vec3 axis = normalize(Vec3{1.3, 1.4, 0.8} - Vec3{0.3, 0.9, 1.5});
+  int defined = 0, wrong_alpha = 0;
+  double worst = 0;
+  for (int y = 0; y < SH; ++y)
+    for (int x = 0; x < SW; ++x) {
+      const size_t i = size_t(y) * SW + size_t(x);
+      const Vec2 center{(x + 0.5) / SW, (y + 0.5) / SH};
+      const double angle =
+          std::acos(std::clamp(dot(*source->to_direction(center), axis), -1.0, 1.0)) * 180 / M_PI;
+      if ((angle < 89 && ch["A"][i] != 1) || (angle > 90.5 && ch["A"][i] != 0)) {
+        ++wrong_alpha;
+        ADD_FAILURE() << "source pixel " << x << "," << y << " at " << angle
+                      << " degrees off the axis has alpha " << ch["A"][i];
+      }
+      if (ch["A"][i] == 0) continue;
+      ++defined;
+      const auto ray = s.camera->generate(CameraSample{{ch["R"][i], 1 - double(ch["G"][i])}});
+      ASSERT_TRUE(ray) << "no ray at the inverse's position for source pixel " << x << "," << y;
+      const auto back = source->to_image(ray->dir);
+      ASSERT_TRUE(back);
+      Vec2 px{back->x * SW - (x + 0.5), back->y * SH - (y + 0.5)};
+      px.x -= SW * std::round(px.x / SW);
+      worst = std::max(worst, length(px));
+    }
+  EXPECT_GT(defined, SW * SH / 3) << "a 180 degree fisheye sees half the sphere";
+  EXPECT_EQ(wrong_alpha, 0);
+  EXPECT_LT(worst, 1e-3) << "largest |forward(inverse(p)) - p| in source pixels";
+  std::printf("inverse: %d of %d source pixels defined, worst %.2e px\n", defined, SW * SH, worst);
 }
 
 // Mean |warp - direct| and mean (warp - direct) over the covered pixels (RGB).
