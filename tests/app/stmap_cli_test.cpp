@@ -202,6 +202,64 @@ TEST(StmapCli, WarpOfAnEquirectRenderMatchesADirectRender) {
   std::printf("warp vs direct: mean abs %.4f, bias %.5f\n", mad, bias);
 }
 
+// `warp --frames 1:3`: frame f reads in_000f.exr and sees through the camera at frame f (fov
+// keyed 120 -> 180 over frames 1..3), each output equal, value for value, to a single warp of
+// that input with the frame's fov set; a gap in the inputs is exit 2 naming the missing frame
+// before anything is written; a corrupt frame stops the run (exit 2) after the frames before it.
+TEST(StmapCli, WarpSequenceReadsEachFrameAndItsAnimatedCamera) {
+  Fixture fx;
+  const std::string eq = fx.dir.write("eq.toml", scene(kEquirect, 64, 32, 1));
+  const std::string fish = fx.dir.write(
+      "fish.toml", scene(kFisheye, 24, 24, 1) +
+                       "[[animate]]\nkey = \"camera.fov\"\nkeys = [[1, 120], [3, 180]]\n");
+  for (int f = 1; f <= 3; ++f)  // (different inputs: the equirect's eye moves up)
+    ASSERT_EQ(test::run_cli("render -q " + eq + " --set camera.look_from=[0.3," +
+                            std::to_string(0.5 + 0.3 * f) + ",1.5] -o " +
+                            fx.path("in_000" + std::to_string(f) + ".exr"))
+                  .code,
+              0);
+  CliResult r =
+      test::run_cli("warp -q " + fish + " " + fx.path("in_%04d.exr") +
+                    " --source equirect --frames 1:3 --threads 2 -o " + fx.path("out_%02d.exr"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const char* fov[] = {"120", "150", "180"};
+  for (int f = 1; f <= 3; ++f) {
+    const std::string one = fx.path("one.exr");
+    fs::remove(one);
+    r = test::run_cli("warp " + fish + " " + fx.path("in_000" + std::to_string(f) + ".exr") +
+                      " --source equirect --threads 1 --set camera.fov=" + fov[f - 1] + " -o " +
+                      one);
+    ASSERT_EQ(r.code, 0) << r.out;
+    int w = 0, h = 0, w2 = 0, h2 = 0;
+    auto seq = read_exr_channels(fx.path("out_0" + std::to_string(f) + ".exr"), &w, &h);
+    auto ref = read_exr_channels(one, &w2, &h2);
+    ASSERT_TRUE(w == 24 && h == 24 && w2 == 24 && h2 == 24);
+    for (const char* c : {"R", "G", "B", "A"})
+      EXPECT_EQ(seq[c], ref[c]) << "frame " << f << " channel " << c << " differs from a single "
+                                << "warp with fov = " << fov[f - 1];
+    if (f > 1) {
+      auto prev = read_exr_channels(fx.path("out_0" + std::to_string(f - 1) + ".exr"), &w, &h);
+      EXPECT_NE(prev["A"], seq["A"]) << "frames " << f - 1 << " and " << f << " have one view";
+    }
+  }
+  // A gap: frame 4 missing from 1:5 (frame 5 there); nothing written.
+  fs::copy_file(fx.path("in_0003.exr"), fx.path("in_0005.exr"));
+  r = test::run_cli("warp " + fish + " " + fx.path("in_%04d.exr") +
+                    " --source equirect --frames 1:5 -o " + fx.path("gap_%d.exr"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "has gaps: 1 frame is missing: 4 (" + fx.path("in_0004.exr") + ")");
+  EXPECT_FALSE(fs::exists(fx.path("gap_1.exr")));
+  // A corrupt frame 2: frame 1 written, then exit 2 naming the file and what was written.
+  fx.dir.write("in_0004.exr", "not an exr");
+  r = test::run_cli("warp " + fish + " " + fx.path("in_%04d.exr") +
+                    " --source equirect --frames 3:5 -o " + fx.path("bad_%d.exr"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "in_0004.exr");
+  EXPECT_CONTAINS(r.out, "frames 3..3 were written; frame 4 and later were not");
+  EXPECT_TRUE(fs::exists(fx.path("bad_3.exr")));
+  EXPECT_FALSE(fs::exists(fx.path("bad_4.exr")) || fs::exists(fx.path("bad_5.exr")));
+}
+
 TEST(StmapCli, BadInputsExitTwoNamed) {
   Fixture fx;
   const std::string eq = fx.dir.write("eq.toml", scene(kEquirect, 32, 16, 1));
@@ -228,6 +286,14 @@ TEST(StmapCli, BadInputsExitTwoNamed) {
        "missing.exr"},
       {"warp " + ortho + " " + img + " --source fisheye:180 -o " + fx.path("w.png"), "not central"},
       {"warp " + eq + " " + img + " --source equirect -o " + img, "the input image"},
+      {"warp " + eq + " " + img + " --source equirect --frames 0:1 -o " + fx.path("w.png"),
+       "needs one frame-number pattern"},
+      {"warp " + eq + " " + fx.path("i%d.exr") + " --source equirect --frames 2:1 -o " +
+           fx.path("w%d.png"),
+       "the last frame comes before the first"},
+      {"warp " + eq + " " + fx.path("i%d.exr") + " --source equirect --frames 0:2 -o " +
+           fx.path("w%d.png"),
+       "3 frames are missing"},
   };
   for (const Case& c : cases) {
     const CliResult r = test::run_cli(c.args);
