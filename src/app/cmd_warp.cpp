@@ -7,6 +7,8 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
+
 #include <cmath>
 #include <filesystem>
 
