@@ -1,8 +1,8 @@
 """Accuracy of fisheye images against a reference (bench/warp_v360/run): mean absolute
 difference and bias in 8-bit sRGB over the image circle and over its rim (r > 0.9 of the
-radius), printed as a markdown table; with --crops DIR, crops of the left rim (just below the
-horizon: the far checkered floor, minified most) of the reference and of images 1 and the
-first v360 one, enlarged 2x, as PNGs."""
+radius), printed as a markdown table; with --crops DIR, crops at the rim (the reference's most
+detailed block there) of the reference, the first image and the first v360 one, enlarged 2x,
+as PNGs."""
 import argparse
 import os
 
@@ -45,7 +45,15 @@ def main():
         print(f"| {os.path.basename(path)} | {np.abs(d[disc]).mean():.3f} | "
               f"{d[disc].mean():+.3f} | {np.abs(d[rim]).mean():.3f} |")
     if a.crops:
-        x0, y0, n = 16, h // 2 + 8, 128
+        # The most detailed 128 x 128 block of the reference centered 80 px inside the rim.
+        n = 128
+        blocks = []
+        for t in np.linspace(0, 2 * np.pi, 72, endpoint=False):
+            cx, cy = (int(w / 2 + (w / 2 - 80) * np.cos(t)), int(h / 2 + (h / 2 - 80) * np.sin(t)))
+            blocks.append((ref[cy - n // 2:cy + n // 2, cx - n // 2:cx + n // 2].std(),
+                           cx - n // 2, cy - n // 2))
+        _, x0, y0 = max(blocks)
+        print(f"crops: {n} x {n} at x = {x0}, y = {y0}")
         crop = lambda img: img[y0:y0 + n, x0:x0 + n]
         v360 = next(i for i in a.images if "v360" in os.path.basename(i))
         for name, img in (("reference", ref), ("anamorph", read(a.images[0])),
