@@ -1,5 +1,5 @@
 // Sixteen floats as one value, for the denoiser's kernels: GCC's vector extension, one AVX-512
-// register, two AVX2 or four SSE ones under the target_clones of math/simd.h. Every operation is
+// register, two AVX2 or four SSE ones in the clones of math/simd.h's kernels. Every operation is
 // lane by lane (no sums across lanes), so each ISA computes the same bits. Values are loaded and
 // stored by reference: a vector passed by value across a function boundary would depend on the
 // ISA's calling convention.

@@ -55,9 +55,9 @@ struct RowPair {
 // d(p, q) (the mean of the channels' terms) where both pixels are covered, else 0, and the pair
 // counts, for n pixels of a row; returns how many pairs are present. One function per channel
 // count in use: the colour (3) and a feature channel (1).
-ANAMORPH_SIMD_CLONES
-int pair_distances3(int n, const RowPair& r, const float* __restrict cp, const float* __restrict cq,
-                    float* __restrict dist, float* __restrict count) {
+ANAMORPH_KERNEL_BODY int pair_distances3_body(int n, const RowPair& r, const float* __restrict cp,
+                                              const float* __restrict cq, float* __restrict dist,
+                                              float* __restrict count) {
   const float* __restrict g0 = r.gp[0], * __restrict g1 = r.gp[1], * __restrict g2 = r.gp[2];
   const float* __restrict h0 = r.gq[0], * __restrict h1 = r.gq[1], * __restrict h2 = r.gq[2];
   const float* __restrict v0 = r.vp[0], * __restrict v1 = r.vp[1], * __restrict v2 = r.vp[2];
@@ -71,15 +71,17 @@ int pair_distances3(int n, const RowPair& r, const float* __restrict cp, const f
   }
   return mask_pairs(n, cp, cq, dist, count);
 }
+constexpr simd::Kernel<pair_distances3_body> pair_distances3;
 
-ANAMORPH_SIMD_CLONES
-int pair_distances1(int n, const RowPair& r, const float* __restrict cp, const float* __restrict cq,
-                    float* __restrict dist, float* __restrict count) {
+ANAMORPH_KERNEL_BODY int pair_distances1_body(int n, const RowPair& r, const float* __restrict cp,
+                                              const float* __restrict cq, float* __restrict dist,
+                                              float* __restrict count) {
   const float* __restrict g0 = r.gp[0], * __restrict h0 = r.gq[0];
   const float* __restrict v0 = r.vp[0], * __restrict u0 = r.vq[0];
   for (int i = 0; i < n; ++i) dist[i] = channel_term(g0[i], h0[i], v0[i], u0[i]);
   return mask_pairs(n, cp, cq, dist, count);
 }
+constexpr simd::Kernel<pair_distances1_body> pair_distances1;
 
 // e^-x for x in [0, 80] as straight-line code that vectorizes: x = k ln2 - r, e^-r by its Taylor
 // polynomial to degree 7 on |r| <= ln2/2 (relative error below 2e-7), 2^-k put into the bits.
@@ -100,8 +102,8 @@ int pair_distances1(int n, const RowPair& r, const float* __restrict cp, const f
 // patch sums along rows (step 1) and then along columns (step = row length), each over a whole
 // block at once (entries that straddle two rows are computed and never read). Sixteen sums at a
 // time are kept in registers.
-ANAMORPH_SIMD_CLONES
-void box_sums(int n, int taps, int step, const float* __restrict in, float* __restrict out) {
+ANAMORPH_KERNEL_BODY void box_sums_body(int n, int taps, int step, const float* __restrict in,
+                                        float* __restrict out) {
   int i = 0;
   for (; i + kLanes <= n; i += kLanes) {
     Lanes sum, v;
@@ -118,23 +120,25 @@ void box_sums(int n, int taps, int step, const float* __restrict in, float* __re
     out[i] = sum;
   }
 }
+constexpr simd::Kernel<box_sums_body> box_sums;
 
 // exp(-max(distance / k², 0)) · coverage, and 0 beyond kFar.
-ANAMORPH_SIMD_CLONES
-void weights_kernel(int n, const float* distance, float inv_k2, const float* __restrict coverage,
-                    float* out) {  // (distance and out may be the same array)
+ANAMORPH_KERNEL_BODY void weights_kernel_body(
+    int n, const float* distance, float inv_k2, const float* __restrict coverage,
+    float* out) {  // (distance and out may be the same array)
   for (int i = 0; i < n; ++i) {
     const float d = std::max(distance[i] * inv_k2, 0.0f);
     const float e = exp_neg(std::min(d, kFar)) * coverage[i];
     out[i] = d < kFar ? e : 0.0f;
   }
 }
+constexpr simd::Kernel<weights_kernel_body> weights_kernel;
 
-ANAMORPH_SIMD_CLONES
-void accumulate(int n, const float* __restrict w, const float* __restrict v,
-                float* __restrict acc) {
+ANAMORPH_KERNEL_BODY void accumulate_body(int n, const float* __restrict w,
+                                          const float* __restrict v, float* __restrict acc) {
   for (int i = 0; i < n; ++i) acc[i] += w[i] * v[i];
 }
+constexpr simd::Kernel<accumulate_body> accumulate;
 
 // Per-pixel distances d(p, p + (dx, dy)) (channel means; 0 for absent pairs) and pair counts
 // over r grown by the patch radius, row-major with row length r.width() + 2f. Returns whether
@@ -163,7 +167,7 @@ bool pixel_distances(const Guide& g, int f, const Rect& r, int dx, int dy, float
       rows.vp[c] = g.variance->plane(c) + p;
       rows.vq[c] = g.variance->plane(c) + q;
     }
-    present += (val.channels() == 3 ? pair_distances3 : pair_distances1)(
+    present += (val.channels() == 3 ? pair_distances3.get() : pair_distances1.get())(
         xb - xa, rows, cov + p, cov + q, drow + (xa - px0), crow + (xa - px0));
   }
   return present == size_t(pw) * size_t(ph);

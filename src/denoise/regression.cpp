@@ -51,15 +51,15 @@ int round_up(int n, int m) { return (n + m - 1) / m * m; }
 // XᵀWX (lower triangle, p × p) and XᵀWY (p × 3) of one window as lane partial sums: cols holds
 // the p columns of X, then the 3 of Y, then zero columns up to a multiple of 4, `stride`
 // entries each. Blocks with no pair needed (all above the diagonal of XᵀWX) are skipped.
-ANAMORPH_SIMD_CLONES
-void normal_equations(int p, int stride, const float* __restrict cols, const float* __restrict w,
-                      float* __restrict part) {
+ANAMORPH_KERNEL_BODY void normal_equations_body(int p, int stride, const float* __restrict cols,
+                                                const float* __restrict w, float* __restrict part) {
   const int row = round_up(p + 3, kBlock);
   for (int a0 = 0; a0 < p; a0 += kBlock)
     for (int b0 = 0; b0 < row; b0 += kBlock)
       if (b0 <= a0 + kBlock - 1 || b0 + kBlock - 1 >= p)
         block_sums(stride, stride, cols, w, a0, b0, row, part);
 }
+constexpr simd::Kernel<normal_equations_body> normal_equations;
 
 // Each sum from its lane partial sums, in lane order.
 void add_up_partials(int p, const float* part, double* m, double* rhs) {
@@ -77,9 +77,8 @@ void add_up_partials(int p, const float* part, double* m, double* rhs) {
 }
 
 // pred_c = X beta_c for every entry of the window.
-ANAMORPH_SIMD_CLONES
-void predict(int p, int stride, const float* __restrict x, const float* __restrict beta,
-             float* __restrict pred) {
+ANAMORPH_KERNEL_BODY void predict_body(int p, int stride, const float* __restrict x,
+                                       const float* __restrict beta, float* __restrict pred) {
   for (int c = 0; c < 3; ++c) {
     float* o = pred + c * stride;
     for (int i = 0; i < stride; ++i) o[i] = x[i] * beta[c];
@@ -87,11 +86,13 @@ void predict(int p, int stride, const float* __restrict x, const float* __restri
       for (int i = 0; i < stride; ++i) o[i] += x[a * stride + i] * beta[a * 3 + c];
   }
 }
+constexpr simd::Kernel<predict_body> predict;
 
-ANAMORPH_SIMD_CLONES
-void scatter_row(int n, const float* __restrict w, const float* __restrict p0,
-                 const float* __restrict p1, const float* __restrict p2, float* __restrict a0,
-                 float* __restrict a1, float* __restrict a2, float* __restrict aw) {
+ANAMORPH_KERNEL_BODY void scatter_row_body(int n, const float* __restrict w,
+                                           const float* __restrict p0, const float* __restrict p1,
+                                           const float* __restrict p2, float* __restrict a0,
+                                           float* __restrict a1, float* __restrict a2,
+                                           float* __restrict aw) {
   for (int i = 0; i < n; ++i) {
     a0[i] += w[i] * p0[i];
     a1[i] += w[i] * p1[i];
@@ -99,6 +100,7 @@ void scatter_row(int n, const float* __restrict w, const float* __restrict p0,
     aw[i] += w[i];
   }
 }
+constexpr simd::Kernel<scatter_row_body> scatter_row;
 
 // One window's columns over its (2R+1)² pixels, rounded up to whole lanes (the extra entries
 // have weight 0): in `cols`, the p columns of X (1, the offsets / R, the feature differences),

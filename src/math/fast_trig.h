@@ -1,7 +1,7 @@
 // Sine and cosine as straight-line code that compilers vectorize: a loop calling sincos_poly
-// becomes AVX-512 / AVX2 code under target_clones, where std::sin stays a scalar library call
-// (glibc's vector variants need -ffast-math). Camera kernels use it in their one-at-a-time and
-// batched paths alike, so both give the same bits on every ISA.
+// becomes AVX-512 / AVX2 code in the AVX-512 / AVX2 clones of math/simd.h, where std::sin stays a
+// scalar library call (glibc's vector variants need -ffast-math). Camera kernels use it in their
+// one-at-a-time and batched paths alike, so both give the same bits on every ISA.
 #pragma once
 
 #include <bit>

@@ -26,18 +26,9 @@
 #define ANAMORPH_TARGET_AVX2
 #endif
 
-// The loader-time clones these kernels used before (GCC's target_clones: ifunc resolvers, which
-// ANAMORPH_ISA cannot steer). Only the denoiser (src/denoise) still uses them; a kernel there
-// follows ANAMORPH_ISA once it becomes a simd::Kernel body. (Not under ThreadSanitizer: the
-// ifunc resolvers run while the dynamic loader relocates the program, before TSan's runtime is
-// up, and crash there.)
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(__SANITIZE_THREAD__) && !defined(ANAMORPH_ONE_CLONE)
-#define ANAMORPH_SIMD_CLONES \
-  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define ANAMORPH_SIMD_CLONES
-#endif
+// (GCC's target_clones, which these kernels used before, are not used: their ifunc resolvers run
+// while the dynamic loader relocates the program, so ANAMORPH_ISA could not steer them, and
+// under ThreadSanitizer they crashed before its runtime was up.)
 
 // A kernel's body: `ANAMORPH_KERNEL_BODY void f_body(...) { ... }`, then
 // `constexpr simd::Kernel<f_body> f;` and calls `f(...)` as before.

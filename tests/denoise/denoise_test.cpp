@@ -9,12 +9,15 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "denoise/denoise.h"
+#include "math/simd.h"
 #include "synthetic.h"
 
 namespace anamorph {
@@ -236,6 +239,45 @@ TEST(Denoise, SameBitsForAnyThreadCount) {
   tbb::task_arena(1).execute([&] { one = run(s.input()); });
   tbb::task_arena(2).execute([&] { two = run(s.input()); });
   EXPECT_TRUE(same_bits(one, two));
+}
+
+// The bits of the denoised image as one number (FNV-1a over the floats' bit patterns).
+uint64_t bits_hash(const std::vector<float>& v) {
+  uint64_t h = 1469598103934665603ull;
+  for (float f : v) h = (h ^ std::bit_cast<uint32_t>(f)) * 1099511628211ull;
+  return h;
+}
+
+// Prints the hash of a denoised image, for SameBitsOnEveryInstructionSet (which runs this test
+// in a process of its own per set: the kernels' set is chosen once per process).
+TEST(Denoise, PrintsTheHashOfItsOutput) {
+  const Synthetic s = fisheye_scene(40, 5);
+  std::printf("denoise-hash %s %016llx\n", simd::name(simd::active()),
+              (unsigned long long)bits_hash(run(s.input())));
+}
+
+// The kernels (math/simd.h clones) give the same bits in every instruction set this CPU has.
+TEST(Denoise, SameBitsOnEveryInstructionSet) {
+  std::string first;
+  for (simd::Isa isa : {simd::Isa::Baseline, simd::Isa::Avx2, simd::Isa::Avx512}) {
+    if (int(isa) > int(simd::cpu_best())) continue;
+    const std::string cmd = std::string("ANAMORPH_ISA=") + simd::name(isa) + " '" +
+                            std::filesystem::read_symlink("/proc/self/exe").string() +
+                            "' --gtest_filter=Denoise.PrintsTheHashOfItsOutput";
+    FILE* p = popen(cmd.c_str(), "r");
+    ASSERT_NE(p, nullptr);
+    std::string out;
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    ASSERT_EQ(pclose(p), 0) << out;
+    const size_t at = out.find(std::string("denoise-hash ") + simd::name(isa) + " ");
+    ASSERT_NE(at, std::string::npos) << out;
+    const std::string hash = out.substr(out.find(' ', at + 13) + 1, 16);
+    if (first.empty())
+      first = hash;
+    else
+      EXPECT_EQ(hash, first) << simd::name(isa) << " differs from the baseline";
+  }
 }
 
 // Noise over constant features and a constant colour: the output converges to the mean. The
