@@ -170,6 +170,23 @@ class Camera:
         uv, offsets = self._impl.project(pts, threads)
         return Projection(uv, offsets, self.width, self.height)
 
+    def stmap(self, source: str, *, width: int | None = None, height: int | None = None,
+              inverse: bool = False, source_size: tuple[int, int] | None = None,
+              threads: int = 0) -> dict[str, np.ndarray]:
+        """The camera as an STMap to a source projection (``"equirect"``, ``"cubemap[:3x2]"``,
+        ``"fisheye:FOV[:ASPECT]"``, ``"perspective:FOV[:ASPECT]"``), what ``anamorph stmap``
+        writes (docs/compositing.md): ``st`` (H, W, 2) float32, s left to right and t from the
+        *bottom* of the source, pixel centers at (x + 0.5) / W; ``alpha`` (H, W) (1 where the
+        pixel has a ray the source shows); ``direction`` (H, W, 3) unit world directions.
+        ``inverse``: the map the other way, at ``source_size`` (W, H; default the camera's width
+        and the projection's aspect). A camera whose rays leave different points raises
+        ValueError."""
+        cam = self._at(width, height)
+        sw, sh = (0, 0) if source_size is None else (int(source_size[0]), int(source_size[1]))
+        if source_size is not None and not (1 <= sw <= 65536 and 1 <= sh <= 65536):
+            raise ValueError(f"source_size {source_size}: each in [1, 65536]")
+        return cam._impl.stmap(source, inverse, sw, sh, threads)
+
     def describe(self) -> str:
         return self._impl.describe()
 

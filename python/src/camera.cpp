@@ -6,6 +6,8 @@
 #include "bindings.h"
 #include "camera/coins.h"
 #include "camera/ray_field.h"
+#include "camera/source_projection.h"
+#include "camera/stmap.h"
 #include "camera_handle.h"
 #include "math/parallel.h"
 #include "render/memory_estimate.h"
@@ -108,6 +110,39 @@ pb::tuple project(const CameraHandle& c, const Doubles& points, int threads) {
                         to_array(std::move(p.offsets), {pb::ssize_t(n) + 1}));
 }
 
+// The camera's STMap to the source projection `spec` (camera/stmap.h): st (H, W, 2), alpha (H,
+// W), direction (H, W, 3), float32; with `inverse` the map the other way at the source's size
+// (source_width, source_height; 0: the camera's width and the projection's aspect). A
+// non-central camera raises ValueError (NonCentralCamera).
+pb::dict stmap(const CameraHandle& c, const std::string& spec, bool inverse, int source_width,
+               int source_height, int threads) {
+  const Camera& cam = c.camera();
+  const int W = c.width(), H = c.height();
+  const bool sized = source_width > 0 && source_height > 0;
+  const auto source =
+      make_source_projection(spec, sized ? double(source_width) / source_height : 1.0);
+  StMap m;
+  {
+    pb::gil_scoped_release release;
+    const Vec3 origin = central_origin(cam, W, H);
+    in_arena(threads, [&] {
+      if (!inverse) {
+        m = forward_stmap(cam, *source, W, H);
+        return;
+      }
+      const int sw = sized ? source_width : W;
+      const int sh = sized ? source_height : std::max(1, int(std::lround(sw / source->aspect())));
+      m = inverse_stmap(cam, origin, *source, sw, sh);
+    });
+  }
+  const pb::ssize_t h = m.height, w = m.width;
+  pb::dict d;
+  d["st"] = to_array(std::move(m.st), {h, w, 2});
+  d["alpha"] = to_array(std::move(m.alpha), {h, w});
+  d["direction"] = to_array(std::move(m.direction), {h, w, 3});
+  return d;
+}
+
 pb::list coins(const CameraHandle& c) {
   pb::list l;
   for (const CoinSite& s : coin_sites(c.camera())) {
@@ -137,7 +172,9 @@ void bind_camera(pb::module_& m) {
       .def("rays", &rays, pb::arg("differentials"), pb::arg("threads"))
       .def("generate", &generate, pb::arg("u"), pb::arg("v"), pb::arg("lens_u"), pb::arg("lens_v"),
            pb::arg("time"), pb::arg("differentials"), pb::arg("threads"))
-      .def("project", &project, pb::arg("points"), pb::arg("threads"));
+      .def("project", &project, pb::arg("points"), pb::arg("threads"))
+      .def("stmap", &stmap, pb::arg("source"), pb::arg("inverse"), pb::arg("source_width"),
+           pb::arg("source_height"), pb::arg("threads"));
 }
 
 }  // namespace anamorph::py

@@ -3,6 +3,7 @@
 // failing to write is an OSError. Messages have the user's text escaped (math/user_text.h), as the
 // CLI prints them: a traceback is printed to a terminal too. The attributes are kept as given.
 #include "bindings.h"
+#include "camera/stmap.h"
 #include "io/image_io.h"
 #include "math/user_text.h"
 #include "scene/loaders.h"
@@ -56,6 +57,8 @@ void bind_errors(pb::module_& m) {
       PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     } catch (const ImageIoError& e) {
       PyErr_SetString(PyExc_OSError, printable(e.what()).c_str());
+    } catch (const NonCentralCamera& e) {
+      PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     } catch (const std::invalid_argument& e) {
       PyErr_SetString(PyExc_ValueError, printable(e.what()).c_str());
     }

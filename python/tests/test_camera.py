@@ -179,3 +179,45 @@ def test_coins_report_their_image_positions():
     info = cli("info", ROOT / "examples/apps/focus_context.toml").stdout
     for c in coins:
         assert f"(uc, vc) = ({c['uv'][0]:.4f}, {c['uv'][1]:.4f})" in info
+
+
+def read_exr(path) -> dict[str, np.ndarray]:
+    oiio = pytest.importorskip("OpenImageIO")
+    i = oiio.ImageInput.open(str(path))
+    names = i.spec().channelnames
+    a = i.read_image(format="float")
+    i.close()
+    return {n: a[..., k] for k, n in enumerate(names)}
+
+
+@pytest.mark.parametrize("inverse", [False, True])
+def test_stmap_equals_the_cli_map(tmp_path, inverse):
+    scene = ROOT / "examples/apps/fisheye_180.toml"
+    cam = anamorph.load(scene).camera.resized(40, 30)
+    extra = ["--inverse", "--source-size", "64x32"] if inverse else []
+    cli("stmap", scene, "--width", 40, "--height", 30, "--source", "equirect", *extra,
+        "-o", tmp_path / "m.exr")
+    want = read_exr(tmp_path / "m.exr")
+    m = cam.stmap("equirect", inverse=inverse, source_size=(64, 32) if inverse else None)
+    h, w = (32, 64) if inverse else (30, 40)
+    assert m["st"].shape == (h, w, 2) and m["st"].dtype == np.float32
+    for got, name in ((m["st"][..., 0], "R"), (m["st"][..., 1], "G"), (m["alpha"], "A"),
+                      (m["direction"][..., 0], "direction.X"),
+                      (m["direction"][..., 2], "direction.Z")):
+        np.testing.assert_array_equal(got, want[name], err_msg=name)
+    assert 0 < m["alpha"].sum() < h * w  # (a 180 degree fisheye: rays inside its circle only)
+
+
+def test_stmap_of_the_equirect_to_itself_is_the_identity():
+    m = anamorph.Camera("equirectangular", width=32, height=16).stmap("equirect")
+    x, y = np.meshgrid(np.arange(32), np.arange(16))
+    np.testing.assert_allclose(m["st"][..., 0], (x + 0.5) / 32, atol=1e-6)
+    np.testing.assert_allclose(m["st"][..., 1], 1 - (y + 0.5) / 16, atol=1e-6)
+    assert np.all(m["alpha"] == 1)
+
+
+def test_stmap_refuses_a_camera_that_is_not_central():
+    with pytest.raises(ValueError, match="not central"):
+        anamorph.Camera("orthographic", width=16, height=16).stmap("equirect")
+    with pytest.raises(ValueError, match="unknown projection"):
+        anamorph.Camera("fisheye", width=16, height=16).stmap("mercator")

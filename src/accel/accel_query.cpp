@@ -135,10 +135,11 @@ bool Accel::intersect_see_through(const Ray& r, Hit* hit) const {
 }
 
 // One packet: `load(rh)` writes the lanes' origins and directions, `bound(o, d, tmin, &tfar)`
-// tests what is not in the BVH (shortening tfar; the id it hit, or none), the rest is set here.
+// tests what is not in the BVH (shortening tfar; the id it hit, or none; called only when
+// `bounded`, i.e. the scene has unbounded shapes), the rest is set here.
 template <int N, class RayHitN, class Load, class Bound, class F>
 static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Load&& load,
-                             Bound&& bound, F&& fill,
+                             bool bounded, Bound&& bound, F&& fill,
                              void (*trace)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -147,10 +148,16 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
   alignas(64) int v[N];
   unsigned beside[N];
   load(rh);
+  // Which lanes Embree may take: float comparisons only, so that the loop vectorizes (with the
+  // byte-sized `valid` in it, or a call per lane, it stayed scalar: a tenth of a primary-ray
+  // render's time).
+  alignas(64) int in_range[N];
+  for (int i = 0; i < N; ++i)
+    in_range[i] = ray_in_range_f(rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
+                                 rh.ray.dir_y[i], rh.ray.dir_z[i]);
   bool take[N];
   for (int i = 0; i < N; ++i) {
-    take[i] = valid[i] && ray_in_range({rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
-                                       {rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]});
+    take[i] = valid[i] && in_range[i];
     v[i] = take[i] ? -1 : 0;
     rh.ray.time[i] = 0;
     rh.ray.mask[i] = kAll;
@@ -158,11 +165,14 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
     rh.ray.flags[i] = 0;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    beside[i] = take[i] ? bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
-                                Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]},
-                                rh.ray.tnear[i], &rh.ray.tfar[i])
-                        : RTC_INVALID_GEOMETRY_ID;
+    beside[i] = RTC_INVALID_GEOMETRY_ID;
   }
+  if (bounded)
+    for (int i = 0; i < N; ++i)
+      if (take[i])
+        beside[i] = bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
+                          Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]}, rh.ray.tnear[i],
+                          &rh.ray.tfar[i]);
   trace(v, scene, &ctx, &rh);
   for (int i = 0; i < N; ++i) {
     const bool in_bvh = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
@@ -192,6 +202,7 @@ void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* fou
           rh.ray.tfar[i] = far_of(r.tmax);
         }
       },
+      !unbounded_.empty(),
       [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
         return nearest_unbounded(o, d, tmin, tfar, kAll);
       },
@@ -216,6 +227,7 @@ void Accel::intersect16(const double (&org)[3][16], const double (&dir)[3][16], 
         for (int i = 0; i < 16; ++i) rh.ray.tnear[i] = 0.0f;
         for (int i = 0; i < 16; ++i) rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
       },
+      !unbounded_.empty(),
       [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
         return nearest_unbounded(o, d, tmin, tfar, kAll);
       },

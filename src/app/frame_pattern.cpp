@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cstdlib>
 
 namespace anamorph::app {
 
@@ -32,6 +33,20 @@ std::optional<std::string> frame_pattern_error(const std::string& pattern) {
     return conversions == 0 ? "it has no frame-number pattern"
                             : "it has more than one frame-number pattern";
   return std::nullopt;
+}
+
+bool parse_frame_range(const std::string& text, int* first, int* last) {
+  auto number = [](const std::string& t, int* v) {
+    if (t.empty()) return false;
+    char* end = nullptr;
+    const long x = std::strtol(t.c_str(), &end, 10);
+    if (*end || x < -1000000000 || x > 1000000000) return false;
+    *v = int(x);
+    return true;
+  };
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) return number(text, first) && number(text, last);
+  return number(text.substr(0, colon), first) && number(text.substr(colon + 1), last);
 }
 
 }  // namespace anamorph::app

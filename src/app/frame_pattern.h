@@ -15,4 +15,7 @@ inline constexpr int kMaxFrameWidth = 64;
 // Why `pattern` is not such a pattern (a sentence), or none.
 std::optional<std::string> frame_pattern_error(const std::string& pattern);
 
+// --frames: "A:B" or "A" (integers, possibly negative, within +-1e9) into first and last.
+bool parse_frame_range(const std::string& text, int* first, int* last);
+
 }  // namespace anamorph::app

@@ -22,21 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// "A:B" or "A" (integers, possibly negative).
-bool parse_frames(const std::string& text, int* first, int* last) {
-  auto number = [](const std::string& t, int* v) {
-    if (t.empty()) return false;
-    char* end = nullptr;
-    const long x = std::strtol(t.c_str(), &end, 10);
-    if (*end || x < -1000000000 || x > 1000000000) return false;
-    *v = int(x);
-    return true;
-  };
-  const size_t colon = text.find(':');
-  if (colon == std::string::npos) return number(text, first) && number(text, last);
-  return number(text.substr(0, colon), first) && number(text.substr(colon + 1), last);
-}
-
 // A frame already rendered: its file is there (files appear only when complete) and readable, and
 // no checkpoint of it is left (a time limit's image keeps one, to continue from).
 bool frame_exists(const fs::path& out, const fs::path& checkpoint) {
@@ -70,7 +55,7 @@ RenderOutputs frame_outputs(const RenderSetup& s, int f) {
 // --frames and the patterns it needs; kOk or kBadInput (the error printed).
 int check_sequence(const RenderSetup& s, int* first, int* last) {
   const RenderArgs& a = s.args;
-  if (!parse_frames(a.frames, first, last)) {
+  if (!parse_frame_range(a.frames, first, last)) {
     print_error(
         fmt::format("--frames {}: expected FIRST:LAST (e.g. 0:59) or one frame number", a.frames));
     return kBadInput;

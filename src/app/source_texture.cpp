@@ -82,7 +82,7 @@ struct SourceTexture::State {
   }
 };
 
-SourceTexture::SourceTexture(const Image& image, bool wrap_u, TextureFilter filter)
+SourceTexture::SourceTexture(const Image& image, bool wrap_u, TextureFilter filter, int threads)
     : state_(std::make_unique<State>()) {
   const Plugin& p = plugin();
   State& s = *state_;
@@ -93,7 +93,7 @@ SourceTexture::SourceTexture(const Image& image, bool wrap_u, TextureFilter filt
                                                        : kOiioFilterBicubic;
   char error[512] = "";
   s.texture = p.open(image.pixels.data(), image.width, image.height, image.channels, s.file.c_str(),
-                     wrap_u, mode, error, sizeof error);
+                     wrap_u, mode, threads, error, sizeof error);
   if (!s.texture) throw std::runtime_error(error);
 }
 

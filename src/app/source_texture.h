@@ -19,8 +19,9 @@ enum class TextureFilter { Aniso, Bilinear, Bicubic };
 class SourceTexture {
  public:
   // wrap_u: u is periodic (an equirect); v clamps. Sources that do not wrap are black outside
-  // [0,1]^2. Throws std::runtime_error when OIIO fails.
-  SourceTexture(const Image& image, bool wrap_u, TextureFilter filter);
+  // [0,1]^2. `threads` (0: all cores) builds the MIP pyramid. Throws std::runtime_error when
+  // OIIO fails.
+  SourceTexture(const Image& image, bool wrap_u, TextureFilter filter, int threads = 0);
   ~SourceTexture();
   SourceTexture(const SourceTexture&) = delete;
   SourceTexture& operator=(const SourceTexture&) = delete;

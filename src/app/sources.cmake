@@ -28,6 +28,8 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_serve.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_stmap.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_warp.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/warp_frame.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/warp_sequence.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_calib.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_formats.cpp

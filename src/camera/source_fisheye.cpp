@@ -49,12 +49,8 @@ class FisheyeSource final : public SourceProjection {
 };
 
 std::unique_ptr<SourceProjection> create(std::span<const std::string> args, double image_aspect) {
-  if (args.empty() || args.size() > 2)
-    throw ParamError("--source", "--source fisheye needs fisheye:FOV[:ASPECT], e.g. fisheye:180");
-  const double fov = source_number(args[0], "fisheye FOV (degrees)", 1e-3, 360);
-  const double aspect =
-      args.size() > 1 ? source_number(args[1], "fisheye ASPECT", 1e-3, 1e3) : image_aspect;
-  return std::make_unique<FisheyeSource>(fov, aspect);
+  const FovAspect fa = source_fov_aspect(args, "fisheye", 360, 180, image_aspect);
+  return std::make_unique<FisheyeSource>(fa.fov, fa.aspect);
 }
 
 }  // namespace

@@ -39,13 +39,8 @@ class PerspectiveSource final : public SourceProjection {
 };
 
 std::unique_ptr<SourceProjection> create(std::span<const std::string> args, double image_aspect) {
-  if (args.empty() || args.size() > 2)
-    throw ParamError("--source",
-                     "--source perspective needs perspective:FOV[:ASPECT], e.g. perspective:90");
-  const double fov = source_number(args[0], "perspective FOV (degrees)", 1e-3, 179.9);
-  const double aspect =
-      args.size() > 1 ? source_number(args[1], "perspective ASPECT", 1e-3, 1e3) : image_aspect;
-  return std::make_unique<PerspectiveSource>(fov, aspect);
+  const FovAspect fa = source_fov_aspect(args, "perspective", 179.9, 90, image_aspect);
+  return std::make_unique<PerspectiveSource>(fa.fov, fa.aspect);
 }
 
 }  // namespace

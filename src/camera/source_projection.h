@@ -59,4 +59,12 @@ std::unique_ptr<SourceProjection> make_source_projection(std::string_view spec, 
 // A number argument of a spec (for the kinds): finite, in [lo, hi], or ParamError naming `what`.
 double source_number(const std::string& text, std::string_view what, double lo, double hi);
 
+// The arguments FOV[:ASPECT] of kind `kind` (fisheye, perspective): FOV in degrees within
+// (0, max_fov], ASPECT the image's when left out; ParamError with an example otherwise.
+struct FovAspect {
+  double fov, aspect;
+};
+FovAspect source_fov_aspect(std::span<const std::string> args, std::string_view kind,
+                            double max_fov, double example_fov, double image_aspect);
+
 }  // namespace anamorph

@@ -46,4 +46,16 @@ double source_number(const std::string& text, std::string_view what, double lo, 
   return x;
 }
 
+FovAspect source_fov_aspect(std::span<const std::string> args, std::string_view kind,
+                            double max_fov, double example_fov, double image_aspect) {
+  if (args.empty() || args.size() > 2)
+    throw ParamError("--source", fmt::format("--source {0} needs {0}:FOV[:ASPECT], e.g. {0}:{1}",
+                                             kind, example_fov));
+  const double fov = source_number(args[0], fmt::format("{} FOV (degrees)", kind), 1e-3, max_fov);
+  const double aspect = args.size() > 1
+                            ? source_number(args[1], fmt::format("{} ASPECT", kind), 1e-3, 1e3)
+                            : image_aspect;
+  return {fov, aspect};
+}
+
 }  // namespace anamorph

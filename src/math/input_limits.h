@@ -34,6 +34,17 @@ inline bool ray_in_range(const Vec3& o, const Vec3& d) {
          std::abs(d.z) <= kMaxDirection && (d.x != 0 || d.y != 0 || d.z != 0);
 }
 
+// ray_in_range for a ray already in float (a packet handed to Embree), as 0 or 1 from float
+// comparisons alone, which a loop over a packet's lanes vectorizes. The same answer for every
+// float ray: both limits round down to floats, so |x| <= limit in double iff |x| <= float(limit).
+inline int ray_in_range_f(float ox, float oy, float oz, float dx, float dy, float dz) {
+  constexpr float kWorld = float(kMaxCoordinate), kDir = float(4 * kMaxCoordinate);
+  static_assert(double(kWorld) <= kMaxCoordinate && double(kDir) <= 4 * kMaxCoordinate);
+  return int(std::abs(ox) <= kWorld) & int(std::abs(oy) <= kWorld) & int(std::abs(oz) <= kWorld) &
+         int(std::abs(dx) <= kDir) & int(std::abs(dy) <= kDir) & int(std::abs(dz) <= kDir) &
+         (int(dx != 0) | int(dy != 0) | int(dz != 0));
+}
+
 // How deep any recursive input may nest: TOML tables, arrays and dotted keys (a key of 50,000
 // parts made toml++ recurse until the stack ran out), JSON in the editor's requests and in glTF
 // files, `--set` key paths. A scene needs about 8 (camera.org.points: a table in a table, rows

@@ -6,9 +6,13 @@
 // machines can be measured on an AVX-512 one. The same choice configures Embree's device
 // (accel/accel.cpp) when ANAMORPH_ISA is set.
 //
-// -ffp-contract=off (src/CMakeLists.txt) keeps the clones bit-identical to each other.
-// A plain "avx512f" target is not enough: without AVX-512BW/VL GCC finds no vector type for loops
-// that mix double lanes with bool masks and leaves them scalar. A lambda inside a kernel needs
+// -ffp-contract=off (src/CMakeLists.txt) keeps the clones bit-identical to each other, and
+// -fno-trapping-math lets GCC if-convert a division or product in one arm of a `?:` without
+// AVX-512's masked operations (with trapping math the AVX2 and baseline clones of such kernels
+// stayed scalar). A plain "avx512f" target is not enough: without AVX-512BW/VL GCC finds no vector
+// type for loops that mix double lanes with bool masks and leaves them scalar; on AVX2 and SSE2
+// such a loop vectorizes only when its masks have one width (e.g. no byte-sized bool loaded
+// beside double comparisons). A lambda inside a kernel needs
 // __attribute__((always_inline)): compiled for the default target, it is otherwise not inlined
 // into the clone before the vectorizer runs, and leaves the loop scalar.
 #pragma once

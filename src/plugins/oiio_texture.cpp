@@ -53,8 +53,10 @@ void choose_filter(OIIO::TextureOpt& o, int wrap_u, int filter) {
 
 extern "C" void* anamorph_oiio_texture_open(const float* pixels, int width, int height,
                                             int channels, const char* mip_file, int wrap_u,
-                                            int filter, char* error, size_t error_size) {
+                                            int filter, int threads, char* error,
+                                            size_t error_size) {
   try {
+    OIIO::attribute("threads", threads);
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
     // (ImageBuf wraps the pixels without copying; make_texture only reads them.)
     const OIIO::ImageBuf buf(spec, const_cast<float*>(pixels));

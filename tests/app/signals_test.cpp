@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "cli_util.h"
+#include "io/image_io.h"
 #include "run_fixture.h"
 #include "test_util.h"
 
@@ -327,6 +328,30 @@ TEST(Signals, WhileMeasuringFormFactors) {
   ::close(pipe_fds[1]);
   EXPECT_EQ(p.finish(), 1) << p.output();
   EXPECT_CONTAINS(p.output(), "Broken pipe");
+}
+
+// `warp --frames`: the signal comes once frame 0 is written, while frame 1 is warped: exit 3,
+// frame 0 complete, no frame 1 and no temporary (the frame's sink writes one until commit).
+TEST(Signals, WhileWarpingASequence) {
+  const test::ScratchDir d("signals_warp");
+  const std::string scene = d.write("s.toml", kSphere);
+  ASSERT_EQ(test::run_cli("render -q " + scene +
+                          " --set camera.preset=equirectangular --width 128 --height 64 -o " +
+                          (d.dir / "in_0.exr").string())
+                .code,
+            0);
+  for (int f : {1, 2})
+    fs::copy_file(d.dir / "in_0.exr", d.dir / ("in_" + std::to_string(f) + ".exr"));
+  Process p({"warp", scene, "in_%d.exr", "--source", "equirect", "--frames", "0:2", "--set",
+             "camera.preset=fisheye", "--width", "900", "--height", "900", "-o", "out_%d.png"},
+            d.dir);
+  ASSERT_TRUE(p.wait_for([&] { return fs::exists(d.dir / "out_0.png"); })) << p.output();
+  ::kill(p.pid, SIGINT);
+  EXPECT_EQ(p.finish(), 3) << p.output();
+  EXPECT_CONTAINS(p.output(), "interrupted: out_1.png not written; frames 0..0 were written");
+  EXPECT_EQ(read_image(d.dir / "out_0.png").width, 900) << "frame 0 is not a complete PNG";
+  EXPECT_FALSE(fs::exists(d.dir / "out_1.png") || fs::exists(d.dir / "out_2.png"));
+  EXPECT_FALSE(has_temporary(d.dir));
 }
 
 // `serve`: the stop signals end the editor (exit 0, its normal end); SIGPIPE does not.

@@ -10,8 +10,10 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "accel/accel.h"
 #include "math/input_limits.h"
@@ -188,6 +190,33 @@ TEST(CoordinateRange, ATinyInstanceFarFromTheRayIsHit) {
   ASSERT_TRUE(accel.intersect(Ray{{5e-13, 5e-13, 1e7}, {0, 0, -1}}, &hit));
   EXPECT_NEAR(hit.t, 1e7, 1e-3);
   ASSERT_TRUE(accel.intersect(Ray{{2.5e-12, 5e-13, 1e7}, {0, 0, -1}}, &hit));
+}
+
+// The packet test in float (ray_in_range_f, which vectorizes) answers as ray_in_range does for
+// every float ray: at the floats next to both limits, zero, infinity and NaN, in each component.
+TEST(CoordinateRange, TheFloatRayTestAgreesWithTheDoubleOne) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+  std::vector<float> values{0.0f, -0.0f, 1.0f, -3.5f, inf, -inf, nan};
+  for (const double limit : {kMaxCoordinate, 4 * kMaxCoordinate}) {
+    const float f = float(limit);
+    for (const float x : {std::nextafter(f, 0.0f), f, std::nextafter(f, inf)})
+      values.insert(values.end(), {x, -x});
+  }
+  int tested = 0, taken = 0;
+  for (int c = 0; c < 6; ++c)
+    for (const float x : values) {
+      float r[6] = {1, 2, 3, 0.5f, -0.25f, 1};
+      r[c] = x;
+      const bool want = ray_in_range({r[0], r[1], r[2]}, {r[3], r[4], r[5]});
+      const int got = ray_in_range_f(r[0], r[1], r[2], r[3], r[4], r[5]);
+      EXPECT_EQ(got, want ? 1 : 0) << "component " << c << " = " << fmt::format("{:.9g}", x);
+      ++tested, taken += want;
+    }
+  // A zero direction only when all three are zero.
+  EXPECT_EQ(ray_in_range_f(0, 0, 0, 0, 0, 0), 0);
+  EXPECT_EQ(ray_in_range_f(0, 0, 0, 0, -0.0f, 1e-45f), 1);
+  EXPECT_GT(taken, 0);
+  EXPECT_LT(taken, tested);
 }
 
 // The same values as edits to the editor's document: each is taken (and previewed) or answered
