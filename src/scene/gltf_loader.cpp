@@ -232,6 +232,7 @@ class GltfBuilder {
     finish_rig(rig_);
     rest_pose();
     finish_warnings();
+    summarize();
     out_.warnings = warnings_.take();
     out_.rig = std::make_shared<const GltfRig>(std::move(rig_));
     return std::move(out_);
@@ -764,6 +765,32 @@ class GltfBuilder {
       img.pixels[4 * i + 3] = rgba[3];
     }
     return img;
+  }
+
+  // What the file holds and what of it was read, for `anamorph info`.
+  void summarize() {
+    std::vector<std::string>& o = out_.summary;
+    size_t channels = 0, targets = 0;
+    for (const auto& a : m_.animations) channels += a.channels.size();
+    for (const auto& mesh : m_.meshes)
+      for (const auto& p : mesh.primitives) targets += p.targets.size();
+    o.push_back(fmt::format("{}: glTF {}{}", file_, m_.asset.version,
+                            m_.asset.generator.empty() ? "" : " by " + m_.asset.generator));
+    o.push_back(fmt::format(
+        "  {} scene(s), {} node(s), {} mesh(es), {} material(s), {} texture(s), {} image(s)",
+        m_.scenes.size(), m_.nodes.size(), m_.meshes.size(), m_.materials.size(),
+        m_.textures.size(), m_.images.size()));
+    o.push_back(fmt::format(
+        "  {} camera(s), {} light(s), {} animation(s) ({} channel(s)), {} skin(s), {} morph "
+        "target(s)",
+        m_.cameras.size(), m_.lights.size(), m_.animations.size(), channels, m_.skins.size(),
+        targets));
+    for (const auto& e : m_.extensionsUsed) {
+      const bool required = std::find(m_.extensionsRequired.begin(), m_.extensionsRequired.end(),
+                                      e) != m_.extensionsRequired.end();
+      o.push_back(fmt::format("  extension {}{}: {}", e, required ? " (required)" : "",
+                              supported(e) ? "read" : "not read (ignored)"));
+    }
   }
 
   void finish_warnings() {
