@@ -138,5 +138,27 @@ TEST(GltfScene, OverrideNamingTwoGltfMaterialsIsAnErrorAtItsName) {
   }
 }
 
+// The shared Khronos samples as whole scenes (`render X.gltf`): they load with no warning except
+// for what is not supported (ClearCoatTest's KHR_materials_clearcoat), and the framing view
+// (none has a camera) sees every one of their objects.
+TEST(GltfScene, SharedKhronosSamplesLoadWithoutWarningsForWhatIsSupported) {
+  ANAMORPH_REQUIRE_SHARED();
+  for (const char* f :
+       {"gltf/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf",
+        "gltf/TextureTransformTest-glTF/TextureTransformTest.gltf",
+        "gltf/ClearCoatTest-glTF/ClearCoatTest.gltf", "gltf/BoxTextured-glTF/BoxTextured.gltf"}) {
+    const Scene s = load_scene(test::shared_scenes() / f, {"image.width=32"});
+    for (const std::string& w : s.warnings)
+      EXPECT_NE(w.find("KHR_materials_clearcoat is not supported"), std::string::npos)
+          << f << ": " << w;
+    EXPECT_EQ(s.render.height, 24) << f;
+    ASSERT_FALSE(s.instances.empty()) << f;
+    for (const Instance& inst : s.instances) {
+      const auto uv = s.camera->project(inst.world_from_object.point({0, 0, 0}));
+      EXPECT_EQ(uv.size(), 1u) << f << ": " << inst.name << " outside the framing view";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace anamorph
