@@ -158,25 +158,11 @@ struct Accel::MaskStore {
   std::vector<std::unique_ptr<MaskData>> list;
 };
 
-Accel::Accel(const Scene& scene) {
-  // Embree picks its own kernels, unless ANAMORPH_ISA chose ours (math/simd.h): then the same set.
-  device_ = rtcNewDevice(simd::embree_config());
-  if (!device_)
-    throw std::runtime_error(
-        fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
-  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
-  top_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
-
-  masks_ = std::make_unique<MaskStore>();
-  auto& masks = masks_->list;
-
-  // Count uses of each prototype: single-use ones are flattened into the top level, which
-  // saves a level of traversal for the common one-model scene.
+// Which instances are flattened into the top level: single-use prototypes (a level of traversal
+// saved for the common one-model scene) and instances Embree cannot carry (instanceable()).
+std::vector<bool> Accel::plan_flattening(const Scene& scene) {
   std::vector<int> uses(scene.prototypes.size(), 0);
   for (const auto& inst : scene.instances) uses[inst.prototype]++;
-  prototype_scenes_.assign(scene.prototypes.size(), nullptr);
-
   std::vector<bool> flatten(scene.instances.size()), in_world(scene.prototypes.size());
   for (size_t p = 0; p < scene.prototypes.size(); ++p)
     in_world[p] = uses[p] > 1 && within_world(scene.prototypes[p]);
@@ -186,113 +172,140 @@ Accel::Accel(const Scene& scene) {
     flatten[i] = uses[inst.prototype] == 1 || !instanceable(inst, in_world[inst.prototype]);
     if (flatten[i]) flat_count += scene.prototypes[inst.prototype].meshes.size();
   }
-  flat_meshes_.reserve(flat_count);  // (records point into it: no reallocation below)
+  flat_meshes_.reserve(flat_count);  // (records point into it: no reallocation later)
+  return flatten;
+}
 
-  // (A geometry with see-through parts joins the see-through structure too, by the same id,
-  // so that a hit there names the same record.)
-  auto attach = [&](RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
-    const unsigned id = rtcAttachGeometry(top_, g);
-    if (mask & kSeeThrough) {
-      if (!see_through_) see_through_ = rtcNewScene(device_);
-      rtcAttachGeometryByID(see_through_, g, id);
-    }
-    rtcReleaseGeometry(g);
-    if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
-    records_.push_back(std::move(rec));
-  };
+Accel::Accel(const Scene& scene) {
+  // Embree picks its own kernels, unless ANAMORPH_ISA chose ours (math/simd.h): then the same set.
+  device_ = rtcNewDevice(simd::embree_config());
+  if (!device_)
+    throw std::runtime_error(
+        fmt::format("cannot create Embree device (error {})", int(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+  top_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
+  masks_ = std::make_unique<MaskStore>();
+  prototype_scenes_.assign(scene.prototypes.size(), nullptr);
 
+  const std::vector<bool> flatten = plan_flattening(scene);
   for (size_t i = 0; i < scene.instances.size(); ++i) {
-    const Instance& inst = scene.instances[i];
-    const Prototype& proto = scene.prototypes[inst.prototype];
-    if (flatten[i]) {
-      for (const auto& m : proto.meshes) {
-        // Move to world space once; normals by the inverse transpose.
-        TriangleMesh w = m;
-        for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
-        for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
-        if (inst.world_from_object.swaps_handedness())
-          for (size_t t = 0; t < w.indices.size(); t += 3)
-            std::swap(w.indices[t + 1], w.indices[t + 2]);
-        flat_meshes_.push_back(std::move(w));
-        const TriangleMesh& fm = flat_meshes_.back();
-        const Material& mat = *scene.materials[fm.material];
-        RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks);
-        auto rec = std::make_unique<Record>();
-        rec->kind = Record::Kind::FlatMesh;
-        rec->mesh = &fm;
-        attach(g, std::move(rec), mask_of(mat));
-        stats_.unique_triangles += fm.triangle_count();
-        stats_.instanced_triangles += fm.triangle_count();
-      }
-      continue;
-    }
-    RTCScene& ps = prototype_scenes_[inst.prototype];
-    if (!ps) {
-      ps = rtcNewScene(device_);
-      rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
-      for (const auto& m : proto.meshes) {
-        RTCGeometry g = make_triangles(device_, m, nullptr, *scene.materials[m.material], masks);
-        rtcAttachGeometry(ps, g);
-        rtcReleaseGeometry(g);
-        stats_.unique_triangles += m.triangle_count();
-      }
-      rtcCommitScene(ps);
-    }
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(g, ps);
-    unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
-    for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
-    rtcSetGeometryMask(g, mask);
-    float xfm[12];  // 3x4 column-major
-    const auto& a = inst.world_from_object.matrix().m;
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
-    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
-    rtcCommitGeometry(g);
-    auto rec = std::make_unique<Record>();
-    rec->kind = Record::Kind::Instance;
-    rec->proto = &proto;
-    rec->world_from_object = inst.world_from_object;
-    rec->object_from_world = inst.world_from_object.inverse();
-    attach(g, std::move(rec), mask);
-    stats_.instances++;
-    for (const auto& m : proto.meshes) stats_.instanced_triangles += m.triangle_count();
+    if (flatten[i])
+      add_flat_meshes(scene, scene.instances[i]);
+    else
+      add_instance(scene, scene.instances[i]);
   }
+  for (const auto& sh : scene.shapes) add_shape(scene, sh);
+  commit_and_bound();
+}
 
-  for (const auto& sh : scene.shapes) {
-    auto rec = std::make_unique<Record>();
-    rec->kind = Record::Kind::Shape;
-    rec->shape = &sh;
-    rec->world_from_object = sh.world_from_object;
-    rec->object_from_world = sh.world_from_object.inverse();
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
-    rtcSetGeometryUserPrimitiveCount(g, 1);
-    rtcSetGeometryUserData(g, rec.get());
-    rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
-    rtcSetGeometryIntersectFunction(g, shape_intersect);
-    rtcSetGeometryOccludedFunction(g, shape_occluded);
-    const unsigned mask = mask_of(*scene.materials[sh.material]);
-    rtcSetGeometryMask(g, mask);
-    rtcCommitGeometry(g);
-    if (sh.kind == AnalyticShape::Kind::Plane) {
-      // An infinite plane's box holds every ray: in the BVH it would be a leaf that every ray
-      // enters and calls back. It is tested beside the BVH instead, first, so that its hit
-      // also shortens the BVH's query (a ray toward the floor skips all beyond it).
-      const unsigned id = unsigned(records_.size());
-      unbounded_.push_back({id, mask, rec->world_from_object.point({0, 0, 0}),
-                            normalize(rec->world_from_object.normal({0, 1, 0}))});
-      unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
-      if (mask & kSeeThrough) see_through_unbounded_ = true;
-      rtcDisableGeometry(g);
-      const unsigned got = rtcAttachGeometry(top_, g);  // (for its id and record only)
-      rtcReleaseGeometry(g);
-      if (got != id) throw std::logic_error("Embree geometry ids are not sequential");
-      records_.push_back(std::move(rec));
-    } else {
-      attach(g, std::move(rec), mask);
-    }
-    stats_.shapes++;
+// (A geometry with see-through parts joins the see-through structure too, by the same id, so
+// that a hit there names the same record.)
+void Accel::attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
+  const unsigned id = rtcAttachGeometry(top_, g);
+  if (mask & kSeeThrough) {
+    if (!see_through_) see_through_ = rtcNewScene(device_);
+    rtcAttachGeometryByID(see_through_, g, id);
   }
+  rtcReleaseGeometry(g);
+  if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
+  records_.push_back(std::move(rec));
+}
+
+// Each mesh of the instance's prototype moved to world space once (normals by the inverse
+// transpose), as a top-level geometry of its own.
+void Accel::add_flat_meshes(const Scene& scene, const Instance& inst) {
+  for (const auto& m : scene.prototypes[inst.prototype].meshes) {
+    TriangleMesh w = m;
+    for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
+    for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
+    if (inst.world_from_object.swaps_handedness())
+      for (size_t t = 0; t < w.indices.size(); t += 3)
+        std::swap(w.indices[t + 1], w.indices[t + 2]);
+    flat_meshes_.push_back(std::move(w));
+    const TriangleMesh& fm = flat_meshes_.back();
+    const Material& mat = *scene.materials[fm.material];
+    RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks_->list);
+    auto rec = std::make_unique<Record>();
+    rec->kind = Record::Kind::FlatMesh;
+    rec->mesh = &fm;
+    attach(g, std::move(rec), mask_of(mat));
+    stats_.unique_triangles += fm.triangle_count();
+    stats_.instanced_triangles += fm.triangle_count();
+  }
+}
+
+// An Embree instance of the prototype's scene (built on its first use).
+void Accel::add_instance(const Scene& scene, const Instance& inst) {
+  const Prototype& proto = scene.prototypes[inst.prototype];
+  RTCScene& ps = prototype_scenes_[inst.prototype];
+  if (!ps) {
+    ps = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
+    for (const auto& m : proto.meshes) {
+      RTCGeometry g =
+          make_triangles(device_, m, nullptr, *scene.materials[m.material], masks_->list);
+      rtcAttachGeometry(ps, g);
+      rtcReleaseGeometry(g);
+      stats_.unique_triangles += m.triangle_count();
+    }
+    rtcCommitScene(ps);
+  }
+  RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(g, ps);
+  unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
+  for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
+  rtcSetGeometryMask(g, mask);
+  float xfm[12];  // 3x4 column-major
+  const auto& a = inst.world_from_object.matrix().m;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
+  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  rtcCommitGeometry(g);
+  auto rec = std::make_unique<Record>();
+  rec->kind = Record::Kind::Instance;
+  rec->proto = &proto;
+  rec->world_from_object = inst.world_from_object;
+  rec->object_from_world = inst.world_from_object.inverse();
+  attach(g, std::move(rec), mask);
+  stats_.instances++;
+  for (const auto& m : proto.meshes) stats_.instanced_triangles += m.triangle_count();
+}
+
+// An analytic shape as a user geometry with its exact intersection.
+void Accel::add_shape(const Scene& scene, const AnalyticShape& sh) {
+  auto rec = std::make_unique<Record>();
+  rec->kind = Record::Kind::Shape;
+  rec->shape = &sh;
+  rec->world_from_object = sh.world_from_object;
+  rec->object_from_world = sh.world_from_object.inverse();
+  RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, 1);
+  rtcSetGeometryUserData(g, rec.get());
+  rtcSetGeometryBoundsFunction(g, shape_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, shape_intersect);
+  rtcSetGeometryOccludedFunction(g, shape_occluded);
+  const unsigned mask = mask_of(*scene.materials[sh.material]);
+  rtcSetGeometryMask(g, mask);
+  rtcCommitGeometry(g);
+  stats_.shapes++;
+  if (sh.kind != AnalyticShape::Kind::Plane) return attach(g, std::move(rec), mask);
+  // An infinite plane's box holds every ray: in the BVH it would be a leaf that every ray
+  // enters and calls back. It is tested beside the BVH instead, first, so that its hit also
+  // shortens the BVH's query (a ray toward the floor skips all beyond it).
+  const unsigned id = unsigned(records_.size());
+  unbounded_.push_back({id, mask, rec->world_from_object.point({0, 0, 0}),
+                        normalize(rec->world_from_object.normal({0, 1, 0}))});
+  unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
+  if (mask & kSeeThrough) see_through_unbounded_ = true;
+  rtcDisableGeometry(g);
+  const unsigned got = rtcAttachGeometry(top_, g);  // (for its id and record only)
+  rtcReleaseGeometry(g);
+  if (got != id) throw std::logic_error("Embree geometry ids are not sequential");
+  records_.push_back(std::move(rec));
+}
+
+void Accel::commit_and_bound() {
   rtcCommitScene(top_);
   if (see_through_) {
     rtcCommitScene(see_through_);
@@ -301,7 +314,6 @@ Accel::Accel(const Scene& scene) {
     see_through_bounds_ = {{sb.lower_x, sb.lower_y, sb.lower_z},
                            {sb.upper_x, sb.upper_y, sb.upper_z}};
   }
-
   RTCBounds b;
   rtcGetSceneBounds(top_, &b);
   if (records_.size() > unbounded_.size()) {
@@ -322,6 +334,46 @@ Accel::~Accel() {
   if (device_) rtcReleaseDevice(device_);
 }
 
+namespace {
+
+// dp/du, dp/dv from a triangle's uv layout (a frame about its normal ng when the layout is
+// degenerate).
+void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec2 uv0, Vec2 uv1, Vec2 uv2,
+                       const Vec3& ng, Vec3* dpdu, Vec3* dpdv) {
+  const Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+  const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+  const double det = duv02.x * duv12.y - duv02.y * duv12.x;
+  if (std::abs(det) > 1e-20) {
+    const double inv = 1 / det;
+    *dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
+    *dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
+  } else {
+    const Frame f = Frame::from_normal(normalize(ng));
+    *dpdu = f.s;
+    *dpdv = f.t;
+  }
+}
+
+// An analytic shape's hit, recomputed in double from the object-space ray for an exact point.
+void fill_shape_hit(const Accel::Record& rec, const Ray& r, float t, Hit* h) {
+  const AnalyticShape& s = *rec.shape;
+  const Vec3 oo = rec.object_from_world.point(r.o), od = rec.object_from_world.vector(r.d);
+  Vec3 po = oo + od * double(t);
+  const ShapeSurface ss = shape_surface(s, po);
+  h->p = rec.world_from_object.point(po);
+  h->ng = normalize(rec.world_from_object.normal(ss.n));
+  h->ns = h->ng;
+  h->uv = ss.uv;
+  h->dpdu = rec.world_from_object.vector(ss.dpdu);
+  h->dpdv = rec.world_from_object.vector(ss.dpdv);
+  h->material = s.material;
+  h->p_object = po;
+  h->n_object = ss.n;
+  h->object_from_world = &rec.object_from_world;
+}
+
+}  // namespace
+
 void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
                      float bv, Hit* h, bool surface) const {
   h->t = t;
@@ -336,24 +388,7 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
                                                        : rec.proto->meshes[geom].material;
     return;
   }
-  if (rec.kind == Record::Kind::Shape) {
-    const AnalyticShape& s = *rec.shape;
-    // Recompute in double from the object-space ray for an exact surface point.
-    const Vec3 oo = rec.object_from_world.point(r.o), od = rec.object_from_world.vector(r.d);
-    Vec3 po = oo + od * double(t);
-    const ShapeSurface ss = shape_surface(s, po);
-    h->p = rec.world_from_object.point(po);
-    h->ng = normalize(rec.world_from_object.normal(ss.n));
-    h->ns = h->ng;
-    h->uv = ss.uv;
-    h->dpdu = rec.world_from_object.vector(ss.dpdu);
-    h->dpdv = rec.world_from_object.vector(ss.dpdv);
-    h->material = s.material;
-    h->p_object = po;
-    h->n_object = ss.n;
-    h->object_from_world = &rec.object_from_world;
-    return;
-  }
+  if (rec.kind == Record::Kind::Shape) return fill_shape_hit(rec, r, t, h);
   const TriangleMesh* m;
   const Transform* xf = nullptr;
   if (rec.kind == Record::Kind::FlatMesh) {
@@ -367,27 +402,14 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   const double w = 1.0 - bu - bv;
   Vec3 po = p0 * w + p1 * double(bu) + p2 * double(bv);
   Vec3 ngo = cross(p1 - p0, p2 - p0);
-  Vec2 uv0{0, 0}, uv1{1, 0}, uv2{0, 1};
-  if (!m->uvs.empty()) {
-    uv0 = {m->uvs[idx[0]].x, m->uvs[idx[0]].y};
-    uv1 = {m->uvs[idx[1]].x, m->uvs[idx[1]].y};
-    uv2 = {m->uvs[idx[2]].x, m->uvs[idx[2]].y};
-  }
+  const auto uv_of = [&](int k) {  // (without uvs: the triangle's own (0,0), (1,0), (0,1))
+    return m->uvs.empty() ? Vec2{double(k == 1), double(k == 2)}
+                          : Vec2{m->uvs[idx[k]].x, m->uvs[idx[k]].y};
+  };
+  const Vec2 uv0 = uv_of(0), uv1 = uv_of(1), uv2 = uv_of(2);
   h->uv = uv0 * w + uv1 * double(bu) + uv2 * double(bv);
-  // dp/du, dp/dv from the triangle's uv layout.
-  const Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
-  const Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
-  const double det = duv02.x * duv12.y - duv02.y * duv12.x;
   Vec3 dpdu, dpdv;
-  if (std::abs(det) > 1e-20) {
-    const double inv = 1 / det;
-    dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
-    dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
-  } else {
-    const Frame f = Frame::from_normal(normalize(ngo));
-    dpdu = f.s;
-    dpdv = f.t;
-  }
+  triangle_tangents(p0, p1, p2, uv0, uv1, uv2, ngo, &dpdu, &dpdv);
   const bool smooth = !m->normals.empty();
   Vec3 ns;
   if (smooth)

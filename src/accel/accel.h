@@ -95,6 +95,13 @@ class Accel {
   unsigned nearest_unbounded(const Vec3& o, const Vec3& d, float tmin, float* tfar,
                              unsigned mask) const;
   struct MaskStore;
+  // The constructor's steps.
+  std::vector<bool> plan_flattening(const Scene& scene);
+  void attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask);
+  void add_flat_meshes(const Scene& scene, const Instance& inst);
+  void add_instance(const Scene& scene, const Instance& inst);
+  void add_shape(const Scene& scene, const AnalyticShape& sh);
+  void commit_and_bound();
 
   RTCDevice device_ = nullptr;
   RTCScene top_ = nullptr;

@@ -28,79 +28,100 @@ bool pick(double t0, double t1, double tmin, double tmax, double* t) {
 
 }  // namespace
 
+namespace {
+
+bool intersect_sphere(double radius, const Vec3& o, const Vec3& d, double tmin, double tmax,
+                      double* t) {
+  // Solve relative to the point on the ray closest to the center for precision far away.
+  const double a = dot(d, d);
+  const double tc = -dot(o, d) / a;
+  const Vec3 pc = o + d * tc;
+  const double r2 = radius * radius;
+  const double h2 = r2 - dot(pc, pc);
+  if (h2 < 0) return false;
+  const double h = std::sqrt(h2 / a);
+  return pick(tc - h, tc + h, tmin, tmax, t);
+}
+
+// The plane y = 0, or the part of it a disk or the unit rectangle covers.
+bool intersect_flat(const AnalyticShape& s, const Vec3& o, const Vec3& d, double tmin, double tmax,
+                    double* t) {
+  if (d.y == 0) return false;
+  const double th = -o.y / d.y;
+  if (!(th > tmin && th < tmax)) return false;
+  const Vec3 p = o + d * th;
+  if (s.kind == AnalyticShape::Kind::Disk && p.x * p.x + p.z * p.z > s.radius * s.radius)
+    return false;
+  if (s.kind == AnalyticShape::Kind::Rectangle && (std::abs(p.x) > 0.5 || std::abs(p.z) > 0.5))
+    return false;
+  *t = th;
+  return true;
+}
+
+bool intersect_box(const Vec3& size, const Vec3& o, const Vec3& d, double tmin, double tmax,
+                   double* t) {
+  // Slabs; t0 is the entry, t1 the exit.
+  double t0 = -kInf, t1 = kInf;
+  for (int i = 0; i < 3; ++i) {
+    const double h = size[i] * 0.5;
+    const double inv = 1.0 / d[i];
+    double a = (-h - o[i]) * inv, b = (h - o[i]) * inv;
+    if (std::isnan(a) || std::isnan(b)) {  // parallel ray on a slab plane
+      if (o[i] < -h || o[i] > h) return false;
+      continue;
+    }
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  if (t0 > t1) return false;
+  return pick(t0, t1, tmin, tmax, t);
+}
+
+bool intersect_cylinder(const AnalyticShape& s, const Vec3& o, const Vec3& d, double tmin,
+                        double tmax, double* t) {
+  double best = tmax;
+  bool found = false;
+  double t0, t1;
+  if (solve_quadratic(d.x * d.x + d.z * d.z, 2 * (o.x * d.x + o.z * d.z),
+                      o.x * o.x + o.z * o.z - s.radius * s.radius, &t0, &t1)) {
+    for (double tc : {t0, t1}) {
+      const double y = o.y + d.y * tc;
+      if (tc > tmin && tc < best && y >= 0 && y <= s.height) {
+        best = tc;
+        found = true;
+      }
+    }
+  }
+  if (s.capped && d.y != 0) {
+    for (double yc : {0.0, s.height}) {
+      const double tc = (yc - o.y) / d.y;
+      const Vec3 p = o + d * tc;
+      if (tc > tmin && tc < best && p.x * p.x + p.z * p.z <= s.radius * s.radius) {
+        best = tc;
+        found = true;
+      }
+    }
+  }
+  if (found) *t = best;
+  return found;
+}
+
+}  // namespace
+
 bool intersect_shape(const AnalyticShape& s, const Vec3& o, const Vec3& d, double tmin, double tmax,
                      double* t) {
   switch (s.kind) {
-    case AnalyticShape::Kind::Sphere: {
-      // Solve relative to the point on the ray closest to the center for precision far away.
-      const double a = dot(d, d);
-      const double tc = -dot(o, d) / a;
-      const Vec3 pc = o + d * tc;
-      const double r2 = s.radius * s.radius;
-      const double h2 = r2 - dot(pc, pc);
-      if (h2 < 0) return false;
-      const double h = std::sqrt(h2 / a);
-      return pick(tc - h, tc + h, tmin, tmax, t);
-    }
+    case AnalyticShape::Kind::Sphere:
+      return intersect_sphere(s.radius, o, d, tmin, tmax, t);
     case AnalyticShape::Kind::Plane:
     case AnalyticShape::Kind::Rectangle:
-    case AnalyticShape::Kind::Disk: {
-      if (d.y == 0) return false;
-      const double th = -o.y / d.y;
-      if (!(th > tmin && th < tmax)) return false;
-      const Vec3 p = o + d * th;
-      if (s.kind == AnalyticShape::Kind::Disk && p.x * p.x + p.z * p.z > s.radius * s.radius)
-        return false;
-      if (s.kind == AnalyticShape::Kind::Rectangle && (std::abs(p.x) > 0.5 || std::abs(p.z) > 0.5))
-        return false;
-      *t = th;
-      return true;
-    }
-    case AnalyticShape::Kind::Box: {
-      // Slabs; t0 is the entry, t1 the exit.
-      double t0 = -kInf, t1 = kInf;
-      for (int i = 0; i < 3; ++i) {
-        const double h = s.size[i] * 0.5;
-        const double inv = 1.0 / d[i];
-        double a = (-h - o[i]) * inv, b = (h - o[i]) * inv;
-        if (std::isnan(a) || std::isnan(b)) {  // parallel ray on a slab plane
-          if (o[i] < -h || o[i] > h) return false;
-          continue;
-        }
-        if (a > b) std::swap(a, b);
-        t0 = std::max(t0, a);
-        t1 = std::min(t1, b);
-      }
-      if (t0 > t1) return false;
-      return pick(t0, t1, tmin, tmax, t);
-    }
-    case AnalyticShape::Kind::Cylinder: {
-      double best = tmax;
-      bool found = false;
-      double t0, t1;
-      if (solve_quadratic(d.x * d.x + d.z * d.z, 2 * (o.x * d.x + o.z * d.z),
-                          o.x * o.x + o.z * o.z - s.radius * s.radius, &t0, &t1)) {
-        for (double tc : {t0, t1}) {
-          const double y = o.y + d.y * tc;
-          if (tc > tmin && tc < best && y >= 0 && y <= s.height) {
-            best = tc;
-            found = true;
-          }
-        }
-      }
-      if (s.capped && d.y != 0) {
-        for (double yc : {0.0, s.height}) {
-          const double tc = (yc - o.y) / d.y;
-          const Vec3 p = o + d * tc;
-          if (tc > tmin && tc < best && p.x * p.x + p.z * p.z <= s.radius * s.radius) {
-            best = tc;
-            found = true;
-          }
-        }
-      }
-      if (found) *t = best;
-      return found;
-    }
+    case AnalyticShape::Kind::Disk:
+      return intersect_flat(s, o, d, tmin, tmax, t);
+    case AnalyticShape::Kind::Box:
+      return intersect_box(s.size, o, d, tmin, tmax, t);
+    case AnalyticShape::Kind::Cylinder:
+      return intersect_cylinder(s, o, d, tmin, tmax, t);
   }
   return false;
 }

@@ -1,6 +1,7 @@
 // `anamorph bench`: render the same frame repeatedly and report render-only Mrays/s, the way
 // Embree's viewer --benchmark does (warm-up frames skipped), so the two can be compared.
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cstdlib>

@@ -1,5 +1,6 @@
 // `anamorph rays` and `anamorph project`: the camera's ray field and its inverse map.
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <filesystem>

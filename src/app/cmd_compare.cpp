@@ -1,5 +1,6 @@
 // `anamorph compare`: error metrics between two images (a render and a reference).
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <utility>

@@ -1,6 +1,7 @@
 // `anamorph formfactors`: form factors between the scene's objects measured with a hemispherical
 // virtual camera, and optionally the radiosity solution checked against the path tracer.
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <filesystem>
 #include <stdexcept>

@@ -1,5 +1,6 @@
 // `anamorph info`: what a scene loaded.
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "accel/accel.h"
 #include "app/common.h"

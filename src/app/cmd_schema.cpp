@@ -1,6 +1,7 @@
 // `anamorph schema`: the scene format as a JSON Schema (for editors: Taplo / Even Better TOML,
 // VS Code, the editor's panels), and with --docs the generated parts of the documentation.
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <filesystem>
 #include <vector>

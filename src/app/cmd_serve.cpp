@@ -3,6 +3,7 @@
 // SIGTERM, SIGQUIT or SIGHUP (exit 0: that is how it ends).
 #include <fmt/format.h>
 #include <signal.h>
+#include <CLI/CLI.hpp>
 
 #ifdef __GLIBC__
 #include <malloc.h>

@@ -1,6 +1,7 @@
 // `anamorph stmap`: the scene camera as an STMap to a source projection (camera/stmap.h), for
 // Nuke's STMap, Natron's STMapOFX, Blender's Map UV (docs/compositing.md).
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <filesystem>

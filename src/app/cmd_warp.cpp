@@ -3,6 +3,7 @@
 // looked up in the source projection and the image filtered there by the ray's footprint
 // (app/source_texture.h). Exit codes as for render.
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <filesystem>

@@ -3,6 +3,7 @@
 #include "dist/world.h"
 
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cerrno>
 #include <cstdio>

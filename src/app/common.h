@@ -3,7 +3,9 @@
 // 3 interrupted: app/interrupt.h).
 #pragma once
 
-#include <CLI/CLI.hpp>
+namespace CLI {
+class App;
+}
 
 #include <atomic>
 #include <functional>

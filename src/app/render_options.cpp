@@ -1,5 +1,6 @@
 // `anamorph render`'s options: declared on the command, and what they come to (RenderSetup).
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdlib>
 #include <memory>

@@ -1,6 +1,7 @@
 // `anamorph render --resume CHECKPOINT`: the command that started the checkpoint (its identity's
 // "command"), parsed and run again with the options honoured beside --resume (resume_options.h).
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 

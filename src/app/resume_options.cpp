@@ -1,5 +1,7 @@
 #include "app/resume_options.h"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <array>
 

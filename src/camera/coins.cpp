@@ -171,84 +171,97 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
     if (warnings) warnings->push_back(std::move(msg));
   };
   for (size_t i = 0; i < coins.size(); ++i) {
-    const Coin& c = coins[i];
     // Dropped, not weighted by zero: a strength-0 coin leaves every ray bit-identical.
-    if (c.strength == 0) continue;
-    const Vec3 pc = camera_from_world.point(c.position);
-    const std::vector<Vec2> uvs = project_world(c.position);
-    int seen = 0;
-    for (Vec2 uv : uvs) {
-      constexpr double tol = 1e-9;
-      if (!(uv.x >= -tol && uv.x <= 1 + tol && uv.y >= -tol && uv.y <= 1 + tol)) continue;
-      uv = {std::clamp(uv.x, 0.0, 1.0), std::clamp(uv.y, 0.0, 1.0)};
-      SurfaceSample s;
-      if (!org.eval(uv, &s) || !is_finite(s.p)) continue;
-      const double lc = length(pc - s.p);
-      if (!(lc > 0)) {
-        warn(
-            fmt::format("coin[{}]: lies on the image surface at (u, v) = ({:.4f}, {:.4f}), so "
-                        "there is nothing to attract there; that appearance has no effect",
-                        i, uv.x, uv.y));
-        continue;
-      }
-      CoinSite site;
-      site.coin = int(i);
-      site.uv = uv;
-      site.radius = c.radius;
-      site.lc = lc;
-      site.strength = c.strength;
-      site.stiffness = c.stiffness;
-      site.affects = c.affects;
-      site.falloff = c.falloff;
-      site.p_camera = pc;
-      sites_.push_back(site);
-      ++seen;
-    }
-    if (seen == 0)
-      warn(
-          fmt::format("coin[{}]: the camera does not see position [{}, {}, {}], so the coin has "
-                      "no effect",
-                      i, c.position.x, c.position.y, c.position.z));
+    if (coins[i].strength == 0) continue;
+    if (add_sites(int(i), coins[i], camera_from_world.point(coins[i].position),
+                  project_world(coins[i].position), org, warn) == 0)
+      warn(fmt::format(
+          "coin[{}]: the camera does not see position [{}, {}, {}], so the coin has no effect", i,
+          coins[i].position.x, coins[i].position.y, coins[i].position.z));
   }
   if (sites_.empty()) return;
-
   for (const CoinSite& s : sites_) {
     disks_.push_back({s.uv.x, s.uv.y, 1 / (s.radius * s.radius)});
     inv_lc2_.push_back(1 / (s.lc * s.lc));
   }
+  build_grid();
+  if (const std::string w = overlap_warning(); !w.empty()) warn(w);
+}
 
-  // Cells about as large as the median radius: a disk then covers a handful of cells and a cell
-  // holds only the coins that can reach it.
+// A site for each image position uvs (the coin's appearances) that the image shows and where
+// the coin lies off the image surface; returns how many.
+int CoinField::add_sites(int index, const Coin& c, const Vec3& pc, const std::vector<Vec2>& uvs,
+                         const OrgFunction& org, const std::function<void(std::string)>& warn) {
+  int seen = 0;
+  for (Vec2 uv : uvs) {
+    constexpr double tol = 1e-9;
+    if (!(uv.x >= -tol && uv.x <= 1 + tol && uv.y >= -tol && uv.y <= 1 + tol)) continue;
+    uv = {std::clamp(uv.x, 0.0, 1.0), std::clamp(uv.y, 0.0, 1.0)};
+    SurfaceSample s;
+    if (!org.eval(uv, &s) || !is_finite(s.p)) continue;
+    const double lc = length(pc - s.p);
+    if (!(lc > 0)) {
+      warn(
+          fmt::format("coin[{}]: lies on the image surface at (u, v) = ({:.4f}, {:.4f}), so "
+                      "there is nothing to attract there; that appearance has no effect",
+                      index, uv.x, uv.y));
+      continue;
+    }
+    CoinSite site;
+    site.coin = index;
+    site.uv = uv;
+    site.radius = c.radius;
+    site.lc = lc;
+    site.strength = c.strength;
+    site.stiffness = c.stiffness;
+    site.affects = c.affects;
+    site.falloff = c.falloff;
+    site.p_camera = pc;
+    sites_.push_back(site);
+    ++seen;
+  }
+  return seen;
+}
+
+// Calls f(cell) for every cell of an n x n grid that the open disk of site s reaches.
+template <class F>
+static void cells_of(const CoinSite& s, int n, F&& f) {
+  const int i0 = cell_index(s.uv.x - s.radius, n), i1 = cell_index(s.uv.x + s.radius, n);
+  const int j0 = cell_index(s.uv.y - s.radius, n), j1 = cell_index(s.uv.y + s.radius, n);
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      // Closest point of the cell to the center; keep cells the open disk reaches.
+      const double cu = std::clamp(s.uv.x, double(i) / n, double(i + 1) / n);
+      const double cv = std::clamp(s.uv.y, double(j) / n, double(j + 1) / n);
+      const double du = cu - s.uv.x, dv = cv - s.uv.y;
+      if (du * du + dv * dv < s.radius * s.radius) f(j * n + i);
+    }
+}
+
+// Cells about as large as the median radius: a disk then covers a handful of cells and a cell
+// holds only the coins that can reach it.
+void CoinField::build_grid() {
   std::vector<double> radii;
   for (const CoinSite& s : sites_) radii.push_back(s.radius);
   std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
   // (Clamped before the conversion: a radius of 1e-29 would make 1 / r overflow an int.)
   grid_ = int(std::clamp(std::ceil(1 / radii[radii.size() / 2]), 1.0, 512.0));
   const int n = grid_;
-  const auto cells_of = [&](const CoinSite& s, auto&& f) {
-    const int i0 = cell_index(s.uv.x - s.radius, n), i1 = cell_index(s.uv.x + s.radius, n);
-    const int j0 = cell_index(s.uv.y - s.radius, n), j1 = cell_index(s.uv.y + s.radius, n);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
-        // Closest point of the cell to the center; keep cells the open disk reaches.
-        const double cu = std::clamp(s.uv.x, double(i) / n, double(i + 1) / n);
-        const double cv = std::clamp(s.uv.y, double(j) / n, double(j + 1) / n);
-        const double du = cu - s.uv.x, dv = cv - s.uv.y;
-        if (du * du + dv * dv < s.radius * s.radius) f(j * n + i);
-      }
-  };
   cell_start_.assign(size_t(n) * n + 1, 0);
-  for (const CoinSite& s : sites_) cells_of(s, [&](int c) { ++cell_start_[size_t(c) + 1]; });
+  for (const CoinSite& s : sites_) cells_of(s, n, [&](int c) { ++cell_start_[size_t(c) + 1]; });
   for (size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   cell_items_.resize(cell_start_.back());
   std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
   for (uint32_t k = 0; k < sites_.size(); ++k)
-    cells_of(sites_[k], [&](int c) { cell_items_[fill[size_t(c)]++] = k; });
+    cells_of(sites_[k], n, [&](int c) { cell_items_[fill[size_t(c)]++] = k; });
+}
 
-  // Overlapping coins add up (the paper's sum); where two strong ones both act fully, their
-  // weights can sum above 1 and pull a point past them. Overlapping disks share a cell.
-  // Only coins stronger than 1 minus the cell's strongest of their sign can form such a pair, so
-  // thousands of coincident weak coins cost one pass per cell, not a pass per pair.
+// Overlapping coins add up (the paper's sum); where two strong ones both act fully, their
+// weights can sum above 1 and pull a point past them. Overlapping disks share a cell. Only coins
+// stronger than 1 minus the cell's strongest of their sign can form such a pair, so thousands of
+// coincident weak coins cost one pass per cell, not a pass per pair. The first such pair's
+// warning, or empty.
+std::string CoinField::overlap_warning() const {
   for (size_t c = 0; c + 1 < cell_start_.size(); ++c) {
     double strongest[2] = {0, 0};  // of the negative, positive coins
     for (uint32_t a = cell_start_[c]; a < cell_start_[c + 1]; ++a) {
@@ -261,17 +274,15 @@ CoinField::CoinField(std::span<const Coin> coins, const Transform& camera_from_w
       for (uint32_t b = a + 1; b < cell_start_[c + 1]; ++b) {
         const CoinSite &s = sites_[cell_items_[a]], &t = sites_[cell_items_[b]];
         if (length(s.uv - t.uv) < s.radius + t.radius &&
-            std::abs(s.strength) + std::abs(t.strength) > 1 &&
-            (s.strength > 0) == (t.strength > 0)) {
-          warn(
-              fmt::format("coin[{}] and coin[{}] overlap in the image and their strengths sum "
-                          "above 1: where both act fully, points are pulled past the coins",
-                          s.coin, t.coin));
-          return;
-        }
+            std::abs(s.strength) + std::abs(t.strength) > 1 && (s.strength > 0) == (t.strength > 0))
+          return fmt::format(
+              "coin[{}] and coin[{}] overlap in the image and their strengths sum above 1: "
+              "where both act fully, points are pulled past the coins",
+              s.coin, t.coin);
       }
     }
   }
+  return {};
 }
 
 template <class F>

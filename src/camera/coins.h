@@ -136,6 +136,11 @@ class CoinField {
   double overlay(Vec2 uv, Vec2 pixel) const;
 
  private:
+  // The constructor's steps.
+  int add_sites(int index, const Coin& c, const Vec3& pc, const std::vector<Vec2>& uvs,
+                const OrgFunction& org, const std::function<void(std::string)>& warn);
+  void build_grid();
+  std::string overlap_warning() const;
   // Calls f(site index) for every site stored in the grid cell of uv.
   template <class F>
   void for_cell(Vec2 uv, F&& f) const;

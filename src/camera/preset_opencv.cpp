@@ -162,16 +162,16 @@ struct NewtonLanes {
   return any;
 }
 
-[[gnu::always_inline]] inline void undistort_kernel(const BrownConrady& bc,
-                                                    NewtonLanes& __restrict S, int n) {
-  const BrownConrady D = bc;
+#define ANAMORPH_LANES [[gnu::always_inline]] inline  // (each step of the kernel below)
+
+// The starting points: the radial term inverted to first order, x = x'' / L(|x''|^2) (where
+// that stays inside the fold; the target itself otherwise), and their distortion.
+ANAMORPH_LANES void undistort_start(const BrownConrady& D, NewtonLanes& __restrict S, int n) {
   const double reach2 = D.reach * D.reach, rmax2 = D.r_max * D.r_max;
   for (int i = 0; i < n; ++i) {
     // Beyond what any point inside the fold reaches there is nothing to find.
     S.act[i] = S.tx[i] * S.tx[i] + S.ty[i] * S.ty[i] <= reach2 ? 1.0 : 0.0;
     S.ok[i] = 0;
-    // Start from the radial term inverted to first order, x = x'' / L(|x''|^2) (where that
-    // stays inside the fold; the target itself otherwise).
     const double r2 = S.tx[i] * S.tx[i] + S.ty[i] * S.ty[i];
     const double L = 1 + r2 * (D.k1 + r2 * (D.k2 + r2 * D.k3));
     const bool scaled = (L > 0.5) & (r2 <= rmax2 * L * L);
@@ -180,64 +180,87 @@ struct NewtonLanes {
     D.distort_lane(S.px[i], S.py[i], &S.dx[i], &S.dy[i], &S.jxx[i], &S.jxy[i], &S.jyx[i],
                    &S.jyy[i]);
   }
-  for (int it = 0; it < 50; ++it) {
-    for (int i = 0; i < n; ++i) {
-      const double fx = S.dx[i] - S.tx[i], fy = S.dy[i] - S.ty[i];
-      const double e = std::abs(fx) + std::abs(fy);
-      // (Masks as 0/1 doubles combined by products: GCC turned the bool version into branches.)
-      const double live = S.act[i];
-      const double tol = 1e-14 * (1 + std::abs(S.tx[i]) + std::abs(S.ty[i]));
-      const double conv = live * (e < tol ? 1.0 : 0.0);
-      const double det = S.jxx[i] * S.jyy[i] - S.jyx[i] * S.jxy[i];
-      const double good =
-          (S.px[i] * S.px[i] + S.py[i] * S.py[i] <= rmax2 ? 1.0 : 0.0) * (det > 0 ? 1.0 : 0.0);
-      S.ok[i] = conv != 0 ? good : S.ok[i];
-      const double step = (live - conv) * (std::abs(det) > 1e-300 ? 1.0 : 0.0);
-      const double idet = 1 / (step != 0 ? det : 1.0);
-      S.sx[i] = (S.jyy[i] * fx - S.jyx[i] * fy) * idet;
-      S.sy[i] = (-S.jxy[i] * fx + S.jxx[i] * fy) * idet;
-      S.err[i] = e, S.t[i] = 1, S.acc[i] = 0;
-      S.act[i] = step;
-    }
-    if (!any_set(S.act, n)) break;
-    // Halve steps that do not reduce the residual (folds, large distortion).
-    for (int k = 0; k < 20; ++k) {
-      for (int i = 0; i < n; ++i) {
-        const double search = S.act[i] * (1 - S.acc[i]);
-        D.distort_lane(S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i], &S.qdy[i],
-                       &S.qjxx[i], &S.qjxy[i], &S.qjyx[i], &S.qjyy[i]);
-        const double lower =
-            std::abs(S.qdx[i] - S.tx[i]) + std::abs(S.qdy[i] - S.ty[i]) < S.err[i] ? 1.0 : 0.0;
-        const double take = search * lower, halve = search - take;
-        S.dx[i] = take != 0 ? S.qdx[i] : S.dx[i], S.dy[i] = take != 0 ? S.qdy[i] : S.dy[i];
-        S.jxx[i] = take != 0 ? S.qjxx[i] : S.jxx[i], S.jxy[i] = take != 0 ? S.qjxy[i] : S.jxy[i];
-        S.jyx[i] = take != 0 ? S.qjyx[i] : S.jyx[i], S.jyy[i] = take != 0 ? S.qjyy[i] : S.jyy[i];
-        S.acc[i] = take != 0 ? 1.0 : S.acc[i];
-        S.t[i] = halve != 0 ? S.t[i] * 0.5 : S.t[i];
-        S.pend[i] = halve;
-      }
-      if (!any_set(S.pend, n)) break;
-    }
-    for (int i = 0; i < n; ++i) {
-      const double live = S.act[i];
-      const double nx = S.px[i] - S.sx[i] * S.t[i], ny = S.py[i] - S.sy[i] * S.t[i];
-      S.px[i] = live != 0 ? nx : S.px[i], S.py[i] = live != 0 ? ny : S.py[i];
-      const double finite = nx * 0 + ny * 0 == 0 ? 1.0 : 0.0;
-      S.act[i] = live * finite;
-      S.pend[i] = live * finite * (1 - S.acc[i]);
-    }
-    if (!any_set(S.pend, n)) continue;  // (rare: a line search that ran out of halvings)
-    for (int i = 0; i < n; ++i) {
-      // The smallest step, taken unchecked: distort where it landed.
-      const bool redo = S.act[i] * (1 - S.acc[i]) != 0;
-      D.distort_lane(S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
-                     &S.qjyy[i]);
-      S.dx[i] = redo ? S.qdx[i] : S.dx[i], S.dy[i] = redo ? S.qdy[i] : S.dy[i];
-      S.jxx[i] = redo ? S.qjxx[i] : S.jxx[i], S.jxy[i] = redo ? S.qjxy[i] : S.jxy[i];
-      S.jyx[i] = redo ? S.qjyx[i] : S.jyx[i], S.jyy[i] = redo ? S.qjyy[i] : S.jyy[i];
-    }
+}
+
+// Convergence test and the Newton step of every live lane.
+ANAMORPH_LANES void newton_steps(const BrownConrady& D, NewtonLanes& __restrict S, int n) {
+  const double rmax2 = D.r_max * D.r_max;
+  for (int i = 0; i < n; ++i) {
+    const double fx = S.dx[i] - S.tx[i], fy = S.dy[i] - S.ty[i];
+    const double e = std::abs(fx) + std::abs(fy);
+    // (Masks as 0/1 doubles combined by products: GCC turned the bool version into branches.)
+    const double live = S.act[i];
+    const double tol = 1e-14 * (1 + std::abs(S.tx[i]) + std::abs(S.ty[i]));
+    const double conv = live * (e < tol ? 1.0 : 0.0);
+    const double det = S.jxx[i] * S.jyy[i] - S.jyx[i] * S.jxy[i];
+    const double good =
+        (S.px[i] * S.px[i] + S.py[i] * S.py[i] <= rmax2 ? 1.0 : 0.0) * (det > 0 ? 1.0 : 0.0);
+    S.ok[i] = conv != 0 ? good : S.ok[i];
+    const double step = (live - conv) * (std::abs(det) > 1e-300 ? 1.0 : 0.0);
+    const double idet = 1 / (step != 0 ? det : 1.0);
+    S.sx[i] = (S.jyy[i] * fx - S.jyx[i] * fy) * idet;
+    S.sy[i] = (-S.jxy[i] * fx + S.jxx[i] * fy) * idet;
+    S.err[i] = e, S.t[i] = 1, S.acc[i] = 0;
+    S.act[i] = step;
   }
 }
+
+// Halves steps that do not reduce the residual (folds, large distortion).
+ANAMORPH_LANES void line_search(const BrownConrady& D, NewtonLanes& __restrict S, int n) {
+  for (int k = 0; k < 20; ++k) {
+    for (int i = 0; i < n; ++i) {
+      const double search = S.act[i] * (1 - S.acc[i]);
+      D.distort_lane(S.px[i] - S.sx[i] * S.t[i], S.py[i] - S.sy[i] * S.t[i], &S.qdx[i], &S.qdy[i],
+                     &S.qjxx[i], &S.qjxy[i], &S.qjyx[i], &S.qjyy[i]);
+      const double lower =
+          std::abs(S.qdx[i] - S.tx[i]) + std::abs(S.qdy[i] - S.ty[i]) < S.err[i] ? 1.0 : 0.0;
+      const double take = search * lower, halve = search - take;
+      S.dx[i] = take != 0 ? S.qdx[i] : S.dx[i], S.dy[i] = take != 0 ? S.qdy[i] : S.dy[i];
+      S.jxx[i] = take != 0 ? S.qjxx[i] : S.jxx[i], S.jxy[i] = take != 0 ? S.qjxy[i] : S.jxy[i];
+      S.jyx[i] = take != 0 ? S.qjyx[i] : S.jyx[i], S.jyy[i] = take != 0 ? S.qjyy[i] : S.jyy[i];
+      S.acc[i] = take != 0 ? 1.0 : S.acc[i];
+      S.t[i] = halve != 0 ? S.t[i] * 0.5 : S.t[i];
+      S.pend[i] = halve;
+    }
+    if (!any_set(S.pend, n)) break;
+  }
+}
+
+// Moves every live lane by its (damped) step; lanes whose line search ran out of halvings get
+// their point distorted where it landed.
+ANAMORPH_LANES void take_steps(const BrownConrady& D, NewtonLanes& __restrict S, int n) {
+  for (int i = 0; i < n; ++i) {
+    const double live = S.act[i];
+    const double nx = S.px[i] - S.sx[i] * S.t[i], ny = S.py[i] - S.sy[i] * S.t[i];
+    S.px[i] = live != 0 ? nx : S.px[i], S.py[i] = live != 0 ? ny : S.py[i];
+    const double finite = nx * 0 + ny * 0 == 0 ? 1.0 : 0.0;
+    S.act[i] = live * finite;
+    S.pend[i] = live * finite * (1 - S.acc[i]);
+  }
+  if (!any_set(S.pend, n)) return;  // (rare: a line search that ran out of halvings)
+  for (int i = 0; i < n; ++i) {
+    // The smallest step, taken unchecked: distort where it landed.
+    const bool redo = S.act[i] * (1 - S.acc[i]) != 0;
+    D.distort_lane(S.px[i], S.py[i], &S.qdx[i], &S.qdy[i], &S.qjxx[i], &S.qjxy[i], &S.qjyx[i],
+                   &S.qjyy[i]);
+    S.dx[i] = redo ? S.qdx[i] : S.dx[i], S.dy[i] = redo ? S.qdy[i] : S.dy[i];
+    S.jxx[i] = redo ? S.qjxx[i] : S.jxx[i], S.jxy[i] = redo ? S.qjxy[i] : S.jxy[i];
+    S.jyx[i] = redo ? S.qjyx[i] : S.jyx[i], S.jyy[i] = redo ? S.qjyy[i] : S.jyy[i];
+  }
+}
+
+ANAMORPH_LANES void undistort_kernel(const BrownConrady& bc, NewtonLanes& __restrict S, int n) {
+  const BrownConrady D = bc;
+  undistort_start(D, S, n);
+  for (int it = 0; it < 50; ++it) {
+    newton_steps(D, S, n);
+    if (!any_set(S.act, n)) break;
+    line_search(D, S, n);
+    take_steps(D, S, n);
+  }
+}
+
+#undef ANAMORPH_LANES
 
 // The rays of the undistorted points: d = (x', -y', -1) and, from the inverse Jacobian,
 // d(x')/du = J^-1 (w / fx, 0), d(x')/dv = J^-1 (0, h / fy). One division per lane, arrays

@@ -214,6 +214,71 @@ const ParamSpec& dir_type_spec() {
   return spec;
 }
 
+namespace {
+
+void check_choice(const ParamSpec& s, const std::string& key, const std::string& str) {
+  if (s.choices.empty() || std::find(s.choices.begin(), s.choices.end(), str) != s.choices.end())
+    return;
+  std::string valid;
+  for (auto c : s.choices) valid += (valid.empty() ? "" : ", ") + std::string(c);
+  throw ParamError(key, key + ": unknown value \"" + str + "\" (valid: " + valid + ")");
+}
+
+// Every number a value of the declared type holds within the declared range (a switch over the
+// closed set of parameter types).
+void check_value(const ParamSpec& s, const std::string& key, const ParamValue& v) {
+  switch (s.type) {
+    case ParamType::Number:
+      check_number(s, std::get<double>(v));
+      break;
+    case ParamType::Integer:
+      check_number(s, double(std::get<int64_t>(v)));
+      break;
+    case ParamType::Vec2:
+      check_number(s, std::get<Vec2>(v).x);
+      check_number(s, std::get<Vec2>(v).y);
+      break;
+    case ParamType::Vec3:
+      for (int i = 0; i < 3; ++i) check_number(s, std::get<Vec3>(v)[i]);
+      break;
+    case ParamType::NumberList:
+      for (double x : std::get<std::vector<double>>(v)) check_number(s, x);
+      break;
+    case ParamType::Vec3List:
+      for (const Vec3& p : std::get<std::vector<Vec3>>(v))
+        for (int i = 0; i < 3; ++i) check_number(s, p[i]);
+      break;
+    case ParamType::Vec3Grid:
+      for (const auto& row : std::get<std::vector<std::vector<Vec3>>>(v))
+        for (const Vec3& p : row)
+          for (int i = 0; i < 3; ++i) check_number(s, p[i]);
+      break;
+    case ParamType::NumberGrid:
+      for (const auto& row : std::get<std::vector<std::vector<double>>>(v))
+        for (double x : row) check_number(s, x);
+      break;
+    case ParamType::StringMap:
+      for (const auto& [k, x] : std::get<std::map<std::string, double>>(v)) check_number(s, x);
+      break;
+    case ParamType::String:
+      check_choice(s, key, std::get<std::string>(v));
+      break;
+    case ParamType::Function:
+      if (!std::get<std::shared_ptr<const NestedFunction>>(v))
+        throw ParamError(key, key + " must not be empty");
+      break;
+    case ParamType::Color:
+      for (int i = 0; i < 3; ++i) check_number(s, std::get<Vec3>(v)[i]);
+      break;
+    case ParamType::Bool:
+    case ParamType::Texture:
+    case ParamType::Transform:
+      break;
+  }
+}
+
+}  // namespace
+
 void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
   for (const auto& [name, value] : values.all())
     if (!find_spec(specs, name))
@@ -227,61 +292,7 @@ void check_params(std::span<const ParamSpec> specs, const ParamValues& values) {
     const ParamValue& v = values.all().find(s.name)->second;
     if (v.index() != variant_index(s.type))
       throw ParamError(key, key + " must be of type " + std::string(to_string(s.type)));
-    switch (s.type) {
-      case ParamType::Number:
-        check_number(s, std::get<double>(v));
-        break;
-      case ParamType::Integer:
-        check_number(s, double(std::get<int64_t>(v)));
-        break;
-      case ParamType::Vec2:
-        check_number(s, std::get<Vec2>(v).x);
-        check_number(s, std::get<Vec2>(v).y);
-        break;
-      case ParamType::Vec3:
-        for (int i = 0; i < 3; ++i) check_number(s, std::get<Vec3>(v)[i]);
-        break;
-      case ParamType::NumberList:
-        for (double x : std::get<std::vector<double>>(v)) check_number(s, x);
-        break;
-      case ParamType::Vec3List:
-        for (const Vec3& p : std::get<std::vector<Vec3>>(v))
-          for (int i = 0; i < 3; ++i) check_number(s, p[i]);
-        break;
-      case ParamType::Vec3Grid:
-        for (const auto& row : std::get<std::vector<std::vector<Vec3>>>(v))
-          for (const Vec3& p : row)
-            for (int i = 0; i < 3; ++i) check_number(s, p[i]);
-        break;
-      case ParamType::NumberGrid:
-        for (const auto& row : std::get<std::vector<std::vector<double>>>(v))
-          for (double x : row) check_number(s, x);
-        break;
-      case ParamType::StringMap:
-        for (const auto& [k, x] : std::get<std::map<std::string, double>>(v)) check_number(s, x);
-        break;
-      case ParamType::String:
-        if (!s.choices.empty()) {
-          const std::string& str = std::get<std::string>(v);
-          if (std::find(s.choices.begin(), s.choices.end(), str) == s.choices.end()) {
-            std::string valid;
-            for (auto c : s.choices) valid += (valid.empty() ? "" : ", ") + std::string(c);
-            throw ParamError(key, key + ": unknown value \"" + str + "\" (valid: " + valid + ")");
-          }
-        }
-        break;
-      case ParamType::Function:
-        if (!std::get<std::shared_ptr<const NestedFunction>>(v))
-          throw ParamError(key, key + " must not be empty");
-        break;
-      case ParamType::Color:
-        for (int i = 0; i < 3; ++i) check_number(s, std::get<Vec3>(v)[i]);
-        break;
-      case ParamType::Bool:
-      case ParamType::Texture:
-      case ParamType::Transform:
-        break;
-    }
+    check_value(s, key, v);
   }
 }
 

@@ -302,6 +302,78 @@ double angular_miss(const Miss& m, const Vec3&) {
   return perp / std::max(m.along, 1e-300);
 }
 
+// Whether grid cell (i, j) is a local minimum of err, strictly on one side so that plateaus
+// produce a single seed.
+bool grid_local_min(const std::vector<double>& err, int n, int i, int j) {
+  const double e0 = err[size_t(j) * n + i];
+  for (int dj = -1; dj <= 1; ++dj)
+    for (int di = -1; di <= 1; ++di) {
+      const int a = i + di, b = j + dj;
+      if ((di || dj) && a >= 0 && b >= 0 && a < n && b < n) {
+        const double e1 = err[size_t(b) * n + a];
+        if (e1 < e0 || (e1 == e0 && (dj < 0 || (dj == 0 && di < 0)))) return false;
+      }
+    }
+  return true;
+}
+
+// One damped Gauss-Newton step of the miss m at uv (central finite differences of the miss
+// vector: works for any camera). Returns the step length factor taken (below 1e-5: stalled), or
+// a negative value when no step can be computed.
+double gauss_newton_step(const Camera& cam, const Vec3& p, const Miss& m, Vec2* uv) {
+  const double h = 1e-6;
+  const Miss mu0 = miss_at(cam, p, {uv->x - h, uv->y}), mu1 = miss_at(cam, p, {uv->x + h, uv->y});
+  const Miss mv0 = miss_at(cam, p, {uv->x, uv->y - h}), mv1 = miss_at(cam, p, {uv->x, uv->y + h});
+  if (!mu0.ok || !mu1.ok || !mv0.ok || !mv1.ok) return -1;
+  const Vec3 ju = (mu1.e - mu0.e) / (2 * h), jv = (mv1.e - mv0.e) / (2 * h);
+  // Normal equations of the 3x2 least-squares step.
+  const double a = dot(ju, ju), b = dot(ju, jv), c = dot(jv, jv);
+  const double ru = -dot(ju, m.e), rv = -dot(jv, m.e);
+  const double det = a * c - b * b;
+  if (!(std::abs(det) > 1e-300)) return -1;
+  const Vec2 step{(c * ru - b * rv) / det, (a * rv - b * ru) / det};
+  // Damp steps that leave the domain or grow the error.
+  const double cur = length(m.e);
+  double t = 1;
+  for (int k = 0; k < 20; ++k, t *= 0.5) {
+    Vec2 cand = *uv + step * t;
+    cand.x = std::clamp(cand.x, 0.0, 1.0);
+    cand.y = std::clamp(cand.y, 0.0, 1.0);
+    const Miss mc = miss_at(cam, p, cand);
+    if (mc.ok && mc.along > 0 && length(mc.e) < cur) {
+      *uv = cand;
+      break;
+    }
+  }
+  return t;
+}
+
+// Gauss-Newton from the seed uv: the image position whose ray passes through p, if it converges.
+std::optional<Vec2> refine(const Camera& cam, const Vec3& p, Vec2 uv) {
+  bool converged = false;
+  for (int it = 0; it < 60; ++it) {
+    const Miss m = miss_at(cam, p, uv);
+    if (!m.ok || m.along <= 0) break;
+    const double scale = std::max(m.along, 1e-12);
+    if (length(m.e) / scale < 1e-12) {
+      converged = true;
+      break;
+    }
+    const double t = gauss_newton_step(cam, p, m, &uv);
+    if (t < 0) break;
+    if (t < 1e-5) {
+      converged = length(m.e) / scale < 1e-9;
+      break;
+    }
+  }
+  if (!converged) {
+    const Miss m = miss_at(cam, p, uv);
+    converged = m.ok && m.along > 0 && length(m.e) / std::max(m.along, 1e-12) < 1e-9;
+  }
+  if (!converged) return std::nullopt;
+  return uv;
+}
+
 }  // namespace
 
 std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid) {
@@ -311,76 +383,16 @@ std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i)
       err[size_t(j) * n + i] = angular_miss(miss_at(cam, p, {(i + 0.5) / n, (j + 0.5) / n}), p);
-
   // 2. Gauss-Newton from every local minimum of the grid.
   std::vector<Vec2> out;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      const double e0 = err[size_t(j) * n + i];
-      if (!(e0 < 1.0)) continue;
-      bool local_min = true;
-      for (int dj = -1; dj <= 1 && local_min; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int a = i + di, b = j + dj;
-          if ((di || dj) && a >= 0 && b >= 0 && a < n && b < n) {
-            const double e1 = err[size_t(b) * n + a];
-            // Strict on one side so plateaus produce a single seed.
-            if (e1 < e0 || (e1 == e0 && (dj < 0 || (dj == 0 && di < 0)))) {
-              local_min = false;
-              break;
-            }
-          }
-        }
-      if (!local_min) continue;
-
-      Vec2 uv{(i + 0.5) / n, (j + 0.5) / n};
-      bool converged = false;
-      for (int it = 0; it < 60; ++it) {
-        const Miss m = miss_at(cam, p, uv);
-        if (!m.ok || m.along <= 0) break;
-        const double scale = std::max(m.along, 1e-12);
-        if (length(m.e) / scale < 1e-12) {
-          converged = true;
-          break;
-        }
-        // Central finite differences of the miss vector (works for any camera).
-        const double h = 1e-6;
-        const Miss mu0 = miss_at(cam, p, {uv.x - h, uv.y}), mu1 = miss_at(cam, p, {uv.x + h, uv.y});
-        const Miss mv0 = miss_at(cam, p, {uv.x, uv.y - h}), mv1 = miss_at(cam, p, {uv.x, uv.y + h});
-        if (!mu0.ok || !mu1.ok || !mv0.ok || !mv1.ok) break;
-        const Vec3 ju = (mu1.e - mu0.e) / (2 * h), jv = (mv1.e - mv0.e) / (2 * h);
-        // Normal equations of the 3x2 least-squares step.
-        const double a = dot(ju, ju), b = dot(ju, jv), c = dot(jv, jv);
-        const double ru = -dot(ju, m.e), rv = -dot(jv, m.e);
-        const double det = a * c - b * b;
-        if (!(std::abs(det) > 1e-300)) break;
-        Vec2 step{(c * ru - b * rv) / det, (a * rv - b * ru) / det};
-        // Damp steps that leave the domain or grow the error.
-        const double cur = length(m.e);
-        double t = 1;
-        for (int k = 0; k < 20; ++k, t *= 0.5) {
-          Vec2 cand = uv + step * t;
-          cand.x = std::clamp(cand.x, 0.0, 1.0);
-          cand.y = std::clamp(cand.y, 0.0, 1.0);
-          const Miss mc = miss_at(cam, p, cand);
-          if (mc.ok && mc.along > 0 && length(mc.e) < cur) {
-            uv = cand;
-            break;
-          }
-        }
-        if (t < 1e-5) {
-          converged = length(m.e) / scale < 1e-9;
-          break;
-        }
-      }
-      if (!converged) {
-        const Miss m = miss_at(cam, p, uv);
-        converged = m.ok && m.along > 0 && length(m.e) / std::max(m.along, 1e-12) < 1e-9;
-      }
-      if (!converged) continue;
-      const bool dup =
-          std::any_of(out.begin(), out.end(), [&](const Vec2& q) { return length(q - uv) < 1e-6; });
-      if (!dup) out.push_back(uv);
+      if (!(err[size_t(j) * n + i] < 1.0) || !grid_local_min(err, n, i, j)) continue;
+      const std::optional<Vec2> uv = refine(cam, p, {(i + 0.5) / n, (j + 0.5) / n});
+      if (!uv) continue;
+      const bool dup = std::any_of(out.begin(), out.end(),
+                                   [&](const Vec2& q) { return length(q - *uv) < 1e-6; });
+      if (!dup) out.push_back(*uv);
     }
   return out;
 }

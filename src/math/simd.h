@@ -31,7 +31,8 @@
 // follows ANAMORPH_ISA once it becomes a simd::Kernel body. (Not under ThreadSanitizer: the
 // ifunc resolvers run while the dynamic loader relocates the program, before TSan's runtime is
 // up, and crash there.)
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_THREAD__) && !defined(ANAMORPH_ONE_CLONE)
 #define ANAMORPH_SIMD_CLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
@@ -67,8 +68,13 @@ struct Kernel;
 template <class R, class... A, R (*Body)(A...)>
 struct Kernel<Body> {
   using Fn = R (*)(A...);
+#ifdef ANAMORPH_ONE_CLONE  // sanitized builds (CMakeLists.txt): every set runs the baseline code
+  static R avx512(A... a) { return baseline(a...); }
+  static R avx2(A... a) { return baseline(a...); }
+#else
   ANAMORPH_TARGET_AVX512 static R avx512(A... a) { return Body(a...); }
   ANAMORPH_TARGET_AVX2 static R avx2(A... a) { return Body(a...); }
+#endif
   static R baseline(A... a) { return Body(a...); }
   static Fn of(Isa isa) { return isa == Isa::Avx512 ? avx512 : isa == Isa::Avx2 ? avx2 : baseline; }
   static Fn get() {

@@ -232,34 +232,37 @@ void integer_out_of_reach(const toml::node& n, const ParamSpec& spec, const Fail
 
 }  // namespace
 
-ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
-                           const ParamTomlHooks& h) {
-  const ParamSpec spec = with_world_range(declared);
-  const std::string_view key = spec.name;
-  const auto fail = [&](const toml::node& at, const std::string& msg) {
-    h.fail(at, key, msg);
+namespace {
+
+// One value's reading against its declaration: the checks every type shares (hooks' fail throws).
+struct ValueReader {
+  const ParamSpec spec;
+  const ParamTomlHooks& h;
+
+  [[noreturn]] void fail(const toml::node& at, const std::string& msg) const {
+    h.fail(at, spec.name, msg);
     std::abort();  // (fail hooks throw)
-  };
-  const auto in_range = [&](const toml::node& at, double v) {
+  }
+  void in_range(const toml::node& at, double v) const {
     const std::string e =
         range_error(v, spec.min, spec.max, spec.min_exclusive, spec.max_exclusive);
     if (!e.empty()) fail(at, e);
-  };
-  const auto num = [&](const toml::node& x) {
+  }
+  double num(const toml::node& x) const {
     const auto v = toml_number(x);
     if (!v) fail(x, "expected a number, got " + toml_type_name(x));
     in_range(x, *v);
     return *v;
-  };
-  const auto vec = [&](const toml::node& x, size_t dim) {
+  }
+  Vec3 vec(const toml::node& x, size_t dim) const {
     const toml::array* a = x.as_array();
     if (!a || a->size() != dim)
       fail(x, fmt::format("expected an array of {} numbers, got {}", dim, toml_type_name(x)));
     Vec3 v;
     for (size_t i = 0; i < dim; ++i) v[int(i)] = num(*a->get(i));
     return v;
-  };
-  const auto color = [&](const toml::node& x) {
+  }
+  Vec3 color(const toml::node& x) const {
     if (const auto g = toml_number(x)) {
       in_range(x, *g);
       return Vec3(*g);
@@ -268,100 +271,115 @@ ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
     if (!a || a->size() != 3)
       fail(x, "expected a colour [r, g, b] or a number, got " + toml_type_name(x));
     return vec(x, 3);
-  };
-  const auto list = [&](const toml::node& x) -> const toml::array& {
+  }
+  const toml::array& list(const toml::node& x) const {
     const toml::array* a = x.as_array();
     if (!a) fail(x, "expected an array, got " + toml_type_name(x));
     return *a;
-  };
-  switch (spec.type) {
+  }
+  ParamValue integer(const toml::node& n) const {
+    const auto v = toml_integer(n);
+    const auto failer = [this](const toml::node& at, const std::string& msg) { fail(at, msg); };
+    if (!v && n.is_floating_point()) integer_out_of_reach(n, spec, failer);
+    if (!v) fail(n, "expected an integer, got " + toml_type_name(n));
+    in_range(n, double(*v));
+    return *v;
+  }
+  ParamValue string(const toml::node& n) const {
+    const std::string_view key = spec.name;
+    if (!n.is_string()) fail(n, "expected a string, got " + toml_type_name(n));
+    std::string v = *n.value<std::string>();
+    if (!spec.choices.empty() &&
+        std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
+      std::vector<std::string> cs(spec.choices.begin(), spec.choices.end());
+      const std::string s = suggest(v, cs);
+      fail(n, fmt::format("unknown value \"{}\"{} (valid: {})", v,
+                          s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
+                          join_choices(spec.choices)));
+    }
+    // A NUL would cut the name short where the system reads it: refused, with or without hooks.
+    if (key == "file" && has_nul(v)) fail(n, nul_in_path_message(v));
+    if (key == "file" && h.file) return h.file(n, key, v);
+    return v;
+  }
+  // An array of arrays, each element read by `one`.
+  template <class T, class F>
+  std::vector<std::vector<T>> grid(const toml::node& n, F one) const {
+    std::vector<std::vector<T>> out;
+    for (const auto& row : list(n)) {
+      out.emplace_back();
+      for (const auto& e : list(row)) out.back().push_back(one(e));
+    }
+    return out;
+  }
+  ParamValue string_map(const toml::node& n) const {
+    const toml::table* t = n.as_table();
+    if (!t) fail(n, "expected a table { name = number, ... }");
+    std::map<std::string, double> out;
+    for (const auto& [k, v] : *t) {
+      const auto x = toml_number(v);
+      if (!x || !std::isfinite(*x))
+        fail(v, fmt::format("constant '{}' must be a finite number", k.str()));
+      out[std::string(k.str())] = *x;
+    }
+    return out;
+  }
+};
+
+}  // namespace
+
+// (A switch over the closed set of parameter types.)
+ParamValue param_from_toml(const ParamSpec& declared, const toml::node& n,
+                           const ParamTomlHooks& h) {
+  const ValueReader r{with_world_range(declared), h};
+  const auto num = [&](const toml::node& x) { return r.num(x); };
+  const auto vec3 = [&](const toml::node& x) { return r.vec(x, 3); };
+  switch (r.spec.type) {
     case ParamType::Number:
-      return num(n);
-    case ParamType::Integer: {
-      const auto v = toml_integer(n);
-      if (!v && n.is_floating_point()) integer_out_of_reach(n, spec, fail);
-      if (!v) fail(n, "expected an integer, got " + toml_type_name(n));
-      in_range(n, double(*v));
-      return *v;
-    }
+      return r.num(n);
+    case ParamType::Integer:
+      return r.integer(n);
     case ParamType::Bool:
-      if (!n.is_boolean()) fail(n, "expected true or false, got " + toml_type_name(n));
+      if (!n.is_boolean()) r.fail(n, "expected true or false, got " + toml_type_name(n));
       return *n.value<bool>();
-    case ParamType::String: {
-      if (!n.is_string()) fail(n, "expected a string, got " + toml_type_name(n));
-      std::string v = *n.value<std::string>();
-      if (!spec.choices.empty() &&
-          std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
-        std::vector<std::string> cs(spec.choices.begin(), spec.choices.end());
-        const std::string s = suggest(v, cs);
-        fail(n, fmt::format("unknown value \"{}\"{} (valid: {})", v,
-                            s.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", s),
-                            join_choices(spec.choices)));
-      }
-      // A NUL would cut the name short where the system reads it: refused, with or without hooks.
-      if (key == "file" && has_nul(v)) fail(n, nul_in_path_message(v));
-      if (key == "file" && h.file) return h.file(n, key, v);
-      return v;
-    }
+    case ParamType::String:
+      return r.string(n);
     case ParamType::Vec2: {
-      const Vec3 v = vec(n, 2);
+      const Vec3 v = r.vec(n, 2);
       return Vec2{v.x, v.y};
     }
     case ParamType::Vec3:
-      return vec(n, 3);
+      return r.vec(n, 3);
     case ParamType::NumberList: {
       std::vector<double> out;
-      for (const auto& e : list(n)) out.push_back(num(e));
+      for (const auto& e : r.list(n)) out.push_back(r.num(e));
       return out;
     }
     case ParamType::Vec3List: {
       std::vector<Vec3> out;
-      for (const auto& e : list(n)) out.push_back(vec(e, 3));
+      for (const auto& e : r.list(n)) out.push_back(r.vec(e, 3));
       return out;
     }
-    case ParamType::Vec3Grid: {
-      std::vector<std::vector<Vec3>> out;
-      for (const auto& row : list(n)) {
-        out.emplace_back();
-        for (const auto& e : list(row)) out.back().push_back(vec(e, 3));
-      }
-      return out;
-    }
-    case ParamType::NumberGrid: {
-      std::vector<std::vector<double>> out;
-      for (const auto& row : list(n)) {
-        out.emplace_back();
-        for (const auto& e : list(row)) out.back().push_back(num(e));
-      }
-      return out;
-    }
-    case ParamType::StringMap: {
-      const toml::table* t = n.as_table();
-      if (!t) fail(n, "expected a table { name = number, ... }");
-      std::map<std::string, double> out;
-      for (const auto& [k, v] : *t) {
-        const auto x = toml_number(v);
-        if (!x || !std::isfinite(*x))
-          fail(v, fmt::format("constant '{}' must be a finite number", k.str()));
-        out[std::string(k.str())] = *x;
-      }
-      return out;
-    }
+    case ParamType::Vec3Grid:
+      return r.grid<Vec3>(n, vec3);
+    case ParamType::NumberGrid:
+      return r.grid<double>(n, num);
+    case ParamType::StringMap:
+      return r.string_map(n);
     case ParamType::Function: {
       const toml::table* t = n.as_table();
-      if (!t) fail(n, "expected a table { type = \"...\", ... }");
-      return h.nested(*t, spec);
+      if (!t) r.fail(n, "expected a table { type = \"...\", ... }");
+      return h.nested(*t, r.spec);
     }
     case ParamType::Color:
-      return color(n);
+      return r.color(n);
     case ParamType::Texture:
-      if (const toml::table* t = n.as_table()) return h.nested(*t, spec);
-      return color(n);
+      if (const toml::table* t = n.as_table()) return h.nested(*t, r.spec);
+      return r.color(n);
     case ParamType::Transform:
-      return transform_from_toml(spec, n, h);
+      return transform_from_toml(r.spec, n, h);
   }
-  fail(n, "unsupported parameter type");
-  return {};
+  r.fail(n, "unsupported parameter type");
 }
 
 }  // namespace anamorph

@@ -20,120 +20,20 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     scene_center_ = b.center();
     scene_radius_ = std::max(1e-3, 0.5 * length(b.diagonal()));
   }
-  std::vector<double> power;
-  for (const Light& l : scene.lights) {
-    Emitter e{};
-    e.L = l.intensity;
-    e.p0 = l.position;
-    e.dir = normalize(l.direction);
-    e.range = l.range;
-    switch (l.kind) {
-      case Light::Kind::Point:
-        e.kind = Emitter::Kind::Point;
-        power.push_back(4 * kPi * luminance(e.L));
-        break;
-      case Light::Kind::Spot:
-        e.kind = Emitter::Kind::Spot;
-        e.cos_inner = std::cos(radians(l.cone_angle));
-        e.cos_outer = std::cos(radians(std::min(180.0, l.cone_angle + l.cone_falloff)));
-        e.falloff = l.spot_falloff;
-        if (l.cone_angle + l.cone_falloff > 0)
-          e.cycles_band = (1 - e.cos_outer) * (1 - l.cone_angle / (l.cone_angle + l.cone_falloff));
-        power.push_back(2 * kPi * (1 - 0.5 * (e.cos_inner + e.cos_outer)) * luminance(e.L));
-        break;
-      case Light::Kind::Directional:
-        e.kind = Emitter::Kind::Directional;
-        power.push_back(kPi * scene_radius_ * scene_radius_ * luminance(e.L));
-        break;
-    }
-    emitters_.push_back(e);
-  }
-
-  // Emissive geometry.
+  std::vector<double> power;  // each emitter's, by index: what picks them
+  for (const Light& l : scene.lights) add_punctual(l, power);
   for (uint32_t id = 0; id < accel.object_count(); ++id) {
     const Accel::Record& rec = accel.record(id);
-    auto add_mesh = [&](const TriangleMesh& m, const Transform* xf, uint32_t mesh_index) {
-      const Material& mat = *scene.materials[m.material];
-      if (!mat.is_emissive()) return;
-      const Color scale = mat.emission.value * mat.emission_strength;
-      for (size_t t = 0; t < m.triangle_count(); ++t) {
-        Emitter e{};
-        e.kind = Emitter::Kind::Triangle;
-        const uint32_t* ix = &m.indices[t * 3];
-        Vec3 p[3];
-        Vec2 uv[3];
-        for (int k = 0; k < 3; ++k) {
-          p[k] = Vec3(m.positions[ix[k]]);
-          if (xf) p[k] = xf->point(p[k]);
-          uv[k] = m.uvs.empty() ? Vec2{} : Vec2{m.uvs[ix[k]].x, m.uvs[ix[k]].y};
-        }
-        e.p0 = p[0], e.p1 = p[1], e.p2 = p[2];
-        e.uv0 = uv[0], e.uv1 = uv[1], e.uv2 = uv[2];
-        e.area = triangle_area(p[0], p[1], p[2]);
-        if (!(e.area > 0)) continue;
-        e.material = &mat;
-        e.two_sided = mat.double_sided;
-        e.L = scale;
-        by_surface_[{id, mesh_index, uint32_t(t)}] = uint32_t(emitters_.size());
-        emitters_.push_back(e);
-        power.push_back(e.area * kPi * (e.two_sided ? 2 : 1) * std::max(1e-6, luminance(scale)));
-      }
-    };
     if (rec.kind == Accel::Record::Kind::FlatMesh) {
-      add_mesh(*rec.mesh, nullptr, 0);
+      add_emissive_mesh(id, *rec.mesh, nullptr, 0, power);
     } else if (rec.kind == Accel::Record::Kind::Instance) {
       for (uint32_t j = 0; j < rec.proto->meshes.size(); ++j)
-        add_mesh(rec.proto->meshes[j], &rec.world_from_object, j);
+        add_emissive_mesh(id, rec.proto->meshes[j], &rec.world_from_object, j, power);
     } else if (rec.shape->kind == AnalyticShape::Kind::Sphere) {
-      const Material& mat = *scene.materials[rec.shape->material];
-      if (!mat.is_emissive()) continue;
-      Emitter e{};
-      e.kind = Emitter::Kind::Sphere;
-      e.p0 = rec.world_from_object.point({0, 0, 0});
-      // Spheres are placed by translation (and the object transform); take its mean scale.
-      e.radius =
-          rec.shape->radius * std::cbrt(std::abs(dot(cross(rec.world_from_object.vector({1, 0, 0}),
-                                                           rec.world_from_object.vector({0, 1, 0})),
-                                                     rec.world_from_object.vector({0, 0, 1}))));
-      e.material = &mat;
-      e.L = mat.emission.value * mat.emission_strength;
-      by_surface_[{id, 0, 0}] = uint32_t(emitters_.size());
-      emitters_.push_back(e);
-      power.push_back(4 * kPi * e.radius * e.radius * kPi * luminance(e.L));
+      add_emissive_sphere(id, rec, power);
     }
   }
-
-  const Environment& env = scene.environment;
-  if (env.present()) {
-    Emitter e{};
-    e.kind = Emitter::Kind::Environment;
-    e.L = env.color * env.strength;
-    double avg = luminance(e.L);
-    env_average_ = e.L;
-    if (env.image) {
-      const Image& im = *env.image;
-      std::vector<double> f(size_t(im.width) * im.height);
-      double sum = 0, weight = 0;
-      Color csum;
-      for (int y = 0; y < im.height; ++y) {
-        const double sin_t = std::sin(kPi * (y + 0.5) / im.height);
-        for (int x = 0; x < im.width; ++x) {
-          const Color c{im.at(x, y, 0), im.at(x, y, 1), im.at(x, y, 2)};
-          const double l = luminance(c);
-          csum += c * sin_t;
-          weight += sin_t;
-          f[size_t(y) * im.width + x] = (l + 1e-4) * sin_t;  // keep every texel reachable
-          sum += l * sin_t;
-        }
-      }
-      env_dist_ = Distribution2D(f, size_t(im.width), size_t(im.height));
-      env_average_ = csum / std::max(weight, 1e-30) * env.strength;
-      avg = env.strength * sum / (double(im.width) * im.height) * 2;  // ~ mean over the sphere
-    }
-    env_index_ = int(emitters_.size());
-    emitters_.push_back(e);
-    power.push_back(kPi * scene_radius_ * scene_radius_ * kPi * std::max(1e-6, avg));
-  }
+  if (scene.environment.present()) add_environment(power);
   pick_ = Distribution1D(power);
   std::vector<double> area_power;
   for (uint32_t i = 0; i < emitters_.size(); ++i) {
@@ -146,6 +46,116 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     }
   }
   if (!area_.empty()) area_pick_ = Distribution1D(area_power);
+}
+
+void Lights::add_punctual(const Light& l, std::vector<double>& power) {
+  Emitter e{};
+  e.L = l.intensity;
+  e.p0 = l.position;
+  e.dir = normalize(l.direction);
+  e.range = l.range;
+  switch (l.kind) {
+    case Light::Kind::Point:
+      e.kind = Emitter::Kind::Point;
+      power.push_back(4 * kPi * luminance(e.L));
+      break;
+    case Light::Kind::Spot:
+      e.kind = Emitter::Kind::Spot;
+      e.cos_inner = std::cos(radians(l.cone_angle));
+      e.cos_outer = std::cos(radians(std::min(180.0, l.cone_angle + l.cone_falloff)));
+      e.falloff = l.spot_falloff;
+      if (l.cone_angle + l.cone_falloff > 0)
+        e.cycles_band = (1 - e.cos_outer) * (1 - l.cone_angle / (l.cone_angle + l.cone_falloff));
+      power.push_back(2 * kPi * (1 - 0.5 * (e.cos_inner + e.cos_outer)) * luminance(e.L));
+      break;
+    case Light::Kind::Directional:
+      e.kind = Emitter::Kind::Directional;
+      power.push_back(kPi * scene_radius_ * scene_radius_ * luminance(e.L));
+      break;
+  }
+  emitters_.push_back(e);
+}
+
+// Every triangle of an emissive mesh (in world space through xf, when it is an instance's).
+void Lights::add_emissive_mesh(uint32_t id, const TriangleMesh& m, const Transform* xf,
+                               uint32_t mesh_index, std::vector<double>& power) {
+  const Material& mat = *scene_.materials[m.material];
+  if (!mat.is_emissive()) return;
+  const Color scale = mat.emission.value * mat.emission_strength;
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    Emitter e{};
+    e.kind = Emitter::Kind::Triangle;
+    const uint32_t* ix = &m.indices[t * 3];
+    Vec3 p[3];
+    Vec2 uv[3];
+    for (int k = 0; k < 3; ++k) {
+      p[k] = Vec3(m.positions[ix[k]]);
+      if (xf) p[k] = xf->point(p[k]);
+      uv[k] = m.uvs.empty() ? Vec2{} : Vec2{m.uvs[ix[k]].x, m.uvs[ix[k]].y};
+    }
+    e.p0 = p[0], e.p1 = p[1], e.p2 = p[2];
+    e.uv0 = uv[0], e.uv1 = uv[1], e.uv2 = uv[2];
+    e.area = triangle_area(p[0], p[1], p[2]);
+    if (!(e.area > 0)) continue;
+    e.material = &mat;
+    e.two_sided = mat.double_sided;
+    e.L = scale;
+    by_surface_[{id, mesh_index, uint32_t(t)}] = uint32_t(emitters_.size());
+    emitters_.push_back(e);
+    power.push_back(e.area * kPi * (e.two_sided ? 2 : 1) * std::max(1e-6, luminance(scale)));
+  }
+}
+
+void Lights::add_emissive_sphere(uint32_t id, const Accel::Record& rec,
+                                 std::vector<double>& power) {
+  const Material& mat = *scene_.materials[rec.shape->material];
+  if (!mat.is_emissive()) return;
+  Emitter e{};
+  e.kind = Emitter::Kind::Sphere;
+  e.p0 = rec.world_from_object.point({0, 0, 0});
+  // Spheres are placed by translation (and the object transform); take its mean scale.
+  e.radius =
+      rec.shape->radius * std::cbrt(std::abs(dot(cross(rec.world_from_object.vector({1, 0, 0}),
+                                                       rec.world_from_object.vector({0, 1, 0})),
+                                                 rec.world_from_object.vector({0, 0, 1}))));
+  e.material = &mat;
+  e.L = mat.emission.value * mat.emission_strength;
+  by_surface_[{id, 0, 0}] = uint32_t(emitters_.size());
+  emitters_.push_back(e);
+  power.push_back(4 * kPi * e.radius * e.radius * kPi * luminance(e.L));
+}
+
+// The environment, with an image's luminance (times sin theta) as the distribution to sample.
+void Lights::add_environment(std::vector<double>& power) {
+  const Environment& env = scene_.environment;
+  Emitter e{};
+  e.kind = Emitter::Kind::Environment;
+  e.L = env.color * env.strength;
+  double avg = luminance(e.L);
+  env_average_ = e.L;
+  if (env.image) {
+    const Image& im = *env.image;
+    std::vector<double> f(size_t(im.width) * im.height);
+    double sum = 0, weight = 0;
+    Color csum;
+    for (int y = 0; y < im.height; ++y) {
+      const double sin_t = std::sin(kPi * (y + 0.5) / im.height);
+      for (int x = 0; x < im.width; ++x) {
+        const Color c{im.at(x, y, 0), im.at(x, y, 1), im.at(x, y, 2)};
+        const double l = luminance(c);
+        csum += c * sin_t;
+        weight += sin_t;
+        f[size_t(y) * im.width + x] = (l + 1e-4) * sin_t;  // keep every texel reachable
+        sum += l * sin_t;
+      }
+    }
+    env_dist_ = Distribution2D(f, size_t(im.width), size_t(im.height));
+    env_average_ = csum / std::max(weight, 1e-30) * env.strength;
+    avg = env.strength * sum / (double(im.width) * im.height) * 2;  // ~ mean over the sphere
+  }
+  env_index_ = int(emitters_.size());
+  emitters_.push_back(e);
+  power.push_back(kPi * scene_radius_ * scene_radius_ * kPi * std::max(1e-6, avg));
 }
 
 Vec2 Lights::env_uv(const Vec3& d) const {
@@ -238,19 +248,8 @@ bool Lights::sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
   const Emitter& e = emitters_[i];
   switch (e.kind) {
     case Emitter::Kind::Point:
-    case Emitter::Kind::Spot: {
-      const Vec3 d = e.p0 - p;
-      const double d2 = dot(d, d);
-      if (!(d2 > 0)) return false;
-      out->dist = std::sqrt(d2);
-      out->wi = d / out->dist;
-      const double falloff = punctual_factor(e, out->wi, out->dist);
-      if (!(falloff > 0)) return false;
-      out->L = e.L * (falloff / d2);
-      out->pdf = 1;
-      out->delta = true;
-      return true;
-    }
+    case Emitter::Kind::Spot:
+      return sample_punctual(e, p, out);
     case Emitter::Kind::Directional:
       out->wi = -e.dir;
       out->dist = kInf;
@@ -258,60 +257,83 @@ bool Lights::sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
       out->pdf = 1;
       out->delta = true;
       return true;
-    case Emitter::Kind::Triangle: {
-      const Vec2 b = sample_uniform_triangle(u);
-      const Vec3 q = e.p0 * b.x + e.p1 * b.y + e.p2 * (1 - b.x - b.y);
-      const Vec3 n = normalize(cross(e.p1 - e.p0, e.p2 - e.p0));
-      const Vec3 d = q - p;
-      const double d2 = dot(d, d);
-      if (!(d2 > 0)) return false;
-      out->dist = std::sqrt(d2);
-      out->wi = d / out->dist;
-      const double cos_l = dot(-out->wi, n);
-      if (std::abs(cos_l) < 1e-12 || (!e.two_sided && cos_l < 0)) return false;
-      out->pdf = d2 / (std::abs(cos_l) * e.area);
-      out->L = emission_at(e, e.uv0 * b.x + e.uv1 * b.y + e.uv2 * (1 - b.x - b.y));
-      out->delta = false;
-      return true;
-    }
-    case Emitter::Kind::Sphere: {
-      // Uniform cone of directions subtended by the sphere.
-      const Vec3 dc = e.p0 - p;
-      const double dc2 = dot(dc, dc);
-      if (dc2 <= e.radius * e.radius) return false;  // inside the light
-      const double cone = sphere_cone_one_minus_cos(e.radius * e.radius, dc2);
-      if (!(cone > 0)) return false;  // it subtends no solid angle in double precision
-      const Frame f = Frame::from_normal(dc / std::sqrt(dc2));
-      const Vec3 w = f.to_world(sample_uniform_cone(u, cone));
-      // Distance to the sphere along w.
-      const double b = dot(dc, w);
-      const double disc = b * b - (dc2 - e.radius * e.radius);
-      out->dist = b - std::sqrt(std::max(0.0, disc));
-      out->wi = w;
-      out->pdf = uniform_cone_pdf(cone);
-      out->L = e.L;
-      out->delta = false;
-      return true;
-    }
-    case Emitter::Kind::Environment: {
-      if (!scene_.environment.image) {
-        out->wi = sample_uniform_sphere(u);
-        out->pdf = uniform_sphere_pdf();
-      } else {
-        double pdf_uv;
-        const Vec2 uv = env_dist_.sample(u, &pdf_uv);
-        const double s = std::sin(kPi * uv.y);
-        if (!(s > 0) || !(pdf_uv > 0)) return false;
-        out->wi = env_dir(uv);
-        out->pdf = pdf_uv / (2 * kPi * kPi * s);
-      }
-      out->dist = kInf;
-      out->L = environment(out->wi);
-      out->delta = false;
-      return true;
-    }
+    case Emitter::Kind::Triangle:
+      return sample_triangle(e, p, u, out);
+    case Emitter::Kind::Sphere:
+      return sample_sphere(e, p, u, out);
+    case Emitter::Kind::Environment:
+      return sample_environment(u, out);
   }
   return false;
+}
+
+bool Lights::sample_punctual(const Emitter& e, const Vec3& p, LightSample* out) {
+  const Vec3 d = e.p0 - p;
+  const double d2 = dot(d, d);
+  if (!(d2 > 0)) return false;
+  out->dist = std::sqrt(d2);
+  out->wi = d / out->dist;
+  const double falloff = punctual_factor(e, out->wi, out->dist);
+  if (!(falloff > 0)) return false;
+  out->L = e.L * (falloff / d2);
+  out->pdf = 1;
+  out->delta = true;
+  return true;
+}
+
+bool Lights::sample_triangle(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out) const {
+  const Vec2 b = sample_uniform_triangle(u);
+  const Vec3 q = e.p0 * b.x + e.p1 * b.y + e.p2 * (1 - b.x - b.y);
+  const Vec3 n = normalize(cross(e.p1 - e.p0, e.p2 - e.p0));
+  const Vec3 d = q - p;
+  const double d2 = dot(d, d);
+  if (!(d2 > 0)) return false;
+  out->dist = std::sqrt(d2);
+  out->wi = d / out->dist;
+  const double cos_l = dot(-out->wi, n);
+  if (std::abs(cos_l) < 1e-12 || (!e.two_sided && cos_l < 0)) return false;
+  out->pdf = d2 / (std::abs(cos_l) * e.area);
+  out->L = emission_at(e, e.uv0 * b.x + e.uv1 * b.y + e.uv2 * (1 - b.x - b.y));
+  out->delta = false;
+  return true;
+}
+
+// Uniform in the cone of directions the sphere subtends.
+bool Lights::sample_sphere(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out) {
+  const Vec3 dc = e.p0 - p;
+  const double dc2 = dot(dc, dc);
+  if (dc2 <= e.radius * e.radius) return false;  // inside the light
+  const double cone = sphere_cone_one_minus_cos(e.radius * e.radius, dc2);
+  if (!(cone > 0)) return false;  // it subtends no solid angle in double precision
+  const Frame f = Frame::from_normal(dc / std::sqrt(dc2));
+  const Vec3 w = f.to_world(sample_uniform_cone(u, cone));
+  // Distance to the sphere along w.
+  const double b = dot(dc, w);
+  const double disc = b * b - (dc2 - e.radius * e.radius);
+  out->dist = b - std::sqrt(std::max(0.0, disc));
+  out->wi = w;
+  out->pdf = uniform_cone_pdf(cone);
+  out->L = e.L;
+  out->delta = false;
+  return true;
+}
+
+bool Lights::sample_environment(Vec2 u, LightSample* out) const {
+  if (!scene_.environment.image) {
+    out->wi = sample_uniform_sphere(u);
+    out->pdf = uniform_sphere_pdf();
+  } else {
+    double pdf_uv;
+    const Vec2 uv = env_dist_.sample(u, &pdf_uv);
+    const double s = std::sin(kPi * uv.y);
+    if (!(s > 0) || !(pdf_uv > 0)) return false;
+    out->wi = env_dir(uv);
+    out->pdf = pdf_uv / (2 * kPi * kPi * s);
+  }
+  out->dist = kInf;
+  out->L = environment(out->wi);
+  out->delta = false;
+  return true;
 }
 
 Color Lights::emitted(const Hit& h, const Vec3& wo) const {

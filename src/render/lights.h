@@ -73,6 +73,17 @@ class Lights {
     }
   };
 
+  // The constructor's steps: each adds emitters and their powers.
+  void add_punctual(const Light& l, std::vector<double>& power);
+  void add_emissive_mesh(uint32_t id, const TriangleMesh& m, const Transform* xf,
+                         uint32_t mesh_index, std::vector<double>& power);
+  void add_emissive_sphere(uint32_t id, const Accel::Record& rec, std::vector<double>& power);
+  void add_environment(std::vector<double>& power);
+  // sample()'s cases.
+  static bool sample_punctual(const Emitter& e, const Vec3& p, LightSample* out);
+  bool sample_triangle(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out) const;
+  static bool sample_sphere(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out);
+  bool sample_environment(Vec2 u, LightSample* out) const;
   Color emission_at(const Emitter& e, Vec2 uv) const;
   // A point or spot light's factor toward -wi beyond its intensity / distance^2: the spot's
   // cone and the range's window.

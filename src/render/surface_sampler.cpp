@@ -18,22 +18,6 @@ Vec3 axis_vector(int axis, double s) {
 
 SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(inward) {
   bool underflow = false;  // an analytic part of positive size whose area is 0 in double
-  const auto add = [&](const Piece& p, double area) {
-    if (!(area > 0)) {
-      underflow |= p.part != Part::Triangle;
-      return;
-    }
-    pieces_.push_back(p);
-    total_ += area;
-    cdf_.push_back(total_);
-  };
-  const auto add_mesh = [&](const TriangleMesh& m) {
-    for (size_t t = 0; t < m.triangle_count(); ++t) {
-      const Vec3 a(m.positions[m.indices[3 * t]]), b(m.positions[m.indices[3 * t + 1]]),
-          c(m.positions[m.indices[3 * t + 2]]);
-      add({Part::Triangle, a, b, c}, 0.5 * length(cross(b - a, c - a)));
-    }
-  };
   switch (r.kind) {
     case Accel::Record::Kind::FlatMesh:
       add_mesh(*r.mesh);
@@ -42,46 +26,10 @@ SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(in
       for (const auto& m : r.proto->meshes) add_mesh(m);
       world_from_object_ = r.world_from_object, identity_ = false;
       break;
-    case Accel::Record::Kind::Shape: {
-      const AnalyticShape& s = *r.shape;
+    case Accel::Record::Kind::Shape:
       world_from_object_ = r.world_from_object, identity_ = false;
-      switch (s.kind) {
-        case AnalyticShape::Kind::Plane:
-          throw std::invalid_argument("an infinite plane has no finite area");
-        case AnalyticShape::Kind::Sphere:
-          add({Part::Sphere, {}, {}, {}, s.radius}, 4 * kPi * s.radius * s.radius);
-          break;
-        case AnalyticShape::Kind::Disk:
-          add({Part::Disk, {}, {}, {}, s.radius, 0, 1, 1}, kPi * s.radius * s.radius);
-          break;
-        case AnalyticShape::Kind::Cylinder:
-          add({Part::CylinderSide, {}, {}, {}, s.radius, s.height}, 2 * kPi * s.radius * s.height);
-          if (s.capped) {
-            add({Part::Disk, {}, {}, {}, s.radius, 0, -1, 1}, kPi * s.radius * s.radius);
-            add({Part::Disk, {}, {}, {}, s.radius, s.height, 1, 1}, kPi * s.radius * s.radius);
-          }
-          break;
-        case AnalyticShape::Kind::Rectangle: {
-          Piece p{Part::BoxFace, {-0.5, 0, -0.5}, {0, 0, 1}, {1, 0, 0}};
-          p.sign = 1, p.axis = 1;
-          add(p, 1);
-          break;
-        }
-        case AnalyticShape::Kind::Box:
-          for (int axis = 0; axis < 3; ++axis)
-            for (double sign : {-1.0, 1.0}) {
-              const int i = (axis + 1) % 3, j = (axis + 2) % 3;
-              Piece p{Part::BoxFace, {}, {}, {}};
-              p.a = axis_vector(axis, sign * s.size[axis] / 2) - axis_vector(i, s.size[i] / 2) -
-                    axis_vector(j, s.size[j] / 2);
-              p.b = axis_vector(i, s.size[i]), p.c = axis_vector(j, s.size[j]);
-              p.sign = sign, p.axis = axis;
-              add(p, s.size[i] * s.size[j]);
-            }
-          break;
-      }
+      underflow = !add_shape(*r.shape);
       break;
-    }
   }
   if (!(total_ > 0))
     throw std::invalid_argument(underflow
@@ -95,6 +43,63 @@ SurfaceSampler::SurfaceSampler(const Accel::Record& r, bool inward) : inward_(in
                z = world_from_object_.vector({0, 0, 1});
     det_ = std::abs(dot(x, cross(y, z)));
   }
+}
+
+// A piece of the given area, unless the area is 0 (then false).
+bool SurfaceSampler::add(const Piece& p, double area) {
+  if (!(area > 0)) return false;
+  pieces_.push_back(p);
+  total_ += area;
+  cdf_.push_back(total_);
+  return true;
+}
+
+void SurfaceSampler::add_mesh(const TriangleMesh& m) {
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    const Vec3 a(m.positions[m.indices[3 * t]]), b(m.positions[m.indices[3 * t + 1]]),
+        c(m.positions[m.indices[3 * t + 2]]);
+    add({Part::Triangle, a, b, c}, 0.5 * length(cross(b - a, c - a)));
+  }
+}
+
+// The shape's pieces in object space; false when one of positive size has an area of 0 in
+// double precision.
+bool SurfaceSampler::add_shape(const AnalyticShape& s) {
+  bool ok = true;
+  switch (s.kind) {
+    case AnalyticShape::Kind::Plane:
+      throw std::invalid_argument("an infinite plane has no finite area");
+    case AnalyticShape::Kind::Sphere:
+      return add({Part::Sphere, {}, {}, {}, s.radius}, 4 * kPi * s.radius * s.radius);
+    case AnalyticShape::Kind::Disk:
+      return add({Part::Disk, {}, {}, {}, s.radius, 0, 1, 1}, kPi * s.radius * s.radius);
+    case AnalyticShape::Kind::Cylinder:
+      ok &=
+          add({Part::CylinderSide, {}, {}, {}, s.radius, s.height}, 2 * kPi * s.radius * s.height);
+      if (s.capped) {
+        ok &= add({Part::Disk, {}, {}, {}, s.radius, 0, -1, 1}, kPi * s.radius * s.radius);
+        ok &= add({Part::Disk, {}, {}, {}, s.radius, s.height, 1, 1}, kPi * s.radius * s.radius);
+      }
+      return ok;
+    case AnalyticShape::Kind::Rectangle: {
+      Piece p{Part::BoxFace, {-0.5, 0, -0.5}, {0, 0, 1}, {1, 0, 0}};
+      p.sign = 1, p.axis = 1;
+      return add(p, 1);
+    }
+    case AnalyticShape::Kind::Box:
+      for (int axis = 0; axis < 3; ++axis)
+        for (double sign : {-1.0, 1.0}) {
+          const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+          Piece p{Part::BoxFace, {}, {}, {}};
+          p.a = axis_vector(axis, sign * s.size[axis] / 2) - axis_vector(i, s.size[i] / 2) -
+                axis_vector(j, s.size[j] / 2);
+          p.b = axis_vector(i, s.size[i]), p.c = axis_vector(j, s.size[j]);
+          p.sign = sign, p.axis = axis;
+          ok &= add(p, s.size[i] * s.size[j]);
+        }
+      return ok;
+  }
+  return ok;
 }
 
 SurfacePoint SurfaceSampler::local(const Piece& q, double u1, double u2) const {

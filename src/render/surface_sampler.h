@@ -36,6 +36,9 @@ class SurfaceSampler {
     int axis = 1;     // box face, disk: the axis of the normal (0 x, 1 y, 2 z)
   };
   SurfacePoint local(const Piece& piece, double u1, double u2) const;
+  bool add(const Piece& p, double area);
+  void add_mesh(const TriangleMesh& m);
+  bool add_shape(const AnalyticShape& s);
   std::vector<Piece> pieces_;
   std::vector<double> cdf_;  // cumulative object-space area, last = total_
   double total_ = 0;

@@ -98,13 +98,18 @@ void check_mesh(TriangleMesh& m, MeshRepairs& repairs) {
     }
 }
 
-void generate_normals(TriangleMesh& m, double crease_degrees) {
+namespace {
+
+// Vertices grouped by exact position (uv seams split vertices but must not split the shading),
+// and the faces around each group as compressed rows: faces[start[g] .. start[g + 1]).
+struct PositionGroups {
+  std::vector<uint32_t> group, start, faces;
+  uint32_t count = 0;
+};
+
+PositionGroups group_by_position(const TriangleMesh& m) {
   const size_t nv = m.positions.size(), nt = m.triangle_count();
-  if (nt == 0) {
-    m.normals.clear();
-    return;
-  }
-  // Group vertices by exact position: uv seams split vertices but must not split the shading.
+  PositionGroups pg;
   std::vector<uint32_t> order(nv);
   std::iota(order.begin(), order.end(), 0u);
   auto key = [&](uint32_t v) {
@@ -112,22 +117,38 @@ void generate_normals(TriangleMesh& m, double crease_degrees) {
     return std::tuple(p.x, p.y, p.z);
   };
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-  std::vector<uint32_t> group(nv);
-  uint32_t groups = 0;
+  pg.group.resize(nv);
   for (size_t i = 0; i < nv; ++i) {
-    if (i > 0 && key(order[i]) != key(order[i - 1])) ++groups;
-    group[order[i]] = groups;
+    if (i > 0 && key(order[i]) != key(order[i - 1])) ++pg.count;
+    pg.group[order[i]] = pg.count;
   }
-  ++groups;
-
-  // Faces around each position group (compressed rows).
-  std::vector<uint32_t> start(groups + 1, 0), faces(3 * nt);
-  for (uint32_t idx : m.indices) ++start[group[idx] + 1];
-  for (uint32_t g = 0; g < groups; ++g) start[g + 1] += start[g];
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  ++pg.count;
+  pg.start.assign(pg.count + 1, 0);
+  pg.faces.resize(3 * nt);
+  for (uint32_t idx : m.indices) ++pg.start[pg.group[idx] + 1];
+  for (uint32_t g = 0; g < pg.count; ++g) pg.start[g + 1] += pg.start[g];
+  std::vector<uint32_t> fill(pg.start.begin(), pg.start.end() - 1);
   for (size_t t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k) faces[fill[group[m.indices[3 * t + k]]]++] = uint32_t(t);
+    for (int k = 0; k < 3; ++k) pg.faces[fill[pg.group[m.indices[3 * t + k]]]++] = uint32_t(t);
+  return pg;
+}
 
+// The crease test compares each corner's face with every face around its position: quadratic in
+// the valence. Around a position shared by more faces than this (none in real models; a fuzzed
+// PLY had 16,000 on one point and took seconds) every face is summed, smooth.
+constexpr uint32_t kMaxCreaseValence = 1024;
+
+}  // namespace
+
+void generate_normals(TriangleMesh& m, double crease_degrees) {
+  const size_t nv = m.positions.size(), nt = m.triangle_count();
+  if (nt == 0) {
+    m.normals.clear();
+    return;
+  }
+  const PositionGroups pg = group_by_position(m);
+  const std::vector<uint32_t>&group = pg.group, &start = pg.start, &faces = pg.faces;
+  const uint32_t groups = pg.count;
   std::vector<Vec3> weighted(nt), unit(nt);
   for (size_t t = 0; t < nt; ++t) {
     weighted[t] = area_normal(m, t);
@@ -135,15 +156,24 @@ void generate_normals(TriangleMesh& m, double crease_degrees) {
     unit[t] = len > 0 ? weighted[t] / len : Vec3{0, 0, 0};
   }
   const double cos_crease = std::cos(radians(crease_degrees));
-  // The crease test compares each corner's face with every face around its position: quadratic
-  // in the valence. Around a position shared by more faces than this (none in real models; a
-  // fuzzed PLY had 16,000 on one point and took seconds) every face is summed, smooth.
-  constexpr uint32_t kMaxCreaseValence = 1024;
   std::vector<Vec3> smooth(groups, Vec3{0, 0, 0});
   for (uint32_t g = 0; g < groups; ++g)
     if (start[g + 1] - start[g] > kMaxCreaseValence)
       for (uint32_t j = start[g]; j < start[g + 1]; ++j) smooth[g] += weighted[faces[j]];
-
+  // The normal of corner k of face t: the faces around its position within the crease angle.
+  const auto corner_normal = [&](size_t t, uint32_t g) {
+    Vec3 sum{0, 0, 0};
+    if (start[g + 1] - start[g] > kMaxCreaseValence) {
+      sum = smooth[g];
+    } else {
+      for (uint32_t j = start[g]; j < start[g + 1]; ++j) {
+        const uint32_t f = faces[j];
+        if (dot(unit[f], unit[t]) >= cos_crease) sum += weighted[f];
+      }
+    }
+    const double len = length(sum);
+    return len > 0 ? Vec3f(sum / len) : Vec3f(unit[t]);
+  };
   // New vertices: one per (old vertex, normal); corners with equal normals share one.
   std::vector<std::vector<std::pair<Vec3f, uint32_t>>> variants(nv);
   std::vector<Vec3f> positions, normals;
@@ -152,18 +182,8 @@ void generate_normals(TriangleMesh& m, double crease_degrees) {
   normals.reserve(nv);
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
-      const uint32_t v = m.indices[3 * t + k], g = group[v];
-      Vec3 sum{0, 0, 0};
-      if (start[g + 1] - start[g] > kMaxCreaseValence) {
-        sum = smooth[g];
-      } else {
-        for (uint32_t j = start[g]; j < start[g + 1]; ++j) {
-          const uint32_t f = faces[j];
-          if (dot(unit[f], unit[t]) >= cos_crease) sum += weighted[f];
-        }
-      }
-      const double len = length(sum);
-      const Vec3f n = len > 0 ? Vec3f(sum / len) : Vec3f(unit[t]);
+      const uint32_t v = m.indices[3 * t + k];
+      const Vec3f n = corner_normal(t, group[v]);
       uint32_t out = UINT32_MAX;
       for (const auto& [vn, idx] : variants[v])
         if (vn == n) out = idx;

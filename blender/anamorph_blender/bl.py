@@ -1,0 +1,861 @@
+"""Everything that talks to Blender (bpy): properties, panels, the render engine, the export.
+
+A new Blender API is one place to change: this module. Tested with Debian 12's Blender 3.4.1.
+"""
+
+import math
+import os
+import queue
+import shutil
+import tempfile
+import threading
+import time
+import traceback
+
+import bpy
+import mathutils
+import numpy as np
+
+from . import glb_default, locate, scene_toml, schema_props
+
+ADDON = __package__
+# What the engine's progress callback asks to stop a render: the engine's own test_break (Esc).
+# Tests replace it to cancel a headless render, where no key can be pressed.
+break_requested = lambda engine: engine.test_break()  # noqa: E731
+# The classes made from anamorph's declarations at register time, unregistered in reverse.
+_classes = []
+# Why the module could not be loaded at register time (shown in the panels), or "".
+_load_error = ""
+# The last error the engine reported (for scripts and tests: reports go to Blender's log).
+last_error = ""
+
+
+class Cancelled(Exception):
+    """The user cancelled (Esc): raised from the progress callback, ends the render quietly."""
+
+
+# ---------------------------------------------------------------------------------------------
+# Properties from anamorph's declarations
+
+
+def _make_prop(spec):
+    """A bpy property for one declared key (schema_props.describe)."""
+    kw = {"name": spec["key"], "description": spec["doc"] + (
+        f" [{spec['unit']}]" if spec["unit"] else "")}
+    kind, default = spec["kind"], spec["default"]
+    lo, hi = spec["min"], spec["max"]
+    if kind == "float":
+        kw["default"] = default if isinstance(default, float) else 0.0
+        for name, v in (("min", lo), ("max", hi)):
+            if v is not None and math.isfinite(v) and abs(v) <= 3e38:
+                kw["soft_" + name] = v
+        return bpy.props.FloatProperty(precision=4, **kw)
+    if kind == "int":
+        kw["default"] = default if isinstance(default, int) else 0
+        for name, v in (("min", lo), ("max", hi)):
+            if v is not None and math.isfinite(v):
+                kw[name] = int(max(-(2**31), min(2**31 - 1, v)))
+        return bpy.props.IntProperty(**kw)
+    if kind == "bool":
+        return bpy.props.BoolProperty(default=bool(default), **kw)
+    if kind == "enum":
+        items = [(c, c, "") for c in spec["choices"]]
+        kw["default"] = default if default in spec["choices"] else spec["choices"][0]
+        return bpy.props.EnumProperty(items=items, **kw)
+    if kind == "vector":
+        kw["default"] = default if default is not None else [0.0] * spec["size"]
+        return bpy.props.FloatVectorProperty(size=spec["size"], **kw)
+    # "string" and "toml" (a list of numbers as TOML text, e.g. "[0, 1.2, 0.1]").
+    return bpy.props.StringProperty(default="", **kw)
+
+
+def _group(name, specs, extra=None):
+    """A PropertyGroup class with one property per spec (plus `extra` annotations)."""
+    annotations = dict(extra or {})
+    for spec in specs:
+        annotations[spec["prop"]] = _make_prop(spec)
+    cls = type(name, (bpy.types.PropertyGroup,), {"__annotations__": annotations,
+                                                  "specs": specs})
+    bpy.utils.register_class(cls)
+    _classes.append(cls)
+    return cls
+
+
+def set_values(group, where):
+    """{key: value} of the properties the user set (or animated) on a generated group: a key
+    left alone takes anamorph's declared default, which may depend on other keys. `where` names
+    the table in messages (camera, coin '<name>', render)."""
+    out = {}
+    for spec in group.specs:
+        if not group.is_property_set(spec["prop"]):
+            continue
+        v = getattr(group, spec["prop"])
+        if spec["kind"] == "vector":
+            v = [float(x) for x in v]
+        elif spec["kind"] == "toml":
+            if not v.strip():
+                continue
+            v = scene_toml.Raw.checked(v, f"{where}.{spec['key']}")
+        elif spec["kind"] == "float":
+            v = float(v)
+        out[spec["key"]] = v
+    return out
+
+
+LENS_ITEM = ("BLENDER", "Blender lens", "The camera's own lens type: perspective, "
+             "orthographic, or the panoramic type as the matching preset")
+
+
+def _register_declared(am):
+    decl = am.declarations()
+    presets = schema_props.preset_specs(decl)
+    extra = {}
+    items = [LENS_ITEM] + [(n, n, doc) for n, (doc, _) in presets.items()]
+    extra["preset"] = bpy.props.EnumProperty(
+        name="Preset", items=items, default="BLENDER",
+        description="anamorph's camera preset (docs/cameras.md)")
+    for n, (doc, specs) in presets.items():
+        cls = _group("ANAMORPH_PG_preset_" + n, specs)
+        extra["p_" + n] = bpy.props.PointerProperty(type=cls)
+    common = _group("ANAMORPH_PG_camera_common", schema_props.camera_common_specs(decl))
+    extra["common"] = bpy.props.PointerProperty(type=common)
+    cam = _group("ANAMORPH_PG_camera", [], extra)
+    bpy.types.Camera.anamorph = bpy.props.PointerProperty(type=cam)
+    coin = _group("ANAMORPH_PG_coin", schema_props.coin_specs(decl), {
+        "is_coin": bpy.props.BoolProperty(
+            name="Coin", default=False,
+            description="This empty is a center of interest of its parent camera")})
+    bpy.types.Object.anamorph_coin = bpy.props.PointerProperty(type=coin)
+    render = _group("ANAMORPH_PG_render", schema_props.render_specs(decl), {
+        "keep_folder": bpy.props.StringProperty(
+            name="Keep scene files in", subtype="DIR_PATH", default="",
+            description="Write each frame's scene (frame_NNNN.toml and .glb) here and keep it; "
+            "empty: a temporary folder, removed after the frame")})
+    bpy.types.Scene.anamorph = bpy.props.PointerProperty(type=render)
+
+
+# ---------------------------------------------------------------------------------------------
+# Scene transfer
+
+
+def _export_glb(path, scene_name, frame, subframe, set_frame=True):
+    """The scene's renderable meshes and materials at `frame`, modifiers applied, by Blender's
+    own glTF exporter. False when there is no mesh to export.
+
+    The exporter is an operator reading the scene's original objects, not the render's
+    depsgraph, so it runs on Blender's main thread (main_thread_call) with the scene first set
+    to the frame: its objects then hold that frame's animated values, also in an animation
+    rendered from Blender's window and after a script edited them since the last frame change.
+    The viewport exports the scene as it is (set_frame False: setting the frame would update the
+    depsgraph, and so the viewport again)."""
+    scene = bpy.data.scenes[scene_name]
+    if set_frame:
+        scene.frame_set(frame, subframe=subframe)
+    if not any(o.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"} and not o.hide_render
+               for o in scene.objects):
+        return False
+    override = {"scene": scene}
+    window = next((w for w in bpy.context.window_manager.windows if w.scene == scene), None)
+    if window is not None:  # the exporter asks for the active object: a window's context has it
+        override["window"] = window
+    with bpy.context.temp_override(**override):
+        bpy.ops.export_scene.gltf(
+            filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
+            export_lights=False, export_animations=False, export_current_frame=True,
+            export_extras=False, use_renderable=True, export_yup=True, check_existing=False)
+    glb_default.patch(path)
+    return True
+
+
+# Calls from a render thread to Blender's main thread: (function, result box, done event).
+_main_queue = queue.Queue()
+
+
+def _serve_main_queue():
+    """A timer on Blender's main thread (registered with the add-on): runs queued calls."""
+    while True:
+        try:
+            fn, box, done = _main_queue.get_nowait()
+        except queue.Empty:
+            return 0.02
+        try:
+            box["value"] = fn()
+        except BaseException as e:  # handed to the waiting render thread
+            box["error"] = e
+        finally:
+            done.set()
+
+
+def main_thread_call(fn, should_stop):
+    """fn() on Blender's main thread: directly when called there (background renders), else
+    through the add-on's timer, waiting (and honouring Esc) until it ran. A render started from
+    Blender's window runs on a render thread, where operators are not safe."""
+    if threading.current_thread() is threading.main_thread():
+        return fn()
+    box, done = {}, threading.Event()
+    _main_queue.put((fn, box, done))
+    waited = 0.0
+    while not done.wait(0.05):
+        waited += 0.05
+        if should_stop():
+            raise Cancelled()
+        if waited > 120:
+            raise RuntimeError("anamorph: the scene export waited 2 minutes for Blender's main "
+                               "thread (is Render > Lock Interface on? The add-on needs it off)")
+    if "error" in box:
+        raise box["error"]
+    return box["value"]
+
+
+def _panorama(cam):
+    """Blender's panoramic settings (Camera in 4.x, the Cycles add-on's in 3.x)."""
+    return cam if hasattr(cam, "panorama_type") else cam.cycles
+
+
+def _deg(radians):
+    """Degrees of an angle Blender holds in single precision, to 4 decimals (its precision:
+    90 degrees in float32 radians is 90.0000025, beyond a latitude's range)."""
+    return round(math.degrees(radians), 4)
+
+
+def blender_lens(cam, width, height):
+    """(preset, keys) matching Blender's own lens type."""
+    big = max(width, height)
+    if cam.type == "PERSP":
+        fit = cam.sensor_fit
+        axis = {"HORIZONTAL": "horizontal", "VERTICAL": "vertical"}.get(
+            fit, "horizontal" if width >= height else "vertical")
+        keys = {"fov": _deg(cam.angle), "fov_axis": axis}
+        if cam.shift_x or cam.shift_y:
+            keys["lens_shift"] = [cam.shift_x * big / width, cam.shift_y * big / height]
+        return "perspective", keys
+    if cam.type == "ORTHO":
+        w = cam.ortho_scale if width >= height else cam.ortho_scale * width / height
+        return "orthographic", {"view_width": w}
+    pano = _panorama(cam)
+    kind = pano.panorama_type
+    if kind == "EQUIRECTANGULAR":
+        return "equirectangular", {
+            "longitude_range": [_deg(pano.longitude_min), _deg(pano.longitude_max)],
+            "latitude_range": [_deg(pano.latitude_min), _deg(pano.latitude_max)]}
+    if kind == "FISHEYE_EQUIDISTANT":
+        return "fisheye", {"fov": _deg(pano.fisheye_fov), "mapping": "equidistant"}
+    if kind == "FISHEYE_EQUISOLID":
+        # r = 2 f sin(theta / 2) on the sensor; the image circle spans the shorter side.
+        r = cam.sensor_width / 2 * min(width, height) / big
+        theta = 2 * math.asin(min(1.0, r / (2 * pano.fisheye_lens)))
+        return "fisheye", {"fov": _deg(2 * theta), "mapping": "equisolid",
+                           "max_angle": min(_deg(theta), _deg(pano.fisheye_fov) / 2)}
+    if kind == "MIRRORBALL":
+        return "mirror_ball", {}
+    raise ValueError(f"camera '{cam.name}': Blender's panorama type {kind} has no matching "
+                     "anamorph preset yet; choose a preset in the camera's anamorph panel")
+
+
+def _blender_dof(cam_ob, common):
+    """Blender's depth of field (Camera > Depth of Field) unless the anamorph section sets
+    aperture_radius: Cycles' aperture radius, focal length / (2 f-stop), and the focus distance
+    (to the focus object along the view axis, when there is one)."""
+    dof = cam_ob.data.dof
+    if not dof.use_dof or common.is_property_set("aperture_radius"):
+        return {}
+    distance = dof.focus_distance
+    if dof.focus_object is not None:
+        axis = cam_ob.matrix_world.to_3x3() @ mathutils.Vector((0.0, 0.0, -1.0))
+        to = dof.focus_object.matrix_world.translation - cam_ob.matrix_world.translation
+        distance = max(1e-6, to.dot(axis.normalized()))
+    return {"aperture_radius": cam_ob.data.lens * 1e-3 / (2 * dof.aperture_fstop),
+            "focus_distance": distance}
+
+
+def _camera_table(cam_ob, width, height, src=lambda x: x):
+    cam = cam_ob.data
+    settings = src(cam).anamorph
+    if settings.preset == "BLENDER":
+        preset, keys = blender_lens(cam, width, height)
+    else:
+        preset = settings.preset
+        keys = set_values(getattr(settings, "p_" + preset), "camera")
+    table = {"preset": preset, **keys, **_blender_dof(cam_ob, settings.common),
+             **set_values(settings.common, "camera")}
+    table["matrix"] = scene_toml.rig_matrix([list(r) for r in cam_ob.matrix_world])
+    return table
+
+
+def _coins(depsgraph, cam_ob, src=lambda x: x):
+    """The camera's coins: empties parented to it with Coin on, by name."""
+    out = []
+    for ob in depsgraph.objects:
+        if ob.type != "EMPTY" or not src(ob).anamorph_coin.is_coin:
+            continue
+        if ob.parent is None or ob.parent.original != cam_ob.original:
+            continue
+        coin = {"position": scene_toml.to_gltf(list(ob.matrix_world.translation))}
+        coin.update(set_values(src(ob).anamorph_coin, f"coin '{ob.name}'"))
+        out.append((ob.name, coin))
+    return [c for _, c in sorted(out, key=lambda nc: nc[0])]
+
+
+def _lights(depsgraph, warnings):
+    out = []
+    for ob in depsgraph.objects:
+        if ob.type != "LIGHT" or ob.hide_render:
+            continue
+        li = ob.data
+        size = (li.size, li.size if li.shape in {"SQUARE", "DISK"} else li.size_y) \
+            if li.type == "AREA" else (0.0, 0.0)
+        if li.type == "AREA" and li.shape in {"DISK", "ELLIPSE"}:
+            warnings.append(f"light '{ob.name}': a {li.shape.lower()} area light becomes a "
+                            "rectangle of the same size")
+        table = scene_toml.light(
+            li.type, ob.name, li.energy, li.color,
+            li.shadow_soft_size if li.type == "POINT" else 0.0,
+            [list(r) for r in ob.matrix_world],
+            spot_size=getattr(li, "spot_size", 0.0), spot_blend=getattr(li, "spot_blend", 0.0),
+            size=size)
+        if table is None:
+            warnings.append(f"light '{ob.name}': {li.type} lights are not carried over")
+        else:
+            out.append(table)
+    return sorted(out, key=lambda t: t["name"])
+
+
+def _environment(world, warnings):
+    if world is None:
+        return None
+    if not world.use_nodes:
+        return {"color": [float(c) for c in world.color]}
+    out = next((n for n in world.node_tree.nodes
+                if n.type == "OUTPUT_WORLD" and n.is_active_output), None)
+    if out is None or not out.inputs["Surface"].is_linked:
+        return None
+    bg = out.inputs["Surface"].links[0].from_node
+    if bg.type != "BACKGROUND":
+        warnings.append(f"world '{world.name}': only a Background node is carried over")
+        return None
+    if bg.inputs["Color"].is_linked or bg.inputs["Strength"].is_linked:
+        warnings.append(f"world '{world.name}': a texture on the background is not carried "
+                        "over yet (its unlinked colour is used)")
+    strength = bg.inputs["Strength"].default_value
+    return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
+
+
+def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
+    """The scene as scene_toml.write takes it (the meshes exported to stem.glb unless `export`
+    is False: the viewport exports later, outside its update) and warnings.
+
+    A render reads the add-on's properties from its depsgraph's copies, which hold their
+    animated values. The viewport (export False) reads them from the original data: its
+    depsgraph's copies kept the values they had when the viewport began (seen: a preset and a
+    coin's strength set afterwards did not reach them), and Blender writes the current frame's
+    animated values into the originals anyway."""
+    src = (lambda x: x) if export else (lambda x: x.original)
+    scene = depsgraph.scene_eval
+    if scene.camera is None:
+        raise ValueError(f"scene '{scene.name}' has no camera")
+    r = scene.render
+    width = max(1, r.resolution_x * r.resolution_percentage // 100)
+    height = max(1, r.resolution_y * r.resolution_percentage // 100)
+    warnings = []
+    data = {
+        "image": {"width": width, "height": height},
+        "render": {"integrator": "path", **set_values(src(scene).anamorph, "render")},
+        "camera": _camera_table(scene.camera, width, height, src),
+        "coins": _coins(depsgraph, scene.camera, src),
+        "environment": _environment(scene.world, warnings),
+        "mesh_file": os.path.basename(stem + ".glb") if export and main_thread_call(
+            lambda: _export_glb(stem + ".glb", scene.original.name, frame,
+                                scene.frame_subframe), should_stop) else None,
+        "lights": _lights(depsgraph, warnings),
+    }
+    return data, warnings
+
+
+def write_toml(data, path):
+    am = locate.import_anamorph()
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(scene_toml.write(data, scene_toml.Formatter(am)))
+    return path
+
+
+def build_scene(depsgraph, folder, frame, should_stop=lambda: False):
+    """Writes frame_NNNN.toml (and .glb) into `folder`; returns (toml path, warnings)."""
+    stem = os.path.join(folder, "frame_%04d" % frame)
+    data, warnings = scene_data(depsgraph, stem, frame, should_stop)
+    return write_toml(data, stem + ".toml"), warnings
+
+
+# ---------------------------------------------------------------------------------------------
+# The render engine
+
+
+def _prefs_path():
+    addon = bpy.context.preferences.addons.get(ADDON)
+    return addon.preferences.module_path if addon else ""
+
+
+class AnamorphRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "ANAMORPH"
+    bl_label = "anamorph"
+    bl_use_preview = False
+    bl_use_postprocess = True
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        if renderlayer.use_pass_z:
+            self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
+        if renderlayer.use_pass_normal:
+            self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+
+    def render(self, depsgraph):
+        global last_error
+        last_error = ""
+        try:
+            self._render(depsgraph)
+        except Cancelled:
+            self.report({"INFO"}, "anamorph: render cancelled")
+        except Exception as e:  # every failure becomes a Blender report, never a crash
+            last_error = str(e)
+            self.report({"ERROR"}, last_error)
+            if not isinstance(e, (ValueError, OSError, locate.NotFound)):
+                traceback.print_exc()
+
+    def _render(self, depsgraph):
+        am = locate.import_anamorph(_prefs_path())
+        scene = depsgraph.scene_eval
+        keep = bpy.path.abspath(scene.anamorph.keep_folder) if scene.anamorph.keep_folder else ""
+        folder = keep or tempfile.mkdtemp(prefix="anamorph-blender-")
+        os.makedirs(folder, exist_ok=True)
+        try:
+            self.update_stats("anamorph", "exporting the scene")
+            path, warnings = build_scene(depsgraph, folder, scene.frame_current,
+                                         lambda: break_requested(self))
+            for w in warnings:
+                self.report({"WARNING"}, "anamorph: " + w)
+            self.update_stats("anamorph", "loading")
+            loaded = am.load(path)
+            self._render_loaded(loaded, depsgraph.view_layer_eval)
+        finally:
+            if not keep:
+                shutil.rmtree(folder, ignore_errors=True)
+
+    def _render_loaded(self, loaded, view_layer):
+        aovs = [a for a, on in (("depth", view_layer.use_pass_z),
+                                ("normal", view_layer.use_pass_normal)) if on]
+        start = time.monotonic()
+
+        def progress(p):
+            if break_requested(self):
+                raise Cancelled()
+            self.update_progress(p["fraction"])
+            self.update_stats("anamorph", "pass %d/%d, %.1f s" % (
+                p["pass"], p["passes"], time.monotonic() - start))
+
+        img = loaded.render(aovs=aovs, progress=progress)
+        self._write_result(img, view_layer)
+
+    def _write_result(self, img, view_layer):
+        rgba = img["rgba"]
+        height, width = rgba.shape[:2]
+        result = self.begin_result(0, 0, width, height, layer=view_layer.name)
+        layer = result.layers[0]
+        # Blender's rows go bottom to top and its colours are premultiplied.
+        out = np.flipud(rgba).reshape(-1, 4).copy()
+        out[:, :3] *= out[:, 3:4]
+        layer.passes["Combined"].rect = out
+        if "depth" in img:
+            depth = np.flipud(img["depth"]).reshape(-1, 1).copy()
+            depth[~np.isfinite(depth)] = 1e10  # Cycles' value where the world is seen
+            layer.passes["Depth"].rect = depth
+        if "normal" in img:
+            n = np.flipud(img["normal"]).reshape(-1, 3)
+            # anamorph's world is glTF's (+Y up): back to Blender's axes.
+            layer.passes["Normal"].rect = np.stack([n[:, 0], -n[:, 2], n[:, 1]], axis=1)
+        self.end_result(result)
+
+    # The viewport (Rendered shading).
+
+    def _preview(self):
+        if getattr(self, "_anamorph_preview", None) is None:
+            self._anamorph_preview = _Preview()
+        return self._anamorph_preview
+
+    def __del__(self):
+        preview = getattr(self, "_anamorph_preview", None)
+        if preview is not None:
+            preview.close()
+
+    def view_update(self, context, depsgraph):
+        """The scene changed. Camera, coins, lights, world and settings are read again at once;
+        the meshes are exported again only when geometry, shading or a mesh's placement changed,
+        on the add-on's timer (an operator cannot run inside a depsgraph update: the exporter's
+        view layer update would wait for it forever). The preview restarts at the next draw
+        when anything it shows changed."""
+        preview = self._preview()
+        try:
+            data, _ = scene_data(depsgraph, "", 0, export=False)
+        except Exception as e:
+            preview.data = preview.latest = None
+            self.report({"ERROR"}, str(e))
+            return
+        data["mesh_file"] = (preview.latest or {}).get("mesh_file")
+        preview.latest = data
+        if preview.exports and not _meshes_changed(depsgraph):
+            if data != preview.data:
+                preview.data, preview.key = data, None
+                self.tag_redraw()
+            return
+        preview.exports += 1
+        token, scene_name = preview.exports, depsgraph.scene_eval.original.name
+
+        def export():
+            if token != preview.exports:  # a newer update superseded this one
+                return
+            preview.stop()
+            stem = os.path.join(preview.folder, "view_%d" % token)
+            for name in os.listdir(preview.folder):
+                if name.endswith(".glb"):
+                    os.remove(os.path.join(preview.folder, name))
+            del viewport_exports[:-20]
+            viewport_exports.append(time.monotonic())
+            has_meshes = _export_glb(stem + ".glb", scene_name, 0, 0.0, set_frame=False)
+            latest = dict(preview.latest)
+            latest["mesh_file"] = os.path.basename(stem + ".glb") if has_meshes else None
+            preview.data = preview.latest = latest
+            preview.key = None
+            self.tag_redraw()
+
+        _main_queue.put((export, {}, threading.Event()))
+
+    def view_draw(self, context, depsgraph):
+        preview = self._preview()
+        if preview.data is None:
+            return
+        scene = depsgraph.scene_eval
+        region, rv3d = context.region, context.region_data
+        if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
+            frame = _camera_frame(context, scene)
+            if frame is None:
+                return
+            camera = preview.data["camera"]
+            aspect = preview.data["image"]["width"] / preview.data["image"]["height"]
+            width = max(1, min(int(frame[2]), 1280))
+            height = max(1, int(round(width / aspect)))
+            data = preview.data
+        else:
+            frame = (0, 0, region.width, region.height)
+            width, height = region.width, region.height
+            camera = _view_camera(region, rv3d)
+            data = dict(preview.data, camera=camera, coins=[])
+        key = (width, height, tuple(camera["matrix"]), tuple(sorted(
+            (k, str(v)) for k, v in camera.items() if k != "matrix")))
+        if key != preview.key:
+            preview.key = key
+            preview.start(self, data, width, height)
+        self._draw_image(preview, scene, frame)
+
+    def _draw_image(self, preview, scene, frame):
+        import gpu
+        from gpu_extras.presets import draw_texture_2d
+
+        with preview.lock:
+            img = preview.image
+        if img is None:
+            return
+        h, w = img.shape[:2]
+        rgba = np.flipud(img).copy()
+        rgba[..., :3] *= rgba[..., 3:4]  # premultiplied, as Blender draws
+        texture = gpu.types.GPUTexture((w, h), format="RGBA16F", data=gpu.types.Buffer(
+            "FLOAT", rgba.size, rgba.ravel()))
+        gpu.state.blend_set("ALPHA_PREMULT")
+        self.bind_display_space_shader(scene)
+        draw_texture_2d(texture, (frame[0], frame[1]), frame[2], frame[3])
+        self.unbind_display_space_shader()
+        gpu.state.blend_set("NONE")
+
+
+# ---------------------------------------------------------------------------------------------
+# The viewport: Rendered shading, progressive
+
+
+# What the viewport renders after each restart: (fraction of the size, samples per pixel).
+VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4), (1.0, 16), (1.0, 64))
+# The last viewport restarts, for scripts and tests: [{started, first_image, passes}] (seconds
+# of time.monotonic()), newest last; and the times of the viewport's exports.
+viewport_log = []
+viewport_exports = []
+
+
+class _Preview:
+    """One viewport's progressive preview: a thread renders VIEWPORT_PASSES of a scene file,
+    the newest image is drawn; a restart cancels the thread at its next progress report."""
+
+    def __init__(self):
+        self.folder = tempfile.mkdtemp(prefix="anamorph-viewport-")
+        self.data = None  # scene_data of the last view_update
+        self.key = None  # the view the running preview shows
+        self.image = None  # (H, W, 4) float32, rows from the top, straight alpha
+        self.lock = threading.Lock()
+        self.cancel = threading.Event()
+        self.thread = None
+        self.count = 0
+        self.exports = 0
+        self.latest = None  # the newest scene_data, its mesh_file the last export's
+
+    def stop(self):
+        self.cancel.set()
+        if self.thread is not None:
+            self.thread.join()
+        self.thread = None
+
+    def start(self, engine, data, width, height):
+        self.stop()
+        self.count += 1
+        path = write_toml(dict(data, image={"width": width, "height": height}),
+                          os.path.join(self.folder, "view_%d.toml" % self.count))
+        log = {"started": time.monotonic(), "first_image": None, "passes": 0}
+        del viewport_log[:-20]
+        viewport_log.append(log)
+        self.cancel = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True,
+                                       args=(engine, path, width, height, self.cancel, log))
+        self.thread.start()
+
+    def _run(self, engine, path, width, height, cancel, log):
+        am = locate.import_anamorph()
+
+        def progress(p):
+            if cancel.is_set():
+                raise Cancelled()
+
+        try:
+            loaded = am.load(path)
+            for fraction, spp in VIEWPORT_PASSES:
+                img = loaded.render(width=max(1, int(width * fraction)),
+                                    height=max(1, int(height * fraction)), spp=spp,
+                                    progress=progress)["rgba"]
+                with self.lock:
+                    self.image = img
+                log["passes"] += 1
+                log["first_image"] = log["first_image"] or time.monotonic()
+                _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+        except Cancelled:
+            pass
+        except Exception as e:  # shown in the status of the next draw
+            log["error"] = str(e)
+            _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+        finally:
+            try:
+                os.remove(path)
+            except OSError:
+                pass
+
+    def close(self):
+        self.stop()
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+_MESH_DATA = (bpy.types.Mesh, bpy.types.Material, bpy.types.Image, bpy.types.Curve,
+              bpy.types.NodeTree, bpy.types.Collection)
+
+
+def _meshes_changed(depsgraph):
+    """Whether an update can change what the glTF export holds."""
+    for u in depsgraph.updates:
+        if u.is_updated_geometry or u.is_updated_shading or isinstance(u.id, _MESH_DATA):
+            return True
+        if isinstance(u.id, bpy.types.Object) and u.id.type not in {"CAMERA", "EMPTY", "LIGHT"}:
+            return True
+    return False
+
+
+def _view_camera(region, rv3d):
+    """The camera table of the viewport's own view (outside the camera view): perspective or
+    orthographic, from Blender's view and projection matrices."""
+    p = rv3d.window_matrix
+    world_from_view = rv3d.view_matrix.inverted()
+    rows = [list(r) for r in world_from_view]
+    if rv3d.is_perspective:
+        fov = math.degrees(2 * math.atan(1 / p[0][0]))
+        table = {"preset": "perspective", "fov": min(179.0, fov), "fov_axis": "horizontal"}
+    else:
+        table = {"preset": "orthographic", "view_width": 2 / p[0][0]}
+    table["matrix"] = scene_toml.rig_matrix(rows)
+    return table
+
+
+def _camera_frame(context, scene):
+    """The camera view's frame in region pixels: (x, y, width, height)."""
+    from bpy_extras.view3d_utils import location_3d_to_region_2d
+
+    cam = scene.camera
+    corners = [cam.matrix_world @ c for c in cam.data.view_frame(scene=scene)]
+    pts = [location_3d_to_region_2d(context.region, context.region_data, c) for c in corners]
+    if any(p is None for p in pts):
+        return None
+    xs, ys = [p.x for p in pts], [p.y for p in pts]
+    return min(xs), min(ys), max(xs) - min(xs), max(ys) - min(ys)
+
+
+# ---------------------------------------------------------------------------------------------
+# UI
+
+
+class AnamorphPreferences(bpy.types.AddonPreferences):
+    bl_idname = ADDON
+    module_path: bpy.props.StringProperty(
+        name="anamorph module folder", subtype="DIR_PATH", default="",
+        description="A folder holding the anamorph package (e.g. <repo>/build/python); empty: "
+        "the one recorded when the add-on was packaged, then an installed module")
+
+    def draw(self, context):
+        self.layout.prop(self, "module_path")
+        if _load_error:
+            for line in _load_error.splitlines():
+                self.layout.label(text=line, icon="ERROR")
+
+
+def _draw_group(layout, group):
+    layout.use_property_split = True
+    for spec in group.specs:
+        layout.prop(group, spec["prop"])
+
+
+class ANAMORPH_PT_camera(bpy.types.Panel):
+    bl_label = "anamorph"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "data"
+    COMPAT_ENGINES = {"ANAMORPH"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.camera is not None and context.engine == "ANAMORPH"
+
+    def draw(self, context):
+        layout = self.layout
+        if _load_error:
+            layout.label(text=_load_error.splitlines()[0], icon="ERROR")
+            return
+        settings = context.camera.anamorph
+        layout.prop(settings, "preset")
+        if settings.preset != "BLENDER":
+            _draw_group(layout.column(), getattr(settings, "p_" + settings.preset))
+        _draw_group(layout.column(), settings.common)
+        layout.operator(ANAMORPH_OT_add_coin.bl_idname, icon="EMPTY_AXIS")
+
+
+class ANAMORPH_PT_coin(bpy.types.Panel):
+    bl_label = "anamorph coin"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.object
+        return (not _load_error and ob is not None and ob.type == "EMPTY"
+                and context.engine == "ANAMORPH")
+
+    def draw(self, context):
+        coin = context.object.anamorph_coin
+        self.layout.prop(coin, "is_coin")
+        if coin.is_coin:
+            _draw_group(self.layout.column(), coin)
+
+
+class ANAMORPH_PT_render(bpy.types.Panel):
+    bl_label = "anamorph"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine == "ANAMORPH"
+
+    def draw(self, context):
+        if _load_error:
+            for line in _load_error.splitlines():
+                self.layout.label(text=line, icon="ERROR")
+            return
+        self.layout.prop(context.scene.anamorph, "keep_folder")
+        _draw_group(self.layout.column(), context.scene.anamorph)
+
+
+class ANAMORPH_OT_add_coin(bpy.types.Operator):
+    """Add an empty as a center of interest of this camera (at the camera's view axis, 2 m out)"""
+
+    bl_idname = "anamorph.add_coin"
+    bl_label = "Add coin"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        cam_ob = context.object if context.object and context.object.type == "CAMERA" \
+            else context.scene.camera
+        if cam_ob is None:
+            self.report({"ERROR"}, "anamorph: no camera to add a coin to")
+            return {"CANCELLED"}
+        ob = add_coin(cam_ob, (0.0, 0.0, -2.0))
+        self.report({"INFO"}, f"anamorph: coin '{ob.name}' added to '{cam_ob.name}'")
+        return {"FINISHED"}
+
+
+def add_coin(cam_ob, local_position, name="coin"):
+    """An empty parented to the camera at `local_position` (camera space), marked as a coin."""
+    ob = bpy.data.objects.new(name, None)
+    ob.empty_display_type = "SPHERE"
+    ob.empty_display_size = 0.1
+    for coll in cam_ob.users_collection[:1] or [bpy.context.scene.collection]:
+        coll.objects.link(ob)
+    ob.parent = cam_ob
+    ob.location = local_position
+    ob.anamorph_coin.is_coin = True
+    return ob
+
+
+_STATIC = [AnamorphPreferences, AnamorphRenderEngine, ANAMORPH_PT_camera, ANAMORPH_PT_coin,
+           ANAMORPH_PT_render, ANAMORPH_OT_add_coin]
+
+
+def _panels_for_engine(add):
+    """Lets Blender's own panels that suit any engine (dimensions, output, ...) show."""
+    for name in ("RENDER_PT_format", "RENDER_PT_frame_range", "RENDER_PT_output",
+                 "RENDER_PT_color_management", "DATA_PT_camera", "DATA_PT_lens",
+                 "DATA_PT_camera_display", "DATA_PT_context_camera", "VIEWLAYER_PT_layer_passes",
+                 "DATA_PT_light", "DATA_PT_context_light", "DATA_PT_EEVEE_light",
+                 "DATA_PT_camera_dof", "DATA_PT_camera_dof_aperture"):
+        panel = getattr(bpy.types, name, None)
+        if panel is None or not hasattr(panel, "COMPAT_ENGINES"):
+            continue
+        (panel.COMPAT_ENGINES.add if add else panel.COMPAT_ENGINES.discard)("ANAMORPH")
+
+
+def register():
+    global _load_error
+    _load_error = ""
+    for cls in _STATIC:
+        bpy.utils.register_class(cls)
+    _panels_for_engine(True)
+    if not bpy.app.timers.is_registered(_serve_main_queue):
+        bpy.app.timers.register(_serve_main_queue, first_interval=0.02, persistent=True)
+    try:
+        am = locate.import_anamorph(_prefs_path())
+        _register_declared(am)
+    except (locate.NotFound, ImportError) as e:
+        _load_error = str(e)
+        print(_load_error)
+
+
+def unregister():
+    if bpy.app.timers.is_registered(_serve_main_queue):
+        bpy.app.timers.unregister(_serve_main_queue)
+    _panels_for_engine(False)
+    for attr, owner in (("anamorph", bpy.types.Camera), ("anamorph_coin", bpy.types.Object),
+                        ("anamorph", bpy.types.Scene)):
+        if hasattr(owner, attr):
+            delattr(owner, attr)
+    while _classes:
+        bpy.utils.unregister_class(_classes.pop())
+    for cls in reversed(_STATIC):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,141 @@
+"""The camera panel's properties reach anamorph: a preset switch with its keys, Blender's own
+panoramic lens types as the matching presets, and coin edits on the empty. Also the Depth and
+Normal passes in the render result, against ray casts computed here."""
+
+import math
+import os
+import sys
+import tomllib
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+
+scene = common.small_scene(width=48, height=48, spp=2)
+from anamorph_blender import bl  # noqa: E402
+
+keep = os.path.join(common.OUT, "scenes")
+scene.anamorph.keep_folder = keep
+cam = scene.camera.data
+n = [0]
+
+
+def render():
+    """Renders frame 1; returns (the scene file's tables, RGBA)."""
+    n[0] += 1
+    path = common.render_still(os.path.join(common.OUT, "r%02d.exr" % n[0]))
+    common.check(bl.last_error == "", "render %d without error (%r)" % (n[0], bl.last_error))
+    with open(os.path.join(keep, "frame_0001.toml"), "rb") as f:
+        return tomllib.load(f), common.read_rgba(path)
+
+
+# Preset switch: a 180-degree equisolid fisheye from the panel's properties.
+cam.anamorph.preset = "fisheye"
+cam.anamorph.p_fisheye.mapping = "equisolid"
+cam.anamorph.p_fisheye.fov = 170.0
+toml, img = render()
+c = toml["camera"]
+common.check(c["preset"] == "fisheye" and c["mapping"] == "equisolid"
+             and abs(c["fov"] - 170) < 1e-9 and "fit" not in c,
+             "the fisheye's set keys, and only those, reach the scene: %s" % c)
+common.check(img[0, 0, 3] == 0 and img[24, 24, 3] == 1,
+             "outside the image circle no ray (alpha %g), inside one (alpha %g)"
+             % (img[0, 0, 3], img[24, 24, 3]))
+
+# Blender's own lens types: the matching presets.
+cam.anamorph.preset = "BLENDER"
+cam.type = "PANO"
+cam.cycles.panorama_type = "FISHEYE_EQUIDISTANT"
+cam.cycles.fisheye_fov = math.radians(150)
+toml, _ = render()
+c = toml["camera"]
+common.check(c["preset"] == "fisheye" and c["mapping"] == "equidistant"
+             and abs(c["fov"] - 150) < 1e-4, "Blender's equidistant fisheye: %s" % c)
+cam.cycles.panorama_type = "EQUIRECTANGULAR"
+toml, _ = render()
+c = toml["camera"]
+common.check(c["preset"] == "equirectangular"
+             and np.allclose(c["longitude_range"], [-180, 180])
+             and np.allclose(c["latitude_range"], [-90, 90]),
+             "Blender's equirectangular: %s" % c)
+cam.type = "PERSP"
+cam.lens_unit = "FOV"
+cam.angle = math.radians(60)
+toml, plain = render()
+c = toml["camera"]
+common.check(c["preset"] == "perspective" and abs(c["fov"] - 60) < 1e-4,
+             "Blender's perspective: %s" % c)
+# The camera's pose: Blender's camera looks along its -Z; in anamorph's +Y-up world the rig's
+# third column (camera +z) is minus the view direction.
+m = np.array(c["transform"]["matrix"]).reshape(4, 4)
+view_b = scene.camera.matrix_world.to_3x3() @ __import__("mathutils").Vector((0, 0, -1))
+common.check(np.allclose(-m[:3, 2], [view_b.x, view_b.z, -view_b.y], atol=1e-6)
+             and np.allclose(m[:3, 3], [scene.camera.location.x, scene.camera.location.z,
+                                        -scene.camera.location.y], atol=1e-6),
+             "the rig is Blender's camera in glTF axes: %s" % m[:3])
+
+# Blender's depth of field: Cycles' aperture radius and the focus distance.
+cam.dof.use_dof = True
+cam.dof.aperture_fstop = 2.0
+cam.dof.focus_distance = 6.5
+toml, _ = render()
+c = toml["camera"]
+common.check(abs(c["aperture_radius"] - cam.lens * 1e-3 / 4) < 1e-9
+             and abs(c["focus_distance"] - 6.5) < 1e-6,
+             "Blender's depth of field: aperture_radius %s (lens %s mm, f/2), focus_distance %s"
+             % (c.get("aperture_radius"), cam.lens, c.get("focus_distance")))
+cam.dof.use_dof = False
+
+# Coin edits through the empty's properties.
+coin = bl.add_coin(scene.camera, (0.0, 0.0, -7.0))
+coin.anamorph_coin.strength = 0.0
+toml, zero = render()
+common.check(toml["camera"]["coin"][0]["strength"] == 0.0 and np.array_equal(zero, plain),
+             "a coin of strength 0 changes no bit of the image")
+coin.anamorph_coin.strength = 0.7
+coin.anamorph_coin.radius = 0.4
+coin.anamorph_coin.falloff = "gaussian"
+toml, strong = render()
+k = toml["camera"]["coin"][0]
+common.check(abs(k["strength"] - 0.7) < 1e-6 and abs(k["radius"] - 0.4) < 1e-6
+             and k["falloff"] == "gaussian", "the coin's edited keys: %s" % k)
+common.check(not np.array_equal(strong, plain), "a coin of strength 0.7 changes the image")
+coin.anamorph_coin.is_coin = False
+toml, _ = render()
+common.check("coin" not in toml["camera"], "an empty no longer marked as coin is not one")
+
+# Depth and Normal passes: the distance along the ray and the world normal in Blender's axes,
+# at a floor pixel and a sphere pixel, against the ray through the pixel centre intersected here
+# with the plane z = 0 and the sphere (radius 1 at (0, 0, 1); its 16 rings of faces lie up to
+# 0.02 m inside).
+bpy.data.objects.remove(coin)
+vl = scene.view_layers[0]
+vl.use_pass_z = vl.use_pass_normal = True
+scene.anamorph.sampler = "center"  # one sample, at the pixel centre
+scene.anamorph.spp = 1
+scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+scene.render.filepath = os.path.join(common.OUT, "passes.exr")
+bpy.ops.render.render(write_still=True)
+ch = common.exr_io.read_exr(scene.render.filepath)
+mw = scene.camera.matrix_world
+t = math.tan(cam.angle / 2)
+for (i, j), hit_sphere in (((24, 44), False), ((24, 26), True)):
+    x, y = (2 * (i + 0.5) / 48 - 1) * t, (1 - 2 * (j + 0.5) / 48) * t
+    d = (mw.to_3x3() @ __import__("mathutils").Vector((x, y, -1))).normalized()
+    o = mw.translation
+    if hit_sphere:
+        oc = o - __import__("mathutils").Vector((0, 0, 1))
+        b = oc.dot(d)
+        dist = -b - math.sqrt(b * b - (oc.dot(oc) - 1))
+        normal = (oc + dist * d).normalized()
+        tol = 0.02
+    else:
+        dist, normal, tol = -o.z / d.z, (0, 0, 1), 1e-4
+    depth = ch["ViewLayer.Depth.Z"][j, i]
+    nrm = [ch["ViewLayer.Normal." + c][j, i] for c in "XYZ"]
+    common.check(abs(depth - dist) < tol and max(abs(a - b) for a, b in zip(nrm, normal)) < 0.02,
+                 "pixel (%d, %d): Depth %.5f (ray cast %.5f), Normal %s (%s)"
+                 % (i, j, depth, dist, np.round(nrm, 4), np.round(list(normal), 4)))
+common.finish()

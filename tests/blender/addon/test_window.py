@@ -1,0 +1,218 @@
+"""Blender with its window, on a virtual X server. An animation render started from the window
+(a render thread, where the exporter cannot run: the add-on hands it to the main thread): the
+frames equal `anamorph render` of the kept scene files bit for bit and the exported cube follows
+its keys. The camera panel's picture for docs/blender.md. The viewport's Rendered shading in the
+camera view: the progressive preview completes its passes; a coin edit restarts it with a
+different picture and no export, moving the cube exports the meshes once; leaving the camera
+view restarts it without an export."""
+
+import os
+import subprocess
+import sys
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+import gltf_inspect  # noqa: E402
+
+def setup():
+    """The factory startup's scene (cube, light, camera) read again, which also closes the
+    first-run splash screen over the window; the add-on enabled after it."""
+    global bl, scene, keep, cube, cam
+    bpy.ops.wm.read_factory_settings()
+    common.enable_addon()
+    from anamorph_blender import bl
+
+    scene = bpy.context.scene
+    scene.render.engine = "ANAMORPH"
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.render.resolution_percentage = 100
+    scene.anamorph.spp = 4
+    keep = os.path.join(common.OUT, "scenes")
+    scene.anamorph.keep_folder = keep
+    cube = bpy.data.objects["Cube"]
+    for frame, x in ((1, -1.0), (3, 1.0)):
+        cube.location.x = x
+        cube.keyframe_insert("location", frame=frame)
+    scene.frame_start, scene.frame_end = 1, 3
+    common.exr_settings(scene)
+    scene.render.filepath = os.path.join(common.OUT, "window_")
+    cam = scene.camera
+    coin = bl.add_coin(cam, (0.0, 0.0, -10.0))
+    coin.anamorph_coin.strength = 0.5
+    cam.data.anamorph.preset = "fisheye"
+    cam.data.anamorph.p_fisheye.fov = 160.0
+
+
+state = {"phase": "start", "finished": 0}
+
+
+def finished(value):
+    def handler(*args):
+        state["finished"] = value
+    handler._bpy_persistent = True  # kept across reading the factory settings
+    return handler
+
+
+bpy.app.handlers.render_complete.append(finished(1))
+bpy.app.handlers.render_cancel.append(finished(2))
+
+
+def window_override():
+    win = bpy.context.window_manager.windows[0]
+    return bpy.context.temp_override(window=win, screen=win.screen)
+
+
+def show_panel():
+    """The window's largest area becomes a Properties editor on the camera's data tab."""
+    win = bpy.context.window_manager.windows[0]
+    area = max(win.screen.areas, key=lambda a: a.width * a.height)
+    area.type = "PROPERTIES"
+    for ob in bpy.context.view_layer.objects:
+        ob.select_set(ob == cam)
+    bpy.context.view_layer.objects.active = cam
+
+
+def panel_picture():
+    """A picture of the camera's data tab, with the anamorph section."""
+    win = bpy.context.window_manager.windows[0]
+    area = max(win.screen.areas, key=lambda a: a.width * a.height)
+    area.spaces[0].context = "DATA"  # the space exists once the area has been redrawn
+    area.tag_redraw()
+    path = os.path.join(common.OUT, "panel.png")
+    with bpy.context.temp_override(window=win, screen=win.screen, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    return path
+
+
+def after_animation():
+    common.check(state["finished"] == 1 and bl.last_error == "",
+                 "the animation from the window finished (%r)" % bl.last_error)
+    for frame in (1, 2, 3):
+        toml = os.path.join(keep, "frame_%04d.toml" % frame)
+        cli = os.path.join(common.OUT, "cli_%04d.exr" % frame)
+        run = subprocess.run([common.ANAMORPH_BIN, "render", toml, "-o", cli, "--quiet"],
+                             capture_output=True, text=True)
+        common.check(run.returncode == 0, "anamorph render %s: %s" % (toml, run.stderr))
+        mine = common.read_rgba(os.path.join(common.OUT, "window_%04d.exr" % frame))
+        ref = common.read_rgba(cli)
+        ref[..., :3] *= ref[..., 3:4]
+        common.check(np.array_equal(mine, ref), "frame %d from the window equals `anamorph "
+                     "render` bit for bit (%d values differ)" % (frame, np.sum(mine != ref)))
+        doc, _ = gltf_inspect.read_glb(os.path.join(keep, "frame_%04d.glb" % frame))
+        got = next(n for n in doc["nodes"] if n["name"] == "Cube").get("translation", [0, 0, 0])
+        want = {1: -1.0, 2: 0.0, 3: 1.0}[frame]
+        common.check(abs(got[0] - want) < 1e-6, "frame %d: the exported cube at x = %g (%g)"
+                     % (frame, got[0], want))
+
+
+def viewport_area():
+    win = bpy.context.window_manager.windows[0]
+    return max(win.screen.areas, key=lambda a: a.width * a.height)
+
+
+def area_picture(name):
+    win = bpy.context.window_manager.windows[0]
+    path = os.path.join(common.OUT, name)
+    with bpy.context.temp_override(window=win, screen=win.screen, area=viewport_area()):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    img = bpy.data.images.load(path)
+    pixels = np.array(img.pixels[:], dtype=np.float32)
+    bpy.data.images.remove(img)
+    return pixels
+
+
+def preview_done(after):
+    """The newest preview started after `after` and finished all its passes."""
+    log = bl.viewport_log
+    return bool(log) and log[-1]["started"] > after and \
+        log[-1]["passes"] == len(bl.VIEWPORT_PASSES)
+
+
+def viewport_step():
+    phase = state["phase"]
+    if phase == "viewport":
+        bl.VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4))  # lean: the test's time
+        space = viewport_area().spaces.active
+        space.shading.type = "RENDERED"
+        space.overlay.show_overlays = False
+        space.region_3d.view_perspective = "CAMERA"
+        state.update(phase="viewport_wait", t_on=time.monotonic())
+    elif phase == "viewport_wait" and preview_done(state["t_on"]):
+        log = bl.viewport_log[-1]
+        print("measured: viewport on to first image %.3f s (%d exports)"
+              % (log["first_image"] - state["t_on"], len(bl.viewport_exports)))
+        state["before"] = area_picture("viewport.png")
+        state["exports"] = len(bl.viewport_exports)
+        state.update(phase="edit", t_edit=time.monotonic())
+        bpy.data.objects["coin"].anamorph_coin.strength = 0.8
+    elif phase == "edit" and preview_done(state["t_edit"]):
+        log = bl.viewport_log[-1]
+        print("measured: coin edit to first image %.3f s, to the last pass %.3f s"
+              % (log["first_image"] - state["t_edit"], time.monotonic() - state["t_edit"]))
+        common.check(len(bl.viewport_exports) == state["exports"],
+                     "a coin edit restarts the preview without exporting the meshes (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        after = area_picture("viewport_edit.png")
+        common.check(not np.array_equal(after, state["before"]),
+                     "the viewport shows the edited coin (the picture changed)")
+        state["before"] = after
+        bpy.data.objects["Cube"].location.z += 0.5
+        state.update(phase="move", t_move=time.monotonic())
+    elif phase == "move" and preview_done(state["t_move"]):
+        common.check(len(bl.viewport_exports) == state["exports"] + 1,
+                     "moving the cube exported the meshes once (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        common.check(not np.array_equal(area_picture("viewport_move.png"), state["before"]),
+                     "the viewport shows the moved cube (the picture changed)")
+        state["exports"] = len(bl.viewport_exports)
+        viewport_area().spaces.active.region_3d.view_perspective = "PERSP"
+        state.update(phase="orbit", t_orbit=time.monotonic())
+    elif phase == "orbit" and preview_done(state["t_orbit"]):
+        common.check(len(bl.viewport_exports) == state["exports"],
+                     "leaving the camera view restarted the preview without an export (%d)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        common.finish()
+    elif time.monotonic() - state.get("t_on", time.monotonic()) > 60:
+        common.fail("the viewport phase %s did not finish in 60 s (log %s)"
+                    % (phase, bl.viewport_log[-3:]))
+        common.finish()
+    return 0.05
+
+
+def step():
+    if state["phase"] == "start":
+        setup()
+        state.update(phase="animation", t0=time.monotonic(), finished=0)
+        with window_override():
+            bpy.ops.render.render("INVOKE_DEFAULT", animation=True)
+        return 0.1
+    if state["phase"] == "animation" and state["finished"]:
+        after_animation()
+        show_panel()
+        state["phase"] = "panel"
+        return 1.0
+    if state["phase"] == "panel":
+        state["phase"] = "picture"
+        win = bpy.context.window_manager.windows[0]
+        area = max(win.screen.areas, key=lambda a: a.width * a.height)
+        area.spaces[0].context = "DATA"
+        return 1.0
+    if state["phase"] == "picture":
+        path = panel_picture()
+        common.check(os.path.getsize(path) > 0, "the panel's picture: %s" % path)
+        viewport_area().type = "VIEW_3D"
+        state["phase"] = "viewport"
+        return 0.5
+    if state["phase"].startswith("viewport") or state["phase"] in {"edit", "move", "orbit"}:
+        return viewport_step()
+    if time.monotonic() - state["t0"] > 120:
+        common.fail("the render from the window did not finish in 120 s")
+        common.finish()
+    return 0.1
+
+
+bpy.app.timers.register(step, first_interval=1.0, persistent=True)
