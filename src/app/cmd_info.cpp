@@ -51,6 +51,7 @@ int run(const SceneOptions& o) {
   else
     fmt::print("bounds      [{:.4g}, {:.4g}, {:.4g}] .. [{:.4g}, {:.4g}, {:.4g}]\n", b.lo.x, b.lo.y,
                b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+  for (const std::string& line : s.model_summaries) fmt::print("model       {}\n", line);
   // What no output of a run may overwrite (app/output_guard.h).
   fmt::print("reads       {} file(s)\n", s.inputs.size());
   for (const FileRead& f : s.inputs) fmt::print("  {}: {}\n", f.role, f.path.string());

@@ -9,7 +9,11 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <new>
+#include <sstream>
+
+#include <toml++/toml.h>
 
 #include "app/output_guard.h"
 #include "io/image_io.h"
@@ -45,15 +49,53 @@ void SceneOptions::add_to(CLI::App& cmd, bool required) {
       ->check(CLI::Range(1, 65536));
   cmd.add_option("--height", height, "Image height in pixels (overrides image.height)")
       ->check(CLI::Range(1, 65536));
+  cmd.add_option("--camera", camera,
+                 "A camera preset (e.g. fisheye) at the scene's camera, or the index of a glTF "
+                 "camera: camera.preset=NAME or camera.gltf_camera=N");
+  cmd.add_option("--env", env,
+                 "The environment: a colour (0.05 or 0.1,0.2,0.3: environment.color) or an "
+                 "equirectangular image file (environment.file)");
   cmd.add_option("--set", set,
                  "Override any scene key by its dotted path, e.g. --set camera.fov=90 (repeatable)")
       ->take_all();
 }
 
+namespace {
+
+// v as a TOML string (quoted, escaped).
+std::string toml_string(const std::string& v) {
+  std::ostringstream os;
+  os << toml::value<std::string>(v);
+  return os.str();
+}
+
+bool all_of_chars(const std::string& s, std::string_view allowed) {
+  return !s.empty() && s.find_first_not_of(allowed) == std::string::npos;
+}
+
+// --camera N (a glTF camera) or --camera PRESET.
+std::string camera_override(const std::string& v) {
+  if (all_of_chars(v, "0123456789")) return "camera.gltf_camera=" + v;
+  return "camera.preset=" + toml_string(v);
+}
+
+// --env 0.05, --env 0.1,0.2,0.3 or --env sky.hdr (relative to the working directory).
+std::string env_override(const std::string& v) {
+  if (all_of_chars(v, "0123456789.,eE+- ")) {
+    const bool rgb = v.find(',') != std::string::npos;
+    return "environment.color=" + (rgb ? "[" + v + "]" : v);
+  }
+  return "environment.file=" + toml_string(std::filesystem::absolute(v).string());
+}
+
+}  // namespace
+
 std::vector<std::string> SceneOptions::overrides() const {
   std::vector<std::string> o;
   if (width) o.push_back(fmt::format("image.width={}", *width));
   if (height) o.push_back(fmt::format("image.height={}", *height));
+  if (camera) o.push_back(camera_override(*camera));
+  if (env) o.push_back(env_override(*env));
   o.insert(o.end(), set.begin(), set.end());
   return o;
 }

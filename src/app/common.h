@@ -27,6 +27,7 @@ struct SceneOptions {
   std::string scene;
   std::optional<int> width, height;
   std::vector<std::string> set;
+  std::optional<std::string> camera, env;  // --camera, --env (before --set, which wins)
   void add_to(CLI::App& cmd, bool required = true);
   std::vector<std::string> overrides() const;  // --set plus --width/--height as overrides
 };

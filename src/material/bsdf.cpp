@@ -61,17 +61,17 @@ Color Bsdf::eval(const Vec3& wo_w, const Vec3& wi_w) const {
   // Reflection only, and only when both directions are on the geometric outside as well, which
   // avoids light leaking through shading-normal mismatches.
   if (wo.z <= 0 || wi.z <= 0 || dot(wi_w, ng) <= 0) return {};
-  Color f = diffuse * kInvPi;
+  Color f = diffuse * (kInvPi * opacity);
   if (max_component(phong) > 0) {
     const Vec3 r{-wo.x, -wo.y, wo.z};
     const double c = std::max(0.0, dot(r, wi));
-    f += phong * ((phong_exponent + 2) / (2 * kPi) * std::pow(c, phong_exponent));
+    f += phong * ((phong_exponent + 2) / (2 * kPi) * std::pow(c, phong_exponent) * opacity);
   }
   if (max_component(ggx_f0) > 0) {
     const Vec3 h = normalize(wo + wi);
     const double d = ggx_d(h.z, ggx_alpha);
     const double g = smith_g1(wo.z, ggx_alpha) * smith_g1(wi.z, ggx_alpha);
-    f += fresnel_schlick(ggx_f0, dot(wi, h)) * (d * g / (4 * wo.z * wi.z));
+    f += fresnel_schlick(ggx_f0, dot(wi, h)) * (d * g / (4 * wo.z * wi.z) * opacity);
   }
   return f;
 }
@@ -91,12 +91,25 @@ double Bsdf::pdf(const Vec3& wo_w, const Vec3& wi_w) const {
     const Vec3 h = normalize(wo + wi);
     p += w.ggx * ggx_d(h.z, ggx_alpha) * h.z / (4 * dot(wo, h));
   }
-  return p / w.total;
+  return p / w.total * opacity;
 }
 
 bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
   const Vec3 wo = frame.to_local(wo_w);
   if (wo.z <= 0) return false;
+  if (opacity < 1) {
+    // Alpha blend: straight on with probability 1 - opacity (its weight 1), else the lobes, whose
+    // f and pdf both carry the opacity (their weight does not).
+    if (u3 < 1 - opacity) {
+      out->wi = -wo_w;
+      out->delta = true;
+      out->pdf = 1 - opacity;
+      out->f = Color(1 - opacity);
+      out->weight = Color(1);
+      return true;
+    }
+    u3 = std::min((u3 - (1 - opacity)) / opacity, std::nextafter(1.0, 0.0));
+  }
   const LobeWeights w = lobe_weights(*this);
   if (w.total <= 0) return false;
   double x = u3 * w.total;
@@ -105,8 +118,9 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
     out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
     out->delta = true;
     out->pdf = w.mirror / w.total;
-    out->f = mirror;
     out->weight = mirror / out->pdf;
+    out->f = mirror * opacity;
+    out->pdf *= opacity;
     return true;
   }
   x -= w.mirror;
@@ -121,6 +135,11 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
       out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
       out->pdf = sel * fr;
       out->weight = Color(transmission / sel);
+    } else if (thin) {
+      // A thin wall: the two refractions cancel; the light goes on as it came.
+      out->wi = -wo_w;
+      out->pdf = sel * (1 - fr);
+      out->weight = Color(transmission / sel) * transmission_tint;
     } else {
       const double sin2_t = (1 - wo.z * wo.z) / (e * e);
       const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
@@ -128,9 +147,10 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
       out->wi = frame.to_world(normalize(wt));
       out->pdf = sel * (1 - fr);
       // Radiance is scaled by 1/eta^2 crossing into the denser medium (non-symmetric BTDF).
-      out->weight = Color(transmission / sel / (e * e));
+      out->weight = Color(transmission / sel / (e * e)) * transmission_tint;
     }
-    out->f = out->weight;
+    out->f = out->weight * opacity;
+    out->pdf *= opacity;
     return true;
   }
   x -= w.dielectric;
@@ -164,6 +184,8 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
     if (!(out->pdf > 0)) return false;
     out->f = dot(out->wi, ng) > 0 ? diffuse * kInvPi : Color{};
     out->weight = out->f * (wi.z / out->pdf);
+    out->f = out->f * opacity;
+    out->pdf *= opacity;
     return true;
   }
   out->pdf = pdf(wo_w, out->wi);

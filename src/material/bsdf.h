@@ -1,6 +1,8 @@
 // The BSDF at a shading point, in the local frame of the shading normal (z up). Lobes:
 // Lambert diffuse, a normalized Phong lobe (Whitted specular), GGX microfacet reflection
-// (glTF metallic-roughness), perfect mirror reflection and a smooth dielectric (both delta).
+// (glTF metallic-roughness), perfect mirror reflection and a smooth dielectric (both delta): a
+// refracting solid, or a thin wall that light crosses without turning (glTF's transmission
+// without a volume); and, for alpha blend, a share of the light passing straight on.
 #pragma once
 
 #include "math/frame.h"
@@ -24,12 +26,19 @@ struct Bsdf {
   double phong_exponent = 50;
   Color ggx_f0;  // GGX Schlick F0 (0 = no GGX lobe)
   double ggx_alpha = 0.25;
-  Color mirror;             // perfect mirror weight
-  double transmission = 0;  // smooth dielectric weight
-  double eta = 1.5;         // ior inside / outside (the frame faces the outside)
-  bool entering = true;     // the ray arrives from the outside
+  Color mirror;                      // perfect mirror weight
+  double transmission = 0;           // smooth dielectric weight
+  Color transmission_tint{1, 1, 1};  // the refracted light's colour (glTF: the base colour)
+  bool thin = false;                 // thin-walled: transmitted rays go on unrefracted
+  // Absorption inside the surface's solid, per unit length: the path tracer attenuates the part
+  // of a path inside (between entering and leaving) by exp(-sigma_a * length).
+  Color sigma_a{0, 0, 0};
+  double eta = 1.5;      // ior inside / outside (the frame faces the outside)
+  bool entering = true;  // the ray arrives from the outside
+  // Alpha blend: the other lobes are scaled by opacity, 1 - opacity goes straight through.
+  double opacity = 1;
 
-  bool has_delta() const { return max_component(mirror) > 0 || transmission > 0; }
+  bool has_delta() const { return max_component(mirror) > 0 || transmission > 0 || opacity < 1; }
   bool has_smooth() const {
     return max_component(diffuse) > 0 || max_component(phong) > 0 || max_component(ggx_f0) > 0;
   }

@@ -1,5 +1,6 @@
 #include "material/material.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "math/frame.h"
@@ -30,6 +31,11 @@ Bsdf Material::bsdf_frame(const ShadingPoint& sp, const Vec3& wo) const {
   b.ng = ng;
   b.entering = front;
   b.eta = ior;
+  if (alpha_mode == AlphaMode::Blend) {
+    double alpha = 1;
+    base_color.eval(sp.tex, &alpha);
+    b.opacity = std::clamp(alpha, 0.0, 1.0);
+  }
   return b;
 }
 

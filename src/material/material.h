@@ -78,8 +78,9 @@ class Material {
     return emission.kind != Texture::Kind::Constant || max_component(emission.value) > 0;
   }
   // Alpha-masked: hits where the base colour's alpha falls below the cutoff are not hits.
+  // (Blend is transparency in the BSDF instead: bsdf_frame's opacity.)
   bool alpha_masked() const {
-    return alpha_mode != AlphaMode::Opaque && base_color.kind == Texture::Kind::Image;
+    return alpha_mode == AlphaMode::Mask && base_color.kind == Texture::Kind::Image;
   }
   bool opaque_at(const TexCoord& tc) const {
     double alpha = 1;

@@ -15,10 +15,11 @@ namespace anamorph {
 
 extern const MaterialKind kWhittedKind;            // whitted.cpp
 extern const MaterialKind kMetallicRoughnessKind;  // metallic_roughness.cpp
+extern const MaterialKind kUnlitKind;              // unlit.cpp
 
 namespace {
 
-const MaterialKind* const kBuiltin[] = {&kWhittedKind, &kMetallicRoughnessKind};
+const MaterialKind* const kBuiltin[] = {&kWhittedKind, &kMetallicRoughnessKind, &kUnlitKind};
 
 struct Registry {
   std::vector<const MaterialKind*> kinds{std::begin(kBuiltin), std::end(kBuiltin)};

@@ -16,13 +16,20 @@ Bsdf MetallicRoughnessMaterial::bsdf(const ShadingPoint& sp, const Vec3& wo) con
   b.diffuse = base * ((1 - metal) * (1 - transmission));
   const Color f0 = lerp(metal, dielectric_f0, base);
   const double a = rough * rough;
+  b.transmission = transmission * (1 - metal);
   if (a < 0.02) {
-    b.mirror = f0;  // too sharp for a microfacet lobe: a mirror with the same tint
+    // Too sharp for a microfacet lobe: a mirror with the same tint (for the opaque share only: the
+    // transmitting share reflects by the dielectric's own Fresnel).
+    b.mirror = b.transmission > 0 ? f0 * (1 - b.transmission) : f0;
   } else {
     b.ggx_f0 = f0;
     b.ggx_alpha = a;
   }
-  b.transmission = transmission * (1 - metal);
+  if (b.transmission > 0) {
+    b.transmission_tint = base;
+    b.thin = thin;
+    b.sigma_a = absorption;
+  }
   return b;
 }
 
@@ -33,7 +40,15 @@ const ParamSpec kParams[] = {
     {"metallic", ParamType::Number, "0", "glTF metalness.", 0, 1},
     {"roughness", ParamType::Number, "0.5", "glTF roughness (GGX alpha = roughness^2).", 0, 1},
     {"transmission", ParamType::Number, "0",
-     "Smooth dielectric (refraction with Fresnel) weight.", 0, 1},
+     "Smooth dielectric (refraction with Fresnel) weight (KHR_materials_transmission); the "
+     "refracted light is tinted by `color`.", 0, 1},
+    {"thin", ParamType::Bool, "false",
+     "Transmission through a thin wall: light goes on unrefracted (glTF transmission without "
+     "KHR_materials_volume); false: a refracting solid."},
+    {"absorption", ParamType::Color, "0",
+     "Absorption inside the solid (path tracer), per unit length per channel: "
+     "KHR_materials_volume's -ln(attenuationColor) / attenuationDistance.", 0, kInf, {}, false,
+     false, "per scene unit"},
 };
 // clang-format on
 
@@ -42,6 +57,8 @@ std::unique_ptr<Material> create(const ParamValues& v) {
   m->metallic = v.number("metallic");
   m->roughness = v.number("roughness");
   m->transmission = v.number("transmission");
+  m->thin = v.boolean("thin");
+  m->absorption = v.color("absorption");
   return m;
 }
 

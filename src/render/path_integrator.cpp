@@ -1,5 +1,6 @@
 // `path`: unidirectional path tracing with next-event estimation, multiple importance sampling
-// and Russian roulette.
+// and Russian roulette. Absorption inside solids (Bsdf::sigma_a) along the segments between
+// entering and leaving them.
 #include <cmath>
 
 #include "math/sampling.h"
@@ -44,6 +45,11 @@ class PathTracer final : public Integrator {
       if (depth >= ctx_.max_depth || ctx_.cancelled()) break;
       const Material& m = *ctx_.scene.materials[hit.material];
       const Bsdf b = m.bsdf(shading_point(hit, fp), wo);
+      // Leaving an absorbing solid: the segment inside was attenuated (Beer-Lambert).
+      if (!b.entering && max_component(b.sigma_a) > 0) {
+        const double d = hit.t * length(ray.d);
+        for (int c = 0; c < 3; ++c) beta[c] *= std::exp(-b.sigma_a[c] * d);
+      }
 
       // This bounce's numbers, drawn up front so that 2D samples stay paired (with a QMC stream,
       // stratified across the pixel's samples): light position, BSDF direction, light choice

@@ -21,8 +21,10 @@
 //                 roughness factors (which scale the metallicRoughness texture's B and G;
 //                 the texture itself is kept unscaled, value white), normal texture + scale,
 //                 emissive factor x texture (sRGB) x KHR_materials_emissive_strength, alphaMode
-//                 (BLEND becomes MASK at 0.5, with a warning), doubleSided, KHR_materials_ior,
+//                 (BLEND: the BSDF's opacity), doubleSided, KHR_materials_ior,
 //                 KHR_materials_specular (its factors: the dielectric F0; textures not read),
+//                 KHR_materials_transmission (factor) and _volume (thin or solid, absorption),
+//                 KHR_materials_unlit (the `unlit` kind, the base colour as emission),
 //                 samplers (wrap modes; magFilter NEAREST), KHR_texture_transform.
 //   cameras       perspective and orthographic, placed by their node.
 // Embedded images are decoded by tinygltf (stb); image files are read with read_image.
@@ -49,6 +51,7 @@
 #include "io/read_file.h"
 #include "io/read_log.h"
 #include "material/metallic_roughness.h"
+#include "material/unlit.h"
 #include "scene/gltf_lights.h"
 #include "scene/gltf_rig_reader.h"
 #include "scene/load_common.h"
@@ -64,10 +67,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // Extensions whose content this loader maps into our data. Others are warned about.
-constexpr std::array<std::string_view, 6> kSupportedExtensions = {
-    "KHR_texture_transform", "KHR_materials_emissive_strength",
-    "KHR_mesh_quantization", "KHR_materials_ior",
-    "KHR_lights_punctual",   "KHR_materials_specular"};
+constexpr std::array<std::string_view, 9> kSupportedExtensions = {
+    "KHR_texture_transform",      "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization",      "KHR_materials_ior",
+    "KHR_lights_punctual",        "KHR_materials_specular",
+    "KHR_materials_transmission", "KHR_materials_volume",
+    "KHR_materials_unlit"};
 
 bool supported(const std::string& ext) {
   return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), ext) !=
@@ -232,6 +237,7 @@ class GltfBuilder {
     finish_rig(rig_);
     rest_pose();
     finish_warnings();
+    summarize();
     out_.warnings = warnings_.take();
     out_.rig = std::make_shared<const GltfRig>(std::move(rig_));
     return std::move(out_);
@@ -572,10 +578,7 @@ class GltfBuilder {
       mat.alpha_mode = Material::AlphaMode::Mask;
       mat.alpha_cutoff = gm.alphaCutoff;
     } else if (gm.alphaMode == "BLEND") {
-      // No sorted transparency in a ray tracer: a cut-out at 0.5 is the closest cheap reading.
-      mat.alpha_mode = Material::AlphaMode::Mask;
-      mat.alpha_cutoff = 0.5;
-      blend_materials_.push_back(mat.name);
+      mat.alpha_mode = Material::AlphaMode::Blend;  // transparency: the BSDF's opacity
     }
     const bool uses_alpha = mat.alpha_mode != Material::AlphaMode::Opaque;
     mat.double_sided = gm.doubleSided;
@@ -636,9 +639,44 @@ class GltfBuilder {
       mat.ior = number(it->second, "ior", 1.5);
     if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
       mat.dielectric_f0 = specular_f0(it->second, mat.ior);
+    read_transmission(gm, mat);
     material_uv_set_[size_t(index)] = std::max(uv_set, 0);
     material_textured_[size_t(index)] = uv_set >= 0;
+    if (gm.extensions.count("KHR_materials_unlit")) return unlit(mat);
     return owned;
+  }
+
+  // KHR_materials_transmission's factor (its texture is not read) and KHR_materials_volume:
+  // with a thickness a refracting solid absorbing sigma = -ln(attenuationColor) /
+  // attenuationDistance per channel, without one a thin wall.
+  void read_transmission(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat) {
+    const auto t = gm.extensions.find("KHR_materials_transmission");
+    if (t == gm.extensions.end()) return;
+    mat.transmission = std::clamp(number(t->second, "transmissionFactor", 0.0), 0.0, 1.0);
+    if (!(mat.transmission > 0)) mat.transmission = 0;
+    const auto v = gm.extensions.find("KHR_materials_volume");
+    mat.thin = v == gm.extensions.end() || !(number(v->second, "thicknessFactor", 0.0) > 0);
+    if (mat.thin) return;
+    const double distance = number(v->second, "attenuationDistance", kInf);
+    Color c{1, 1, 1};
+    if (v->second.Has("attenuationColor")) {
+      const tinygltf::Value& a = v->second.Get("attenuationColor");
+      if (a.IsArray() && a.ArrayLen() == 3)
+        for (int k = 0; k < 3; ++k)
+          if (a.Get(k).IsNumber()) c[k] = std::clamp(a.Get(k).GetNumberAsDouble(), 0.0, 1.0);
+    }
+    if (!(distance > 0)) return;
+    // (A colour of 0 absorbs everything: a large finite coefficient, within the key's range.)
+    for (int k = 0; k < 3; ++k) mat.absorption[k] = std::min(-std::log(c[k]) / distance, 1e30);
+  }
+
+  // KHR_materials_unlit: the base colour (factor x texture) shown as emission.
+  static std::unique_ptr<Material> unlit(const MetallicRoughnessMaterial& mat) {
+    auto u = std::make_unique<UnlitMaterial>();
+    static_cast<Material&>(*u) = static_cast<const Material&>(mat);
+    u->emission = mat.base_color;
+    u->emission_strength = 1;
+    return u;
   }
 
   static Texture constant_with_alpha(Color c, float alpha) {
@@ -766,14 +804,35 @@ class GltfBuilder {
     return img;
   }
 
+  // What the file holds and what of it was read, for `anamorph info`.
+  void summarize() {
+    std::vector<std::string>& o = out_.summary;
+    size_t channels = 0, targets = 0;
+    for (const auto& a : m_.animations) channels += a.channels.size();
+    for (const auto& mesh : m_.meshes)
+      for (const auto& p : mesh.primitives) targets += p.targets.size();
+    o.push_back(fmt::format("{}: glTF {}{}", file_, m_.asset.version,
+                            m_.asset.generator.empty() ? "" : " by " + m_.asset.generator));
+    o.push_back(fmt::format(
+        "  {} scene(s), {} node(s), {} mesh(es), {} material(s), {} texture(s), {} image(s)",
+        m_.scenes.size(), m_.nodes.size(), m_.meshes.size(), m_.materials.size(),
+        m_.textures.size(), m_.images.size()));
+    o.push_back(fmt::format(
+        "  {} camera(s), {} light(s), {} animation(s) ({} channel(s)), {} skin(s), {} morph "
+        "target(s)",
+        m_.cameras.size(), m_.lights.size(), m_.animations.size(), channels, m_.skins.size(),
+        targets));
+    for (const auto& e : m_.extensionsUsed) {
+      const bool required = std::find(m_.extensionsRequired.begin(), m_.extensionsRequired.end(),
+                                      e) != m_.extensionsRequired.end();
+      o.push_back(fmt::format("  extension {}{}: {}", e, required ? " (required)" : "",
+                              supported(e) ? "read" : "not read (ignored)"));
+    }
+  }
+
   void finish_warnings() {
     add_repair_warnings(repairs_, file_, buffer_);
     for (auto& w : buffer_) warnings_.add(std::move(w));
-    if (!blend_materials_.empty())
-      warnings_.add(
-          fmt::format("{}: alphaMode BLEND is rendered as MASK with cutoff 0.5 in {} "
-                      "material(s): {}",
-                      file_, blend_materials_.size(), fmt::join(blend_materials_, ", ")));
     for (const auto& [mode, count] : skipped_modes_)
       warnings_.add(fmt::format("{}: {} primitive(s) of mode {} (points or lines) skipped", file_,
                                 count, mode));
@@ -799,7 +858,6 @@ class GltfBuilder {
   int default_material_ = -1;
   std::map<std::tuple<int, bool, float>, std::shared_ptr<const MipMap>> images_;
   std::map<int, size_t> skipped_modes_;
-  std::vector<std::string> blend_materials_;
   size_t singular_nodes_ = 0;
   GltfRig rig_;
   size_t vertex_colors_ignored_ = 0;

@@ -64,6 +64,8 @@ struct LoadedModel {
   // The lists above hold the file's static pose (its nodes as written, no animation applied).
   std::shared_ptr<const GltfRig> rig;
   std::vector<std::string> warnings;  // repaired problems (zero normals, unknown extensions)
+  // What the file held and what of it was read (glTF: counts, extensions), for `anamorph info`.
+  std::vector<std::string> summary;
 
   size_t triangle_count() const {  // unique triangles (each prototype once)
     size_t n = 0;

@@ -91,12 +91,13 @@ struct Scene {
   std::vector<Light> lights;
   Environment environment;
   std::vector<std::string> warnings;
-  double frame = 0;                        // the animation frame this scene was built for
-  std::vector<std::string> animated;       // keys with [[animate]] entries
-  double first_key = 0, last_key = 0;      // frame range covered by the keys
-  std::vector<ModelCamera> model_cameras;  // cameras found in loaded models (`gltf_camera`)
-  std::vector<SceneRig> rigs;              // glTF models' animation
-  double fps = 24;                         // [animation] fps: glTF time = frame / fps
+  std::vector<std::string> model_summaries;  // each model's LoadedModel::summary, for `info`
+  double frame = 0;                          // the animation frame this scene was built for
+  std::vector<std::string> animated;         // keys with [[animate]] entries
+  double first_key = 0, last_key = 0;        // frame range covered by the keys
+  std::vector<ModelCamera> model_cameras;    // cameras found in loaded models (`gltf_camera`)
+  std::vector<SceneRig> rigs;                // glTF models' animation
+  double fps = 24;                           // [animation] fps: glTF time = frame / fps
   // Every file the load read (scene, includes, textures, models and their buffers, ray tables),
   // with its role: no output of the run may overwrite one (app/output_guard.h).
   std::vector<FileRead> inputs;

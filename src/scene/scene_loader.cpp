@@ -16,6 +16,7 @@
 #include "scene/animation.h"
 #include "scene/camera_reader.h"
 #include "scene/gltf_lights.h"
+#include "scene/gltf_scene.h"
 #include "scene/load_common.h"
 #include "scene/loaders.h"
 #include "scene/scene_pose.h"
@@ -152,6 +153,8 @@ toml::table load_with_includes(const fs::path& file, int depth, int* files_read)
 }
 
 toml::table load_with_includes(const fs::path& file) {
+  // A glTF file is a scene of its own (gltf_scene.h): its defaults, the file as its object.
+  if (is_gltf_scene_file(file)) return gltf_scene_table(file);
   const ReadRole role("the scene file");
   int files_read = 0;
   return load_with_includes(file, 0, &files_read);
@@ -171,6 +174,8 @@ struct Context {
   fs::path dir;  // relative paths resolve against the scene file's directory
   Scene* scene;
   std::map<std::string, uint32_t> material_ids;
+  // Where each [[material]]'s name is written (for an override that names two glTF materials).
+  std::map<std::string, std::pair<SourceLoc, std::string>> material_sites;
   // Only checking the keys (check_scene_frame): models and images are not read (their files
   // must exist, as always).
   bool check_only = false;
@@ -285,6 +290,34 @@ void add_model_rig(Scene& s, const ParamValues& v, LoadedModel& m, const Transfo
   s.rigs.push_back(std::move(rig));
 }
 
+// The scene's index of each of a model's materials: a [[material]] of the same name replaces it
+// (docs/gltf.md, precedence); the others join the scene. A [[material]] whose name two of the
+// model's materials share is ambiguous: an error at its name.
+std::vector<uint32_t> model_material_ids(Context& c, const ParamValues& v,
+                                         MaterialList& materials) {
+  Scene& s = *c.scene;
+  std::vector<uint32_t> ids;
+  std::map<std::string, size_t> first;  // of the overridden names: the model's first index
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const std::string& name = materials[i]->name;
+    const auto it = c.material_ids.find(name);
+    if (it == c.material_ids.end()) {
+      ids.push_back(uint32_t(s.materials.size()));
+      s.materials.push_back(std::move(materials[i]));
+      continue;
+    }
+    if (const auto [at, fresh] = first.emplace(name, i); !fresh) {
+      const auto& [loc, key] = c.material_sites.at(name);
+      throw SceneError(loc, key,
+                       fmt::format("\"{}\" names more than one material of {} (materials {} "
+                                   "and {}): the override is ambiguous; rename one in the file",
+                                   name, v.string("file"), at->second, i));
+    }
+    ids.push_back(it->second);
+  }
+  return ids;
+}
+
 void add_model(Context& c, const TableReader& r, const ParamValues& v, const std::string& name,
                const Transform& xf) {
   Scene& s = *c.scene;
@@ -301,13 +334,12 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
   }
   const bool override_mat = v.has("material");
   const uint32_t mat = material_ref(c, r, v, "material");
-  const auto mat_base = uint32_t(s.materials.size());
-  if (!override_mat)
-    for (auto& mm : m.materials) s.materials.push_back(std::move(mm));
+  const std::vector<uint32_t> mat_ids =
+      override_mat ? std::vector<uint32_t>{} : model_material_ids(c, v, m.materials);
   const auto proto_base = uint32_t(s.prototypes.size());
   const auto inst_base = uint32_t(s.instances.size());
   for (auto& pr : m.prototypes) {
-    for (auto& mesh : pr.meshes) mesh.material = override_mat ? mat : mesh.material + mat_base;
+    for (auto& mesh : pr.meshes) mesh.material = override_mat ? mat : mat_ids[mesh.material];
     s.prototypes.push_back(std::move(pr));
   }
   std::vector<Bounds3> boxes;  // of the model's prototypes, in their own space
@@ -325,6 +357,7 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
   }
   add_model_rig(s, v, m, xf, proto_base, inst_base);
   for (auto& w : m.warnings) s.warnings.push_back(w);
+  for (auto& l : m.summary) s.model_summaries.push_back(std::move(l));
 }
 
 // Where an analytic shape sits, from its type's keys (validated beyond their ranges here).
@@ -553,6 +586,8 @@ void read_world(Context& c, const TableReader& top) {
     if (c.material_ids.count(m->name))
       r.fail("name", fmt::format("material \"{}\" is defined twice", m->name));
     c.material_ids[m->name] = uint32_t(s.materials.size());
+    const toml::node* at = r.node("name");
+    c.material_sites[m->name] = {at ? loc_of(*at) : loc_of(r.table()), r.full_key("name")};
     s.materials.push_back(std::move(m));
   });
   for_each_table(top, "object", [&](const TableReader& r, int i) { read_object(c, r, i); });
@@ -672,6 +707,14 @@ Scene build_frame(toml::table& root, const toml::table& original,
     return cams;
   };
   s.model_cameras = cameras_at(frame);
+  if (is_gltf_scene_file(file)) {
+    complete_gltf_view(root,
+                       view_from      ? *view_from
+                       : c.check_only ? *loaded
+                                      : s,
+                       s.model_cameras, s.render);
+    s.effective_toml = to_toml_text(root);
+  }
 
   const toml::table* cn = sub_table(top, "camera");
   const toml::table empty;

@@ -1,6 +1,7 @@
 anamorph_add_test(test_cli
   ${CMAKE_CURRENT_LIST_DIR}/cli_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/isa_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/gltf_cli_test.cpp
 )
 add_dependencies(test_cli anamorph)
 include(${CMAKE_CURRENT_LIST_DIR}/scenes_tests.cmake)
