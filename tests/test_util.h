@@ -38,6 +38,10 @@ inline int spp(int n) { return kSanitized ? std::max(1, n / 4) : n; }
 
 }  // namespace anamorph::test
 
+// Expects `hay` (a message or a command's output) to contain `needle`, printing `hay` when not.
+#define EXPECT_CONTAINS(hay, needle) \
+  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
+
 // Skips the current test with a clear message when ../shared/scenes is not beside the repo.
 #define ANAMORPH_REQUIRE_SHARED()                                                           \
   do {                                                                                      \

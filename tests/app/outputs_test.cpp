@@ -25,9 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliResult;
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 struct Input {
   std::string role;
   fs::path path;
