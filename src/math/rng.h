@@ -35,7 +35,7 @@ inline uint32_t reverse_bits(uint32_t x) {
 // Nested uniform (Owen) scrambling of a bit-reversed value by Laine and Karras' hash: each bit is
 // flipped depending only on itself and the bits below it (the higher digits of the unreversed
 // value). Vegdahl's better-mixing variant ("Building a Better LK Hash", 2021) was measured in its
-// place and rendered the bench/cycles box scenes 2-5 % noisier (docs/performance.md).
+// place: the bench/cycles box scenes 2-5 % noisier, Cornell 1-2 % less (docs/performance.md).
 inline uint32_t lk_permute(uint32_t x, uint32_t seed) {
   x += seed;
   x ^= x * 0x6c50b47cu;
