@@ -55,9 +55,10 @@ const ParamSpec kRender[] = {
     {"spp", ParamType::Integer, "1", "Samples per pixel.", 1, 1 << 20},
     {"sampler", ParamType::String, "\"stratified\"",
      "`center`: exactly the pixel center (for exact comparisons with other renderers). "
-     "`stratified`: the pixel's samples take their positions, lens and time samples and the "
-     "first three bounces' light and BSDF numbers from Owen-scrambled Sobol' points, so any "
-     "number of them (and any prefix, as per-pixel adaptive sampling takes) is well stratified. "
+     "`stratified`: every number of a pixel's samples (position, lens, time, each bounce's "
+     "light, BSDF and roulette numbers) comes from Owen-scrambled Sobol' points, one 2D point "
+     "per dimension pair, so any number of them (and any prefix, as per-pixel adaptive "
+     "sampling takes) is well stratified in every pair. "
      "`random`: independent uniform.",
      -kInf, kInf, kSamplers},
     {"max_depth", ParamType::Integer, "5",
