@@ -55,6 +55,7 @@
 #include "io/read_log.h"
 #include "material/metallic_roughness.h"
 #include "material/unlit.h"
+#include "scene/gltf_animation.h"
 #include "scene/gltf_lights.h"
 #include "scene/gltf_rig_reader.h"
 #include "scene/load_common.h"
@@ -170,20 +171,8 @@ Mat4 local_matrix(const tinygltf::Node& n) {
     for (int k = 0; k < 3; ++k) t.m[k][3] = n.translation[size_t(k)];
   if (n.scale.size() == 3)
     for (int k = 0; k < 3; ++k) s.m[k][k] = n.scale[size_t(k)];
-  if (n.rotation.size() == 4) {
-    double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
-    const double len = std::sqrt(x * x + y * y + z * z + w * w);
-    if (len > 0) x /= len, y /= len, z /= len, w /= len;
-    rot.m[0][0] = 1 - 2 * (y * y + z * z);
-    rot.m[0][1] = 2 * (x * y - z * w);
-    rot.m[0][2] = 2 * (x * z + y * w);
-    rot.m[1][0] = 2 * (x * y + z * w);
-    rot.m[1][1] = 1 - 2 * (x * x + z * z);
-    rot.m[1][2] = 2 * (y * z - x * w);
-    rot.m[2][0] = 2 * (x * z - y * w);
-    rot.m[2][1] = 2 * (y * z + x * w);
-    rot.m[2][2] = 1 - 2 * (x * x + y * y);
-  }
+  if (n.rotation.size() == 4)  // (normalized there; a zero or non-finite one is no rotation)
+    rot = rotation_matrix({n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]});
   return t * rot * s;
 }
 
