@@ -12,6 +12,7 @@
 #include "app/common.h"
 #include "app/output_guard.h"
 #include "io/image_io.h"
+#include "math/user_text.h"
 #include "params/toml_parse.h"
 #include "scene/load_common.h"
 #include "scene/toml_edit.h"
@@ -45,21 +46,22 @@ void print_report(const solve::SolveReport& r) {
 }
 
 // Which constraints are not met and why, one line each.
-std::string unmet_message(const solve::SolveReport& r) {
-  std::string msg = "constraints not met (nothing written):";
+std::vector<std::string> unmet_lines(const solve::SolveReport& r) {
+  std::vector<std::string> lines;
   for (const solve::ConstraintReport& c : r.constraints) {
     if (c.met) continue;
-    msg += "\n  " + c.where + " (" + c.kind + "): ";
-    if (!c.met_alone)
-      msg += "cannot be met even alone: the free keys, within their bounds, do not reach it";
-    else if (c.conflicts.empty())
-      msg += "met alone, but not with all the others together";
-    else {
-      msg += "conflicts with";
-      for (size_t i = 0; i < c.conflicts.size(); ++i) msg += (i ? ", " : " ") + c.conflicts[i];
+    std::string line = c.where + " (" + c.kind + "): ";
+    if (!c.met_alone) {
+      line += "cannot be met even alone: the free keys, within their bounds, do not reach it";
+    } else if (c.conflicts.empty()) {
+      line += "met alone, but not together with all the others";
+    } else {
+      line += "conflicts with";
+      for (size_t i = 0; i < c.conflicts.size(); ++i) line += (i ? ", " : " ") + c.conflicts[i];
     }
+    lines.push_back(std::move(line));
   }
-  return msg;
+  return lines;
 }
 
 // The scene's text with the solved values spliced in.
@@ -92,7 +94,8 @@ int run_solve(const SolveArgs& a) {
   const solve::SolveReport r = solve::solve_camera(in);
   print_report(r);
   if (!r.all_met()) {
-    print_error(unmet_message(r));
+    print_error("constraints not met (nothing written):");
+    for (const std::string& line : unmet_lines(r)) fmt::print(stderr, "  {}\n", printable(line));
     return kBadInput;
   }
   if (!a.output.empty()) {

@@ -51,6 +51,7 @@ std::string string_at(const toml::table& root, const std::string& key, std::stri
 // The declaration of the camera key `parts` (without its leading "camera"), or null.
 const ParamSpec* declaration(const toml::table& scene, const std::vector<std::string>& parts) {
   if (parts.size() == 1) {
+    if (parts[0] == "preset") return &camera_preset_spec();
     if (const ParamSpec* s = find_param({camera_common_params()}, parts[0])) return s;
     if (at_path(scene, {"camera", "org"}) || at_path(scene, {"camera", "dir"})) return nullptr;
     const PresetInfo* p = find_preset(string_at(scene, "camera.preset", "perspective"));

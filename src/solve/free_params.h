@@ -32,7 +32,8 @@ struct FreeValues {
   std::vector<FreeValue> values;
   std::vector<FreeScalar> scalars;
   std::vector<double> start() const;
-  // "key=value" overrides setting every value with the scalars `x` (17 significant digits).
+  // "key=value" overrides setting every value with the scalars `x` (the shortest text that reads
+  // back as the same double).
   std::vector<std::string> overrides(const std::vector<double>& x) const;
   // Each value as TOML text, for the solved scene.
   std::vector<std::pair<std::string, std::string>> texts(const std::vector<double>& x) const;
