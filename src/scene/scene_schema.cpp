@@ -389,7 +389,7 @@ const ParamSpec kSizeConstraint[] = {
     {"to", ParamType::Vec3, "", "The other end.", -kInf, kInf, {}, false, false, "scene units"},
     {"fraction", ParamType::Number, "",
      "The distance between the ends' image positions as a fraction of the image's width.", 0,
-     100, {}, true},
+     1e6, {}, true},
 };
 const ParamSpec kMagnificationConstraint[] = {
     {"point", ParamType::Vec3, "none", "The world point (or `object`).", -kInf, kInf, {}, false,
