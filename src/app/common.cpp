@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -131,6 +132,16 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.effective_toml = std::move(v.effective_toml);
   loaded.frame = frame;
   loaded.inputs.insert(loaded.inputs.end(), v.inputs.begin(), v.inputs.end());
+}
+
+void attach_next_frame(const SceneOptions& o, const std::vector<std::string>& extra,
+                       const std::vector<Aov>& aovs, Scene& scene) {
+  if (std::find(aovs.begin(), aovs.end(), Aov::FlowForward) == aovs.end()) return;
+  const double next = scene.frame + 1;
+  if (animates_view_only(scene))
+    scene.next = frame_motion(load_view(o.scene, with_extra(o, extra), next, scene), &scene);
+  else
+    scene.next = frame_motion(load_scene(o.scene, with_extra(o, extra), next));
 }
 
 void print_error(const std::string& message) {

@@ -38,14 +38,16 @@ Color id_color(double id) {
 }  // namespace
 
 RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, int width,
-                     int height, bool aovs)
+                     int height, const std::vector<Aov>& aovs)
     : scene(s),
       accel(a),
       rs(s.render),
       mode(mode_of(rs.view)),
       integrator(mode == RenderMode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
-      want_aovs(aovs || mode != RenderMode::Radiance),
-      film_aovs(aovs),
+      want_aovs(!aovs.empty() || mode != RenderMode::Radiance),
+      film_aovs(!aovs.empty()),
+      want_flow(std::find(aovs.begin(), aovs.end(), Aov::FlowForward) != aovs.end()),
+      camera_from_world(s.camera->rig().inverse()),
       W(width),
       H(height),
       cancel(ctx.cancel) {
@@ -64,13 +66,32 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
   const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
   hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
                                (mode == RenderMode::Albedo && !any_texture));
+  if (want_flow && s.next) next_motion(*s.next);
+}
+
+// An object's map to the next frame: its transform there after the inverse of its transform here
+// (rigid or affine motion; a deforming mesh's own vertex motion is not followed).
+void RenderJob::next_motion(const FrameMotion& next) {
+  next_camera = next.camera.get();
+  next_from_now.resize(accel.object_count());
+  for (uint32_t id = 0; id < accel.object_count(); ++id) {
+    const Accel::Record& r = accel.record(id);
+    const bool shape = r.kind == Accel::Record::Kind::Shape;
+    const std::vector<Transform>& there = shape ? next.shapes : next.instances;
+    const size_t here_count = shape ? scene.shapes.size() : scene.instances.size();
+    if (there.size() != here_count || r.source >= there.size()) continue;
+    const Transform& here = shape ? scene.shapes[r.source].world_from_object
+                                  : scene.instances[r.source].world_from_object;
+    next_from_now[id] = there[r.source] * here.inverse();
+  }
 }
 
 double RenderJob::footprint_scale(uint32_t n) {
   return std::max(0.125, 1.0 / std::sqrt(double(std::max(1u, n))));
 }
 
-void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const {
+void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footprint& fp,
+                          AovSample& a) const {
   // Every field for AOV layers; otherwise only the one the view shows.
   const bool all = film_aovs;
   const Material& m = *scene.materials[hit.material];
@@ -84,6 +105,28 @@ void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, A
   if (all || mode == RenderMode::Depth) a.depth = hit.t;
   if (all || mode == RenderMode::Id) a.id = hit.object_id;
   if (all || mode == RenderMode::Uv) a.uv = hit.uv;
+  if (all) fill_vision_aovs(hit, uv, a);
+}
+
+void RenderJob::fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const {
+  a.position_camera = camera_from_world.point(hit.p);
+  a.depth_z = -a.position_camera.z;
+  a.flow_valid = want_flow && flow_at(hit, uv, &a.flow);
+}
+
+bool RenderJob::flow_at(const Hit& hit, Vec2 uv, Vec2* flow) const {
+  if (!next_camera || !next_from_now[hit.object_id]) return false;
+  const Vec3 q = next_from_now[hit.object_id]->point(hit.p);
+  // Of several images (a point seen twice), the nearest to where it is now.
+  bool found = false;
+  double best = kInf;
+  for (const Vec2& at : next_camera->project(q)) {
+    if (!(at.x >= 0 && at.x <= 1 && at.y >= 0 && at.y <= 1)) continue;
+    const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
+    const double d2 = d.x * d.x + d.y * d.y;
+    if (d2 < best) best = d2, *flow = d, found = true;
+  }
+  return found;
 }
 
 Color RenderJob::aov_beauty(const AovSample& a) const {
@@ -126,7 +169,7 @@ SampleResult RenderJob::sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double foot
   const bool found = accel.intersect(ray, &h);
   SampleResult out;
   finish(
-      ray, [&] { return *cam; }, found ? &h : nullptr, rng, rays, out, footprint);
+      ray, [&] { return *cam; }, found ? &h : nullptr, uv, rng, rays, out, footprint);
   return out;
 }
 
@@ -163,7 +206,7 @@ void RenderJob::lattice_samples(const Vec2* uv, const uint64_t* keys, const doub
     ++rays;
     finish(
         Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
-        found[k] ? &hits[k] : nullptr, rng[k], rays, out[k], footprints[k]);
+        found[k] ? &hits[k] : nullptr, uv[k], rng[k], rays, out[k], footprints[k]);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "accel/accel.h"
@@ -37,7 +38,7 @@ enum class RenderMode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };
 
 struct RenderJob {
   RenderJob(const Scene& scene, const Accel& accel, const RenderContext& ctx, int width, int height,
-            bool film_aovs);
+            const std::vector<Aov>& film_aovs);
 
   const Scene& scene;
   const Accel& accel;
@@ -46,6 +47,12 @@ struct RenderJob {
   std::unique_ptr<Integrator> integrator;
   bool want_aovs;  // AOV values: for the film's layers or a view
   bool film_aovs;  // the film has AOV layers
+  bool want_flow;  // the film has a flow layer (each hit projected into the next frame)
+  Transform camera_from_world;  // the camera rig at shutter open, inverted (depth_z)
+  // Flow: the next frame's camera (null: none), and per object id the map taking this frame's
+  // point to the next frame's (none: the object is not in the next frame).
+  const Camera* next_camera = nullptr;
+  std::vector<std::optional<Transform>> next_from_now;
   // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
   // or albedo without textures when there are no AOV layers.
   bool hit_surface;
@@ -65,14 +72,14 @@ struct RenderJob {
   // pixel: finer footprints only add texture noise).
   static double footprint_scale(uint32_t n);
 
-  // Completes a camera sample whose first hit is known. `footprint` is the sample's share of a
-  // pixel as a scale of the pixel's footprint; `cam_ray()` gives the camera ray with its
-  // differentials (asked for only where a footprint is needed: primary packets hold their rays as
-  // arrays). Writes into `out` (reused by the caller: building a fresh result per sample meant
-  // zeroing ~150 bytes per ray, a visible cost for primary-ray renders).
+  // Completes a camera sample at image position `uv` whose first hit is known. `footprint` is the
+  // sample's share of a pixel as a scale of the pixel's footprint; `cam_ray()` gives the camera ray
+  // with its differentials (asked for only where a footprint is needed: primary packets hold their
+  // rays as arrays). Writes into `out` (reused by the caller: building a fresh result per sample
+  // meant zeroing ~150 bytes per ray, a visible cost for primary-ray renders).
   template <class CamRay>
-  void finish(const Ray& ray, const CamRay& cam_ray, const Hit* hit, Rng& rng, uint64_t& rays,
-              SampleResult& out, double footprint = 1) const {
+  void finish(const Ray& ray, const CamRay& cam_ray, const Hit* hit, Vec2 uv, Rng& rng,
+              uint64_t& rays, SampleResult& out, double footprint = 1) const {
     out.alpha = 1;
     out.aov.hit = false;
     Footprint fp;
@@ -80,7 +87,7 @@ struct RenderJob {
     // ray cones carry it to textures further along).
     if (hit && needs_footprint[hit->material])
       fp = footprint_at(cam_ray(), du * footprint, dv * footprint, *hit);
-    if (want_aovs && hit) fill_aovs(ray, *hit, fp, out.aov);
+    if (want_aovs && hit) fill_aovs(ray, *hit, uv, fp, out.aov);
     out.L = mode == RenderMode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays)
                                          : aov_beauty(out.aov);
   }
@@ -97,7 +104,13 @@ struct RenderJob {
                        CameraRayBatch* keep) const;
 
  private:
-  void fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const;
+  void fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footprint& fp, AovSample& a) const;
+  // The layers a view never shows: depth conventions, camera-space position, flow.
+  void next_motion(const FrameMotion& next);
+  void fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const;
+  // The flow of the point `hit` sees from image position uv, in pixels: false when it has no
+  // image in the next frame.
+  bool flow_at(const Hit& hit, Vec2 uv, Vec2* flow) const;
   Color aov_beauty(const AovSample& a) const;
 };
 

@@ -16,6 +16,10 @@ const std::vector<AovInfo>& aov_table() {
       {Aov::Id, "id", {"id"}},
       {Aov::Uv, "uv", {"U", "V"}},
       {Aov::Spp, "spp", {"N"}},
+      {Aov::Distance, "distance", {"D"}},
+      {Aov::DepthZ, "depth_z", {"Z"}},
+      {Aov::CameraPosition, "position_camera", {"X", "Y", "Z"}},
+      {Aov::FlowForward, "flow_forward", {"X", "Y", "valid"}},
   };
   return t;
 }
@@ -133,21 +137,48 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
       case Aov::Spp:
         ++v;  // read from the pixel's sample count when resolved
         break;
+      case Aov::Distance:
+        add({a.depth});
+        break;
+      case Aov::DepthZ:
+        add({a.depth_z});
+        break;
+      case Aov::CameraPosition:
+        add({a.position_camera.x, a.position_camera.y, a.position_camera.z});
+        break;
+      case Aov::FlowForward:
+        // Summed over the samples whose point has an image at the other frame, and counted.
+        if (a.flow_valid)
+          add({a.flow.x, a.flow.y, 1.0});
+        else
+          v += 3;
+        break;
     }
   }
 }
 
 namespace {
 
+// Flow: the mean over the samples that have one (NaN where none has), and the fraction of the
+// pixel's hits that have one.
+void resolve_flow(const PixelSum& p, const float* v, float* out) {
+  const float valid = v[2];
+  out[0] = valid > 0 ? v[0] / valid : std::numeric_limits<float>::quiet_NaN();
+  out[1] = valid > 0 ? v[1] / valid : std::numeric_limits<float>::quiet_NaN();
+  out[2] = p.hits > 0 ? valid / float(p.hits) : 0.0f;
+}
+
 // One AOV's resolved channels from its sums `v` (a pixel's share of aov_sums()).
 void resolve_aov(Aov k, size_t channels, const PixelSum& p, const float* v, float* out) {
+  if (k == Aov::FlowForward) return resolve_flow(p, v, out);
+  const bool distance = k == Aov::Depth || k == Aov::Distance || k == Aov::DepthZ;
   for (size_t c = 0; c < channels; ++c, ++v, ++out) {
     if (k == Aov::Id)
       *out = *v > 0 ? *v - 1 : -1.0f;
     else if (k == Aov::Spp)
       *out = float(p.spp);
     else if (p.hits == 0)
-      *out = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
+      *out = distance ? std::numeric_limits<float>::infinity() : 0.0f;
     else
       *out = *v / float(p.hits);
   }

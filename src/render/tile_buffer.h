@@ -14,7 +14,21 @@
 
 namespace anamorph {
 
-enum class Aov { Albedo, Normal, Depth, Position, Id, Uv, Spp };
+// The layers a render can sum beside radiance; docs/vision.md defines the depth, camera-space
+// and flow conventions.
+enum class Aov {
+  Albedo,
+  Normal,
+  Depth,
+  Position,
+  Id,
+  Uv,
+  Spp,
+  Distance,        // ray distance: |hit - ray origin| (= depth)
+  DepthZ,          // along the camera rig's view axis (-z of camera space)
+  CameraPosition,  // the hit in camera space (x right, y up, looking along -z)
+  FlowForward,     // pixels to where the point is seen at frame + 1, and the valid fraction
+};
 
 struct AovInfo {
   Aov aov;
@@ -36,6 +50,10 @@ struct AovSample {
   double depth = 0;
   double id = -1;
   Vec2 uv;
+  double depth_z = 0;    // DepthZ (Distance is `depth`)
+  Vec3 position_camera;  // CameraPosition
+  Vec2 flow;             // FlowForward, in pixels, when flow_valid
+  bool flow_valid = false;
 };
 
 struct TileRect {
