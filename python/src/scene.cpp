@@ -3,6 +3,7 @@
 // and watches for KeyboardInterrupt (Ctrl-C), which cancels the render at its next packet.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <future>
 #include <limits>
@@ -141,6 +142,12 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
       list += (list.empty() ? "" : ",") + a;
   }
   aovs = parse_aovs(list);
+  // Flow looks at the next frame, which `anamorph render` loads beside this one; a Scene here
+  // holds one frame.
+  if (std::find(aovs.begin(), aovs.end(), Aov::FlowForward) != aovs.end())
+    throw std::invalid_argument(
+        "AOV 'flow_forward' needs the next frame: render it with `anamorph render --aov "
+        "flow_forward` (docs/vision.md)");
   const auto lock = lock_and_build();
   Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;

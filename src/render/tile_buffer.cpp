@@ -9,17 +9,44 @@ namespace anamorph {
 
 const std::vector<AovInfo>& aov_table() {
   static const std::vector<AovInfo> t = {
-      {Aov::Albedo, "albedo", {"R", "G", "B"}},
-      {Aov::Normal, "normal", {"X", "Y", "Z"}},
-      {Aov::Depth, "depth", {"Z"}},
-      {Aov::Position, "position", {"X", "Y", "Z"}},
-      {Aov::Id, "id", {"id"}},
-      {Aov::Uv, "uv", {"U", "V"}},
-      {Aov::Spp, "spp", {"N"}},
-      {Aov::Distance, "distance", {"D"}},
-      {Aov::DepthZ, "depth_z", {"Z"}},
-      {Aov::CameraPosition, "position_camera", {"X", "Y", "Z"}},
-      {Aov::FlowForward, "flow_forward", {"X", "Y", "valid"}},
+      {Aov::Albedo, "albedo", {"R", "G", "B"}, "base colour of the first surface hit"},
+      {Aov::Normal,
+       "normal",
+       {"X", "Y", "Z"},
+       "world-space shading normal of the first hit, facing the camera ray"},
+      {Aov::Depth,
+       "depth",
+       {"Z"},
+       "ray distance: Euclidean distance from the camera ray's origin to the first hit, scene "
+       "units (the same as distance); inf where nothing is hit"},
+      {Aov::Position, "position", {"X", "Y", "Z"}, "world-space position of the first hit"},
+      {Aov::Id, "id", {"id"}, "object id of the first hit (first sample's), -1 for none"},
+      {Aov::Uv, "uv", {"U", "V"}, "surface parameters of the first hit"},
+      {Aov::Spp, "spp", {"N"}, "camera samples the pixel took"},
+      {Aov::Distance,
+       "distance",
+       {"D"},
+       "ray distance: Euclidean distance from the camera ray's origin (per ray, not the camera "
+       "centre) to the first hit, scene units; inf where nothing is hit"},
+      {Aov::DepthZ,
+       "depth_z",
+       {"Z"},
+       "distance of the first hit in front of the camera rig's origin along its view axis: -z "
+       "of camera space (the rig at shutter open), scene units; the pinhole z-depth, and the "
+       "same plane-parallel depth under any camera (negative behind the rig's plane); inf where "
+       "nothing is hit"},
+      {Aov::CameraPosition,
+       "position_camera",
+       {"X", "Y", "Z"},
+       "first hit in camera space (the rig at shutter open): x right, y up, looking along -z, "
+       "scene units (OpenCV's camera frame is (x, -y, -z))"},
+      {Aov::FlowForward,
+       "flow_forward",
+       {"X", "Y", "valid"},
+       "forward optical flow in pixels (x right, y down): where the first hit's point, moved "
+       "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
+       "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
+       "valid: their fraction of the hits. Occlusion at frame + 1 is not tested"},
   };
   return t;
 }

@@ -34,6 +34,7 @@ struct AovInfo {
   Aov aov;
   const char* name;
   std::vector<std::string> channels;
+  const char* definition;  // what the values are, with units (docs, the EXR's header)
 };
 const std::vector<AovInfo>& aov_table();
 // Parses "albedo,normal,depth"; throws std::invalid_argument naming a bad entry.
