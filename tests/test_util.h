@@ -1,6 +1,7 @@
 // Helpers shared by tests: where fixtures live, and skipping when ../shared is absent.
 #pragma once
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -32,8 +33,14 @@ inline constexpr bool kSanitized = false;
 #endif
 // An image side for an end-to-end render: `n`, or half of it under the sanitizers.
 inline std::string side(int n) { return std::to_string(kSanitized ? n / 2 : n); }
+// Samples a pixel for an end-to-end render: `n`, or a quarter of it under the sanitizers.
+inline int spp(int n) { return kSanitized ? std::max(1, n / 4) : n; }
 
 }  // namespace anamorph::test
+
+// Expects `hay` (a message or a command's output) to contain `needle`, printing `hay` when not.
+#define EXPECT_CONTAINS(hay, needle) \
+  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
 
 // Skips the current test with a clear message when ../shared/scenes is not beside the repo.
 #define ANAMORPH_REQUIRE_SHARED()                                                           \

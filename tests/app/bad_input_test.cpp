@@ -67,9 +67,6 @@ int signal_after(const std::vector<std::string>& args, std::chrono::milliseconds
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 }  // namespace
 
 TEST(BadInput, SixtyFiveCoincidentCoinsRenderAndGiveRays) {

@@ -24,9 +24,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliResult;
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 const char* kPose = "look_from = [0.3, 0.9, 1.5]\nlook_at = [1.3, 1.4, 0.8]\nup = [0.1, 1, 0]\n";
 
 std::string scene(const std::string& camera) {

@@ -153,18 +153,19 @@ constexpr int kKills = test::kSanitized ? 1 : 3;
 TEST(Checkpoint, PathTracingUniformKilledAndResumedIsBitIdentical) {
   kill_and_resume({"path uniform",
                    {"--width", test::side(128), "--height", test::side(128), "--integrator", "path",
-                    "--spp", "192", "--set", "render.tile_size=16"},
+                    "--spp", std::to_string(test::spp(192)), "--set", "render.tile_size=16"},
                    "albedo,normal,depth,id,spp"},
                   ".exr", kKills);
 }
 
 TEST(Checkpoint, PathTracingAdaptiveKilledAndResumedIsBitIdentical) {
-  kill_and_resume({"path per-pixel adaptive",
-                   {"--width", test::side(128), "--height", test::side(128), "--integrator", "path",
-                    "--set", "render.antialias=\"pixel\"", "--set", "render.max_spp=512", "--set",
-                    "render.noise_threshold=0.005"},
-                   "albedo,normal,spp"},
-                  ".exr", kKills);
+  kill_and_resume(
+      {"path per-pixel adaptive",
+       {"--width", test::side(128), "--height", test::side(128), "--integrator", "path", "--set",
+        "render.antialias=\"pixel\"", "--set", "render.max_spp=" + std::to_string(test::spp(512)),
+        "--set", "render.noise_threshold=0.005"},
+       "albedo,normal,spp"},
+      ".exr", kKills);
 }
 
 TEST(Checkpoint, WhittedLatticeKilledAndResumedIsBitIdentical) {
@@ -213,19 +214,20 @@ void budget_and_resume(const Case& c, const std::string& ext) {
 
 TEST(TimeLimit, PathTracingUniformStopsAndResumesToTheSameBits) {
   budget_and_resume({"path uniform",
-                     {"--width", "96", "--height", "96", "--integrator", "path", "--spp", "128",
-                      "--set", "render.tile_size=16"},
+                     {"--width", test::side(96), "--height", test::side(96), "--integrator", "path",
+                      "--spp", std::to_string(test::spp(128)), "--set", "render.tile_size=16"},
                      "albedo,normal,spp"},
                     ".exr");
 }
 
 TEST(TimeLimit, PathTracingAdaptiveStopsAndResumesToTheSameBits) {
-  budget_and_resume({"path per-pixel adaptive",
-                     {"--width", "96", "--height", "96", "--integrator", "path", "--set",
-                      "render.antialias=\"pixel\"", "--set", "render.max_spp=256", "--set",
-                      "render.noise_threshold=0.005", "--set", "render.tile_size=16"},
-                     "albedo,spp"},
-                    ".exr");
+  budget_and_resume(
+      {"path per-pixel adaptive",
+       {"--width", test::side(96), "--height", test::side(96), "--integrator", "path", "--set",
+        "render.antialias=\"pixel\"", "--set", "render.max_spp=" + std::to_string(test::spp(256)),
+        "--set", "render.noise_threshold=0.005", "--set", "render.tile_size=16"},
+       "albedo,spp"},
+      ".exr");
 }
 
 TEST(TimeLimit, WhittedLatticeStopsAndResumesToTheSameBits) {
@@ -267,9 +269,10 @@ TEST(TimeLimit, WithoutCheckpointTheImageSoFarIsTheResult) {
 TEST(Checkpoint, InterruptWritesTheImageSoFarAndResumeFinishes) {
   Scratch s;
   const fs::path ref = s.dir / "ref.png", out = s.dir / "out.png", ck = s.dir / "r.ckpt";
+  const std::string spp = std::to_string(test::spp(256));
   const std::vector<std::string> base{
       "render",       demo_scene(), "-q",    "--width", "128",       "--height", "128",
-      "--integrator", "path",       "--spp", "256",     "--threads", "2"};
+      "--integrator", "path",       "--spp", spp,       "--threads", "2"};
   auto ref_args = base;
   ref_args.insert(ref_args.end(), {"-o", ref.string()});
   const auto t0 = Clock::now();
@@ -303,8 +306,9 @@ TEST(Checkpoint, InterruptWritesTheImageSoFarAndResumeFinishes) {
 TEST(Checkpoint, ChangedSceneOrSettingsAreRefused) {
   Scratch s;
   const fs::path out = s.dir / "out.png", ck = s.dir / "r.ckpt";
+  const std::string spp = std::to_string(test::spp(512)), half = std::to_string(test::spp(256));
   const std::string base = "render " + demo_scene() +
-                           " -q --width 96 --height 96 --integrator path --spp 512 -o " +
+                           " -q --width 96 --height 96 --integrator path --spp " + spp + " -o " +
                            out.string() + " --checkpoint " + ck.string();
   // Interrupted once the checkpoint holds a tile besides its identity (whatever the build's
   // speed), so that cutting its end below leaves good records.
@@ -312,15 +316,16 @@ TEST(Checkpoint, ChangedSceneOrSettingsAreRefused) {
   const auto tile_written = [&] { return has_tile(ck, &identity_size); };
   ASSERT_EQ(run_signalled(
                 {"render", demo_scene(), "-q", "--width", "96", "--height", "96", "--integrator",
-                 "path", "--spp", "512", "-o", out.string(), "--checkpoint", ck.string()},
+                 "path", "--spp", spp, "-o", out.string(), "--checkpoint", ck.string()},
                 tile_written, SIGINT, s.dir / "log"),
             3)
       << test::read_text(s.dir / "log");
-  const test::CliResult spp = test::run_cli(
-      "render " + demo_scene() + " -q --width 96 --height 96 --integrator path --spp 256 -o " +
-      out.string() + " --checkpoint " + ck.string());
-  EXPECT_EQ(spp.code, 2) << spp.out;
-  EXPECT_NE(spp.out.find("render.spp was 512, is 256"), std::string::npos) << spp.out;
+  const test::CliResult other = test::run_cli(
+      "render " + demo_scene() + " -q --width 96 --height 96 --integrator path --spp " + half +
+      " -o " + out.string() + " --checkpoint " + ck.string());
+  EXPECT_EQ(other.code, 2) << other.out;
+  EXPECT_NE(other.out.find("render.spp was " + spp + ", is " + half), std::string::npos)
+      << other.out;
   const test::CliResult fov = test::run_cli(base + " --set camera.fov=170");
   EXPECT_EQ(fov.code, 2) << fov.out;
   EXPECT_NE(fov.out.find("camera.fov"), std::string::npos) << fov.out;

@@ -43,9 +43,6 @@ const char* kSmall =
     "[[object]]\ntype = \"sphere\"\n[[light]]\ntype = \"point\"\nposition = [2, 3, 2]\nintensity = "
     "10\n";
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 }  // namespace
 
 TEST(Cli, VersionAndHelp) {

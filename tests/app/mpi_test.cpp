@@ -110,8 +110,9 @@ TEST(Mpi, PathTracingNoiseDrivenSamplingEqualsOneProcess) {
   // Per-pixel adaptive: the head keeps the film and decides after each pass which pixels go on;
   // a pass's tiles travel with their sums and their part of the active mask.
   expect_same_as_one_process(
-      {{example("examples/demo.toml"), "--width", "160", "--height", "90", "--integrator", "path",
-        "--set", "render.antialias=\"pixel\"", "--set", "render.max_spp=64", "--aov", "albedo,spp"},
+      {{example("examples/demo.toml"), "--width", test::side(160), "--height", test::side(90),
+        "--integrator", "path", "--set", "render.antialias=\"pixel\"", "--set",
+        "render.max_spp=" + std::to_string(test::spp(64)), "--aov", "albedo,spp"},
        ".exr"});
 }
 
@@ -126,11 +127,11 @@ TEST(Mpi, PathTracingInTimedPassesEqualsOneProcess) {
 
 TEST(Mpi, AnimationOfFourFramesEqualsOneProcess) {
   REQUIRE_MPI();
-  expect_same_as_one_process(
-      {{example("examples/apps/coin_animation.toml"), "--width", "160", "--height", "120"},
-       ".png",
-       false,
-       "0:3"});
+  expect_same_as_one_process({{example("examples/apps/coin_animation.toml"), "--width",
+                               test::side(160), "--height", test::side(120)},
+                              ".png",
+                              false,
+                              "0:3"});
 }
 
 TEST(Mpi, OneRankAloneRendersByItself) {
@@ -171,15 +172,16 @@ TEST(Mpi, TimeLimitedPassRenderResumesToTheSameBits) {
   REQUIRE_MPI();
   Scratch s;
   const fs::path ref = s.dir / "ref.exr", out = s.dir / "out.exr", ck = s.dir / "r.ckpt";
-  const std::vector<std::string> base{"render",       example("examples/apps/domemaster.toml"),
-                                      "--width",      "96",
-                                      "--height",     "96",
-                                      "--integrator", "path",
-                                      "--set",        "render.antialias=\"pixel\"",
-                                      "--set",        "render.max_spp=256",
-                                      "--set",        "render.noise_threshold=0.005",
-                                      "--set",        "render.tile_size=16",
-                                      "--aov",        "albedo,spp"};
+  const std::vector<std::string> base{
+      "render",       example("examples/apps/domemaster.toml"),
+      "--width",      test::side(96),
+      "--height",     test::side(96),
+      "--integrator", "path",
+      "--set",        "render.antialias=\"pixel\"",
+      "--set",        "render.max_spp=" + std::to_string(test::spp(256)),
+      "--set",        "render.noise_threshold=0.005",
+      "--set",        "render.tile_size=16",
+      "--aov",        "albedo,spp"};
   const auto t0 = std::chrono::steady_clock::now();
   const test::CliResult r0 = test::run_cli(join(base) + " -q -o " + ref.string(), 600);
   ASSERT_EQ(r0.code, 0) << r0.out;
@@ -235,8 +237,8 @@ TEST(Mpi, KilledRankEndsTheJobAndTheSameCommandResumes) {
   const fs::path ref = s.dir / "ref.png", out = s.dir / "out.png", ck = s.dir / "job.ckpt",
                  log = s.dir / "log";
   const std::vector<std::string> base{"render",   example("examples/apps/domemaster.toml"),
-                                      "--width",  "512",
-                                      "--height", "512",
+                                      "--width",  test::side(512),
+                                      "--height", test::side(512),
                                       "--spp",    "16",
                                       "-q"};
   const test::CliResult r = test::run_cli(join(base) + " -o " + ref.string(), 600);

@@ -25,9 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliResult;
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 struct Input {
   std::string role;
   fs::path path;
@@ -191,10 +188,16 @@ TEST(Outputs, NoOutputOptionOverwritesAnyInput) {
   Fixture fx;
   const std::vector<Input> inputs = inputs_of(fx.scene);
   ASSERT_GE(inputs.size(), 8u);
+  // Under the sanitizers (each run about 10x slower) a third of the pairs, chosen so that every
+  // option still meets several inputs and every input several options.
+  const size_t stride = test::kSanitized ? 3 : 1;
   int runs = 0;
-  for (const OutputOption& o : kOptions) {
+  for (size_t oi = 0; oi < std::size(kOptions); ++oi) {
+    const OutputOption& o = kOptions[oi];
     if (std::string(o.command) == "schema") continue;  // (it reads no file)
-    for (const Input& in : inputs) {
+    for (size_t ii = 0; ii < inputs.size(); ++ii) {
+      if ((oi + ii) % stride != 0) continue;
+      const Input& in = inputs[ii];
       const std::string before = test::read_text(in.path);
       const test::ScratchDir d("outputs_case");
       fs::create_directories((d.dir / o.file).parent_path());
@@ -216,7 +219,7 @@ TEST(Outputs, NoOutputOptionOverwritesAnyInput) {
       EXPECT_TRUE(fs::is_symlink(d.dir / o.file)) << o.file << " was replaced";
     }
   }
-  EXPECT_GE(runs, 16 * 8);
+  EXPECT_GE(runs, 16 * 8 / int(stride));
 }
 
 // Every output option against a read-only file (mode 0444; rename(2) would replace it, and root

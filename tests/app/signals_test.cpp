@@ -152,9 +152,6 @@ struct Fifo {
   ~Fifo() { close(); }
 };
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 const char* kSphere =
     "[image]\nwidth = 32\nheight = 32\n[render]\nantialias = \"uniform\"\ntile_size = 1024\n"
     "[camera]\nlook_from = [0, 1, 4]\nlook_at = [0, 0, 0]\n[[object]]\ntype = \"sphere\"\n";

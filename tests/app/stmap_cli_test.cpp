@@ -22,9 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliResult;
 
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
-
 // The plaza (eight columns capped in eight hues around a checkered floor) seen from one eye
 // point; the equirect looks along -z with y up, the frame of the source projections.
 std::string scene(const std::string& camera, int w, int h, int spp) {

@@ -366,7 +366,7 @@ TEST(CoinCamera, RayFieldIsContinuous) {
       for (CoinFalloff f : kFalloffs) {
         const VirtualCamera cam = with_coins(s, {coin_at(s.coin, 0.9, a, 0.3, 0.2, f)});
         double prev = largest_neighbour_step(cam, 32);
-        for (int n : {64, 128, 256, 512}) {
+        for (int n = 64; n <= (test::kSanitized ? 256 : 512); n *= 2) {  // (512: 3/4 of the work)
           const double step = largest_neighbour_step(cam, n);
           EXPECT_LT(step, 0.65 * prev) << s.label << " " << name(a) << " " << name(f) << " n=" << n;
           prev = step;

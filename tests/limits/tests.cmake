@@ -6,6 +6,6 @@ anamorph_add_test(test_limits
   ${CMAKE_CURRENT_LIST_DIR}/coordinate_range_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/crash_regression_test.cpp
 )
-target_link_libraries(test_limits PRIVATE anamorph_server nlohmann_json::nlohmann_json
+target_link_libraries(test_limits PRIVATE anamorph_server anamorph_test_http nlohmann_json::nlohmann_json
                       tomlplusplus::tomlplusplus)
 add_dependencies(test_limits anamorph)

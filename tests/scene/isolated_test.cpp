@@ -15,6 +15,7 @@
 #include "scene/assimp_child.h"
 #include "scene/isolated.h"
 #include "scene/loaders.h"
+#include "test_util.h"
 
 namespace anamorph {
 namespace {
@@ -28,9 +29,6 @@ std::string error_of(const std::function<std::vector<unsigned char>()>& work,
   }
   return "(no error)";
 }
-
-#define EXPECT_CONTAINS(hay, needle) \
-  EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "message was: " << (hay)
 
 TEST(Isolated, ResultComesBackByteForByte) {
   std::vector<unsigned char> big(10u << 20);

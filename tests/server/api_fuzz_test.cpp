@@ -54,7 +54,12 @@ std::string random_query(std::mt19937& rng, bool frame) {
     const std::string value = name == "version" ? pick(versions) : pick(values);
     q += (q.empty() ? "" : "&") + name + (rng() % 8 == 0 ? "" : "=" + value);
   }
-  if (frame) q += (q.empty() ? "" : "&") + std::string("timeout=") + pick(timeouts);
+  if (frame) {  // (appended piece by piece: GCC 12 warns, wrongly, of an overlapping copy in
+                //  `const char* + std::string&&`)
+    if (!q.empty()) q += '&';
+    q += "timeout=";
+    q += pick(timeouts);
+  }
   return q;
 }
 
