@@ -144,10 +144,11 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
   aovs = parse_aovs(list);
   // Flow looks at the next frame, which `anamorph render` loads beside this one; a Scene here
   // holds one frame.
-  if (std::find(aovs.begin(), aovs.end(), Aov::FlowForward) != aovs.end())
-    throw std::invalid_argument(
-        "AOV 'flow_forward' needs the next frame: render it with `anamorph render --aov "
-        "flow_forward` (docs/vision.md)");
+  for (Aov a : {Aov::FlowForward, Aov::FlowBackward})
+    if (std::find(aovs.begin(), aovs.end(), a) != aovs.end())
+      throw std::invalid_argument(std::string("AOV '") + aov_info(a).name +
+                                  "' needs another frame: render it with `anamorph render --aov " +
+                                  aov_info(a).name + "` (docs/vision.md)");
   const auto lock = lock_and_build();
   Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;

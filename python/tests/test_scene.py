@@ -206,5 +206,6 @@ def test_depth_layers_and_no_flow_from_python():
     xy = img["position_camera"][..., :2]
     np.testing.assert_allclose(img["distance"][..., 0],
                                np.sqrt(25 + (xy ** 2).sum(axis=-1)), rtol=1e-6)
-    with pytest.raises(ValueError, match="flow_forward"):
-        scene.render(aovs=["flow_forward"])
+    for flow in ("flow_forward", "flow_backward"):
+        with pytest.raises(ValueError, match=flow):
+            scene.render(aovs=[flow])

@@ -136,12 +136,14 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
 
 void attach_next_frame(const SceneOptions& o, const std::vector<std::string>& extra,
                        const std::vector<Aov>& aovs, Scene& scene) {
-  if (std::find(aovs.begin(), aovs.end(), Aov::FlowForward) == aovs.end()) return;
-  const double next = scene.frame + 1;
-  if (animates_view_only(scene))
-    scene.next = frame_motion(load_view(o.scene, with_extra(o, extra), next, scene), &scene);
-  else
-    scene.next = frame_motion(load_scene(o.scene, with_extra(o, extra), next));
+  const auto motion = [&](double frame) {
+    if (animates_view_only(scene))
+      return frame_motion(load_view(o.scene, with_extra(o, extra), frame, scene), &scene);
+    return frame_motion(load_scene(o.scene, with_extra(o, extra), frame));
+  };
+  const auto has = [&aovs](Aov a) { return std::find(aovs.begin(), aovs.end(), a) != aovs.end(); };
+  scene.next = has(Aov::FlowForward) ? motion(scene.frame + 1) : nullptr;
+  scene.previous = has(Aov::FlowBackward) ? motion(scene.frame - 1) : nullptr;
 }
 
 void print_error(const std::string& message) {

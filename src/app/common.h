@@ -42,9 +42,9 @@ Scene load(const SceneOptions& o, const std::vector<std::string>& extra_override
 void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
                     double frame, Scene& loaded);
 
-// For layers that look at another frame (flow_forward in `aovs`): `scene`'s next frame, loaded
-// from the same options (only its view when the animation changes only the view; its warnings
-// not printed again), as scene.next. Without such a layer, nothing.
+// For layers that look at other frames (flow_forward, flow_backward in `aovs`): `scene`'s next
+// and previous frames, loaded from the same options (only their view when the animation changes
+// only the view; their warnings not printed again), as scene.next and scene.previous.
 void attach_next_frame(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
                        const std::vector<Aov>& aovs, Scene& scene);
 

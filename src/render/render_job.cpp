@@ -46,7 +46,6 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
       integrator(mode == RenderMode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
       want_aovs(!aovs.empty() || mode != RenderMode::Radiance),
       film_aovs(!aovs.empty()),
-      want_flow(std::find(aovs.begin(), aovs.end(), Aov::FlowForward) != aovs.end()),
       camera_from_world(s.camera->rig().inverse()),
       W(width),
       H(height),
@@ -66,24 +65,30 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
   const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
   hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
                                (mode == RenderMode::Albedo && !any_texture));
-  if (want_flow && s.next) next_motion(*s.next);
+  const auto has = [&aovs](Aov k) { return std::find(aovs.begin(), aovs.end(), k) != aovs.end(); };
+  if (has(Aov::FlowForward)) flow[0] = flow_target(s.next.get());
+  if (has(Aov::FlowBackward)) flow[1] = flow_target(s.previous.get());
 }
 
 // An object's map to the next frame: its transform there after the inverse of its transform here
 // (rigid or affine motion; a deforming mesh's own vertex motion is not followed).
-void RenderJob::next_motion(const FrameMotion& next) {
-  next_camera = next.camera.get();
-  next_from_now.resize(accel.object_count());
+RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other) const {
+  FlowTarget to;
+  to.wanted = true;
+  if (!other) return to;
+  to.camera = other->camera.get();
+  to.there_from_here.resize(accel.object_count());
   for (uint32_t id = 0; id < accel.object_count(); ++id) {
     const Accel::Record& r = accel.record(id);
     const bool shape = r.kind == Accel::Record::Kind::Shape;
-    const std::vector<Transform>& there = shape ? next.shapes : next.instances;
+    const std::vector<Transform>& there = shape ? other->shapes : other->instances;
     const size_t here_count = shape ? scene.shapes.size() : scene.instances.size();
     if (there.size() != here_count || r.source >= there.size()) continue;
     const Transform& here = shape ? scene.shapes[r.source].world_from_object
                                   : scene.instances[r.source].world_from_object;
-    next_from_now[id] = there[r.source] * here.inverse();
+    to.there_from_here[id] = there[r.source] * here.inverse();
   }
+  return to;
 }
 
 double RenderJob::footprint_scale(uint32_t n) {
@@ -111,16 +116,17 @@ void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footpri
 void RenderJob::fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const {
   a.position_camera = camera_from_world.point(hit.p);
   a.depth_z = -a.position_camera.z;
-  a.flow_valid = want_flow && flow_at(hit, uv, &a.flow);
+  for (int d = 0; d < 2; ++d)
+    a.flow_valid[d] = flow[d].wanted && flow_at(flow[d], hit, uv, W, H, &a.flow[d]);
 }
 
-bool RenderJob::flow_at(const Hit& hit, Vec2 uv, Vec2* flow) const {
-  if (!next_camera || !next_from_now[hit.object_id]) return false;
-  const Vec3 q = next_from_now[hit.object_id]->point(hit.p);
+bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow) {
+  if (!to.camera || !to.there_from_here[hit.object_id]) return false;
+  const Vec3 q = to.there_from_here[hit.object_id]->point(hit.p);
   // Of several images (a point seen twice), the nearest to where it is now.
   bool found = false;
   double best = kInf;
-  for (const Vec2& at : next_camera->project(q)) {
+  for (const Vec2& at : to.camera->project(q)) {
     if (!(at.x >= 0 && at.x <= 1 && at.y >= 0 && at.y <= 1)) continue;
     const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
     const double d2 = d.x * d.x + d.y * d.y;

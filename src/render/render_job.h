@@ -45,14 +45,17 @@ struct RenderJob {
   const RenderSettings& rs;
   RenderMode mode;
   std::unique_ptr<Integrator> integrator;
-  bool want_aovs;  // AOV values: for the film's layers or a view
-  bool film_aovs;  // the film has AOV layers
-  bool want_flow;  // the film has a flow layer (each hit projected into the next frame)
+  bool want_aovs;               // AOV values: for the film's layers or a view
+  bool film_aovs;               // the film has AOV layers
   Transform camera_from_world;  // the camera rig at shutter open, inverted (depth_z)
-  // Flow: the next frame's camera (null: none), and per object id the map taking this frame's
-  // point to the next frame's (none: the object is not in the next frame).
-  const Camera* next_camera = nullptr;
-  std::vector<std::optional<Transform>> next_from_now;
+  // Flow toward another frame: its camera (null: none), and per object id the map taking this
+  // frame's point to that frame's (none: the object is not there).
+  struct FlowTarget {
+    bool wanted = false;  // the film has this flow layer
+    const Camera* camera = nullptr;
+    std::vector<std::optional<Transform>> there_from_here;
+  };
+  FlowTarget flow[2];  // forward (frame + 1), backward (frame - 1)
   // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
   // or albedo without textures when there are no AOV layers.
   bool hit_surface;
@@ -106,11 +109,11 @@ struct RenderJob {
  private:
   void fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footprint& fp, AovSample& a) const;
   // The layers a view never shows: depth conventions, camera-space position, flow.
-  void next_motion(const FrameMotion& next);
+  FlowTarget flow_target(const FrameMotion* other) const;
   void fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const;
-  // The flow of the point `hit` sees from image position uv, in pixels: false when it has no
-  // image in the next frame.
-  bool flow_at(const Hit& hit, Vec2 uv, Vec2* flow) const;
+  // The flow of the point `hit` sees from image position uv toward `to`, in pixels: false when
+  // it has no image there.
+  static bool flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow);
   Color aov_beauty(const AovSample& a) const;
 };
 

@@ -47,6 +47,11 @@ const std::vector<AovInfo>& aov_table() {
        "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
        "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
        "valid: their fraction of the hits. Occlusion at frame + 1 is not tested"},
+      {Aov::FlowBackward,
+       "flow_backward",
+       {"X", "Y", "valid"},
+       "backward optical flow in pixels (x right, y down): flow_forward's definition toward "
+       "frame - 1"},
   };
   return t;
 }
@@ -174,12 +179,15 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
         add({a.position_camera.x, a.position_camera.y, a.position_camera.z});
         break;
       case Aov::FlowForward:
+      case Aov::FlowBackward: {
         // Summed over the samples whose point has an image at the other frame, and counted.
-        if (a.flow_valid)
-          add({a.flow.x, a.flow.y, 1.0});
+        const int d = k == Aov::FlowForward ? 0 : 1;
+        if (a.flow_valid[d])
+          add({a.flow[d].x, a.flow[d].y, 1.0});
         else
           v += 3;
         break;
+      }
     }
   }
 }
@@ -197,7 +205,7 @@ void resolve_flow(const PixelSum& p, const float* v, float* out) {
 
 // One AOV's resolved channels from its sums `v` (a pixel's share of aov_sums()).
 void resolve_aov(Aov k, size_t channels, const PixelSum& p, const float* v, float* out) {
-  if (k == Aov::FlowForward) return resolve_flow(p, v, out);
+  if (k == Aov::FlowForward || k == Aov::FlowBackward) return resolve_flow(p, v, out);
   const bool distance = k == Aov::Depth || k == Aov::Distance || k == Aov::DepthZ;
   for (size_t c = 0; c < channels; ++c, ++v, ++out) {
     if (k == Aov::Id)

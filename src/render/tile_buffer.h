@@ -28,6 +28,7 @@ enum class Aov {
   DepthZ,          // along the camera rig's view axis (-z of camera space)
   CameraPosition,  // the hit in camera space (x right, y up, looking along -z)
   FlowForward,     // pixels to where the point is seen at frame + 1, and the valid fraction
+  FlowBackward,    // the same toward frame - 1
 };
 
 struct AovInfo {
@@ -53,8 +54,8 @@ struct AovSample {
   Vec2 uv;
   double depth_z = 0;    // DepthZ (Distance is `depth`)
   Vec3 position_camera;  // CameraPosition
-  Vec2 flow;             // FlowForward, in pixels, when flow_valid
-  bool flow_valid = false;
+  Vec2 flow[2];          // FlowForward, FlowBackward: in pixels, when flow_valid
+  bool flow_valid[2] = {false, false};
 };
 
 struct TileRect {

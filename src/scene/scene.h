@@ -109,9 +109,9 @@ struct Scene {
   // Every file the load read (scene, includes, textures, models and their buffers, ray tables),
   // with its role: no output of the run may overwrite one (app/output_guard.h).
   std::vector<FileRead> inputs;
-  // The scene at frame + 1, when a render asks for forward flow (the flow_forward AOV); null
-  // otherwise.
-  std::shared_ptr<const FrameMotion> next;
+  // The scene at frame + 1 and frame - 1, when a render asks for forward or backward flow (the
+  // flow_forward, flow_backward AOVs); null otherwise.
+  std::shared_ptr<const FrameMotion> next, previous;
 
   size_t triangle_count() const;  // unique (prototype) triangles
   size_t instanced_triangle_count() const;

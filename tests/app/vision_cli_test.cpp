@@ -1,7 +1,7 @@
-// `render --aov flow_forward`: the command loads frame + 1 beside each frame (the whole scene when
-// objects move, only the view when the camera alone does), and each pixel's flow is where frame
-// + 1's camera (Camera::project, what `anamorph project` prints) sees the pixel's point, moved
-// with its object, minus the pixel.
+// `render --aov flow_forward,flow_backward`: the command loads frames + 1 and - 1 beside each frame
+// (the whole scene when objects move, only the view when the camera alone does), and each pixel's
+// flow is where that frame's camera (Camera::project, what `anamorph project` prints) sees the
+// pixel's point, moved with its object, minus the pixel.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@
 
 namespace anamorph {
 namespace {
+
+namespace fs = std::filesystem;
 
 // A 160-degree fisheye at the origin turning between frames 0 and 2, inside a still sphere of
 // radius 20, before a sphere of radius 1 that moves by (0.6, 0, 0) over the two frames when
@@ -36,46 +39,59 @@ std::string turning_scene(bool moving) {
   return s;
 }
 
-TEST(VisionCli, FlowOfASequenceIsTheNextFramesProjection) {
+// Checks the flow layer `layer` of one frame's channels `ch` against `other`'s camera, the moving
+// sphere (id 1) displaced by `move` there.
+void check_flow(const std::map<std::string, std::vector<float>>& ch, int W, int H,
+                const std::string& layer, const Scene& other, const Vec3& move,
+                const std::string& what) {
+  int valid = 0;
+  double worst = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      if (ch.at(layer + ".valid")[i] != 1) continue;
+      ++valid;
+      Vec3 p{ch.at("position.X")[i], ch.at("position.Y")[i], ch.at("position.Z")[i]};
+      if (ch.at("id.id")[i] == 1) p = p + move;
+      const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+      double best = 1e300;
+      Vec2 flow;
+      for (const Vec2& at : other.camera->project(p)) {
+        const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
+        if (d.x * d.x + d.y * d.y < best) best = d.x * d.x + d.y * d.y, flow = d;
+      }
+      ASSERT_LT(best, 1e300) << what << " pixel " << x << "," << y << " has flow, no projection";
+      const double fx = ch.at(layer + ".X")[i], fy = ch.at(layer + ".Y")[i];
+      EXPECT_NEAR(fx, flow.x, 1e-3) << what << " pixel " << x << "," << y;
+      EXPECT_NEAR(fy, flow.y, 1e-3) << what << " pixel " << x << "," << y;
+      worst = std::max({worst, std::abs(fx - flow.x), std::abs(fy - flow.y)});
+    }
+  EXPECT_GT(valid, W * H / 2) << what;
+  std::printf("%s: %d pixels with flow, worst difference %.3g px\n", what.c_str(), valid, worst);
+}
+
+TEST(VisionCli, FlowOfASequenceIsTheOtherFramesProjection) {
   for (const bool moving : {true, false}) {
-    SCOPED_TRACE(moving ? "moving sphere" : "camera only");
     test::ScratchDir dir{"flow"};
     const std::string file = dir.write("s.toml", turning_scene(moving));
     const std::string out = (dir.dir / "f_%04d.exr").string();
-    const test::CliResult r = test::run_cli("render " + file + " -o " + out +
-                                            " --frames 0:1 --aov flow_forward,position,id -q");
+    const test::CliResult r =
+        test::run_cli("render " + file + " -o " + out +
+                      " --frames 0:1 --aov flow_forward,flow_backward,position,id -q");
     ASSERT_EQ(r.code, 0) << r.out;
     for (int frame = 0; frame <= 1; ++frame) {
       int W = 0, H = 0;
-      const auto ch = read_exr_channels(dir.dir / fmt::format("f_{:04d}.exr", frame), &W, &H);
-      const Scene next = load_scene(file, {}, frame + 1);
-      const Vec3 move = moving ? Vec3{0.3, 0, 0} : Vec3{0, 0, 0};  // per frame
-      int valid = 0;
-      double worst = 0;
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-          const size_t i = size_t(y) * size_t(W) + size_t(x);
-          if (ch.at("flow_forward.valid")[i] != 1) continue;
-          ++valid;
-          Vec3 p{ch.at("position.X")[i], ch.at("position.Y")[i], ch.at("position.Z")[i]};
-          if (ch.at("id.id")[i] == 1) p = p + move;
-          const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
-          double best = 1e300;
-          Vec2 flow;
-          for (const Vec2& at : next.camera->project(p)) {
-            const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
-            if (d.x * d.x + d.y * d.y < best) best = d.x * d.x + d.y * d.y, flow = d;
-          }
-          ASSERT_LT(best, 1e300) << "pixel " << x << "," << y << " has flow but no projection";
-          const double fx = ch.at("flow_forward.X")[i], fy = ch.at("flow_forward.Y")[i];
-          EXPECT_NEAR(fx, flow.x, 1e-3) << "frame " << frame << " pixel " << x << "," << y;
-          EXPECT_NEAR(fy, flow.y, 1e-3) << "frame " << frame << " pixel " << x << "," << y;
-          worst = std::max({worst, std::abs(fx - flow.x), std::abs(fy - flow.y)});
-        }
-      EXPECT_GT(valid, W * H / 2) << "frame " << frame;
-      std::printf("%s, frame %d: %d pixels with flow, worst difference %.3g px\n",
-                  moving ? "moving" : "camera only", frame, valid, worst);
-      const auto meta = read_metadata(dir.dir / fmt::format("f_{:04d}.exr", frame));
+      const fs::path exr = dir.dir / fmt::format("f_{:04d}.exr", frame);
+      const auto ch = read_exr_channels(exr, &W, &H);
+      for (const int step : {1, -1}) {
+        const int other = frame + step;  // the keys hold their values before frame 0
+        const double moved = moving ? 0.3 * (std::max(other, 0) - frame) : 0;
+        const std::string what =
+            fmt::format("{}, frame {} to {}", moving ? "moving" : "camera only", frame, other);
+        check_flow(ch, W, H, step > 0 ? "flow_forward" : "flow_backward",
+                   load_scene(file, {}, other), {moved, 0, 0}, what);
+      }
+      const auto meta = read_metadata(exr);
       EXPECT_TRUE(meta.count("anamorph.layer.flow_forward")) << "the layer's definition";
     }
   }

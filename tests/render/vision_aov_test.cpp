@@ -36,6 +36,7 @@ struct VisionFrame {
 VisionFrame render_frame(const std::string& toml, const std::vector<Aov>& aovs, double frame = 0) {
   VisionFrame f{load_scene_from_string(toml, "vision.toml", {}, frame), {}};
   f.scene.next = frame_motion(load_scene_from_string(toml, "vision.toml", {}, frame + 1));
+  f.scene.previous = frame_motion(load_scene_from_string(toml, "vision.toml", {}, frame - 1));
   const Renderer renderer(f.scene);
   Film film(f.scene.render.width, f.scene.render.height, aovs);
   RenderOptions opt;
@@ -179,11 +180,13 @@ double ray_sphere(const Vec3& d, const Vec3& c, double r) {
   return disc < 0 ? -1 : b - std::sqrt(disc);
 }
 
-TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
+// The flow layer `layer` of frame `frame`: the sphere is at `c` then and moves by `move` to the
+// other frame.
+void check_moving_sphere(double frame, Aov layer, const Vec3& c, const Vec3& move) {
   const int W = 48, H = 48;
   const double fov = kPi;
-  const VisionFrame f = render_frame(moving_sphere(W, H), {Aov::FlowForward, Aov::Id});
-  const Vec3 c{0, 0, -3}, move{0.5, 0.2, 0};
+  const std::string name = aov_info(layer).name;
+  const VisionFrame f = render_frame(moving_sphere(W, H), {layer, Aov::Id}, frame);
   int on_sphere = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
@@ -192,11 +195,10 @@ TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
       if (!ray) continue;
       const double t = ray_sphere(ray->dir, c, 1);
       // Pixels whose ray grazes the silhouette may hit either sphere in float.
-      if (length(c - ray->dir * dot(c, ray->dir)) > 0.98 &&
-          length(c - ray->dir * dot(c, ray->dir)) < 1.02)
-        continue;
-      SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y));
-      const double fx = f.at("flow_forward", x, y, 0), fy = f.at("flow_forward", x, y, 1);
+      const double miss = length(c - ray->dir * dot(c, ray->dir));
+      if (miss > 0.98 && miss < 1.02) continue;
+      SCOPED_TRACE(name + " pixel " + std::to_string(x) + "," + std::to_string(y));
+      const double fx = f.at(name, x, y, 0), fy = f.at(name, x, y, 1);
       if (t < 0) {  // the still background: no motion
         EXPECT_EQ(f.at("id", x, y), 0);
         EXPECT_NEAR(fx, 0, 1e-9);
@@ -205,12 +207,18 @@ TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
       }
       ++on_sphere;
       EXPECT_EQ(f.at("id", x, y), 1);
-      Vec2 next;
-      ASSERT_TRUE(fisheye_uv(ray->dir * t + move, fov, &next));
-      EXPECT_NEAR(fx, (next.x - uv.x) * W, 1e-4);
-      EXPECT_NEAR(fy, (next.y - uv.y) * H, 1e-4);
+      Vec2 there;
+      ASSERT_TRUE(fisheye_uv(ray->dir * t + move, fov, &there));
+      EXPECT_NEAR(fx, (there.x - uv.x) * W, 1e-4);
+      EXPECT_NEAR(fy, (there.y - uv.y) * H, 1e-4);
     }
   EXPECT_GT(on_sphere, 50);
+}
+
+TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
+  const Vec3 c{0, 0, -3}, move{0.5, 0.2, 0};
+  check_moving_sphere(0, Aov::FlowForward, c, move);
+  check_moving_sphere(1, Aov::FlowBackward, c + move, -move);
 }
 
 // Warping: the surface parameters (uv) of frame 1, read at each pixel's position plus its flow
