@@ -1,5 +1,6 @@
-// Deterministic random numbers. Every pixel sample gets its own PCG32 stream seeded by hashing
-// (pixel, sample index, scene seed), so an image does not depend on thread scheduling.
+// Deterministic random numbers. Every pixel sample gets its own stream seeded by hashing (pixel,
+// sample index, scene seed), so an image does not depend on thread scheduling: PCG32, or the
+// pixel's scrambled Sobol' points (Rng::qmc).
 #pragma once
 
 #include <cstdint>
@@ -17,10 +18,12 @@ inline uint64_t mix64(uint64_t k) {
 }
 
 // Owen-scrambled, shuffled Sobol' points (Burley, "Practical Hash-based Owen Scrambling", JCGT
-// 2020): the first two Sobol' dimensions form a (0,2)-sequence, so every power-of-two prefix of a
-// pixel's samples is stratified in every elementary interval; nested uniform scrambling (hashed
-// per pixel and dimension pair) randomises it without losing that, and scrambling the index
-// decorrelates the pairs from each other.
+// 2020), padded: every dimension pair of a path is drawn from the first two Sobol' dimensions, a
+// (0,2)-sequence, so every power-of-two prefix of a pixel's samples is stratified in every
+// elementary interval of every pair; nested uniform scrambling (hashed per pixel and dimension
+// pair) randomises each pair without losing that, and scrambling the index per pair decorrelates
+// the pairs from each other (as pbrt-v4's PaddedSobolSampler pads, but with a nested shuffle of
+// the index, which keeps power-of-two prefixes whole where a permutation over spp would not).
 namespace qmc {
 inline uint32_t reverse_bits(uint32_t x) {
   x = __builtin_bswap32(x);  // bytes reversed: one instruction for the first two of five swaps
@@ -29,7 +32,10 @@ inline uint32_t reverse_bits(uint32_t x) {
   x = ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
   return x;
 }
-// Laine and Karras' hash: each bit is flipped depending only on itself and lower bits.
+// Nested uniform (Owen) scrambling of a bit-reversed value by Laine and Karras' hash: each bit is
+// flipped depending only on itself and the bits below it (the higher digits of the unreversed
+// value). Vegdahl's better-mixing variant ("Building a Better LK Hash", 2021) was measured in its
+// place: the bench/cycles box scenes 2-5 % noisier, Cornell 1-2 % less (docs/performance.md).
 inline uint32_t lk_permute(uint32_t x, uint32_t seed) {
   x += seed;
   x ^= x * 0x6c50b47cu;
@@ -80,10 +86,10 @@ class Rng {
     const auto rot = uint32_t(old >> 59u);
     return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
   }
-  // Uniform in [0, 1). The first qmc_dims numbers of a stream with qmc() set come from the
-  // pixel's scrambled Sobol' points, the rest from PCG32.
+  // Uniform in [0, 1). A stream with qmc() set draws every number from the pixel's scrambled
+  // Sobol' points (two dimensions per point); otherwise from PCG32.
   double uniform() {
-    if (dim_ < qmc_dims_) {
+    if (qmc_on_) {
       if (dim_++ & 1) return double(pending_) * 0x1p-32;
       uint32_t x;
       qmc_pair(dim_ >> 1, x, pending_);
@@ -91,23 +97,24 @@ class Rng {
     }
     return double(next_u32()) * 0x1p-32;
   }
-  // Two numbers meant as one 2D sample: a fresh Sobol' pair while the QMC dimensions last (so the
-  // pair is stratified in 2D across the pixel's samples).
+  // Two numbers meant as one 2D sample: with a QMC stream a fresh Sobol' pair (so the pair is
+  // stratified in 2D across the pixel's samples; a lone number left over is skipped).
   void uniform2(double& a, double& b) {
-    if ((dim_ & 1) && dim_ < qmc_dims_) ++dim_;
+    if (qmc_on_ && (dim_ & 1)) ++dim_;
     a = uniform();
     b = uniform();
   }
-  // Makes the first `dims` numbers (at most 32) sample `index` of a progressive low-discrepancy
-  // sequence scrambled by `key` (one per pixel): consecutive sample indices of one pixel are then
-  // stratified against each other, dimension pair by dimension pair.
-  void qmc(uint32_t index, uint64_t key, int dims) {
+  // Makes every later number of this stream come from sample `index` of a progressive
+  // low-discrepancy sequence scrambled by `key` (one per pixel): consecutive sample indices of one
+  // pixel are then stratified against each other, dimension pair by dimension pair, in every
+  // dimension a path draws.
+  void qmc(uint32_t index, uint64_t key) {
     qmc_rindex_ = qmc::reverse_bits(index);
     qmc_key_ = key;
-    qmc_dims_ = uint8_t(dims);
+    qmc_on_ = true;
     dim_ = 0;
   }
-  bool qmc_active() const { return dim_ < qmc_dims_; }
+  bool qmc_active() const { return qmc_on_; }
 
   static Rng for_sample(uint32_t px, uint32_t py, uint32_t sample, uint64_t seed) {
     const uint64_t pixel = (uint64_t(py) << 32) | px;
@@ -130,7 +137,8 @@ class Rng {
   uint64_t state_ = 0x853c49e6748fea9bULL, inc_ = 0xda3e39cb94b95bdbULL;
   uint64_t qmc_key_ = 0;
   uint32_t qmc_rindex_ = 0, pending_ = 0;  // the sample index, bit-reversed; a pair's y
-  uint8_t qmc_dims_ = 0, dim_ = 0;
+  uint32_t dim_ = 0;                       // numbers drawn since qmc()
+  bool qmc_on_ = false;
 };
 
 }  // namespace anamorph

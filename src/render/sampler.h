@@ -1,9 +1,9 @@
 // Pixel sample positions. `center`: exactly the pixel center. `stratified`: the renderer's
-// sample passes take positions (and lens, time, and the first bounces' light and BSDF numbers)
-// from the pixel's Owen-scrambled Sobol' points (Rng::qmc), so every prefix of a pixel's samples
-// is stratified. `random`: independent uniform. The Gaussian filter warps the position by filter
-// importance sampling, so every sample has weight 1 and no sample crosses into another pixel's
-// sums.
+// sample passes take positions and every later number (lens, time, each bounce's light, BSDF and
+// roulette numbers) from the pixel's Owen-scrambled Sobol' points (Rng::qmc), so every prefix of
+// a pixel's samples is stratified. `random`: independent uniform. The Gaussian filter warps the
+// position by filter importance sampling, so every sample has weight 1 and no sample crosses into
+// another pixel's sums.
 #pragma once
 
 #include <cmath>

@@ -7,12 +7,6 @@
 
 namespace anamorph {
 
-namespace {
-// Stratified sampling takes pixel position, lens, time and the first three bounces' light and
-// BSDF numbers from the pixel's scrambled Sobol' points.
-constexpr int kQmcDims = 24;
-}  // namespace
-
 TileSampler::TileSampler(const RenderJob& job)
     : job_(job),
       lens_time_(job.scene.camera->uses_lens_or_time()),
@@ -69,7 +63,9 @@ void TileSampler::fill_lane(Packet& p, int k, uint32_t s) const {
   const uint64_t seed = job_.rs.seed;
   Rng& rng = p.rng[k];
   rng = Rng::for_sample(uint32_t(p.x[k]), uint32_t(p.y[k]), s, seed);
-  if (qmc_) rng.qmc(s, mix64((uint64_t(p.y[k]) << 32 | uint32_t(p.x[k])) ^ seed), kQmcDims);
+  // Stratified sampling takes every number of the sample (position, lens, time, every bounce's
+  // light, BSDF and roulette numbers) from the pixel's scrambled Sobol' points.
+  if (qmc_) rng.qmc(s, mix64((uint64_t(p.y[k]) << 32 | uint32_t(p.x[k])) ^ seed));
   Vec2 off;
   if (qmc_)
     rng.uniform2(off.x, off.y);
