@@ -3,6 +3,7 @@
 // and watches for KeyboardInterrupt (Ctrl-C), which cancels the render at its next packet.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <future>
 #include <limits>
@@ -141,6 +142,13 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
       list += (list.empty() ? "" : ",") + a;
   }
   aovs = parse_aovs(list);
+  // Flow looks at the next frame, which `anamorph render` loads beside this one; a Scene here
+  // holds one frame.
+  for (Aov a : {Aov::FlowForward, Aov::FlowBackward})
+    if (std::find(aovs.begin(), aovs.end(), a) != aovs.end())
+      throw std::invalid_argument(std::string("AOV '") + aov_info(a).name +
+                                  "' needs another frame: render it with `anamorph render --aov " +
+                                  aov_info(a).name + "` (docs/vision.md)");
   const auto lock = lock_and_build();
   Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;

@@ -191,3 +191,21 @@ def test_a_time_limit_stops_at_whole_passes_with_every_pixel_sampled():
     assert spp.min() >= 1, "a pixel without samples"
     assert spp.max() < 100000, "the time limit did not stop the render"
     assert (img["rgba"][..., 3] > 0).all()
+
+
+def test_depth_layers_and_no_flow_from_python():
+    # A plane 5 units in front of a perspective camera: depth_z is 5 at every pixel, distance
+    # 5 / cos(angle to the axis), and position_camera's z is -5; flow needs the next frame.
+    scene = anamorph.loads(
+        '[image]\nwidth = 8\nheight = 6\n[render]\nintegrator = "albedo"\nsampler = "center"\n'
+        '[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 90\n'
+        '[[object]]\ntype = "plane"\nnormal = [0, 0, 1]\n')
+    img = scene.render(aovs=["distance", "depth_z", "position_camera"])
+    np.testing.assert_allclose(img["depth_z"], 5, rtol=1e-6)
+    np.testing.assert_allclose(img["position_camera"][..., 2], -5, rtol=1e-6)
+    xy = img["position_camera"][..., :2]
+    np.testing.assert_allclose(img["distance"][..., 0],
+                               np.sqrt(25 + (xy ** 2).sum(axis=-1)), rtol=1e-6)
+    for flow in ("flow_forward", "flow_backward"):
+        with pytest.raises(ValueError, match=flow):
+            scene.render(aovs=[flow])

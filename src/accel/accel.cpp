@@ -229,6 +229,7 @@ void Accel::add_flat_meshes(const Scene& scene, const Instance& inst) {
     auto rec = std::make_unique<Record>();
     rec->kind = Record::Kind::FlatMesh;
     rec->mesh = &fm;
+    rec->source = uint32_t(&inst - scene.instances.data());
     attach(g, std::move(rec), mask_of(mat));
     stats_.unique_triangles += fm.triangle_count();
     stats_.instanced_triangles += fm.triangle_count();
@@ -265,6 +266,7 @@ void Accel::add_instance(const Scene& scene, const Instance& inst) {
   auto rec = std::make_unique<Record>();
   rec->kind = Record::Kind::Instance;
   rec->proto = &proto;
+  rec->source = uint32_t(&inst - scene.instances.data());
   rec->world_from_object = inst.world_from_object;
   rec->object_from_world = inst.world_from_object.inverse();
   attach(g, std::move(rec), mask);
@@ -277,6 +279,7 @@ void Accel::add_shape(const Scene& scene, const AnalyticShape& sh) {
   auto rec = std::make_unique<Record>();
   rec->kind = Record::Kind::Shape;
   rec->shape = &sh;
+  rec->source = uint32_t(&sh - scene.shapes.data());
   rec->world_from_object = sh.world_from_object;
   rec->object_from_world = sh.world_from_object.inverse();
   RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);

@@ -82,6 +82,8 @@ class Accel {
     const Prototype* proto = nullptr;      // Instance (object-space meshes)
     const AnalyticShape* shape = nullptr;  // Shape
     Transform world_from_object, object_from_world;
+    // What it came from: an index into the scene's instances (FlatMesh, Instance) or shapes.
+    uint32_t source = 0;
   };
   const Record& record(uint32_t object_id) const { return *records_[object_id]; }
 

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -131,6 +132,18 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.effective_toml = std::move(v.effective_toml);
   loaded.frame = frame;
   loaded.inputs.insert(loaded.inputs.end(), v.inputs.begin(), v.inputs.end());
+}
+
+void attach_next_frame(const SceneOptions& o, const std::vector<std::string>& extra,
+                       const std::vector<Aov>& aovs, Scene& scene) {
+  const auto motion = [&](double frame) {
+    if (animates_view_only(scene))
+      return frame_motion(load_view(o.scene, with_extra(o, extra), frame, scene), &scene);
+    return frame_motion(load_scene(o.scene, with_extra(o, extra), frame));
+  };
+  const auto has = [&aovs](Aov a) { return std::find(aovs.begin(), aovs.end(), a) != aovs.end(); };
+  scene.next = has(Aov::FlowForward) ? motion(scene.frame + 1) : nullptr;
+  scene.previous = has(Aov::FlowBackward) ? motion(scene.frame - 1) : nullptr;
 }
 
 void print_error(const std::string& message) {

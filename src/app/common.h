@@ -14,6 +14,7 @@ class App;
 #include <vector>
 
 #include "app/interrupt.h"
+#include "render/tile_buffer.h"
 #include "scene/scene.h"
 
 namespace anamorph::app {
@@ -40,6 +41,12 @@ Scene load(const SceneOptions& o, const std::vector<std::string>& extra_override
 // camera and settings moved into `loaded` (loaded from the same options), warnings printed.
 void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
                     double frame, Scene& loaded);
+
+// For layers that look at other frames (flow_forward, flow_backward in `aovs`): `scene`'s next
+// and previous frames, loaded from the same options (only their view when the animation changes
+// only the view; their warnings not printed again), as scene.next and scene.previous.
+void attach_next_frame(const SceneOptions& o, const std::vector<std::string>& extra_overrides,
+                       const std::vector<Aov>& aovs, Scene& scene);
 
 // "error: MESSAGE" and "warning: MESSAGE" on stderr, the message escaped (math/user_text.h):
 // messages quote user text (file names, keys, values), which may hold control characters.

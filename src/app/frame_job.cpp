@@ -221,13 +221,16 @@ FrameResult render_to_files(const FrameJob& job) {
   return renders_in_passes(job.scene.render) ? render_passes(job, id) : render_streamed(job, id);
 }
 
-std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame) {
+std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame,
+                                                  const std::vector<Aov>& aovs) {
   std::map<std::string, std::string> metadata;
   metadata["anamorph.version"] = ANAMORPH_VERSION;
   metadata["anamorph.command"] = command_line();
   metadata["anamorph.scene"] = scene.path;
   metadata["anamorph.camera"] = scene.camera->describe() + "\n" + scene.camera_toml;
   if (!scene.animated.empty()) metadata["anamorph.frame"] = fmt::format("{}", frame);
+  for (Aov a : aovs)
+    metadata[std::string("anamorph.layer.") + aov_info(a).name] = aov_info(a).definition;
   return metadata;
 }
 

@@ -46,8 +46,10 @@ struct FrameResult {
   size_t resumed_tiles = 0;
 };
 
-// The files' metadata: version, command line, scene, camera, frame.
-std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame);
+// The files' metadata: version, command line, scene, camera, frame, and the definition of each
+// of `aovs` (anamorph.layer.NAME).
+std::map<std::string, std::string> frame_metadata(const Scene& scene, double frame,
+                                                  const std::vector<Aov>& aovs = {});
 
 // What a checkpoint of this frame must match: the scene as rendered, the outputs, the AOVs and
 // the layers the outputs take.

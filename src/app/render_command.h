@@ -107,8 +107,10 @@ int render_sequence(const RenderSetup& s);
 struct FrameScene {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;
-  // Loads `frame`; true when it needs a new renderer (the old one is gone then).
-  bool load_frame(const SceneOptions& o, const std::vector<std::string>& extra, double frame);
+  // Loads `frame` (and what `aovs` need of the next: attach_next_frame); true when it needs a
+  // new renderer (the old one is gone then).
+  bool load_frame(const SceneOptions& o, const std::vector<std::string>& extra, double frame,
+                  const std::vector<Aov>& aovs);
 };
 // The head rank of an MPI job renders nothing itself: it builds no acceleration structure.
 std::unique_ptr<Renderer> make_renderer(const Scene& scene, const TileFarm* farm);

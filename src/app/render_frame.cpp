@@ -45,7 +45,7 @@ int render_to_outputs(const RenderSetup& s, const Scene& scene, const Renderer& 
                renderer,
                s.aovs,
                output_files(files.out, render_layers(s.aovs)),
-               frame_metadata(scene, frame),
+               frame_metadata(scene, frame, s.aovs),
                files.checkpoint,
                s.checkpoint_every,
                s.args.threads.value_or(0),

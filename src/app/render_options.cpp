@@ -116,7 +116,8 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--sampler", a->sampler, "center | stratified | random");
   cmd->add_option("--aov", a->aovs,
                   "Extra layers written to EXR (beside a PNG: <output>.exr): "
-                  "albedo,normal,depth,position,id,uv,spp,coins "
+                  "albedo,normal,depth,distance,depth_z,position,position_camera,id,uv,spp,"
+                  "flow_forward,flow_backward,coins "
                   "(coins also writes <output>.coins.png with the markers drawn in)");
   cmd->add_option("--frames", a->frames,
                   "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");

@@ -92,7 +92,7 @@ int sequence_frame(const RenderSetup& s, FrameScene& current, int f, int first, 
   set_interrupt_note(
       fmt::format("{} not written{}", files.out,
                   f > first ? fmt::format("; frames {}..{} were written", first, f - 1) : ""));
-  const bool fresh = current.load_frame(s.args.scene, s.extra, f);
+  const bool fresh = current.load_frame(s.args.scene, s.extra, f, s.aovs);
   check_render_outputs(frame_outputs(s, f), current.scene->inputs);
   if (place.index == 0) check_frames(s.args.scene, s.extra, f, last, *current.scene);
   if (!fits_in_memory(s, *current.scene, files.out)) return kBadInput;
@@ -122,7 +122,8 @@ int render_single(const RenderSetup& s) {
   }
   check_render_outputs(s.outs, s.scene_file);
   set_interrupt_note(s.out + " not written");
-  const Scene scene = load(a.scene, s.extra, 0);
+  Scene scene = load(a.scene, s.extra, 0);
+  attach_next_frame(a.scene, s.extra, s.aovs, scene);
   check_render_outputs(s.outs, scene.inputs);
   if (!fits_in_memory(s, scene, s.out)) return kBadInput;
   const std::unique_ptr<Renderer> renderer = make_renderer(scene, s.farm);

@@ -7,13 +7,15 @@
 namespace anamorph::app {
 
 bool FrameScene::load_frame(const SceneOptions& o, const std::vector<std::string>& extra,
-                            double frame) {
+                            double frame, const std::vector<Aov>& aovs) {
   if (scene && animates_view_only(*scene)) {
     load_view_into(o, extra, frame, *scene);
+    attach_next_frame(o, extra, aovs, *scene);
     return false;
   }
   renderer.reset();  // (it refers to the scene)
   scene = std::make_unique<Scene>(load(o, extra, frame));
+  attach_next_frame(o, extra, aovs, *scene);
   return true;
 }
 
@@ -25,7 +27,7 @@ std::unique_ptr<Renderer> make_renderer(const Scene& scene, const TileFarm* farm
 int serve_worker(const RenderSetup& s) {
   FrameScene current;
   return dist::serve_tiles(s.args.threads.value_or(0), s.aovs, [&](double frame) {
-    if (current.load_frame(s.args.scene, s.extra, frame))
+    if (current.load_frame(s.args.scene, s.extra, frame, s.aovs))
       current.renderer = std::make_unique<Renderer>(*current.scene);
     const RenderSettings& rs = current.scene->render;
     return dist::WorkerFrame{current.renderer.get(), rs.width, rs.height};

@@ -38,14 +38,15 @@ Color id_color(double id) {
 }  // namespace
 
 RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, int width,
-                     int height, bool aovs)
+                     int height, const std::vector<Aov>& aovs)
     : scene(s),
       accel(a),
       rs(s.render),
       mode(mode_of(rs.view)),
       integrator(mode == RenderMode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
-      want_aovs(aovs || mode != RenderMode::Radiance),
-      film_aovs(aovs),
+      want_aovs(!aovs.empty() || mode != RenderMode::Radiance),
+      film_aovs(!aovs.empty()),
+      camera_from_world(s.camera->rig().inverse()),
       W(width),
       H(height),
       cancel(ctx.cancel) {
@@ -64,13 +65,38 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
   const bool any_texture = std::find(textured.begin(), textured.end(), 1) != textured.end();
   hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
                                (mode == RenderMode::Albedo && !any_texture));
+  const auto has = [&aovs](Aov k) { return std::find(aovs.begin(), aovs.end(), k) != aovs.end(); };
+  if (has(Aov::FlowForward)) flow[0] = flow_target(s.next.get());
+  if (has(Aov::FlowBackward)) flow[1] = flow_target(s.previous.get());
+}
+
+// An object's map to the next frame: its transform there after the inverse of its transform here
+// (rigid or affine motion; a deforming mesh's own vertex motion is not followed).
+RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other) const {
+  FlowTarget to;
+  to.wanted = true;
+  if (!other) return to;
+  to.camera = other->camera.get();
+  to.there_from_here.resize(accel.object_count());
+  for (uint32_t id = 0; id < accel.object_count(); ++id) {
+    const Accel::Record& r = accel.record(id);
+    const bool shape = r.kind == Accel::Record::Kind::Shape;
+    const std::vector<Transform>& there = shape ? other->shapes : other->instances;
+    const size_t here_count = shape ? scene.shapes.size() : scene.instances.size();
+    if (there.size() != here_count || r.source >= there.size()) continue;
+    const Transform& here = shape ? scene.shapes[r.source].world_from_object
+                                  : scene.instances[r.source].world_from_object;
+    to.there_from_here[id] = there[r.source] * here.inverse();
+  }
+  return to;
 }
 
 double RenderJob::footprint_scale(uint32_t n) {
   return std::max(0.125, 1.0 / std::sqrt(double(std::max(1u, n))));
 }
 
-void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const {
+void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footprint& fp,
+                          AovSample& a) const {
   // Every field for AOV layers; otherwise only the one the view shows.
   const bool all = film_aovs;
   const Material& m = *scene.materials[hit.material];
@@ -84,6 +110,29 @@ void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, A
   if (all || mode == RenderMode::Depth) a.depth = hit.t;
   if (all || mode == RenderMode::Id) a.id = hit.object_id;
   if (all || mode == RenderMode::Uv) a.uv = hit.uv;
+  if (all) fill_vision_aovs(hit, uv, a);
+}
+
+void RenderJob::fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const {
+  a.position_camera = camera_from_world.point(hit.p);
+  a.depth_z = -a.position_camera.z;
+  for (int d = 0; d < 2; ++d)
+    a.flow_valid[d] = flow[d].wanted && flow_at(flow[d], hit, uv, W, H, &a.flow[d]);
+}
+
+bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow) {
+  if (!to.camera || !to.there_from_here[hit.object_id]) return false;
+  const Vec3 q = to.there_from_here[hit.object_id]->point(hit.p);
+  // Of several images (a point seen twice), the nearest to where it is now.
+  bool found = false;
+  double best = kInf;
+  for (const Vec2& at : to.camera->project(q)) {
+    if (!(at.x >= 0 && at.x <= 1 && at.y >= 0 && at.y <= 1)) continue;
+    const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
+    const double d2 = d.x * d.x + d.y * d.y;
+    if (d2 < best) best = d2, *flow = d, found = true;
+  }
+  return found;
 }
 
 Color RenderJob::aov_beauty(const AovSample& a) const {
@@ -126,7 +175,7 @@ SampleResult RenderJob::sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double foot
   const bool found = accel.intersect(ray, &h);
   SampleResult out;
   finish(
-      ray, [&] { return *cam; }, found ? &h : nullptr, rng, rays, out, footprint);
+      ray, [&] { return *cam; }, found ? &h : nullptr, uv, rng, rays, out, footprint);
   return out;
 }
 
@@ -163,7 +212,7 @@ void RenderJob::lattice_samples(const Vec2* uv, const uint64_t* keys, const doub
     ++rays;
     finish(
         Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
-        found[k] ? &hits[k] : nullptr, rng[k], rays, out[k], footprints[k]);
+        found[k] ? &hits[k] : nullptr, uv[k], rng[k], rays, out[k], footprints[k]);
   }
 }
 

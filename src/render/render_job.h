@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "accel/accel.h"
@@ -37,15 +38,24 @@ enum class RenderMode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };
 
 struct RenderJob {
   RenderJob(const Scene& scene, const Accel& accel, const RenderContext& ctx, int width, int height,
-            bool film_aovs);
+            const std::vector<Aov>& film_aovs);
 
   const Scene& scene;
   const Accel& accel;
   const RenderSettings& rs;
   RenderMode mode;
   std::unique_ptr<Integrator> integrator;
-  bool want_aovs;  // AOV values: for the film's layers or a view
-  bool film_aovs;  // the film has AOV layers
+  bool want_aovs;               // AOV values: for the film's layers or a view
+  bool film_aovs;               // the film has AOV layers
+  Transform camera_from_world;  // the camera rig at shutter open, inverted (depth_z)
+  // Flow toward another frame: its camera (null: none), and per object id the map taking this
+  // frame's point to that frame's (none: the object is not there).
+  struct FlowTarget {
+    bool wanted = false;  // the film has this flow layer
+    const Camera* camera = nullptr;
+    std::vector<std::optional<Transform>> there_from_here;
+  };
+  FlowTarget flow[2];  // forward (frame + 1), backward (frame - 1)
   // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
   // or albedo without textures when there are no AOV layers.
   bool hit_surface;
@@ -65,14 +75,14 @@ struct RenderJob {
   // pixel: finer footprints only add texture noise).
   static double footprint_scale(uint32_t n);
 
-  // Completes a camera sample whose first hit is known. `footprint` is the sample's share of a
-  // pixel as a scale of the pixel's footprint; `cam_ray()` gives the camera ray with its
-  // differentials (asked for only where a footprint is needed: primary packets hold their rays as
-  // arrays). Writes into `out` (reused by the caller: building a fresh result per sample meant
-  // zeroing ~150 bytes per ray, a visible cost for primary-ray renders).
+  // Completes a camera sample at image position `uv` whose first hit is known. `footprint` is the
+  // sample's share of a pixel as a scale of the pixel's footprint; `cam_ray()` gives the camera ray
+  // with its differentials (asked for only where a footprint is needed: primary packets hold their
+  // rays as arrays). Writes into `out` (reused by the caller: building a fresh result per sample
+  // meant zeroing ~150 bytes per ray, a visible cost for primary-ray renders).
   template <class CamRay>
-  void finish(const Ray& ray, const CamRay& cam_ray, const Hit* hit, Rng& rng, uint64_t& rays,
-              SampleResult& out, double footprint = 1) const {
+  void finish(const Ray& ray, const CamRay& cam_ray, const Hit* hit, Vec2 uv, Rng& rng,
+              uint64_t& rays, SampleResult& out, double footprint = 1) const {
     out.alpha = 1;
     out.aov.hit = false;
     Footprint fp;
@@ -80,7 +90,7 @@ struct RenderJob {
     // ray cones carry it to textures further along).
     if (hit && needs_footprint[hit->material])
       fp = footprint_at(cam_ray(), du * footprint, dv * footprint, *hit);
-    if (want_aovs && hit) fill_aovs(ray, *hit, fp, out.aov);
+    if (want_aovs && hit) fill_aovs(ray, *hit, uv, fp, out.aov);
     out.L = mode == RenderMode::Radiance ? integrator->radiance(ray, hit, fp, rng, rays)
                                          : aov_beauty(out.aov);
   }
@@ -97,7 +107,13 @@ struct RenderJob {
                        CameraRayBatch* keep) const;
 
  private:
-  void fill_aovs(const Ray& ray, const Hit& hit, const Footprint& fp, AovSample& a) const;
+  void fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footprint& fp, AovSample& a) const;
+  // The layers a view never shows: depth conventions, camera-space position, flow.
+  FlowTarget flow_target(const FrameMotion* other) const;
+  void fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const;
+  // The flow of the point `hit` sees from image position uv toward `to`, in pixels: false when
+  // it has no image there.
+  static bool flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow);
   Color aov_beauty(const AovSample& a) const;
 };
 

@@ -9,13 +9,49 @@ namespace anamorph {
 
 const std::vector<AovInfo>& aov_table() {
   static const std::vector<AovInfo> t = {
-      {Aov::Albedo, "albedo", {"R", "G", "B"}},
-      {Aov::Normal, "normal", {"X", "Y", "Z"}},
-      {Aov::Depth, "depth", {"Z"}},
-      {Aov::Position, "position", {"X", "Y", "Z"}},
-      {Aov::Id, "id", {"id"}},
-      {Aov::Uv, "uv", {"U", "V"}},
-      {Aov::Spp, "spp", {"N"}},
+      {Aov::Albedo, "albedo", {"R", "G", "B"}, "base colour of the first surface hit"},
+      {Aov::Normal,
+       "normal",
+       {"X", "Y", "Z"},
+       "world-space shading normal of the first hit, facing the camera ray"},
+      {Aov::Depth,
+       "depth",
+       {"Z"},
+       "ray distance: Euclidean distance from the camera ray's origin to the first hit, scene "
+       "units (the same as distance); inf where nothing is hit"},
+      {Aov::Position, "position", {"X", "Y", "Z"}, "world-space position of the first hit"},
+      {Aov::Id, "id", {"id"}, "object id of the first hit (first sample's), -1 for none"},
+      {Aov::Uv, "uv", {"U", "V"}, "surface parameters of the first hit"},
+      {Aov::Spp, "spp", {"N"}, "camera samples the pixel took"},
+      {Aov::Distance,
+       "distance",
+       {"D"},
+       "ray distance: Euclidean distance from the camera ray's origin (per ray, not the camera "
+       "centre) to the first hit, scene units; inf where nothing is hit"},
+      {Aov::DepthZ,
+       "depth_z",
+       {"Z"},
+       "distance of the first hit in front of the camera rig's origin along its view axis: -z "
+       "of camera space (the rig at shutter open), scene units; the pinhole z-depth, and the "
+       "same plane-parallel depth under any camera (negative behind the rig's plane); inf where "
+       "nothing is hit"},
+      {Aov::CameraPosition,
+       "position_camera",
+       {"X", "Y", "Z"},
+       "first hit in camera space (the rig at shutter open): x right, y up, looking along -z, "
+       "scene units (OpenCV's camera frame is (x, -y, -z))"},
+      {Aov::FlowForward,
+       "flow_forward",
+       {"X", "Y", "valid"},
+       "forward optical flow in pixels (x right, y down): where the first hit's point, moved "
+       "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
+       "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
+       "valid: their fraction of the hits. Occlusion at frame + 1 is not tested"},
+      {Aov::FlowBackward,
+       "flow_backward",
+       {"X", "Y", "valid"},
+       "backward optical flow in pixels (x right, y down): flow_forward's definition toward "
+       "frame - 1"},
   };
   return t;
 }
@@ -133,21 +169,51 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
       case Aov::Spp:
         ++v;  // read from the pixel's sample count when resolved
         break;
+      case Aov::Distance:
+        add({a.depth});
+        break;
+      case Aov::DepthZ:
+        add({a.depth_z});
+        break;
+      case Aov::CameraPosition:
+        add({a.position_camera.x, a.position_camera.y, a.position_camera.z});
+        break;
+      case Aov::FlowForward:
+      case Aov::FlowBackward: {
+        // Summed over the samples whose point has an image at the other frame, and counted.
+        const int d = k == Aov::FlowForward ? 0 : 1;
+        if (a.flow_valid[d])
+          add({a.flow[d].x, a.flow[d].y, 1.0});
+        else
+          v += 3;
+        break;
+      }
     }
   }
 }
 
 namespace {
 
+// Flow: the mean over the samples that have one (NaN where none has), and the fraction of the
+// pixel's hits that have one.
+void resolve_flow(const PixelSum& p, const float* v, float* out) {
+  const float valid = v[2];
+  out[0] = valid > 0 ? v[0] / valid : std::numeric_limits<float>::quiet_NaN();
+  out[1] = valid > 0 ? v[1] / valid : std::numeric_limits<float>::quiet_NaN();
+  out[2] = p.hits > 0 ? valid / float(p.hits) : 0.0f;
+}
+
 // One AOV's resolved channels from its sums `v` (a pixel's share of aov_sums()).
 void resolve_aov(Aov k, size_t channels, const PixelSum& p, const float* v, float* out) {
+  if (k == Aov::FlowForward || k == Aov::FlowBackward) return resolve_flow(p, v, out);
+  const bool distance = k == Aov::Depth || k == Aov::Distance || k == Aov::DepthZ;
   for (size_t c = 0; c < channels; ++c, ++v, ++out) {
     if (k == Aov::Id)
       *out = *v > 0 ? *v - 1 : -1.0f;
     else if (k == Aov::Spp)
       *out = float(p.spp);
     else if (p.hits == 0)
-      *out = k == Aov::Depth ? std::numeric_limits<float>::infinity() : 0.0f;
+      *out = distance ? std::numeric_limits<float>::infinity() : 0.0f;
     else
       *out = *v / float(p.hits);
   }

@@ -14,12 +14,28 @@
 
 namespace anamorph {
 
-enum class Aov { Albedo, Normal, Depth, Position, Id, Uv, Spp };
+// The layers a render can sum beside radiance; docs/vision.md defines the depth, camera-space
+// and flow conventions.
+enum class Aov {
+  Albedo,
+  Normal,
+  Depth,
+  Position,
+  Id,
+  Uv,
+  Spp,
+  Distance,        // ray distance: |hit - ray origin| (= depth)
+  DepthZ,          // along the camera rig's view axis (-z of camera space)
+  CameraPosition,  // the hit in camera space (x right, y up, looking along -z)
+  FlowForward,     // pixels to where the point is seen at frame + 1, and the valid fraction
+  FlowBackward,    // the same toward frame - 1
+};
 
 struct AovInfo {
   Aov aov;
   const char* name;
   std::vector<std::string> channels;
+  const char* definition;  // what the values are, with units (docs, the EXR's header)
 };
 const std::vector<AovInfo>& aov_table();
 // Parses "albedo,normal,depth"; throws std::invalid_argument naming a bad entry.
@@ -36,6 +52,10 @@ struct AovSample {
   double depth = 0;
   double id = -1;
   Vec2 uv;
+  double depth_z = 0;    // DepthZ (Distance is `depth`)
+  Vec3 position_camera;  // CameraPosition
+  Vec2 flow[2];          // FlowForward, FlowBackward: in pixels, when flow_valid
+  bool flow_valid[2] = {false, false};
 };
 
 struct TileRect {

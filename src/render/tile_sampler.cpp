@@ -97,7 +97,7 @@ void TileSampler::trace(Packet& p, uint32_t s, double footprint, TileBuffer& til
     st.rays++;
     job_.finish(
         Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
-        p.found[k] ? &p.hits[k] : nullptr, p.rng[k], st.rays, res, footprint);
+        p.found[k] ? &p.hits[k] : nullptr, p.cs[k].uv, p.rng[k], st.rays, res, footprint);
     if (!film_storable(res.L)) {
       st.nan(p.x[k], p.y[k], int(s));  // dropped
       continue;

@@ -16,4 +16,14 @@ size_t Scene::instanced_triangle_count() const {
   return n;
 }
 
+std::shared_ptr<const FrameMotion> frame_motion(Scene&& other, const Scene* geometry) {
+  const Scene& g = geometry ? *geometry : other;
+  auto m = std::make_shared<FrameMotion>();
+  m->frame = other.frame;
+  for (const Instance& i : g.instances) m->instances.push_back(i.world_from_object);
+  for (const AnalyticShape& s : g.shapes) m->shapes.push_back(s.world_from_object);
+  m->camera = std::move(other.camera);
+  return m;
+}
+
 }  // namespace anamorph

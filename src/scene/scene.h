@@ -75,6 +75,14 @@ struct SceneRig {
   bool animate = true;                      // false: the file's static pose, always
 };
 
+// The scene at another frame, as motion vectors need it: that frame's camera and the transforms
+// of its instances and analytic shapes, indexed as the scene's own (frame_motion).
+struct FrameMotion {
+  double frame = 0;
+  std::shared_ptr<const VirtualCamera> camera;
+  std::vector<Transform> instances, shapes;
+};
+
 struct Scene {
   std::string path;  // the scene file
   RenderSettings render;
@@ -101,9 +109,17 @@ struct Scene {
   // Every file the load read (scene, includes, textures, models and their buffers, ray tables),
   // with its role: no output of the run may overwrite one (app/output_guard.h).
   std::vector<FileRead> inputs;
+  // The scene at frame + 1 and frame - 1, when a render asks for forward or backward flow (the
+  // flow_forward, flow_backward AOVs); null otherwise.
+  std::shared_ptr<const FrameMotion> next, previous;
 
   size_t triangle_count() const;  // unique (prototype) triangles
   size_t instanced_triangle_count() const;
 };
+
+// `other`, the same scene file loaded at another frame, as a FrameMotion: its camera, and the
+// transforms of the instances and shapes of `geometry` (default: `other` itself; a view loaded
+// alone by load_view has none, and shares the geometry of the scene it was loaded with).
+std::shared_ptr<const FrameMotion> frame_motion(Scene&& other, const Scene* geometry = nullptr);
 
 }  // namespace anamorph
