@@ -106,6 +106,85 @@ double Bsdf::pdf(const Vec3& wo_w, const Vec3& wi_w) const {
   return p / w.total * opacity;
 }
 
+namespace {
+
+// Alpha blend: straight on, with probability 1 - opacity and weight 1.
+void sample_pass_through(const Bsdf& b, const Vec3& wo_w, BsdfSample* out) {
+  out->wi = -wo_w;
+  out->delta = true;
+  out->pdf = 1 - b.opacity;
+  out->f = Color(1 - b.opacity);
+  out->weight = Color(1);
+}
+
+// The dielectric's delta lobes, chosen with probability `sel`: reflect with probability F (`v`
+// below it), else refract, or go straight through a thin wall; `below` is what the layers leave.
+void sample_dielectric(const Bsdf& b, const Vec3& wo, const Vec3& wo_w, double v, double sel,
+                       double below, BsdfSample* out) {
+  const double e = b.entering ? b.eta : 1 / b.eta;
+  const double fr = fresnel_dielectric(wo.z, e);
+  out->delta = true;
+  if (v < fr) {
+    out->wi = b.frame.to_world({-wo.x, -wo.y, wo.z});
+    out->pdf = sel * fr;
+    out->weight = Color(b.transmission * below / sel);
+  } else if (b.thin) {
+    // A thin wall: the two refractions cancel; the light goes on as it came.
+    out->wi = -wo_w;
+    out->pdf = sel * (1 - fr);
+    out->weight = Color(b.transmission * below / sel) * b.transmission_tint;
+  } else {
+    const double sin2_t = (1 - wo.z * wo.z) / (e * e);
+    const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
+    const Vec3 wt = Vec3{-wo.x / e, -wo.y / e, -cos_t};
+    out->wi = b.frame.to_world(normalize(wt));
+    out->pdf = sel * (1 - fr);
+    // Radiance is scaled by 1/eta^2 crossing into the denser medium (non-symmetric BTDF).
+    out->weight = Color(b.transmission * below / sel / (e * e)) * b.transmission_tint;
+  }
+  out->f = out->weight * b.opacity;
+  out->pdf *= b.opacity;
+}
+
+// A direction (local frame) from the lobes that are not deltas, `x` (past the delta lobes'
+// weights) choosing among them: diffuse, Phong, GGX, then the coat and the sheen.
+bool sample_smooth_lobes(const Bsdf& b, const LobeWeights& w, const Vec3& wo, const Vec3& wo_w,
+                         double x, Vec2 u, Vec3* wi) {
+  const double x_layers = x - (w.diffuse + w.phong + w.ggx);
+  if (w.coat + w.sheen > 0 && x_layers >= 0) {
+    // The layers: the coat's GGX, or the sheen's cosine-weighted hemisphere.
+    Vec3 wi_w;
+    if (x_layers < w.coat) {
+      if (!b.sample_coat(wo_w, u, &wi_w)) return false;
+    } else {
+      wi_w = b.frame.to_world(sample_cosine_hemisphere(u));
+    }
+    *wi = b.frame.to_local(wi_w);
+  } else if (x < w.diffuse) {
+    *wi = sample_cosine_hemisphere(u);
+  } else if (x < w.diffuse + w.phong) {
+    // cos^n lobe around the mirror direction.
+    const double cos_a = std::pow(u.x, 1 / (b.phong_exponent + 1));
+    const double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
+    double sp, cp;
+    sincos_poly(2 * kPi * u.y, &sp, &cp);
+    const Frame rf = Frame::from_normal({-wo.x, -wo.y, wo.z});
+    *wi = rf.to_world({sin_a * cp, sin_a * sp, cos_a});
+  } else {
+    // GGX distribution of normals.
+    const double a2 = b.ggx_alpha * b.ggx_alpha;
+    const double cos_h = std::sqrt((1 - u.x) / (1 + (a2 - 1) * u.x));
+    const double sin_h = std::sqrt(std::max(0.0, 1 - cos_h * cos_h));
+    double sp, cp;
+    sincos_poly(2 * kPi * u.y, &sp, &cp);
+    const Vec3 h{sin_h * cp, sin_h * sp, cos_h};
+    *wi = h * (2 * dot(wo, h)) - wo;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
   const Vec3 wo = frame.to_local(wo_w);
   if (wo.z <= 0) return false;
@@ -113,11 +192,7 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
     // Alpha blend: straight on with probability 1 - opacity (its weight 1), else the lobes, whose
     // f and pdf both carry the opacity (their weight does not).
     if (u3 < 1 - opacity) {
-      out->wi = -wo_w;
-      out->delta = true;
-      out->pdf = 1 - opacity;
-      out->f = Color(1 - opacity);
-      out->weight = Color(1);
+      sample_pass_through(*this, wo_w, out);
       return true;
     }
     u3 = std::min((u3 - (1 - opacity)) / opacity, std::nextafter(1.0, 0.0));
@@ -139,67 +214,13 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
   }
   x -= w.mirror;
   if (x < w.dielectric) {
-    const double sel = w.dielectric / w.total;
-    const double e = entering ? eta : 1 / eta;
-    const double fr = fresnel_dielectric(wo.z, e);
-    // Split the random number again: reflect with probability F.
-    const double v = x / w.dielectric;
-    out->delta = true;
-    if (v < fr) {
-      out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
-      out->pdf = sel * fr;
-      out->weight = Color(transmission * below / sel);
-    } else if (thin) {
-      // A thin wall: the two refractions cancel; the light goes on as it came.
-      out->wi = -wo_w;
-      out->pdf = sel * (1 - fr);
-      out->weight = Color(transmission * below / sel) * transmission_tint;
-    } else {
-      const double sin2_t = (1 - wo.z * wo.z) / (e * e);
-      const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
-      const Vec3 wt = Vec3{-wo.x / e, -wo.y / e, -cos_t};
-      out->wi = frame.to_world(normalize(wt));
-      out->pdf = sel * (1 - fr);
-      // Radiance is scaled by 1/eta^2 crossing into the denser medium (non-symmetric BTDF).
-      out->weight = Color(transmission * below / sel / (e * e)) * transmission_tint;
-    }
-    out->f = out->weight * opacity;
-    out->pdf *= opacity;
+    // (the random number split again: reflect with probability F)
+    sample_dielectric(*this, wo, wo_w, x / w.dielectric, w.dielectric / w.total, below, out);
     return true;
   }
   x -= w.dielectric;
   Vec3 wi;
-  const double x_layers = x - (w.diffuse + w.phong + w.ggx);
-  if (w.coat + w.sheen > 0 && x_layers >= 0) {
-    // The layers: the coat's GGX, or the sheen's cosine-weighted hemisphere.
-    Vec3 wi_w;
-    if (x_layers < w.coat) {
-      if (!sample_coat(wo_w, u, &wi_w)) return false;
-    } else {
-      wi_w = frame.to_world(sample_cosine_hemisphere(u));
-    }
-    wi = frame.to_local(wi_w);
-  } else if (x < w.diffuse) {
-    wi = sample_cosine_hemisphere(u);
-  } else if (x < w.diffuse + w.phong) {
-    // cos^n lobe around the mirror direction.
-    const double cos_a = std::pow(u.x, 1 / (phong_exponent + 1));
-    const double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
-    double sp, cp;
-    sincos_poly(2 * kPi * u.y, &sp, &cp);
-    const Frame rf = Frame::from_normal({-wo.x, -wo.y, wo.z});
-    wi = rf.to_world({sin_a * cp, sin_a * sp, cos_a});
-  } else {
-    // GGX distribution of normals.
-    const double a2 = ggx_alpha * ggx_alpha;
-    const double cos_h = std::sqrt((1 - u.x) / (1 + (a2 - 1) * u.x));
-    const double sin_h = std::sqrt(std::max(0.0, 1 - cos_h * cos_h));
-    double sp, cp;
-    sincos_poly(2 * kPi * u.y, &sp, &cp);
-    const Vec3 h{sin_h * cp, sin_h * sp, cos_h};
-    wi = h * (2 * dot(wo, h)) - wo;
-  }
-  if (wi.z <= 0) return false;
+  if (!sample_smooth_lobes(*this, w, wo, wo_w, x, u, &wi) || wi.z <= 0) return false;
   out->wi = frame.to_world(wi);
   out->delta = false;
   if (w.total == w.diffuse) {
