@@ -72,5 +72,6 @@ void add_serve(CLI::App& app, std::function<int()>& run);
 void add_stmap(CLI::App& app, std::function<int()>& run);
 void add_warp(CLI::App& app, std::function<int()>& run);
 void add_calib(CLI::App& app, std::function<int()>& run);
+void add_solve(CLI::App& app, std::function<int()>& run);
 
 }  // namespace anamorph::app

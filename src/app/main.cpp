@@ -46,6 +46,7 @@ int run_main(int argc, char** argv) {
   add_stmap(app, run);
   add_warp(app, run);
   add_calib(app, run);
+  add_solve(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

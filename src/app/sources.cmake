@@ -31,6 +31,7 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/warp_frame.cpp
   ${CMAKE_CURRENT_LIST_DIR}/warp_sequence.cpp
   ${CMAKE_CURRENT_LIST_DIR}/cmd_calib.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/cmd_solve.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_formats.cpp
   ${CMAKE_CURRENT_LIST_DIR}/stmap_options.cpp

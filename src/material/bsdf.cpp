@@ -26,8 +26,6 @@ Color fresnel_schlick(const Color& f0, double c) {
   return f0 + (Color(1) - f0) * m;
 }
 
-namespace {
-
 double ggx_d(double cos_h, double a) {
   const double a2 = a * a;
   const double d = cos_h * cos_h * (a2 - 1) + 1;
@@ -39,18 +37,31 @@ double smith_g1(double cos_v, double a) {
   return 2 * cos_v / (cos_v + std::sqrt(a2 + (1 - a2) * c2));
 }
 
+namespace {
+
 // Lobe selection probabilities from rough albedo estimates.
 struct LobeWeights {
-  double diffuse, phong, ggx, mirror, dielectric, total;
+  double diffuse, phong, ggx, mirror, dielectric, coat, sheen, total;
 };
-LobeWeights lobe_weights(const Bsdf& b) {
+LobeWeights lobe_weights(const Bsdf& b, const Vec3& wo_w) {
   LobeWeights w{luminance(b.diffuse),
                 luminance(b.phong),
                 luminance(b.ggx_f0) > 0 ? std::max(0.1, luminance(b.ggx_f0)) : 0.0,
                 luminance(b.mirror),
                 b.transmission,
+                0,
+                0,
                 0};
   w.total = w.diffuse + w.phong + w.ggx + w.mirror + w.dielectric;
+  if (b.has_layers()) {
+    // (The lobes below in proportion to what the layers leave them.)
+    const double below = b.under_layers(wo_w);
+    w.diffuse *= below, w.phong *= below, w.ggx *= below, w.mirror *= below;
+    w.dielectric *= below;
+    w.coat = b.coat_choice(wo_w);
+    w.sheen = b.sheen_choice();
+    w.total = w.diffuse + w.phong + w.ggx + w.mirror + w.dielectric + w.coat + w.sheen;
+  }
   return w;
 }
 
@@ -73,13 +84,13 @@ Color Bsdf::eval(const Vec3& wo_w, const Vec3& wi_w) const {
     const double g = smith_g1(wo.z, ggx_alpha) * smith_g1(wi.z, ggx_alpha);
     f += fresnel_schlick(ggx_f0, dot(wi, h)) * (d * g / (4 * wo.z * wi.z) * opacity);
   }
-  return f;
+  return has_layers() ? layered(wo_w, wi_w, f) : f;
 }
 
 double Bsdf::pdf(const Vec3& wo_w, const Vec3& wi_w) const {
   const Vec3 wo = frame.to_local(wo_w), wi = frame.to_local(wi_w);
   if (wo.z <= 0 || wi.z <= 0) return 0;
-  const LobeWeights w = lobe_weights(*this);
+  const LobeWeights w = lobe_weights(*this, wo_w);
   if (w.total <= 0) return 0;
   double p = w.diffuse * cosine_hemisphere_pdf(wi.z);
   if (w.phong > 0) {
@@ -91,6 +102,7 @@ double Bsdf::pdf(const Vec3& wo_w, const Vec3& wi_w) const {
     const Vec3 h = normalize(wo + wi);
     p += w.ggx * ggx_d(h.z, ggx_alpha) * h.z / (4 * dot(wo, h));
   }
+  if (w.coat + w.sheen > 0) p += layers_pdf(wo_w, wi_w, w.coat, w.sheen);
   return p / w.total * opacity;
 }
 
@@ -110,16 +122,18 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
     }
     u3 = std::min((u3 - (1 - opacity)) / opacity, std::nextafter(1.0, 0.0));
   }
-  const LobeWeights w = lobe_weights(*this);
+  const LobeWeights w = lobe_weights(*this, wo_w);
   if (w.total <= 0) return false;
   double x = u3 * w.total;
+  // The delta lobes below the layers keep what the layers leave them.
+  const double below = has_layers() ? under_layers(wo_w) : 1;
   // Delta lobes first: their choice probability enters the weight.
   if (x < w.mirror) {
     out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
     out->delta = true;
     out->pdf = w.mirror / w.total;
-    out->weight = mirror / out->pdf;
-    out->f = mirror * opacity;
+    out->weight = mirror * below / out->pdf;
+    out->f = mirror * (below * opacity);
     out->pdf *= opacity;
     return true;
   }
@@ -134,12 +148,12 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
     if (v < fr) {
       out->wi = frame.to_world({-wo.x, -wo.y, wo.z});
       out->pdf = sel * fr;
-      out->weight = Color(transmission / sel);
+      out->weight = Color(transmission * below / sel);
     } else if (thin) {
       // A thin wall: the two refractions cancel; the light goes on as it came.
       out->wi = -wo_w;
       out->pdf = sel * (1 - fr);
-      out->weight = Color(transmission / sel) * transmission_tint;
+      out->weight = Color(transmission * below / sel) * transmission_tint;
     } else {
       const double sin2_t = (1 - wo.z * wo.z) / (e * e);
       const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
@@ -147,7 +161,7 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
       out->wi = frame.to_world(normalize(wt));
       out->pdf = sel * (1 - fr);
       // Radiance is scaled by 1/eta^2 crossing into the denser medium (non-symmetric BTDF).
-      out->weight = Color(transmission / sel / (e * e)) * transmission_tint;
+      out->weight = Color(transmission * below / sel / (e * e)) * transmission_tint;
     }
     out->f = out->weight * opacity;
     out->pdf *= opacity;
@@ -155,7 +169,17 @@ bool Bsdf::sample(const Vec3& wo_w, Vec2 u, double u3, BsdfSample* out) const {
   }
   x -= w.dielectric;
   Vec3 wi;
-  if (x < w.diffuse) {
+  const double x_layers = x - (w.diffuse + w.phong + w.ggx);
+  if (w.coat + w.sheen > 0 && x_layers >= 0) {
+    // The layers: the coat's GGX, or the sheen's cosine-weighted hemisphere.
+    Vec3 wi_w;
+    if (x_layers < w.coat) {
+      if (!sample_coat(wo_w, u, &wi_w)) return false;
+    } else {
+      wi_w = frame.to_world(sample_cosine_hemisphere(u));
+    }
+    wi = frame.to_local(wi_w);
+  } else if (x < w.diffuse) {
     wi = sample_cosine_hemisphere(u);
   } else if (x < w.diffuse + w.phong) {
     // cos^n lobe around the mirror direction.

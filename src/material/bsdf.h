@@ -2,7 +2,9 @@
 // Lambert diffuse, a normalized Phong lobe (Whitted specular), GGX microfacet reflection
 // (glTF metallic-roughness), perfect mirror reflection and a smooth dielectric (both delta): a
 // refracting solid, or a thin wall that light crosses without turning (glTF's transmission
-// without a volume); and, for alpha blend, a share of the light passing straight on.
+// without a volume); and, for alpha blend, a share of the light passing straight on. Over them
+// two layers (layers.cpp, glTF's KHR_materials_clearcoat and KHR_materials_sheen): a clear coat
+// and a sheen, each taking from what lies below the light it reflects.
 #pragma once
 
 #include "math/frame.h"
@@ -37,17 +39,47 @@ struct Bsdf {
   bool entering = true;  // the ray arrives from the outside
   // Alpha blend: the other lobes are scaled by opacity, 1 - opacity goes straight through.
   double opacity = 1;
+  // Clear coat: a GGX dielectric layer (F0 = 0.04, IOR 1.5) of weight `coat` in its own frame
+  // (its own normal); everything below is scaled by 1 - coat x F(n_coat . wo).
+  double coat = 0;
+  double coat_alpha = 0.01;
+  Frame coat_frame;
+  // Sheen: Charlie's distribution (Estevez & Kulla 2017) with Neubelt & Pettineo's visibility,
+  // colour `sheen`, alpha = sheen_roughness^2; what lies below is scaled by
+  // min(1 - max(sheen) E(wo), 1 - max(sheen) E(wi)), E the sheen's directional albedo.
+  Color sheen{0, 0, 0};
+  double sheen_roughness = 0.5;
 
   bool has_delta() const { return max_component(mirror) > 0 || transmission > 0 || opacity < 1; }
+  bool has_layers() const { return coat > 0 || max_component(sheen) > 0; }
   bool has_smooth() const {
-    return max_component(diffuse) > 0 || max_component(phong) > 0 || max_component(ggx_f0) > 0;
+    return max_component(diffuse) > 0 || max_component(phong) > 0 || max_component(ggx_f0) > 0 ||
+           has_layers();
   }
   // Non-delta lobes only.
   Color eval(const Vec3& wo, const Vec3& wi) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;
   // Samples all lobes; u3 picks the lobe.
   bool sample(const Vec3& wo, Vec2 u, double u3, BsdfSample* out) const;
+
+  // ---- The layers (layers.cpp) ----
+  // f of the layers over `below` (the other lobes' f), directions local to `frame`.
+  Color layered(const Vec3& wo_w, const Vec3& wi_w, const Color& below) const;
+  // The share of light the layers leave to a delta lobe below them (wo and wi mirror-like).
+  double under_layers(const Vec3& wo_w) const;
+  // The layers' lobe-choice weights for sampling, and their share of the pdf (unnormalized).
+  double coat_choice(const Vec3& wo_w) const;
+  double sheen_choice() const;
+  double layers_pdf(const Vec3& wo_w, const Vec3& wi_w, double w_coat, double w_sheen) const;
+  // A direction from the coat's GGX (false: below the coat's horizon).
+  bool sample_coat(const Vec3& wo_w, Vec2 u, Vec3* wi_w) const;
 };
+
+// The sheen lobe's directional albedo E(cos theta, sheen roughness), from a table computed once.
+double sheen_albedo(double cos_theta, double roughness);
+// GGX (Trowbridge-Reitz) normal distribution and Smith's G1, alpha = roughness^2.
+double ggx_d(double cos_h, double alpha);
+double smith_g1(double cos_v, double alpha);
 
 double fresnel_dielectric(double cos_i, double eta);
 Color fresnel_schlick(const Color& f0, double cos_theta);

@@ -92,6 +92,8 @@ class Material {
   // A BSDF without lobes, in the shading frame at sp (normal-mapped, facing wo) with the ior:
   // where each kind's bsdf() starts.
   Bsdf bsdf_frame(const ShadingPoint& sp, const Vec3& wo) const;
+  // ns (unit, the side of sp's normals that faces the viewer) bent by a tangent-space normal map.
+  static Vec3 mapped_normal(const Texture& map, double scale, const ShadingPoint& sp, Vec3 ns);
 };
 
 // A scene's materials, by index (meshes and shapes name theirs by index).

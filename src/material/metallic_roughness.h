@@ -4,6 +4,9 @@
 // (KHR_materials_transmission): the refracted light tinted by the base colour, a refracting solid
 // absorbing inside (KHR_materials_volume) or a thin wall (no volume). Its reflection is the
 // dielectric's Fresnel: the F0 mirror is kept for the opaque share, 1 - transmission.
+// Over it, two layers (bsdf.h, layers.cpp): a clear coat (KHR_materials_clearcoat: a GGX
+// dielectric of IOR 1.5 with its own roughness and normal) and a sheen (KHR_materials_sheen:
+// Charlie's distribution), each taking from the base what it reflects.
 // The member defaults are glTF's (metallic and roughness 1); a scene file's are in its keys.
 #pragma once
 
@@ -23,6 +26,19 @@ class MetallicRoughnessMaterial final : public Material {
   double transmission = 0;                                    // smooth dielectric weight
   bool thin = false;          // transmission through a thin wall (no refraction)
   Color absorption{0, 0, 0};  // inside the solid, per unit length (glTF: -ln(c) / distance)
+  // Clear coat: weight x texture's R, roughness x texture's G; its own normal map (none: the
+  // surface's interpolated normal, not the base's normal map).
+  double clearcoat = 0, clearcoat_roughness = 0;
+  Texture clearcoat_texture = Texture::constant({1, 1, 1});
+  Texture clearcoat_roughness_texture = Texture::constant({1, 1, 1});
+  Texture clearcoat_normal;
+  bool has_clearcoat_normal = false;
+  double clearcoat_normal_scale = 1;
+  // Sheen: colour x texture (sRGB RGB), roughness x texture's alpha.
+  Color sheen_color{0, 0, 0};
+  double sheen_roughness = 0;
+  Texture sheen_color_texture = Texture::constant({1, 1, 1});
+  Texture sheen_roughness_texture = Texture::constant({1, 1, 1});
 
   std::string_view type() const override { return kType; }
   Bsdf bsdf(const ShadingPoint& sp, const Vec3& wo) const override;
@@ -31,8 +47,15 @@ class MetallicRoughnessMaterial final : public Material {
   // (Smooth spots are mirrors: rays may go on from any hit.)
   bool spawns_specular_rays() const override { return true; }
   bool textured() const override {
-    return Material::textured() || metallic_roughness.kind != Texture::Kind::Constant;
+    const auto image = [](const Texture& t) { return t.kind != Texture::Kind::Constant; };
+    return Material::textured() || image(metallic_roughness) || image(clearcoat_texture) ||
+           image(clearcoat_roughness_texture) || has_clearcoat_normal ||
+           image(sheen_color_texture) || image(sheen_roughness_texture);
   }
+  std::string describe() const override;
+
+ private:
+  void add_layers(const ShadingPoint& sp, const Vec3& wo, Bsdf* b) const;
 };
 
 }  // namespace anamorph

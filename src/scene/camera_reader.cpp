@@ -9,6 +9,7 @@
 #include "camera/dir_basic.h"
 #include "camera/org_basic.h"
 #include "camera/virtual_camera.h"
+#include "scene/camera_goals.h"
 #include "scene/scene_schema.h"
 
 namespace anamorph {
@@ -119,7 +120,7 @@ VirtualCameraParts read_preset(const TableReader& r, ImageInfo img, bool preset_
   if (preset_overridden)
     for (const auto& [k, v] : r.table()) {
       const std::string_view key = k.str();
-      if (key == "preset" || key == "coin" ||
+      if (key == "preset" || key == "coin" || is_goal_key(key) ||
           find_param({info.params, camera_common_params()}, key))
         continue;
       dropped.emplace_back(key);
@@ -129,7 +130,7 @@ VirtualCameraParts read_preset(const TableReader& r, ImageInfo img, bool preset_
     }
   // Two walks over the one table: the preset's keys (for its factory, which takes only its
   // own) and the common ones, each accepting the other's.
-  std::vector<std::string_view> also{"preset", "coin"};
+  std::vector<std::string_view> also{"preset", "coin", "constraint", "free", "solve"};
   also.insert(also.end(), dropped.begin(), dropped.end());
   std::vector<std::string_view> also_common = also, also_preset = also;
   for (const ParamSpec& s : info.params) also_common.push_back(s.name);
@@ -168,7 +169,7 @@ const ModelCamera& named_model_camera(const TableReader& r,
 void refuse_preset_keys(const TableReader& r) {
   for (const auto& [k, v] : r.table()) {
     const std::string_view key = k.str();
-    if (key == "coin" || find_param({camera_common_params()}, key)) continue;
+    if (key == "coin" || is_goal_key(key) || find_param({camera_common_params()}, key)) continue;
     for (const PresetInfo& p : camera_presets())
       if (find_param({p.params}, key))
         r.fail(key, fmt::format("a key of camera presets (e.g. \"{}\"): gltf_camera without a "
@@ -197,14 +198,15 @@ CameraSpec read_camera(const TableReader& r, ImageInfo img,
                "whole rig with `transform`)");
   if (gltf_camera && !composed && !r.has("preset")) {
     refuse_preset_keys(r);
-    static constexpr std::string_view kAlso[] = {"coin"};
+    static constexpr std::string_view kAlso[] = {"coin", "constraint", "free", "solve"};
     v = r.params({camera_common_params()}, kAlso);
     parts = from_model_camera(named_model_camera(r, model_cameras), img);
   } else if (composed) {
     if (r.has("preset")) r.fail("preset", "give either a preset or org/dir functions, not both");
     if (!r.has("org")) r.fail("org", "is required when dir is given");
     if (!r.has("dir")) r.fail("dir", "is required when org is given");
-    static constexpr std::string_view kAlso[] = {"org", "dir", "coin"};
+    static constexpr std::string_view kAlso[] = {"org",        "dir",  "coin",
+                                                 "constraint", "free", "solve"};
     v = r.params({camera_common_params()}, kAlso);
     parts.org = read_org(r);
     parts.dir = read_dir(r);
@@ -234,6 +236,8 @@ CameraSpec read_camera(const TableReader& r, ImageInfo img,
   parts.world_from_camera =
       (v.has("transform") ? v.transform("transform") : Transform()) * parts.world_from_camera;
   parts.coins = read_coins(r);
+  read_camera_goals(
+      r);  // (checked here, so that every command refuses a bad goal; solve/ uses them)
   read_shutter(r, v, &spec);
   return spec;
 }

@@ -25,6 +25,8 @@
 //                 KHR_materials_specular (its factors: the dielectric F0; textures not read),
 //                 KHR_materials_transmission (factor) and _volume (thin or solid, absorption),
 //                 KHR_materials_unlit (the `unlit` kind, the base colour as emission),
+//                 KHR_materials_clearcoat and KHR_materials_sheen (factors, textures, the
+//                 clear coat's normal texture: the BSDF's layers),
 //                 samplers (wrap modes; magFilter NEAREST), KHR_texture_transform.
 //   cameras       perspective and orthographic, placed by their node.
 // Embedded images are decoded by tinygltf (stb); image files are read with read_image.
@@ -34,6 +36,7 @@
 #include <array>
 #include <cctype>
 #include <cstring>
+#include <deque>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -68,12 +71,13 @@ namespace fs = std::filesystem;
 namespace {
 
 // Extensions whose content this loader maps into our data. Others are warned about.
-constexpr std::array<std::string_view, 9> kSupportedExtensions = {
+constexpr std::array<std::string_view, 11> kSupportedExtensions = {
     "KHR_texture_transform",      "KHR_materials_emissive_strength",
     "KHR_mesh_quantization",      "KHR_materials_ior",
     "KHR_lights_punctual",        "KHR_materials_specular",
     "KHR_materials_transmission", "KHR_materials_volume",
-    "KHR_materials_unlit"};
+    "KHR_materials_unlit",        "KHR_materials_clearcoat",
+    "KHR_materials_sheen"};
 
 bool supported(const std::string& ext) {
   return std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), ext) !=
@@ -629,6 +633,7 @@ class GltfBuilder {
     if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
       mat.dielectric_f0 = specular_f0(it->second, mat.ior);
     read_transmission(gm, mat);
+    read_layers(gm, mat, texture);
     material_uv_set_[size_t(index)] = std::max(uv_set, 0);
     material_textured_[size_t(index)] = uv_set >= 0;
     if (gm.extensions.count("KHR_materials_unlit")) return unlit(mat);
@@ -657,6 +662,74 @@ class GltfBuilder {
     if (!(distance > 0)) return;
     // (A colour of 0 absorbs everything: a large finite coefficient, within the key's range.)
     for (int k = 0; k < 3; ++k) mat.absorption[k] = std::min(-std::log(c[k]) / distance, 1e30);
+  }
+
+  // KHR_materials_clearcoat and KHR_materials_sheen: factors and textures (their textureInfo
+  // objects are extension JSON, read by ext_tex_ref).
+  template <class TextureFn>
+  void read_layers(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                   TextureFn&& texture) {
+    const Color white{1, 1, 1};
+    if (const auto c = gm.extensions.find("KHR_materials_clearcoat"); c != gm.extensions.end()) {
+      const tinygltf::Value& x = c->second;
+      mat.clearcoat = std::clamp(number(x, "clearcoatFactor", 0.0), 0.0, 1.0);
+      if (!(mat.clearcoat > 0)) mat.clearcoat = 0;
+      mat.clearcoat_roughness = std::clamp(number(x, "clearcoatRoughnessFactor", 0.0), 0.0, 1.0);
+      if (!(mat.clearcoat_roughness >= 0)) mat.clearcoat_roughness = 0;
+      if (const auto r = ext_tex_ref(x, "clearcoatTexture"))
+        mat.clearcoat_texture = texture(*r, false, white, 1);
+      if (const auto r = ext_tex_ref(x, "clearcoatRoughnessTexture"))
+        mat.clearcoat_roughness_texture = texture(*r, false, white, 1);
+      if (const auto r = ext_tex_ref(x, "clearcoatNormalTexture")) {
+        mat.clearcoat_normal = texture(*r, false, white, 1);
+        mat.has_clearcoat_normal = mat.clearcoat_normal.kind == Texture::Kind::Image;
+        const double scale = number(x.Get("clearcoatNormalTexture"), "scale", 1.0);
+        mat.clearcoat_normal_scale = std::isfinite(scale) ? scale : 1.0;
+      }
+    }
+    if (const auto h = gm.extensions.find("KHR_materials_sheen"); h != gm.extensions.end()) {
+      const tinygltf::Value& x = h->second;
+      mat.sheen_color = color3(x, "sheenColorFactor");
+      mat.sheen_roughness = std::clamp(number(x, "sheenRoughnessFactor", 0.0), 0.0, 1.0);
+      if (!(mat.sheen_roughness >= 0)) mat.sheen_roughness = 0;
+      if (const auto r = ext_tex_ref(x, "sheenColorTexture"))
+        mat.sheen_color_texture = texture(*r, true, white, 1);
+      if (const auto r = ext_tex_ref(x, "sheenRoughnessTexture"))
+        mat.sheen_roughness_texture = texture(*r, false, white, 1);
+    }
+  }
+
+  // A colour factor of an extension: 3 numbers, each clamped to 0..1 (NaN: 0); default black.
+  static Color color3(const tinygltf::Value& obj, const char* key) {
+    Color c{0, 0, 0};
+    if (!obj.IsObject() || !obj.Has(key)) return c;
+    const tinygltf::Value& v = obj.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 3) return c;
+    for (int k = 0; k < 3; ++k)
+      if (v.Get(k).IsNumber()) {
+        const double x = v.Get(k).GetNumberAsDouble();
+        c[k] = x > 0 ? std::min(x, 1.0) : 0.0;
+      }
+    return c;
+  }
+
+  // A textureInfo inside an extension's JSON: its index, texCoord and own extensions (kept
+  // alive in ext_maps_ for TexRef's pointer). None when absent or without a valid index.
+  std::optional<TexRef> ext_tex_ref(const tinygltf::Value& obj, const char* key) {
+    if (!obj.IsObject() || !obj.Has(key)) return std::nullopt;
+    const tinygltf::Value& info = obj.Get(key);
+    const double index = number(info, "index", -1);
+    if (!(index >= 0) || index > double(std::numeric_limits<int>::max())) return std::nullopt;
+    const double set = number(info, "texCoord", 0);
+    TexRef ref{int(index), set >= 0 && set <= 255 ? int(set) : 0, nullptr};
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+      const tinygltf::Value& e = info.Get("extensions");
+      tinygltf::ExtensionMap map;
+      for (const std::string& k : e.Keys()) map.emplace(k, e.Get(k));
+      ext_maps_.push_back(std::move(map));
+      ref.extensions = &ext_maps_.back();
+    }
+    return ref;
   }
 
   // KHR_materials_unlit: the base colour (factor x texture) shown as emission.
@@ -847,6 +920,7 @@ class GltfBuilder {
   int default_material_ = -1;
   std::map<std::tuple<int, bool, float>, std::shared_ptr<const MipMap>> images_;
   std::map<int, size_t> skipped_modes_;
+  std::deque<tinygltf::ExtensionMap> ext_maps_;  // extension textureInfos' own extensions
   size_t singular_nodes_ = 0;
   GltfRig rig_;
   size_t vertex_colors_ignored_ = 0;

@@ -29,9 +29,10 @@ void table_markdown(std::ostringstream& os, const TableSchema& t) {
   }
 }
 
-constexpr std::string_view kBlocks[] = {"top",         "image",   "render",   "camera",
-                                        "material",    "texture", "object",   "light",
-                                        "environment", "animate", "animation"};
+constexpr std::string_view kBlocks[] = {
+    "top",         "image",       "render",      "camera",  "material",  "texture",
+    "object",      "light",       "environment", "animate", "animation", "camera.constraint",
+    "camera.free", "camera.solve"};
 
 }  // namespace
 
@@ -130,20 +131,27 @@ Json scene_table_json(const TableSchema& t, std::string_view default_form = {}) 
 // named). gltf_camera may give the other two their pose.
 Json camera_json() {
   const Json coins = {{"type", "array"}, {"items", {{"$ref", "#/$defs/coin"}}}};
+  // Every form takes the coins and the goals of `anamorph solve`.
+  const auto array_of = [](const Json& item) { return Json{{"type", "array"}, {"items", item}}; };
+  Json tables = {{"coin", coins},
+                 {"constraint", array_of(scene_table_json(constraint_schema()))},
+                 {"free", array_of(table_json_schema({free_schema().common}))},
+                 {"solve", table_json_schema({solve_schema().common})}};
   const Json composed_when = {{"anyOf", {{{"required", {"org"}}}, {{"required", {"dir"}}}}}};
   const Json gltf_when = {{"required", {"gltf_camera"}},
                           {"not", {{"anyOf", {{{"required", {"preset"}}}, composed_when}}}}};
   Json presets =
-      forms_by_selector(camera_presets(), "preset", "perspective", camera_common_params(),
-                        {{"coin", coins}}, [](const PresetInfo& p) { return p.params; });
+      forms_by_selector(camera_presets(), "preset", "perspective", camera_common_params(), tables,
+                        [](const PresetInfo& p) { return p.params; });
   for (Json& branch : presets["allOf"])
     branch["if"]["not"] = {{"anyOf", {composed_when, gltf_when}}};
-  Json composed = table_json_schema(
-      {camera_common_params()},
-      {{"org", {{"$ref", "#/$defs/org"}}}, {"dir", {{"$ref", "#/$defs/dir"}}}, {"coin", coins}});
+  Json composed_tables = tables;
+  composed_tables["org"] = {{"$ref", "#/$defs/org"}};
+  composed_tables["dir"] = {{"$ref", "#/$defs/dir"}};
+  Json composed = table_json_schema({camera_common_params()}, composed_tables);
   composed["required"] = {"org", "dir"};
   presets["allOf"].push_back({{"if", composed_when}, {"then", composed}});
-  Json gltf = table_json_schema({camera_common_params()}, {{"coin", coins}});
+  Json gltf = table_json_schema({camera_common_params()}, tables);
   presets["allOf"].push_back({{"if", gltf_when}, {"then", gltf}});
   presets["properties"].erase("preset");  // (named in each preset's branch)
   presets["description"] = "The camera: a preset, an org/dir composition or a glTF camera.";

@@ -361,6 +361,85 @@ const ParamSpec kCameraCommon[] = {
      0, 1 << 20},
 };
 
+// The camera's goals (`anamorph solve`, docs/solve.md): [[camera.constraint]], [[camera.free]]
+// and [camera.solve].
+constexpr std::string_view kConstraintKinds[] = {"pin", "size", "magnification", "keep"};
+const ParamSpec kConstraintCommon[] = {
+    {"kind", ParamType::String, "",
+     "What the constraint asks: `pin`, `size`, `magnification` or `keep`.", -kInf, kInf,
+     kConstraintKinds},
+    {"weight", ParamType::Number, "1", "Multiplies the constraint's residuals in the solve.", 0,
+     1e6, {}, true},
+    {"tolerance", ParamType::Number, "none",
+     "The constraint is met when its residual is at most this (in its unit: pixels for pin and "
+     "keep, percent for size and magnification).",
+     0, kInf, {}, true, false, {}, "0.5 (pixels or percent); keep: its epsilon"},
+};
+const ParamSpec kPinConstraint[] = {
+    {"point", ParamType::Vec3, "none", "The world point pinned (or `object`).", -kInf, kInf, {},
+     false, false, "scene units"},
+    {"object", ParamType::String, "none",
+     "An object's name: the centre of its bounding box is pinned (or `point`)."},
+    {"uv", ParamType::Vec2, "",
+     "Where the point should appear: (u, v) in [0, 1]^2, u left to right, v top to bottom.", 0,
+     1},
+};
+const ParamSpec kSizeConstraint[] = {
+    {"from", ParamType::Vec3, "", "One end of the world segment.", -kInf, kInf, {}, false, false,
+     "scene units"},
+    {"to", ParamType::Vec3, "", "The other end.", -kInf, kInf, {}, false, false, "scene units"},
+    {"fraction", ParamType::Number, "",
+     "The distance between the ends' image positions as a fraction of the image's width.", 0,
+     1e6, {}, true},
+};
+const ParamSpec kMagnificationConstraint[] = {
+    {"point", ParamType::Vec3, "none", "The world point (or `object`).", -kInf, kInf, {}, false,
+     false, "scene units"},
+    {"object", ParamType::String, "none", "An object's name: the centre of its bounding box."},
+    {"magnification", ParamType::Number, "",
+     "Linear magnification at the point's image position: sqrt(A_ref / A) with A the ray beam's "
+     "footprint |dP/du x dP/dv| at the point and A_ref the same through the camera without its "
+     "coins (the editor's magnification map).",
+     0, 1e6, {}, true},
+};
+const ParamSpec kKeepConstraint[] = {
+    {"samples", ParamType::Integer, "8",
+     "An N x N grid of image positions, each held where the starting camera shows it.", 2, 64},
+    {"epsilon", ParamType::Number, "1", "How far a sample may move.", 0, kInf, {}, true, false,
+     "pixels"},
+    {"distance", ParamType::Number, "10",
+     "Each sample is the point this far along the starting camera's ray.", 0, kInf, {}, true,
+     false, "scene units"},
+};
+const TableVariant kConstraintVariants[] = {
+    {"pin", "A world point (or an object's centre) appears at an image position.",
+     kPinConstraint},
+    {"size", "A world segment appears with a given length.", kSizeConstraint},
+    {"magnification", "The camera magnifies the image at a point by a given factor.",
+     kMagnificationConstraint},
+    {"keep", "A regularizer: the image elsewhere moves at most epsilon pixels.", kKeepConstraint},
+};
+
+const ParamSpec kFree[] = {
+    {"key", ParamType::String, "",
+     "A number or vector of the camera, dotted as for --set: \"camera.fov\", "
+     "\"camera.look_at\", \"camera.coin.0.strength\"."},
+    {"min", ParamType::Number, "none",
+     "Narrows the key's declared range (every component) from below."},
+    {"max", ParamType::Number, "none", "Narrows the key's declared range from above."},
+};
+
+constexpr std::string_view kLosses[] = {"none", "huber", "cauchy"};
+const ParamSpec kSolve[] = {
+    {"loss", ParamType::String, "\"huber\"",
+     "Robust loss on each constraint's residuals (`none` is plain least squares).", -kInf, kInf,
+     kLosses},
+    {"loss_scale", ParamType::Number, "1",
+     "Where the loss stops being quadratic, in the residual's unit (pixels or percent).", 0, kInf,
+     {}, true},
+    {"max_iterations", ParamType::Integer, "200", "Iterations of the solver at most.", 1, 100000},
+};
+
 const ParamSpec kAnimation[] = {
     {"fps", ParamType::Number, "24",
      "Frames per second of the animation clock: a glTF animation is at time frame / fps "
@@ -392,6 +471,15 @@ const TableSchema kLightSchema{"light",      "Light sources.", true,
 const TableSchema kEnvironmentSchema{"environment", "Light from infinitely far away.", false,
                                      kEnvironment};
 const TableSchema kAnimateSchema{"animate", "Keyframes of any numeric key.", true, kAnimate};
+const TableSchema kConstraintSchema{"camera.constraint",
+                                    "A goal the camera is solved for (`anamorph solve`).",
+                                    true,
+                                    kConstraintCommon,
+                                    "kind",
+                                    kConstraintVariants};
+const TableSchema kFreeSchema{"camera.free", "A camera key `anamorph solve` may change.", true,
+                              kFree};
+const TableSchema kSolveSchema{"camera.solve", "Options of `anamorph solve`.", false, kSolve};
 const TableSchema kAnimationSchema{"animation", "The animation clock (glTF animations).", false,
                                    kAnimation};
 
@@ -506,12 +594,16 @@ const TableSchema& light_schema() { return kLightSchema; }
 const TableSchema& environment_schema() { return kEnvironmentSchema; }
 const TableSchema& animate_schema() { return kAnimateSchema; }
 const TableSchema& animation_schema() { return kAnimationSchema; }
+const TableSchema& constraint_schema() { return kConstraintSchema; }
+const TableSchema& free_schema() { return kFreeSchema; }
+const TableSchema& solve_schema() { return kSolveSchema; }
 std::span<const ParamSpec> camera_common_params() { return kCameraCommon; }
 std::span<const ParamSpec> top_level_params() { return kTopLevel; }
 std::span<const TableSchema* const> scene_tables() {
   static const TableSchema* const tables[] = {
-      &kImageSchema, &kRenderSchema,      &material_schema(), &kTextureSchema,  &kObjectSchema,
-      &kLightSchema, &kEnvironmentSchema, &kAnimateSchema,    &kAnimationSchema};
+      &kImageSchema,     &kRenderSchema,     &material_schema(),  &kTextureSchema,
+      &kObjectSchema,    &kLightSchema,      &kEnvironmentSchema, &kAnimateSchema,
+      &kAnimationSchema, &kConstraintSchema, &kFreeSchema,        &kSolveSchema};
   return tables;
 }
 

@@ -40,6 +40,11 @@ const TableSchema& light_schema();
 const TableSchema& environment_schema();
 const TableSchema& animate_schema();
 const TableSchema& animation_schema();
+// The camera's goals for `anamorph solve` (docs/solve.md): [[camera.constraint]] (by `kind`),
+// [[camera.free]] and [camera.solve]. The camera reader checks them; the solver reads them.
+const TableSchema& constraint_schema();
+const TableSchema& free_schema();
+const TableSchema& solve_schema();
 // The keys every camera takes, besides its preset's or its org/dir functions' (`preset`, `org`,
 // `dir`, `coin` and the common ones, `gltf_camera` among them).
 std::span<const ParamSpec> camera_common_params();

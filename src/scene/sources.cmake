@@ -12,6 +12,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/declarations.cpp
   ${CMAKE_CURRENT_LIST_DIR}/animation.cpp
   ${CMAKE_CURRENT_LIST_DIR}/camera_reader.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/camera_goals.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scene_pose.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_scene.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scene_loader.cpp

@@ -1,6 +1,6 @@
 // The source folders form layers: a folder includes headers of its own and of the folders below
 // it, never of one above (math < params, model, io < camera, material < scene < accel < render <
-// dist, server < app; the denoiser sits beside them: math < denoise < render).
+// dist, server, solve < app; the denoiser sits beside them: math < denoise < render).
 // A lower folder that reached up would drag the loaders into the camera, or the scene into image
 // I/O, and every user of the lower one would need the higher one too.
 #include <gtest/gtest.h>
@@ -38,11 +38,15 @@ const std::map<std::string, std::set<std::string>> kMayInclude = {
     {"server",
      {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
       "server"}},
+    // The camera solver (`anamorph solve`): beside dist and server, linked into the program.
+    {"solve",
+     {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
+      "solve"}},
     // Plugins the program loads with dlopen (a C interface); they include only their own.
     {"plugins", {"plugins"}},
     {"app",
      {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
-      "dist", "server", "plugins", "app"}},
+      "dist", "server", "solve", "plugins", "app"}},
 };
 
 TEST(Layering, NoFolderIncludesAHigherOne) {

@@ -163,9 +163,9 @@ struct BlockStats {
   std::vector<Color> block, block_se;
 };
 
-BlockStats render_blocks(const std::string& name, int spp) {
-  const test::Rendered a = test::render_text(glb_scene(name, spp), {"render.seed=1"});
-  const test::Rendered b = test::render_text(glb_scene(name, spp), {"render.seed=2"});
+BlockStats render_blocks(const std::string& name, int spp, const std::string& extra = "") {
+  const test::Rendered a = test::render_text(glb_scene(name, spp, extra), {"render.seed=1"});
+  const test::Rendered b = test::render_text(glb_scene(name, spp, extra), {"render.seed=2"});
   BlockStats s;
   s.mean = (image_mean(*a.film) + image_mean(*b.film)) * 0.5;
   s.rows = a.film->height() / 8;
@@ -232,6 +232,72 @@ TEST(BlenderMaterials, TransmissionMatchesCycles) {
   // where anamorph is 15-35 % brighter; at 4 sigma alone (no relative part) 451 are beyond:
   // Cycles' diffuse is not Lambert (tests/blender/README.md), a few per cent everywhere.
   expect_blocks_near(s, ref["blocks"], 4, 0.15, 36, "transmission");
+}
+
+// The mean of the 3x3 blocks (24x24 pixels) around `pixel` (x, y): ours and Cycles'.
+std::pair<Color, Color> region_means(const BlockStats& ours, const Json& cycles,
+                                     const Json& pixel) {
+  const int bc = int(pixel[0].get<double>()) / 8, br = int(pixel[1].get<double>()) / 8;
+  Color a{0, 0, 0}, b{0, 0, 0};
+  for (int r = br - 1; r <= br + 1; ++r)
+    for (int c = bc - 1; c <= bc + 1; ++c) {
+      a += ours.block[size_t(r * ours.cols + c)];
+      for (int k = 0; k < 3; ++k)
+        b[k] += cycles["mean"][size_t(r)][size_t(c)][size_t(k)].get<double>();
+    }
+  return {a / 9.0, b / 9.0};
+}
+
+void print_regions(const BlockStats& s, const Json& frame, const char* const* names) {
+  for (; *names; ++names) {
+    const auto [a, b] = region_means(s, frame["blocks"], frame["objects"][*names]["pixel"]);
+    fmt::print("  {}: anamorph {:.4f} {:.4f} {:.4f}, Cycles {:.4f} {:.4f} {:.4f}\n", *names, a.x,
+               a.y, a.z, b.x, b.y, b.z);
+  }
+}
+
+// clearcoat.glb: a red and a blue sphere with clearcoat 1 (coat roughness 0.03 and 0.2) over a
+// rough base (0.5), a green one without, point and sun light. As glTF defines it the coat
+// reflects 4 x what Cycles 3.4's Principled clearcoat 1 does (tests/blender/README.md): the
+// image mean still agrees (measured +0.9, +1.2, +1.1 %), the coated spheres are brighter (red
+// sphere's green channel +47 %).
+TEST(BlenderMaterials, ClearcoatMatchesCycles) {
+  const Json ref = reference("clearcoat")["frames"][0];
+  const BlockStats s = render_blocks("clearcoat", 16);
+  expect_mean_near(s.mean, ref["image_mean"], 0.03, "clearcoat");
+  expect_blocks_near(s, ref["blocks"], 4, 0.15, 36, "clearcoat");
+}
+
+// The same with Cycles' weighting of the coat (1/4, and not taken from the base): the coated
+// materials overridden by name with clearcoat 0.25. The 3x3 blocks around each sphere within
+// 6 % per channel of Cycles. Measured (16 spp, seeds 1 and 2): red -0.2, +4.4, +3.7 %; blue
+// -2.7, -1.3, +0.3 %; the uncoated green sphere -2.3, -1.2, -1.9 % (Cycles' diffuse is not
+// Lambert). Without a coat the red sphere's green and blue are -9 %, at glTF's weight +47 %.
+TEST(BlenderMaterials, ClearcoatAtCyclesWeightMatchesCyclesOnTheSpheres) {
+  const Json ref = reference("clearcoat")["frames"][0];
+  const std::string coats =
+      "[[material]]\nname = \"coat_red\"\ntype = \"metallic_roughness\"\ncolor = [0.7, 0.05, "
+      "0.05]\nroughness = 0.5\nclearcoat = 0.25\nclearcoat_roughness = 0.03\n"
+      "[[material]]\nname = \"coat_blue\"\ntype = \"metallic_roughness\"\ncolor = [0.05, "
+      "0.1, 0.6]\nroughness = 0.5\nclearcoat = 0.25\nclearcoat_roughness = 0.2\n";
+  const BlockStats s = render_blocks("clearcoat", 16, coats);
+  expect_mean_near(s.mean, ref["image_mean"], 0.03, "clearcoat at Cycles' weight");
+  for (const char* name : {"coat_red_sphere", "coat_blue_sphere", "coat_none_sphere"}) {
+    const auto [ours, cycles] = region_means(s, ref["blocks"], ref["objects"][name]["pixel"]);
+    expect_mean_near(ours, Json{cycles.x, cycles.y, cycles.z}, 0.06, name);
+  }
+}
+
+// sheen.glb: Principled + Velvet (Cycles) against glTF's Charlie sheen over the base: not the
+// same model (README), so only the image mean (measured +0.2, +0.2, -0.2 %) and the blocks at the
+// transmission test's floor; the spheres differ by up to 19 % in a channel (printed).
+TEST(BlenderMaterials, SheenImageMeanMatchesCycles) {
+  const Json ref = reference("sheen")["frames"][0];
+  const BlockStats s = render_blocks("sheen", 16);
+  expect_mean_near(s.mean, ref["image_mean"], 0.03, "sheen");
+  expect_blocks_near(s, ref["blocks"], 4, 0.15, 36, "sheen");
+  const char* spheres[] = {"velvet_purple_sphere", "velvet_green_sphere", nullptr};
+  print_regions(s, ref, spheres);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/integrator_registry_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_blender_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_materials_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/bsdf_layers_test.cpp
 )
 anamorph_add_test(test_form_factors
   ${CMAKE_CURRENT_LIST_DIR}/form_factors_test.cpp

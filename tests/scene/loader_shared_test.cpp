@@ -107,13 +107,27 @@ TEST(SharedModels, CamerasWithoutTopLevelScene) {
   EXPECT_EQ(m.triangle_count(), 2u);
 }
 
-TEST(SharedModels, ClearCoatTestCountsAndIgnoredExtension) {
+// KHR_materials_clearcoat read: factors, the coat's weight, roughness and normal textures.
+TEST(SharedModels, ClearCoatTestReadsItsCoats) {
   ANAMORPH_REQUIRE_SHARED();
   const LoadedModel m = load_model(scene("gltf/ClearCoatTest-glTF/ClearCoatTest.gltf"));
   EXPECT_EQ(m.triangle_count(), 37116u);
   EXPECT_EQ(m.materials.size(), 19u);
-  EXPECT_TRUE(test::has_warning(m, "KHR_materials_clearcoat")) << test::all_warnings(m);
+  EXPECT_FALSE(test::has_warning(m, "KHR_materials_clearcoat")) << test::all_warnings(m);
   expect_unit_normals(m);
+  const auto coat = [&](const std::string& name) -> const MetallicRoughnessMaterial& {
+    for (const auto& mat : m.materials)
+      if (mat->name == name) return test::material_as<MetallicRoughnessMaterial>(*mat);
+    throw std::runtime_error("no material " + name);
+  };
+  EXPECT_EQ(coat("Simple_Coated").clearcoat, 1);
+  EXPECT_NEAR(coat("Simple_Coated").clearcoat_roughness, 0.03, 1e-7);
+  EXPECT_EQ(coat("Simple_Base").clearcoat, 0);
+  EXPECT_EQ(coat("Partial_Coated").clearcoat_texture.kind, Texture::Kind::Image);
+  EXPECT_EQ(coat("RoughVariations_Coated").clearcoat_roughness_texture.kind, Texture::Kind::Image);
+  EXPECT_TRUE(coat("CoatNorm_Coated").has_clearcoat_normal);
+  EXPECT_FALSE(coat("BaseNorm_Coated").has_clearcoat_normal);
+  EXPECT_TRUE(coat("BaseNorm_Coated").has_normal_map);
 }
 
 TEST(SharedModels, AnimatedMorphCubeLoadsItsBaseMeshAndItsMorphAnimation) {

@@ -103,6 +103,20 @@ std::vector<TableCase> table_cases() {
   forms(material_schema(), "[[material]]\n", "name = \"m\"\n", {"name"});
   forms(object_schema(), "[[object]]\n", "", {"material"});
   forms(light_schema(), "[[light]]\n", "", {});
+  // The goals of `anamorph solve`, each kind with the keys it needs.
+  const std::pair<std::string_view, std::string> goals[] = {
+      {"pin", "point = [0, 0, -1]\nuv = [0.5, 0.5]\n"},
+      {"size", "from = [0, 0, -1]\nto = [1, 0, -1]\n"},
+      {"magnification", "point = [0, 0, -1]\n"},
+      {"keep", ""}};
+  for (const auto& [kind, body] : goals)
+    cases.push_back(
+        {"camera.constraint " + std::string(kind), "[[camera.constraint]]\n",
+         fmt::format("kind = \"{}\"\n{}", kind, body),
+         all_of({constraint_schema().common, constraint_schema().variant(kind)->params}, "kind")});
+  cases.push_back({"camera.free", "[[camera.free]]\n", "key = \"camera.fov\"\n",
+                   all_of({free_schema().common})});
+  cases.push_back({"camera.solve", "[camera.solve]\n", "", all_of({solve_schema().common})});
   for (const PresetInfo& p : camera_presets())
     cases.push_back({"preset " + std::string(p.name), "[camera]\n",
                      fmt::format("preset = \"{}\"\n", p.name), all_of({p.params})});

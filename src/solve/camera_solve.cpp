@@ -1,0 +1,212 @@
+#include "solve/camera_solve.h"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <memory>
+
+#include "params/toml_parse.h"
+#include "scene/camera_goals.h"
+#include "scene/scene_loader.h"
+#include "scene/toml_edit.h"
+#include "scene/toml_reader.h"
+#include "solve/free_params.h"
+#include "solve/goals.h"
+
+namespace anamorph::solve {
+
+namespace {
+
+bool is_coin_key(const std::string& override_or_key) {
+  return override_or_key.starts_with("camera.coin.") || override_or_key.starts_with("camera.coin=");
+}
+
+// Cameras at given free values, built by the scene reader; the last one is kept (Ceres asks for
+// each residual block at the same point in turn).
+class CameraBuilder {
+ public:
+  CameraBuilder(const SolveInput& in, const FreeValues& free, bool plain)
+      : in_(in), free_(free), plain_(plain) {
+    if (!plain) return;
+    toml::table t = parse_toml(in.text, in.file.string());
+    remove_path(t, "camera.coin");
+    plain_text_ = to_toml_text(t);
+  }
+
+  // Null when the reader refuses the values (the solver then takes a shorter step).
+  const CameraPair* at(const double* x) {
+    const std::vector<double> xs(x, x + free_.scalars.size());
+    if (built_ && xs == x_) return &pair_;
+    built_ = false;
+    x_ = xs;
+    try {
+      std::vector<std::string> o = in_.overrides;
+      for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
+      camera_ =
+          std::make_unique<Scene>(load_view_from_string(in_.text, in_.file, o, 0, *in_.loaded));
+      pair_ = {camera_->camera.get(), nullptr};
+      if (plain_) {
+        std::erase_if(o, is_coin_key);
+        plain_camera_ = std::make_unique<Scene>(
+            load_view_from_string(plain_text_, in_.file, o, 0, *in_.loaded));
+        pair_.plain = plain_camera_->camera.get();
+      }
+    } catch (const std::exception&) {
+      return nullptr;
+    }
+    built_ = true;
+    return &pair_;
+  }
+
+ private:
+  const SolveInput& in_;
+  const FreeValues& free_;
+  bool plain_;
+  std::string plain_text_;
+  std::vector<double> x_;
+  bool built_ = false;
+  std::unique_ptr<Scene> camera_, plain_camera_;
+  CameraPair pair_;
+};
+
+struct GoalCost {
+  const Goals* goals;
+  size_t index;
+  CameraBuilder* builder;
+  bool operator()(double const* const* p, double* r) const {
+    const CameraPair* cam = builder->at(p[0]);
+    if (!cam) return false;
+    goals->residuals(index, *cam, r);
+    for (int k = 0; k < goals->residual_count(index); ++k)
+      if (!std::isfinite(r[k])) return false;
+    return true;
+  }
+};
+
+struct Run {
+  std::vector<double> x;
+  int iterations = 0;
+  std::string termination;
+};
+
+// Solves the constraints `subset` from `x0`.
+Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const Goals& goals,
+        const FreeValues& free, const SolveOptions& opt, CameraBuilder& builder) {
+  Run out{x0, 0, {}};
+  double* x = out.x.data();
+  const int n = int(x0.size());
+  ceres::Problem problem;
+  for (size_t i : subset) {
+    auto* cost = new ceres::DynamicNumericDiffCostFunction<GoalCost, ceres::CENTRAL>(
+        new GoalCost{&goals, i, &builder});
+    cost->AddParameterBlock(n);
+    cost->SetNumResiduals(goals.residual_count(i));
+    ceres::LossFunction* loss = nullptr;
+    if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
+    if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
+    const double w = goals.constraint(i).weight;
+    problem.AddResidualBlock(cost, new ceres::ScaledLoss(loss, w * w, ceres::TAKE_OWNERSHIP), x);
+  }
+  for (int k = 0; k < n; ++k) {
+    const FreeScalar& s = free.scalars[size_t(k)];
+    if (std::isfinite(s.lo)) problem.SetParameterLowerBound(x, k, s.lo);
+    if (std::isfinite(s.hi)) problem.SetParameterUpperBound(x, k, s.hi);
+  }
+  ceres::Solver::Options o;
+  o.linear_solver_type = ceres::DENSE_QR;
+  o.max_num_iterations = opt.max_iterations;
+  o.function_tolerance = 1e-16;
+  o.gradient_tolerance = 1e-20;
+  o.parameter_tolerance = 1e-15;
+  o.num_threads = 1;
+  o.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(o, &problem, &summary);
+  out.iterations = int(summary.iterations.size());
+  out.termination = summary.message;
+  return out;
+}
+
+std::vector<size_t> all_of(size_t n) {
+  std::vector<size_t> v(n);
+  for (size_t i = 0; i < n; ++i) v[i] = i;
+  return v;
+}
+
+ConstraintReport report(const Goals& goals, size_t i, const CameraPair& cam) {
+  const CameraConstraint& c = goals.constraint(i);
+  ConstraintReport r;
+  r.where = c.where, r.kind = c.kind, r.unit = goals.unit(i);
+  r.residual = goals.measure(i, cam);
+  r.tolerance = c.tolerance;
+  r.met = r.residual <= c.tolerance;
+  return r;
+}
+
+bool met(const Goals& goals, size_t i, CameraBuilder& b, const std::vector<double>& x) {
+  const CameraPair* cam = b.at(x.data());
+  return cam && goals.measure(i, *cam) <= goals.constraint(i).tolerance;
+}
+
+// For each constraint not met: is it met alone (from the start)? Then which one it cannot be met
+// together with (pairs solved from the start; up to 12 constraints).
+void explain_unmet(SolveReport& rep, const Goals& goals, const FreeValues& free,
+                   const SolveOptions& opt, CameraBuilder& b) {
+  const std::vector<double> x0 = free.start();
+  for (size_t i = 0; i < goals.size(); ++i) {
+    ConstraintReport& r = rep.constraints[i];
+    if (r.met) continue;
+    r.met_alone = met(goals, i, b, run({i}, x0, goals, free, opt, b).x);
+    if (!r.met_alone || goals.size() > 12) continue;
+    for (size_t j = 0; j < goals.size(); ++j) {
+      if (j == i) continue;
+      const std::vector<double> x = run({i, j}, x0, goals, free, opt, b).x;
+      if (!met(goals, i, b, x) || !met(goals, j, b, x))
+        r.conflicts.push_back(goals.constraint(j).where);
+    }
+  }
+}
+
+}  // namespace
+
+bool SolveReport::all_met() const {
+  for (const ConstraintReport& c : constraints)
+    if (!c.met) return false;
+  return true;
+}
+
+SolveReport solve_camera(const SolveInput& in) {
+  const Scene& loaded = *in.loaded;
+  const toml::table root = parse_toml(loaded.effective_toml, in.file.string());
+  const toml::table* cam_table = root.get_as<toml::table>("camera");
+  const toml::table empty;
+  const CameraGoals g = read_camera_goals(TableReader(cam_table ? *cam_table : empty, "camera"));
+  const SourceLoc at{in.file.string(), 0, 0};
+  if (g.constraints.empty())
+    throw SceneError(at, "camera.constraint", "no [[camera.constraint]] to solve for");
+  if (g.free.empty()) throw SceneError(at, "camera.free", "no [[camera.free]] key to solve for");
+  const FreeValues free = resolve_free(g.free, root, loaded.animated, in.file.string());
+  const Goals goals(g, loaded, *loaded.camera, loaded.render.width, loaded.render.height);
+  CameraBuilder builder(in, free, goals.needs_plain());
+  if (!builder.at(free.start().data()))
+    throw SceneError(at, "camera", "the camera cannot be built at the start values");
+
+  const Run best = run(all_of(goals.size()), free.start(), goals, free, g.options, builder);
+  SolveReport rep;
+  rep.iterations = best.iterations;
+  rep.termination = best.termination;
+  rep.texts = free.texts(best.x);
+  for (size_t k = 0; k < free.scalars.size(); ++k) {
+    const FreeScalar& s = free.scalars[k];
+    const double v = best.x[k];
+    rep.values.push_back({s.name, free.start()[k], v, s.lo, s.hi, v <= s.lo || v >= s.hi});
+  }
+  const CameraPair* cam = builder.at(best.x.data());
+  if (!cam) throw SceneError(at, "camera", "the camera cannot be built at the solved values");
+  for (size_t i = 0; i < goals.size(); ++i) rep.constraints.push_back(report(goals, i, *cam));
+  if (!rep.all_met()) explain_unmet(rep, goals, free, g.options, builder);
+  return rep;
+}
+
+}  // namespace anamorph::solve

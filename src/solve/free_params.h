@@ -1,0 +1,47 @@
+// The free parameters of `anamorph solve`: each [[camera.free]] key resolved to its declaration
+// (camera/presets, the camera's common keys, coins, org/dir functions), its value in the loaded
+// scene (or its declared default) and its bounds (the declared range, narrowed by the entry's
+// min and max). A vector key (camera.look_at) gives one scalar per component; a component key
+// (camera.look_at.1) one scalar of its vector.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "scene/camera_goals.h"
+
+namespace anamorph::solve {
+
+struct FreeValue {
+  std::string key;            // the value's own key: "camera.look_at" for camera.look_at.1
+  std::vector<double> start;  // the value's components at the start (1 for a number)
+  bool vector = false;        // written as an array
+};
+
+struct FreeScalar {
+  size_t value;       // index into FreeValues::values
+  int component;      // into its start vector
+  std::string name;   // "camera.look_at.1" or "camera.fov", for reports
+  double lo, hi;      // bounds (may be infinite)
+  std::string where;  // the [[camera.free]] entry
+};
+
+struct FreeValues {
+  std::vector<FreeValue> values;
+  std::vector<FreeScalar> scalars;
+  std::vector<double> start() const;
+  // "key=value" overrides setting every value with the scalars `x` (the shortest text that reads
+  // back as the same double).
+  std::vector<std::string> overrides(const std::vector<double>& x) const;
+  // Each value as TOML text, for the solved scene.
+  std::vector<std::pair<std::string, std::string>> texts(const std::vector<double>& x) const;
+};
+
+// `scene` is the loaded scene's effective tree (includes merged, animation evaluated);
+// `animated` its keys with [[animate]] entries. Throws SceneError naming the entry.
+FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& scene,
+                        const std::vector<std::string>& animated, const std::string& file);
+
+}  // namespace anamorph::solve

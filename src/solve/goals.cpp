@@ -1,0 +1,175 @@
+#include "solve/goals.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "scene/shape.h"
+#include "scene/toml_reader.h"
+
+namespace anamorph::solve {
+
+namespace {
+
+constexpr double kUnseen = std::numeric_limits<double>::infinity();
+
+// The centre of the world bounding box of the object named `name` (a shape or a mesh instance).
+Vec3 object_centre(const Scene& s, const std::string& name, const std::string& where) {
+  std::vector<Bounds3> found;
+  for (const AnalyticShape& sh : s.shapes) {
+    if (sh.name != name) continue;
+    const Bounds3 ob = shape_object_bounds(sh);
+    Bounds3 b;
+    for (int k = 0; k < 8; ++k)
+      b.extend(sh.world_from_object.point(
+          {k & 1 ? ob.hi.x : ob.lo.x, k & 2 ? ob.hi.y : ob.lo.y, k & 4 ? ob.hi.z : ob.lo.z}));
+    found.push_back(b);
+  }
+  for (const Instance& in : s.instances) {
+    if (in.name != name) continue;
+    Bounds3 b;
+    for (const TriangleMesh& m : s.prototypes[in.prototype].meshes)
+      for (const Vec3f& p : m.positions)
+        b.extend(in.world_from_object.point({double(p.x), double(p.y), double(p.z)}));
+    found.push_back(b);
+  }
+  const std::string key = where + ".object";
+  if (found.empty()) throw SceneError({s.path, 0, 0}, key, fmt::format("no object \"{}\"", name));
+  if (found.size() > 1)
+    throw SceneError({s.path, 0, 0}, key,
+                     fmt::format("{} objects are named \"{}\"", found.size(), name));
+  if (found[0].empty())
+    throw SceneError({s.path, 0, 0}, key, fmt::format("object \"{}\" is empty", name));
+  return found[0].center();
+}
+
+// The image position of `p` nearest to `near` (false when the camera does not see p).
+bool seen_at(const Camera& cam, const Vec3& p, Vec2 near, Vec2* uv) {
+  const std::vector<Vec2> all = cam.project(p);
+  if (all.empty()) return false;
+  *uv = all[0];
+  for (const Vec2& q : all)
+    if (length(q - near) < length(*uv - near)) *uv = q;
+  return true;
+}
+
+// The beam's footprint |dP/du x dP/dv| at distance t along the ray at `uv` (0: no ray).
+double footprint(const Camera& cam, Vec2 uv, double t) {
+  CameraSample cs;
+  cs.uv = uv;
+  const std::optional<CameraRay> r = cam.generate(cs);
+  if (!r) return 0;
+  return length(cross(r->dorg_du + r->ddir_du * t, r->dorg_dv + r->ddir_dv * t));
+}
+
+}  // namespace
+
+Goals::Goals(const CameraGoals& goals, const Scene& loaded, const Camera& start, int width,
+             int height)
+    : width_(width), height_(height) {
+  for (const CameraConstraint& c : goals.constraints) {
+    Item it{c, {}, {}, {}, {}, {}};
+    const ParamValues& v = c.values;
+    if (c.kind == "pin" || c.kind == "magnification")
+      it.point =
+          v.has("point") ? v.vec3("point") : object_centre(loaded, v.string("object"), c.where);
+    if (c.kind == "pin") it.uv = v.vec2("uv");
+    if (c.kind == "size") it.point = v.vec3("from"), it.to = v.vec3("to");
+    if (c.kind == "keep") {
+      const int n = int(v.integer("samples"));
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          CameraSample cs;
+          cs.uv = {(i + 0.5) / n, (j + 0.5) / n};
+          const std::optional<CameraRay> r = start.generate(cs);
+          if (!r) continue;
+          it.samples.push_back(r->org + r->dir * v.number("distance"));
+          it.at.push_back(cs.uv);
+        }
+    }
+    items_.push_back(std::move(it));
+  }
+}
+
+int Goals::residual_count(size_t i) const {
+  const std::string& k = items_[i].c.kind;
+  if (k == "pin") return 2;
+  if (k == "keep") return 2 * int(items_[i].samples.size());
+  return 1;
+}
+
+bool Goals::needs_plain() const {
+  for (const Item& it : items_)
+    if (it.c.kind == "magnification") return true;
+  return false;
+}
+
+const char* Goals::unit(size_t i) const {
+  const std::string& k = items_[i].c.kind;
+  return k == "pin" || k == "keep" ? "px" : "%";
+}
+
+void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
+  const Item& it = items_[i];
+  const Camera& cam = *cp.camera;
+  const double w = width_, h = height_;
+  // Not seen: a constant penalty of two image widths (the solver moves back toward seeing it).
+  const double unseen = 2 * std::max(w, h);
+  if (it.c.kind == "pin") {
+    Vec2 uv;
+    if (!seen_at(cam, it.point, it.uv, &uv)) {
+      r[0] = r[1] = unseen;
+      return;
+    }
+    r[0] = (uv.x - it.uv.x) * w, r[1] = (uv.y - it.uv.y) * h;
+  } else if (it.c.kind == "size") {
+    Vec2 a, b;
+    if (!seen_at(cam, it.point, {0.5, 0.5}, &a) || !seen_at(cam, it.to, a, &b)) {
+      r[0] = 100;
+      return;
+    }
+    const double len = std::hypot((a.x - b.x) * w, (a.y - b.y) * h) / w;
+    r[0] = 100 * (len / it.c.values.number("fraction") - 1);
+  } else if (it.c.kind == "magnification") {
+    Vec2 uv;
+    CameraSample cs;
+    std::optional<CameraRay> ray;
+    if (seen_at(cam, it.point, {0.5, 0.5}, &uv)) cs.uv = uv, ray = cam.generate(cs);
+    if (!ray) {
+      r[0] = 100;
+      return;
+    }
+    const double t = dot(it.point - ray->org, ray->dir);
+    const double a = footprint(cam, uv, t), ref = footprint(*cp.plain, uv, t);
+    const double m = a > 0 && ref > 0 ? std::sqrt(ref / a) : 0;
+    r[0] = 100 * (m / it.c.values.number("magnification") - 1);
+  } else {  // keep
+    for (size_t k = 0; k < it.samples.size(); ++k) {
+      Vec2 uv;
+      if (!seen_at(cam, it.samples[k], it.at[k], &uv)) {
+        r[2 * k] = r[2 * k + 1] = unseen;
+        continue;
+      }
+      r[2 * k] = (uv.x - it.at[k].x) * w, r[2 * k + 1] = (uv.y - it.at[k].y) * h;
+    }
+  }
+}
+
+double Goals::measure(size_t i, const CameraPair& cam) const {
+  std::vector<double> r(size_t(residual_count(i)));
+  residuals(i, cam, r.data());
+  const Item& it = items_[i];
+  const double unseen = 2 * std::max(width_, height_);
+  double m = 0;
+  if (it.c.kind == "pin" || it.c.kind == "keep") {
+    for (size_t k = 0; k + 1 < r.size(); k += 2) {
+      if (r[k] == unseen && r[k + 1] == unseen) return kUnseen;
+      m = std::max(m, std::hypot(r[k], r[k + 1]));
+    }
+    return m;
+  }
+  return std::abs(r[0]);
+}
+
+}  // namespace anamorph::solve

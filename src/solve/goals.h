@@ -1,0 +1,52 @@
+// The residuals of the camera's constraints (scene/camera_goals.h) for one camera: what the
+// solver drives to zero and what the report shows. Pins and keep are in pixels, size and
+// magnification in percent of their target.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "camera/camera.h"
+#include "math/vec.h"
+#include "scene/camera_goals.h"
+#include "scene/scene.h"
+
+namespace anamorph::solve {
+
+// A camera as the solver sees it: the camera and, for magnification, the same camera without its
+// coins (null when no constraint needs it).
+struct CameraPair {
+  const Camera* camera = nullptr;
+  const Camera* plain = nullptr;
+};
+
+class Goals {
+ public:
+  // Points named by objects are their bounding boxes' centres in `loaded`; keep's samples are
+  // taken through `start`. Throws SceneError (an unknown or ambiguous object name).
+  Goals(const CameraGoals& goals, const Scene& loaded, const Camera& start, int width, int height);
+
+  size_t size() const { return items_.size(); }
+  const CameraConstraint& constraint(size_t i) const { return items_[i].c; }
+  int residual_count(size_t i) const;
+  // Residuals of constraint i (residual_count of them, unweighted).
+  void residuals(size_t i, const CameraPair& cam, double* r) const;
+  // The reported size of constraint i's residual (pixels or percent; +inf when the camera does
+  // not see its point) and its unit.
+  double measure(size_t i, const CameraPair& cam) const;
+  const char* unit(size_t i) const;
+  bool needs_plain() const;
+
+ private:
+  struct Item {
+    CameraConstraint c;
+    Vec3 point, to;             // pin, magnification: point; size: from, to
+    Vec2 uv;                    // pin: target
+    std::vector<Vec3> samples;  // keep: points seen by the starting camera
+    std::vector<Vec2> at;       // keep: where it saw them
+  };
+  std::vector<Item> items_;
+  int width_, height_;
+};
+
+}  // namespace anamorph::solve
