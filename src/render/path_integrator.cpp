@@ -25,12 +25,13 @@ class PathTracer final : public Integrator {
     Footprint fp = fp0;
     double prev_pdf = 0;
     bool prev_delta = true;
-    Vec3 prev_p;
+    Vec3 prev_p, prev_n;  // the point the ray left and its shading normal
     for (int depth = 0;; ++depth) {
       const Vec3 dir = normalize(ray.d);
       if (!found) {
         if (lights.has_environment()) {
-          const double w = prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_environment(dir));
+          const double w =
+              prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_environment(dir, prev_n));
           L += beta * lights.environment(dir) * w;
         }
         break;
@@ -64,7 +65,7 @@ class PathTracer final : public Integrator {
         double pmf;
         const size_t li = lights.pick(u_pick, &pmf);
         LightSample ls;
-        if (pmf > 0 && lights.sample(li, hit.p, u_light, &ls) && ls.pdf > 0) {
+        if (pmf > 0 && lights.sample(li, hit.p, b.frame.n, u_light, &ls) && ls.pdf > 0) {
           const Color f = b.eval(wo, ls.wi);
           if (max_component(f) > 0 && light_visible(ctx_, hit, ls, rays)) {
             const double lpdf = ls.pdf * pmf;
@@ -80,6 +81,7 @@ class PathTracer final : public Integrator {
       prev_pdf = s.pdf;
       prev_delta = s.delta;
       prev_p = hit.p;
+      prev_n = b.frame.n;
       if (depth >= 3) {
         const double q = std::max(0.05, 1 - max_component(beta));
         if (rng.uniform() < q) break;

@@ -37,6 +37,25 @@ TEST(Furnace, DiffuseSphereUnderUniformSkyReflectsItsAlbedo) {
   EXPECT_NEAR(sum / 64, 0.8, 0.01) << "mean radiance of the furnace";
 }
 
+TEST(Furnace, ConstantSkyIsSampledAboutTheNormalWithZeroVariance) {
+  // Light sampling draws the constant sky cosine-weighted about the shading normal, the same
+  // density as the diffuse BSDF: with the power heuristic each technique carries weight 1/2 and
+  // every sample of every pixel is exactly albedo * L, at any sample count. (Sampling the whole
+  // sphere wasted half the light samples below the surface: at 4 spp the pixels were off by 0.029
+  // RMS.)
+  const std::string scene =
+      "[image]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"path\"\nspp = 4\nmax_depth = 8\n"
+      "[camera]\nlook_from = [0, 0, 4]\nlook_at = [0, 0, 0]\nfov = 8\n"
+      "[[material]]\nname = \"white\"\ncolor = 0.8\n"
+      "[[object]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"white\"\n"
+      "[environment]\ncolor = 0.5\n";
+  const auto r = test::render_text(scene);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(r.film->pixel(x, y)[c], 0.4, 1e-5) << "pixel " << x << "," << y << " c" << c;
+}
+
 TEST(Furnace, MetallicRoughnessWhiteFurnaceStaysBelowOne) {
   const std::string scene =
       "[image]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"path\"\nspp = 64\n"
