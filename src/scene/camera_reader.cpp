@@ -71,9 +71,11 @@ std::vector<Coin> read_coins(const TableReader& cam) {
 
 VirtualCameraParts from_model_camera(const ModelCamera& m, ImageInfo img) {
   VirtualCameraParts p;
-  const double a = m.aspect > 0 ? m.aspect : img.aspect();
   if (m.perspective) {
-    const double h = 2 * std::tan(m.yfov * 0.5), w = h * a;
+    // yfov kept, the width from the image's own aspect: an image of another shape than the file's
+    // aspectRatio (which sets the default height, gltf_scene.cpp) shows more or less to the
+    // sides, never a stretched view.
+    const double h = 2 * std::tan(m.yfov * 0.5), w = h * img.aspect();
     p.org = make_point_org({0, 0, 0});
     p.dir = make_surface_dir(make_plane_org({0, 0, -1}, {w, 0, 0}, {0, -h, 0}), {0, 0, 0});
     p.description = fmt::format("glTF perspective camera '{}' (yfov {:.4g} rad)", m.name, m.yfov);

@@ -355,8 +355,8 @@ const ParamSpec kCameraCommon[] = {
     {"gltf_camera", ParamType::Integer, "none",
      "Camera N of the loaded glTF files (in the order objects load them) gives the camera its "
      "pose, following its animation. Alone, the camera is that glTF camera (its perspective "
-     "yfov and aspectRatio, or orthographic xmag and ymag); with a preset or org/dir, that "
-     "camera rides the glTF camera node (look_from, look_at and up are then not given). See "
+     "yfov, widened to the image's aspect, or orthographic xmag and ymag); with a preset or "
+     "org/dir, that camera rides the glTF camera node (look_from, look_at and up are then not given). See "
      "gltf.md.",
      0, 1 << 20},
 };

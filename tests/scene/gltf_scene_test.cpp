@@ -49,6 +49,21 @@ TEST(GltfScene, DefaultsAreThePathTracerTheWorldAndTheFilesCamera) {
   }
 }
 
+// An image wider than the camera's aspectRatio (8:3 against 4:3) shows more to the sides and
+// stretches nothing: every point lies as many pixels from the centre as in the 4:3 image.
+TEST(GltfScene, AnotherImageShapeWidensTheViewWithoutStretching) {
+  const Scene narrow = load_scene(blender("studio"), {"image.width=160"});
+  const Scene wide = load_scene(blender("studio"), {"image.width=320", "image.height=120"});
+  ASSERT_EQ(narrow.render.height, 120);
+  for (const Vec3& p : {Vec3{0, 0.5, 0}, Vec3{1, 1, -1}, Vec3{-1.5, 0.2, 0.5}}) {
+    const auto a = narrow.camera->project(p), b = wide.camera->project(p);
+    ASSERT_EQ(a.size(), 1u) << str(p);
+    ASSERT_EQ(b.size(), 1u) << str(p);
+    EXPECT_NEAR((a[0].x - 0.5) * 160, (b[0].x - 0.5) * 320, 1e-9) << str(p);
+    EXPECT_NEAR(a[0].y, b[0].y, 1e-12) << str(p);
+  }
+}
+
 TEST(GltfScene, OverridesChangeWhatGltfCannotSay) {
   const Scene s =
       load_scene(blender("studio"), {"image.width=120", "image.height=120", "camera.preset=fisheye",
