@@ -190,7 +190,7 @@ HttpResponse save(Editor& ed, const ApiCall& c) {
 }
 
 // The file formats asked for: "formats": [names of sink kinds], or one boolean per kind named
-// for it ({"png": true, "exr": true}, the older form); by default the first kind.
+// for it ({"png": true, "exr": true}, the older form); none: the editor's default (the first).
 std::vector<std::string> requested_formats(const Json& body) {
   const Json& formats = field(body, "formats");
   std::vector<std::string> names;
@@ -200,6 +200,7 @@ std::vector<std::string> requested_formats(const Json& body) {
       if (!f.is_string()) throw std::invalid_argument("'formats' is a list of names");
       names.push_back(f.get<std::string>());
     }
+    if (names.empty()) throw std::invalid_argument("'formats' names no file format");
     return names;
   }
   bool any_named = false;
@@ -209,8 +210,8 @@ std::vector<std::string> requested_formats(const Json& body) {
     any_named = true;
     if (b.get<bool>()) names.push_back(k->name);
   }
-  if (!any_named) names.push_back(sink_kinds().front()->name);
-  return names;
+  if (any_named && names.empty()) throw std::invalid_argument("ask for at least one file format");
+  return names;  // (none named: the editor's default)
 }
 
 HttpResponse start_render(Editor& ed, const ApiCall& c) {

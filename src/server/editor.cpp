@@ -283,12 +283,11 @@ std::string Editor::Render::file_name(const std::string& stem, std::optional<int
 
 namespace {
 
-// The sink kinds named (std::invalid_argument when one is not).
+// The sink kinds named, or the first one when none is (std::invalid_argument for an unknown name).
 std::vector<const SinkKind*> sink_kinds_named(const std::vector<std::string>& names) {
   std::string known;
   for (const SinkKind* k : sink_kinds()) known += (known.empty() ? "" : ", ") + k->name;
-  if (names.empty())
-    throw std::invalid_argument("ask for at least one file format (" + known + ")");
+  if (names.empty()) return {sink_kinds().front()};
   std::vector<const SinkKind*> kinds;
   for (const std::string& n : names) {
     const SinkKind* k = find_sink_kind_named(n);

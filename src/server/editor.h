@@ -112,7 +112,8 @@ class Editor {
   // The final render of the current document into a private folder, one frame (the one shown)
   // or, with `frames`, a sequence (what `anamorph render --frames A:B` writes); status as JSON.
   struct RenderRequest {
-    std::vector<std::string> formats{"png"};  // sink kinds by name (io/image_sink.h), one file each
+    // Output sink kinds by name (io/image_sink.h), one file each; none: the first kind.
+    std::vector<std::string> formats;
     std::optional<std::pair<int, int>> frames;
   };
   // Why not when one is running; std::invalid_argument for a request that names no format, an
