@@ -37,6 +37,24 @@ double smith_g1(double cos_v, double a) {
   return 2 * cos_v / (cos_v + std::sqrt(a2 + (1 - a2) * c2));
 }
 
+Vec3 sample_ggx_visible(const Vec3& wo, double a, Vec2 u) {
+  // The view stretched to the unit-roughness configuration, where visible normals are the
+  // sum of the view and a point uniform on the cap of the sphere z > -view.z.
+  const Vec3 v = normalize(Vec3{wo.x * a, wo.y * a, wo.z});
+  double sp, cp;
+  sincos_poly(2 * kPi * u.x, &sp, &cp);
+  const double z = (1 - u.y) * (1 + v.z) - v.z;
+  const double r = std::sqrt(std::clamp(1 - z * z, 0.0, 1.0));
+  const Vec3 hs = Vec3{r * cp, r * sp, z} + v;
+  const Vec3 h = normalize(Vec3{hs.x * a, hs.y * a, std::max(hs.z, 0.0)});
+  return h * (2 * dot(wo, h)) - wo;
+}
+
+double ggx_visible_pdf(const Vec3& wo, const Vec3& wi, double a) {
+  const Vec3 h = normalize(wo + wi);
+  return smith_g1(wo.z, a) * ggx_d(h.z, a) / (4 * wo.z);
+}
+
 namespace {
 
 // Lobe selection probabilities from rough albedo estimates.
@@ -98,10 +116,7 @@ double Bsdf::pdf(const Vec3& wo_w, const Vec3& wi_w) const {
     const double c = std::max(0.0, dot(r, wi));
     p += w.phong * (phong_exponent + 1) / (2 * kPi) * std::pow(c, phong_exponent);
   }
-  if (w.ggx > 0) {
-    const Vec3 h = normalize(wo + wi);
-    p += w.ggx * ggx_d(h.z, ggx_alpha) * h.z / (4 * dot(wo, h));
-  }
+  if (w.ggx > 0) p += w.ggx * ggx_visible_pdf(wo, wi, ggx_alpha);
   if (w.coat + w.sheen > 0) p += layers_pdf(wo_w, wi_w, w.coat, w.sheen);
   return p / w.total * opacity;
 }
@@ -171,14 +186,7 @@ bool sample_smooth_lobes(const Bsdf& b, const LobeWeights& w, const Vec3& wo, co
     const Frame rf = Frame::from_normal({-wo.x, -wo.y, wo.z});
     *wi = rf.to_world({sin_a * cp, sin_a * sp, cos_a});
   } else {
-    // GGX distribution of normals.
-    const double a2 = b.ggx_alpha * b.ggx_alpha;
-    const double cos_h = std::sqrt((1 - u.x) / (1 + (a2 - 1) * u.x));
-    const double sin_h = std::sqrt(std::max(0.0, 1 - cos_h * cos_h));
-    double sp, cp;
-    sincos_poly(2 * kPi * u.y, &sp, &cp);
-    const Vec3 h{sin_h * cp, sin_h * sp, cos_h};
-    *wi = h * (2 * dot(wo, h)) - wo;
+    *wi = sample_ggx_visible(wo, b.ggx_alpha, u);  // (its visible normals)
   }
   return true;
 }

@@ -80,6 +80,13 @@ double sheen_albedo(double cos_theta, double roughness);
 // GGX (Trowbridge-Reitz) normal distribution and Smith's G1, alpha = roughness^2.
 double ggx_d(double cos_h, double alpha);
 double smith_g1(double cos_v, double alpha);
+// Sampling GGX reflection by its distribution of visible normals (Heitz 2018; the spherical-cap
+// form of Dupuy and Benyoub 2023): the mirror of wo about a normal drawn in proportion to
+// G1(wo) max(0, wo.h) D(h) / wo.z, in the local frame (z up, wo.z > 0); below the horizon when
+// that normal faces away. The weight f cos / pdf of a sample is then F G1(wi) <= F.
+Vec3 sample_ggx_visible(const Vec3& wo, double alpha, Vec2 u);
+// Its density over wi (both above the surface): G1(wo) D(h) / (4 wo.z).
+double ggx_visible_pdf(const Vec3& wo, const Vec3& wi, double alpha);
 
 double fresnel_dielectric(double cos_i, double eta);
 Color fresnel_schlick(const Color& f0, double cos_theta);

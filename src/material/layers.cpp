@@ -123,10 +123,7 @@ double Bsdf::layers_pdf(const Vec3& wo_w, const Vec3& wi_w, double w_coat, doubl
   double p = 0;
   if (w_coat > 0) {
     const Vec3 co = coat_frame.to_local(wo_w), ci = coat_frame.to_local(wi_w);
-    if (co.z > 0 && ci.z > 0) {
-      const Vec3 h = normalize(co + ci);
-      p += w_coat * ggx_d(h.z, coat_alpha) * h.z / (4 * dot(co, h));
-    }
+    if (co.z > 0 && ci.z > 0) p += w_coat * ggx_visible_pdf(co, ci, coat_alpha);
   }
   if (w_sheen > 0) p += w_sheen * cosine_hemisphere_pdf(std::max(dot(wi_w, frame.n), 0.0));
   return p;
@@ -135,12 +132,7 @@ double Bsdf::layers_pdf(const Vec3& wo_w, const Vec3& wi_w, double w_coat, doubl
 bool Bsdf::sample_coat(const Vec3& wo_w, Vec2 u, Vec3* wi_w) const {
   const Vec3 wo = coat_frame.to_local(wo_w);
   if (wo.z <= 0) return false;
-  const double a2 = coat_alpha * coat_alpha;
-  const double cos_h = std::sqrt((1 - u.x) / (1 + (a2 - 1) * u.x));
-  const double sin_h = std::sqrt(std::max(0.0, 1 - cos_h * cos_h));
-  const double phi = 2 * kPi * u.y;
-  const Vec3 h{sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h};
-  const Vec3 wi = h * (2 * dot(wo, h)) - wo;
+  const Vec3 wi = sample_ggx_visible(wo, coat_alpha, u);
   if (wi.z <= 0) return false;
   *wi_w = coat_frame.to_world(wi);
   return true;
