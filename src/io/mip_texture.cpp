@@ -67,24 +67,28 @@ MipTexture::MipTexture(Image image, bool wrap_u) : wrap_u_(wrap_u) {
 void MipTexture::add_bilinear(const Level& l, double u, double v, float weight,
                               float sum[4]) const {
   const double px = u * l.width - 0.5, py = v * l.height - 0.5;
-  if (!std::isfinite(px) || !std::isfinite(py) || std::abs(px) > 1e9 || std::abs(py) > 1e9) return;
+  if (!(std::abs(px) < 1e9 && std::abs(py) < 1e9)) return;  // (NaN too)
   const double fx0 = std::floor(px), fy0 = std::floor(py);
   const float fx = float(px - fx0), fy = float(py - fy0);
-  const long x0 = long(fx0), y0 = long(fy0);
-  const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
-  for (int j = 0; j < 4; ++j) {
-    long x = x0 + (j & 1), y = y0 + (j >> 1);
-    if (wrap_u_) {
-      x %= l.width;
-      if (x < 0) x += l.width;
-      y = std::clamp(y, 0L, long(l.height) - 1);
-    } else if (x < 0 || x >= l.width || y < 0 || y >= l.height) {
-      continue;  // (black outside)
-    }
-    const float* t = &l.rgba[(size_t(y) * size_t(l.width) + size_t(x)) * 4];
-    const float k = weight * w[j];
-    for (int c = 0; c < 4; ++c) sum[c] += k * t[c];
+  const long w = l.width, h = l.height;
+  long x0 = long(fx0), y0 = long(fy0), x1 = x0 + 1, y1 = y0 + 1;
+  float wx0 = 1 - fx, wx1 = fx, wy0 = 1 - fy, wy1 = fy;
+  if (wrap_u_) {
+    if (x0 < 0 || x0 >= w) x0 = ((x0 % w) + w) % w;
+    x1 = x0 + 1 == w ? 0 : x0 + 1;
+    y0 = std::clamp(y0, 0L, h - 1), y1 = std::clamp(y1, 0L, h - 1);
+  } else {  // (a texel outside weighs 0; its index is moved inside)
+    const auto outside = [](long& i, long n, float& wi) {
+      if (i >= 0 && i < n) return;
+      i = 0, wi = 0;
+    };
+    outside(x0, w, wx0), outside(x1, w, wx1), outside(y0, h, wy0), outside(y1, h, wy1);
   }
+  const float* r0 = &l.rgba[size_t(y0) * size_t(w) * 4];
+  const float* r1 = &l.rgba[size_t(y1) * size_t(w) * 4];
+  const float *a = r0 + x0 * 4, *b = r0 + x1 * 4, *c = r1 + x0 * 4, *d = r1 + x1 * 4;
+  for (int k = 0; k < 4; ++k)
+    sum[k] += weight * (wy0 * (wx0 * a[k] + wx1 * b[k]) + wy1 * (wx0 * c[k] + wx1 * d[k]));
 }
 
 void MipTexture::bilinear(Vec2 uv, float rgba[4]) const {
@@ -127,9 +131,12 @@ void MipTexture::area(Vec2 uv, Vec2 duv_dx, Vec2 duv_dy, float rgba[4]) const {
   const double norm = std::sqrt(axis.x * axis.x + axis.y * axis.y);
   axis = norm > 0 ? axis / norm : Vec2{1, 0};
   const Footprint f{major, minor, axis};
-  double lod =
-      std::max(std::log2(std::max(minor, 1.0)) - kFinerLevels, std::log2(major / kMaxProbes));
-  lod = std::clamp(lod, 0.0, double(levels() - 1));
+  // (level 0 without a logarithm in the common case)
+  double lod = 0;
+  if (minor > std::exp2(kFinerLevels) || major > kMaxProbes)
+    lod = std::clamp(
+        std::max(std::log2(std::max(minor, 1.0)) - kFinerLevels, std::log2(major / kMaxProbes)),
+        0.0, double(levels() - 1));
   const int lo = int(std::floor(lod));
   const float t = float(lod - lo);
   std::fill(rgba, rgba + 4, 0.0f);

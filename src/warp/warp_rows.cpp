@@ -10,13 +10,20 @@ namespace anamorph {
 void warp_rows(const WarpView& v, int y0, int rows, float* rgba) {
   const int W = v.width, H = v.height;
   std::fill(rgba, rgba + size_t(rows) * size_t(W) * 4, 0.0f);
+  CameraSample s[kCameraBatch];
+  CameraRayBatch rays;
   for (int y = y0; y < y0 + rows; ++y)
-    for (int x = 0; x < W; ++x) {
-      const auto r = v.camera.generate(CameraSample{{(x + 0.5) / W, (y + 0.5) / H}});
-      if (!r) continue;
-      const auto f = source_footprint(v.source, *r, W, H);
-      if (!f) continue;
-      v.texture.lookup(f->uv, f->duv_dx, f->duv_dy, &rgba[(size_t(y - y0) * W + size_t(x)) * 4]);
+    for (int x0 = 0; x0 < W; x0 += kCameraBatch) {  // (the camera's batch: the same rays)
+      const int n = std::min(kCameraBatch, W - x0);
+      for (int i = 0; i < n; ++i) s[i].uv = {(x0 + i + 0.5) / W, (y + 0.5) / H};
+      v.camera.generate_batch(s, n, &rays);
+      for (int i = 0; i < n; ++i) {
+        if (!rays.valid[i]) continue;
+        const auto f = source_footprint(v.source, rays.ray(i), W, H);
+        if (!f) continue;
+        v.texture.lookup(f->uv, f->duv_dx, f->duv_dy,
+                         &rgba[(size_t(y - y0) * W + size_t(x0 + i)) * 4]);
+      }
     }
 }
 
