@@ -26,16 +26,6 @@ namespace anamorph::app {
 
 namespace {
 
-// The input's size fits the projection: width / height within half a pixel of its aspect.
-void check_input_aspect(const SourceProjection& source, const Image& img, const std::string& name) {
-  const double want = source.aspect(), have = double(img.width) / img.height;
-  if (std::abs(img.width - want * img.height) > 0.5)
-    throw ParamError("--source",
-                     fmt::format("{} is {}x{} (aspect {:.6g}), but --source {} needs "
-                                 "an aspect of {:.6g} (width / height)",
-                                 name, img.width, img.height, have, source.describe(), want));
-}
-
 // The progress bar on a terminal, unless --quiet.
 std::function<void(double)> progress_bar(const WarpArgs& a, const std::string& prefix) {
   if (a.quiet || !isatty(STDERR_FILENO)) return nullptr;
@@ -83,7 +73,7 @@ void warp_frame(const WarpArgs& a, const Scene& s, const std::filesystem::path& 
   Image image = read_image(input);
   const std::unique_ptr<SourceProjection> source =
       parse_source(a.source, double(image.width) / image.height);
-  check_input_aspect(*source, image, input.string());
+  check_source_aspect(*source, image.width, image.height, input.string());
   // (the image moves into the texture: the in-memory filters keep it as their level 0)
   const std::unique_ptr<WarpTexture> texture = make_warp_texture(
       std::move(image), source->wraps_u(),

@@ -1,9 +1,13 @@
 #include "warp/warp_rows.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 
 #include "camera/stmap.h"
 #include "math/parallel.h"
+#include "params/params.h"
 
 namespace anamorph {
 
@@ -25,6 +29,15 @@ void warp_rows(const WarpView& v, int y0, int rows, float* rgba) {
                          &rgba[(size_t(y - y0) * W + size_t(x0 + i)) * 4]);
       }
     }
+}
+
+void check_source_aspect(const SourceProjection& source, int width, int height,
+                         const std::string& name) {
+  const double want = source.aspect(), have = double(width) / height;
+  if (std::abs(width - want * height) > 0.5)
+    throw ParamError("--source", fmt::format("{} is {}x{} (aspect {:.6g}), but --source {} needs "
+                                             "an aspect of {:.6g} (width / height)",
+                                             name, width, height, have, source.describe(), want));
 }
 
 std::vector<float> warp_image(const WarpView& v) {

@@ -4,6 +4,9 @@
 // file) and Python's anamorph.warp (an array).
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "camera/camera.h"
 #include "camera/source_projection.h"
 #include "warp/warp_texture.h"
@@ -21,6 +24,11 @@ struct WarpView {
 // colour, alpha the source's where the pixel has a ray the source shows, all 0 elsewhere).
 // Thread-safe; each pixel's value depends on nothing but its position.
 void warp_rows(const WarpView& v, int y0, int rows, float* rgba);
+
+// The input's size fits the projection: width / height within half a pixel of its aspect, else
+// ParamError (key "--source") naming `name` (the input) and both aspects.
+void check_source_aspect(const SourceProjection& source, int width, int height,
+                         const std::string& name);
 
 // The whole image (height x width x 4 floats), rows in parallel.
 std::vector<float> warp_image(const WarpView& v);
