@@ -259,3 +259,15 @@ def test_warp_refuses_bad_inputs(small_equirect):
     with pytest.raises(ValueError, match="not central"):
         anamorph.warp(anamorph.Camera("orthographic", width=8, height=8), small_equirect,
                       "equirect")
+
+
+@pytest.mark.parametrize("filter_", ["area", "bilinear", "aniso", "bicubic"])
+def test_warp_of_a_constant_rgb_array_is_that_constant_with_alpha_one(filter_):
+    cam = anamorph.Camera("fisheye", fov=180, width=24, height=24)
+    img = np.full((32, 64, 3), 0.25, np.float32)  # (no alpha: every filter makes it 1)
+    got = anamorph.warp(cam, img, "equirect", filter=filter_)
+    inside = cam.rays()["valid"]
+    assert inside.any() and not inside.all()
+    np.testing.assert_allclose(got[inside][:, :3], 0.25, atol=1e-5)
+    np.testing.assert_allclose(got[inside][:, 3], 1, atol=1e-5)
+    assert np.all(got[~inside] == 0)

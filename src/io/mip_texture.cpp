@@ -19,7 +19,9 @@ constexpr int kMaxProbes = 16;
 // 0.0060).
 constexpr double kFinerLevels = 2;
 
-std::vector<float> to_rgba(Image&& image) {
+}  // namespace
+
+std::vector<float> rgba_pixels(Image&& image) {
   const int c = image.channels;
   if (c == 4) return std::move(image.pixels);
   const size_t n = size_t(image.width) * size_t(image.height);
@@ -33,12 +35,10 @@ std::vector<float> to_rgba(Image&& image) {
   return out;
 }
 
-}  // namespace
-
 MipTexture::MipTexture(Image image, bool wrap_u) : wrap_u_(wrap_u) {
   Level base;
   base.width = image.width, base.height = image.height;
-  base.rgba = to_rgba(std::move(image));
+  base.rgba = rgba_pixels(std::move(image));
   levels_.push_back(std::move(base));
   while (levels_.back().width > 1 || levels_.back().height > 1) {
     const Level& f = levels_.back();

@@ -24,6 +24,9 @@
 
 namespace anamorph {
 
+// The image's pixels as RGBA (grey to R = G = B; alpha 1 where it has none), moved when they are.
+std::vector<float> rgba_pixels(Image&& image);
+
 class MipTexture {
  public:
   // Takes the image's pixels (any channel count: 1 grey, 3 RGB, 4 RGBA); levels are built on

@@ -37,6 +37,10 @@ std::unique_ptr<WarpTexture> make_warp_texture(Image image, bool wrap_u, Texture
   if (filter == TextureFilter::Area || filter == TextureFilter::Bilinear)
     return std::make_unique<InMemoryTexture>(std::move(image), wrap_u,
                                              filter == TextureFilter::Area);
+  if (image.channels != 4) {  // (OpenImageIO would give a missing alpha as 0)
+    image.pixels = rgba_pixels(std::move(image));
+    image.channels = 4;
+  }
   return make_oiio_texture(image, wrap_u, filter, threads);
 }
 
