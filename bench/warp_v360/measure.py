@@ -1,7 +1,7 @@
 """Accuracy of fisheye images against a reference (bench/warp_v360/run): mean absolute
 difference and bias in 8-bit sRGB over the image circle and over its rim (r > 0.9 of the
 radius), printed as a markdown table; with --crops DIR, crops at the rim (the reference's most
-detailed block there) of the reference, the first image and the first v360 one, enlarged 2x,
+detailed block there) of the reference, the first image and v360's lanczos one (else its first), enlarged 2x,
 as PNGs."""
 import argparse
 import os
@@ -32,6 +32,7 @@ def main():
     p.add_argument("reference")
     p.add_argument("images", nargs="+")
     p.add_argument("--crops")
+    p.add_argument("--prefix", default="warp_v360_", help="of the crops' file names")
     a = p.parse_args()
     ref = read(a.reference)
     h, w = ref.shape[:2]
@@ -55,10 +56,11 @@ def main():
         _, x0, y0 = max(blocks)
         print(f"crops: {n} x {n} at x = {x0}, y = {y0}")
         crop = lambda img: img[y0:y0 + n, x0:x0 + n]
-        v360 = next(i for i in a.images if "v360" in os.path.basename(i))
+        v360s = [i for i in a.images if "v360" in os.path.basename(i)]
+        v360 = next((i for i in v360s if "lanczos" in i), v360s[0])  # (lanczos when there)
         for name, img in (("reference", ref), ("anamorph", read(a.images[0])),
                           ("v360", read(v360))):
-            write(os.path.join(a.crops, f"warp_v360_{name}.png"), crop(img))
+            write(os.path.join(a.crops, f"{a.prefix}{name}.png"), crop(img))
 
 
 if __name__ == "__main__":

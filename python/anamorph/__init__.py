@@ -25,7 +25,7 @@ from ._scene import Scene, load, loads
 
 __version__: str = _anamorph.__version__
 __all__ = ["Camera", "Coin", "Function", "Projection", "Scene", "SceneError", "declarations",
-           "dir", "load", "loads", "org", "read_exr", "schema"]
+           "dir", "load", "loads", "org", "read_exr", "schema", "warp"]
 
 
 def schema() -> dict[str, Any]:
@@ -37,6 +37,24 @@ def declarations() -> dict[str, Any]:
     """Every declared parameter (presets, org/dir functions, coin, camera, image, render): name,
     type, default, range, unit, choices and doc, as the C++ tables declare them."""
     return _anamorph.declarations()
+
+
+def warp(camera: Camera, image: str | os.PathLike[str] | np.ndarray, source: str, *,
+         filter: str = "area", width: int | None = None, height: int | None = None,
+         threads: int = 0) -> np.ndarray:
+    """An image in a source projection (``"equirect"``, ``"cubemap[:3x2]"``,
+    ``"fisheye:FOV[:ASPECT]"``, ``"perspective:FOV[:ASPECT]"``) reprojected through the camera
+    without rendering, what ``anamorph warp`` writes (docs/compositing.md): an (H, W, 4) float32
+    array of linear RGBA at the camera's size (or ``width`` x ``height``), alpha 0 where the
+    camera has no ray or the source does not show its direction. ``image``: a file (PNG, JPEG,
+    EXR, HDR; 8-bit files are sRGB, read as the CLI reads them) or an (H, W[, C]) array of
+    linear values, C in 1..4. ``filter``: ``"area"`` (default), ``"bilinear"``, ``"aniso"`` or
+    ``"bicubic"`` (as ``warp --filter``). A camera whose rays leave different points, or an
+    image whose aspect does not fit the source, raises ValueError (SceneError for the
+    latter)."""
+    cam = camera._at(width, height)
+    img = os.fspath(image) if isinstance(image, (str, os.PathLike)) else image
+    return _anamorph.warp(cam._impl, img, source, filter, threads)
 
 
 def read_exr(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:

@@ -221,3 +221,53 @@ def test_stmap_refuses_a_camera_that_is_not_central():
         anamorph.Camera("orthographic", width=16, height=16).stmap("equirect")
     with pytest.raises(ValueError, match="unknown projection"):
         anamorph.Camera("fisheye", width=16, height=16).stmap("mercator")
+
+
+@pytest.fixture(scope="module")
+def small_equirect(tmp_path_factory):
+    """A 128 x 64 equirect render of the fisheye example's world (EXR, 4 spp)."""
+    out = tmp_path_factory.mktemp("warp") / "eq.exr"
+    cli("render", "-q", ROOT / "examples/apps/fisheye_180.toml", "--camera", "equirectangular",
+        "--width", 128, "--height", 64, "--set", "render.spp=4", "-o", out)
+    return out
+
+
+@pytest.mark.parametrize("filter_", ["area", "bilinear"])
+def test_warp_equals_the_cli_output(tmp_path, small_equirect, filter_):
+    scene = ROOT / "examples/apps/fisheye_180.toml"
+    cli("warp", "-q", scene, small_equirect, "--source", "equirect", "--filter", filter_,
+        "--width", 48, "--height", 40, "-o", tmp_path / "w.exr")
+    want = anamorph.read_exr(tmp_path / "w.exr")["rgba"]
+    cam = anamorph.load(scene).camera
+    got = anamorph.warp(cam, small_equirect, "equirect", filter=filter_, width=48, height=40)
+    assert got.shape == (40, 48, 4) and got.dtype == np.float32
+    np.testing.assert_array_equal(got, want)
+    # The same values from the image as an array, and for any thread count.
+    pixels = anamorph.read_exr(small_equirect)["rgba"]
+    np.testing.assert_array_equal(
+        anamorph.warp(cam, pixels, "equirect", filter=filter_, width=48, height=40, threads=1),
+        want)
+    assert 0 < (got[..., 3] > 0).sum() < 48 * 40  # (the image circle only)
+
+
+def test_warp_refuses_bad_inputs(small_equirect):
+    cam = anamorph.Camera("fisheye", fov=180, width=16, height=16)
+    with pytest.raises(anamorph.SceneError, match="aspect"):
+        anamorph.warp(cam, np.zeros((10, 30, 3), np.float32), "equirect")
+    with pytest.raises(ValueError, match="filter"):
+        anamorph.warp(cam, small_equirect, "equirect", filter="sharp")
+    with pytest.raises(ValueError, match="not central"):
+        anamorph.warp(anamorph.Camera("orthographic", width=8, height=8), small_equirect,
+                      "equirect")
+
+
+@pytest.mark.parametrize("filter_", ["area", "bilinear", "aniso", "bicubic"])
+def test_warp_of_a_constant_rgb_array_is_that_constant_with_alpha_one(filter_):
+    cam = anamorph.Camera("fisheye", fov=180, width=24, height=24)
+    img = np.full((32, 64, 3), 0.25, np.float32)  # (no alpha: every filter makes it 1)
+    got = anamorph.warp(cam, img, "equirect", filter=filter_)
+    inside = cam.rays()["valid"]
+    assert inside.any() and not inside.all()
+    np.testing.assert_allclose(got[inside][:, :3], 0.25, atol=1e-5)
+    np.testing.assert_allclose(got[inside][:, 3], 1, atol=1e-5)
+    assert np.all(got[~inside] == 0)

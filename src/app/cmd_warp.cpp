@@ -1,7 +1,7 @@
 // `anamorph warp`: an image made elsewhere (an equirect render, fisheye footage, a cubemap)
 // reprojected through the scene's camera without rendering: each pixel's ray direction is
 // looked up in the source projection and the image filtered there by the ray's footprint
-// (app/source_texture.h), the output streamed in strips (app/warp_frame.h). Exit codes as for
+// (warp/warp_texture.h), the output streamed in strips (app/warp_frame.h). Exit codes as for
 // render; an interruption leaves no output file (the sink writes a temporary until commit).
 #include <fmt/format.h>
 #include <tbb/task_arena.h>
@@ -13,7 +13,6 @@
 #include <filesystem>
 
 #include "app/output_guard.h"
-#include "app/source_texture.h"
 #include "app/stmap_options.h"
 #include "app/thread_option.h"
 #include "app/warp_command.h"
@@ -26,22 +25,6 @@
 namespace anamorph::app {
 
 namespace {
-
-// The input's size fits the projection: width / height within half a pixel of its aspect.
-void check_input_aspect(const SourceProjection& source, const Image& img, const std::string& name) {
-  const double want = source.aspect(), have = double(img.width) / img.height;
-  if (std::abs(img.width - want * img.height) > 0.5)
-    throw ParamError("--source",
-                     fmt::format("{} is {}x{} (aspect {:.6g}), but --source {} needs "
-                                 "an aspect of {:.6g} (width / height)",
-                                 name, img.width, img.height, have, source.describe(), want));
-}
-
-TextureFilter texture_filter(const std::string& name) {
-  return name == "bilinear"  ? TextureFilter::Bilinear
-         : name == "bicubic" ? TextureFilter::Bicubic
-                             : TextureFilter::Aniso;
-}
 
 // The progress bar on a terminal, unless --quiet.
 std::function<void(double)> progress_bar(const WarpArgs& a, const std::string& prefix) {
@@ -87,15 +70,14 @@ void warp_frame(const WarpArgs& a, const Scene& s, const std::filesystem::path& 
                 const std::function<void()>& committed) {
   const int W = s.render.width, H = s.render.height;
   central_origin(*s.camera, W, H);
-  std::unique_ptr<SourceProjection> source;
-  std::unique_ptr<SourceTexture> texture;
-  {  // (the image is dropped once its MIP-mapped copy exists: the texture cache reads that)
-    const Image image = read_image(input);
-    source = parse_source(a.source, double(image.width) / image.height);
-    check_input_aspect(*source, image, input.string());
-    texture = std::make_unique<SourceTexture>(image, source->wraps_u(), texture_filter(a.filter),
-                                              a.threads.value_or(0));
-  }
+  Image image = read_image(input);
+  const std::unique_ptr<SourceProjection> source =
+      parse_source(a.source, double(image.width) / image.height);
+  check_source_aspect(*source, image.width, image.height, input.string());
+  // (the image moves into the texture: the in-memory filters keep it as their level 0)
+  const std::unique_ptr<WarpTexture> texture = make_warp_texture(
+      std::move(image), source->wraps_u(),
+      texture_filter_named(a.filter).value_or(TextureFilter::Area), a.threads.value_or(0));
   std::map<std::string, std::string> metadata{
       {"anamorph.command", command_line()},
       {"anamorph.camera", s.camera->describe() + "\n" + s.camera_toml},
@@ -119,9 +101,11 @@ void add_warp(CLI::App& app, std::function<int()>& runner) {
                   "Output image (.png or .exr); with --frames a printf pattern")
       ->required();
   cmd->add_option("--filter", a->filter,
-                  "aniso (default: OpenImageIO's anisotropic MIP-map filter over each pixel's "
-                  "footprint), bilinear or bicubic (no MIP-maps: point lookups, as an STMap node)")
-      ->check(CLI::IsMember({"aniso", "bilinear", "bicubic"}));
+                  "area (default: bilinear where a pixel's footprint in the source is within a "
+                  "texel, an average along the footprint over MIP levels where the source is "
+                  "minified), bilinear (the 4 nearest texels, as an STMap node), aniso "
+                  "(OpenImageIO's anisotropic MIP filter) or bicubic (OpenImageIO's B-spline)")
+      ->check(CLI::IsMember({"area", "bilinear", "aniso", "bicubic"}));
   cmd->add_option("--frames", a->frames,
                   "FIRST:LAST: warp each frame of a sequence (INPUT and -o are printf patterns), "
                   "the scene's [[animate]] keys at that frame");

@@ -36,5 +36,4 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/calib_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_formats.cpp
   ${CMAKE_CURRENT_LIST_DIR}/stmap_options.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/source_texture.cpp
 )

@@ -14,7 +14,7 @@ namespace anamorph::app {
 
 struct WarpArgs {
   SceneOptions scene;
-  std::string input, source, output, filter = "aniso", frames;
+  std::string input, source, output, filter = "area", frames;
   std::optional<int> threads;
   bool quiet = false;
 };

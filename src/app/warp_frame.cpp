@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "app/interrupt.h"
-#include "camera/stmap.h"
 #include "io/image_io.h"
 #include "io/image_sink.h"
 #include "math/parallel.h"
@@ -45,19 +44,6 @@ Strip strip_of(const ImageSink& sink, const std::vector<float>& rgba, int width,
 }
 
 }  // namespace
-
-void warp_rows(const WarpView& v, int y0, int rows, float* rgba) {
-  const int W = v.width, H = v.height;
-  std::fill(rgba, rgba + size_t(rows) * size_t(W) * 4, 0.0f);
-  for (int y = y0; y < y0 + rows; ++y)
-    for (int x = 0; x < W; ++x) {
-      const auto r = v.camera.generate(CameraSample{{(x + 0.5) / W, (y + 0.5) / H}});
-      if (!r) continue;
-      const auto f = source_footprint(v.source, *r, W, H);
-      if (!f) continue;
-      v.texture.lookup(f->uv, f->duv_dx, f->duv_dy, &rgba[(size_t(y - y0) * W + size_t(x)) * 4]);
-    }
-}
 
 void warp_to_file(const WarpView& v, const fs::path& file,
                   const std::map<std::string, std::string>& metadata,

@@ -1,5 +1,4 @@
-// One frame of `anamorph warp`: the camera's image, each pixel's ray direction looked up in the
-// source projection and the texture filtered there by the ray's footprint, written through the
+// One frame of `anamorph warp` (its pixels: warp/warp_rows.h), written through the
 // output's sink (io/image_sink.h) strip by strip from the top. Only a batch of strips (a few
 // per thread) is in memory at once, so an 8K frame costs its source texture's cache and those
 // strips, not the whole output (docs/compositing.md, "Memory").
@@ -10,22 +9,9 @@
 #include <map>
 #include <string>
 
-#include "app/source_texture.h"
-#include "camera/camera.h"
-#include "camera/source_projection.h"
+#include "warp/warp_rows.h"
 
 namespace anamorph::app {
-
-struct WarpView {
-  const Camera& camera;
-  const SourceProjection& source;
-  const SourceTexture& texture;
-  int width, height;
-};
-
-// Rows [y0, y0 + rows) of the camera's image into `rgba` (rows x width x 4 floats, straight
-// colour, alpha 1 where the pixel has a ray the source shows, all 0 elsewhere). Thread-safe.
-void warp_rows(const WarpView& v, int y0, int rows, float* rgba);
 
 // The frame written to `file` (its sink chosen by the extension), committed when complete: an
 // interruption or error before leaves no file. `progress` (may be empty) gets the fraction done

@@ -44,9 +44,10 @@ StMap inverse_stmap(const Camera& camera, const Vec3& origin, const SourceProjec
                     int source_width, int source_height);
 
 // The source position of a unit direction and its change per target pixel along x and y, from
-// the ray's differentials (ddir_du / width, ddir_dv / height) by central differences of half a
-// pixel through `source`; across u's seam (wraps_u) the difference is taken the short way.
-// Derivatives are 0 where a neighbour has no source position on either side.
+// the ray's differentials (ddir_du / width, ddir_dv / height) by a one-sided difference of half
+// a pixel through `source` (ahead, else behind), doubled; across u's seam (wraps_u) the
+// difference is taken the short way. Derivatives are 0 where a neighbour has no source position
+// on either side.
 struct SourceFootprint {
   Vec2 uv, duv_dx, duv_dy;
 };

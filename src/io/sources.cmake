@@ -9,6 +9,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/exr.cpp
   ${CMAKE_CURRENT_LIST_DIR}/exr_stream.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_io.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mip_texture.cpp
   ${CMAKE_CURRENT_LIST_DIR}/png.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_sink.cpp
   ${CMAKE_CURRENT_LIST_DIR}/write_image.cpp

@@ -1,6 +1,7 @@
 // The source folders form layers: a folder includes headers of its own and of the folders below
 // it, never of one above (math < params, model, io < camera, material < scene < accel < render <
-// dist, server, solve < app; the denoiser sits beside them: math < denoise < render).
+// dist, server, solve < app; the denoiser sits beside them: math < denoise < render; warp's
+// pixels and textures: io, camera, plugins < warp < app).
 // A lower folder that reached up would drag the loaders into the camera, or the scene into image
 // I/O, and every user of the lower one would need the higher one too.
 #include <gtest/gtest.h>
@@ -27,6 +28,8 @@ const std::map<std::string, std::set<std::string>> kMayInclude = {
     {"denoise", {"math", "denoise"}},
     {"camera", {"math", "params", "model", "camera"}},
     {"material", {"math", "params", "model", "io", "material"}},
+    // anamorph warp's pixels and textures (the OpenImageIO plugin's C interface among them).
+    {"warp", {"math", "params", "model", "io", "camera", "plugins", "warp"}},
     {"scene", {"math", "params", "model", "io", "camera", "material", "scene"}},
     {"accel", {"math", "params", "model", "io", "camera", "material", "scene", "accel"}},
     {"render",
@@ -46,7 +49,7 @@ const std::map<std::string, std::set<std::string>> kMayInclude = {
     {"plugins", {"plugins"}},
     {"app",
      {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
-      "dist", "server", "solve", "plugins", "app"}},
+      "dist", "server", "solve", "plugins", "warp", "app"}},
 };
 
 TEST(Layering, NoFolderIncludesAHigherOne) {

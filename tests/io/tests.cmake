@@ -2,6 +2,7 @@ anamorph_add_test(test_io
   ${CMAKE_CURRENT_LIST_DIR}/atomic_write_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/exr_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/image_sink_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mip_texture_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/nul_path_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/png_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/read_image_test.cpp

@@ -1,7 +1,8 @@
-// The source texture over the OpenImageIO plugin (plugins/oiio_texture.h), loaded on first use:
-// beside the program, else where the build made it. The MIP-mapped copy is a temporary file this
-// side owns (registered, so an interrupted warp removes it too).
-#include "app/source_texture.h"
+// The "aniso" and "bicubic" warp textures (warp/warp_texture.h) over the OpenImageIO plugin
+// (plugins/oiio_texture.h), loaded on first use: beside the program, else where the build made it.
+// The MIP-mapped copy is a temporary file this side owns (registered, so an interrupted warp
+// removes it too).
+#include "warp/warp_texture.h"
 
 #include <dlfcn.h>
 #include <fmt/format.h>
@@ -14,7 +15,7 @@
 #include "io/temporary_files.h"
 #include "plugins/oiio_texture.h"
 
-namespace anamorph::app {
+namespace anamorph {
 
 namespace fs = std::filesystem;
 
@@ -68,43 +69,52 @@ fs::path temporary_texture() {
          fmt::format("anamorph-warp-{}-{}.tx.exr", ::getpid(), counter.fetch_add(1));
 }
 
-}  // namespace
-
-struct SourceTexture::State {
-  fs::path file;
-  int slot = -1;
-  void* texture = nullptr;
-  ~State() {
-    if (texture) plugin().close(texture);
-    std::error_code ignored;
-    if (!file.empty()) fs::remove(file, ignored);
-    if (slot >= 0) unregister_temporary(slot);
+class OiioTexture final : public WarpTexture {
+ public:
+  OiioTexture(const Image& image, bool wrap_u, TextureFilter filter, int threads) {
+    const Plugin& p = plugin();
+    file_ = temporary_texture();
+    slot_ = register_temporary(file_);
+    const int mode = filter == TextureFilter::Aniso ? kOiioFilterAniso : kOiioFilterBicubic;
+    char error[512] = "";
+    texture_ = p.open(image.pixels.data(), image.width, image.height, image.channels, file_.c_str(),
+                      wrap_u, mode, threads, error, sizeof error);
+    if (!texture_) {
+      drop();
+      throw std::runtime_error(error);
+    }
   }
+  ~OiioTexture() override { drop(); }
+  OiioTexture(const OiioTexture&) = delete;
+  OiioTexture& operator=(const OiioTexture&) = delete;
+
+  void lookup(Vec2 uv, Vec2 duv_dx, Vec2 duv_dy, float rgba[4]) const override {
+    const float st[2] = {float(uv.x), float(uv.y)};
+    const float footprint[4] = {float(duv_dx.x), float(duv_dx.y), float(duv_dy.x), float(duv_dy.y)};
+    char error[512] = "";
+    if (!plugin().lookup(texture_, st, footprint, rgba, error, sizeof error))
+      throw std::runtime_error(error);
+  }
+
+ private:
+  void drop() {
+    if (texture_) plugin().close(texture_);
+    texture_ = nullptr;
+    std::error_code ignored;
+    if (!file_.empty()) fs::remove(file_, ignored);
+    if (slot_ >= 0) unregister_temporary(slot_);
+    slot_ = -1;
+  }
+  fs::path file_;
+  int slot_ = -1;
+  void* texture_ = nullptr;
 };
 
-SourceTexture::SourceTexture(const Image& image, bool wrap_u, TextureFilter filter, int threads)
-    : state_(std::make_unique<State>()) {
-  const Plugin& p = plugin();
-  State& s = *state_;
-  s.file = temporary_texture();
-  s.slot = register_temporary(s.file);
-  const int mode = filter == TextureFilter::Aniso      ? kOiioFilterAniso
-                   : filter == TextureFilter::Bilinear ? kOiioFilterBilinear
-                                                       : kOiioFilterBicubic;
-  char error[512] = "";
-  s.texture = p.open(image.pixels.data(), image.width, image.height, image.channels, s.file.c_str(),
-                     wrap_u, mode, threads, error, sizeof error);
-  if (!s.texture) throw std::runtime_error(error);
+}  // namespace
+
+std::unique_ptr<WarpTexture> make_oiio_texture(const Image& image, bool wrap_u,
+                                               TextureFilter filter, int threads) {
+  return std::make_unique<OiioTexture>(image, wrap_u, filter, threads);
 }
 
-SourceTexture::~SourceTexture() = default;
-
-void SourceTexture::lookup(Vec2 uv, Vec2 duv_dx, Vec2 duv_dy, float rgba[4]) const {
-  const float st[2] = {float(uv.x), float(uv.y)};
-  const float footprint[4] = {float(duv_dx.x), float(duv_dx.y), float(duv_dy.x), float(duv_dy.y)};
-  char error[512] = "";
-  if (!plugin().lookup(state_->texture, st, footprint, rgba, error, sizeof error))
-    throw std::runtime_error(error);
-}
-
-}  // namespace anamorph::app
+}  // namespace anamorph
