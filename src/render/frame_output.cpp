@@ -3,12 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstddef>
 #include <cstring>
 #include <stdexcept>
 
 #include "math/parallel.h"
-#include "math/simd.h"
 
 namespace anamorph {
 
@@ -33,44 +31,12 @@ void add_once(std::vector<LayerRequest>& plan, const LayerRequest& r) {
   if (std::find(plan.begin(), plan.end(), r) == plan.end()) plan.push_back(r);
 }
 
-// TileBuffer::beauty_rgba of `n` pixels in a row, vectorized: each block's reciprocals and
-// counts across pixels, then each pixel's four values as one vector, (r, g, b, alpha) *
-// (inv, inv, inv, 1) / (1, 1, 1, count): the same IEEE operations as beauty_rgba (a product or
-// quotient by 1 is exact), so the same bits; -ffp-contract=off keeps the products unfused.
-static_assert(offsetof(PixelSum, alpha) == 3 * sizeof(float));
-ANAMORPH_KERNEL_BODY void beauty_rgba_body(const PixelSum* p, size_t n, float* out) {
-  using V4 = float __attribute__((vector_size(16)));
-  constexpr size_t kBlock = 16;
-  float inv[kBlock], count[kBlock];
-  for (size_t b = 0; b < n; b += kBlock, p += kBlock) {
-    const size_t m = std::min(kBlock, n - b);
-    for (size_t i = 0; i < m; ++i) {
-      count[i] = p[i].n ? float(p[i].n) : 1.0f;
-      inv[i] = p[i].alpha > 0 ? 1.0f / p[i].alpha : 0.0f;
-    }
-    for (size_t i = 0; i < m; ++i, out += 4) {
-      V4 v;
-      std::memcpy(&v, &p[i], sizeof v);  // rgb[3], alpha
-      const V4 scale = {inv[i], inv[i], inv[i], 1.0f}, by = {1.0f, 1.0f, 1.0f, count[i]};
-      v = v * scale / by;
-      std::memcpy(out, &v, sizeof v);
-    }
-  }
-}
-constexpr simd::Kernel<beauty_rgba_body> beauty_rgba_row;
-
-// The sums of the tile's row y.
-const PixelSum* row_sums(const TileBuffer& tile, int y) {
-  const TileRect& r = tile.rect();
-  return tile.sums().data() + size_t(y - r.y0) * size_t(r.width());
-}
-
 // The beauty's requests of a tile row: straight RGBA floats of the row, then each encoding.
 void resolve_beauty_row(const TileBuffer& tile, int y, std::vector<float>& row,
                         const std::vector<LayerRequest>& plan, size_t first, ResolvedTile& out) {
   const TileRect& r = tile.rect();
   const size_t w = size_t(r.width());
-  beauty_rgba_row(row_sums(tile, y), w, row.data());
+  for (int x = r.x0; x < r.x1; ++x) tile.beauty_rgba(x, y, &row[size_t(x - r.x0) * 4]);
   for (size_t i = 0; i < plan.size(); ++i) {
     if (!plan[i].layer.empty()) continue;
     if (plan[i].encoding == Encoding::Srgb8)
@@ -144,7 +110,7 @@ void resolve_rgba8(const TileBuffer& tile, unsigned char* out, size_t stride) {
   for (int y = r.y0; y < r.y1; ++y, out += stride)
     for (int x = r.x0; x < r.x1; x += kChunk) {
       const int n = std::min(kChunk, r.x1 - x);
-      beauty_rgba_row(row_sums(tile, y) + (x - r.x0), size_t(n), px);
+      for (int i = 0; i < n; ++i) tile.beauty_rgba(x + i, y, &px[i * 4]);
       encode_rgba8(px, size_t(n), out + size_t(x - r.x0) * 4);
     }
 }
