@@ -573,7 +573,6 @@ class GltfBuilder {
     } else if (gm.alphaMode == "BLEND") {
       mat.alpha_mode = Material::AlphaMode::Blend;  // transparency: the BSDF's opacity
     }
-    const bool uses_alpha = mat.alpha_mode != Material::AlphaMode::Opaque;
     mat.double_sided = gm.doubleSided;
 
     int uv_set = -1;
@@ -591,23 +590,8 @@ class GltfBuilder {
       return t;
     };
 
+    read_base_color(gm, mat, texture);
     const auto& pbr = gm.pbrMetallicRoughness;
-    Color base{1, 1, 1};
-    double alpha = 1;
-    if (pbr.baseColorFactor.size() == 4) {
-      base = {pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]};
-      alpha = pbr.baseColorFactor[3];
-    }
-    // The base colour factor's alpha multiplies the texture's alpha; Texture has no alpha
-    // factor, so it is baked into the image (or a 1x1 image when there is no texture).
-    const float alpha_scale = uses_alpha ? float(alpha) : 1.0f;
-    if (pbr.baseColorTexture.index >= 0)
-      mat.base_color = texture(tex_ref(pbr.baseColorTexture), true, base, alpha_scale);
-    else if (alpha_scale < 1)
-      mat.base_color = constant_with_alpha(base, alpha_scale);
-    else
-      mat.base_color = Texture::constant(base);
-
     mat.metallic = pbr.metallicFactor;
     mat.roughness = pbr.roughnessFactor;
     if (pbr.metallicRoughnessTexture.index >= 0)
@@ -618,16 +602,7 @@ class GltfBuilder {
       mat.normal_scale = gm.normalTexture.scale;
     }
 
-    Color emissive{0, 0, 0};
-    if (gm.emissiveFactor.size() == 3)
-      emissive = {gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]};
-    if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
-      mat.emission_strength = number(it->second, "emissiveStrength", 1.0);
-    if (max_component(emissive) > 0) {
-      mat.emission = gm.emissiveTexture.index >= 0
-                         ? texture(tex_ref(gm.emissiveTexture), true, emissive, 1)
-                         : Texture::constant(emissive);
-    }
+    read_emission(gm, mat, texture);
     if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end())
       mat.ior = number(it->second, "ior", 1.5);
     if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
@@ -638,6 +613,45 @@ class GltfBuilder {
     material_textured_[size_t(index)] = uv_set >= 0;
     if (gm.extensions.count("KHR_materials_unlit")) return unlit(mat);
     return owned;
+  }
+
+  // pbrMetallicRoughness's base colour: factor times texture. The factor's alpha multiplies the
+  // texture's alpha when the material uses alpha; Texture has no alpha factor, so it is baked
+  // into the image (or a 1x1 image when there is no texture).
+  template <class TextureFn>
+  void read_base_color(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                       TextureFn&& texture) {
+    const auto& pbr = gm.pbrMetallicRoughness;
+    Color base{1, 1, 1};
+    double alpha = 1;
+    if (pbr.baseColorFactor.size() == 4) {
+      base = {pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]};
+      alpha = pbr.baseColorFactor[3];
+    }
+    const bool uses_alpha = mat.alpha_mode != Material::AlphaMode::Opaque;
+    const float alpha_scale = uses_alpha ? float(alpha) : 1.0f;
+    if (pbr.baseColorTexture.index >= 0)
+      mat.base_color = texture(tex_ref(pbr.baseColorTexture), true, base, alpha_scale);
+    else if (alpha_scale < 1)
+      mat.base_color = constant_with_alpha(base, alpha_scale);
+    else
+      mat.base_color = Texture::constant(base);
+  }
+
+  // The emissive factor times its texture, and KHR_materials_emissive_strength.
+  template <class TextureFn>
+  void read_emission(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                     TextureFn&& texture) {
+    Color emissive{0, 0, 0};
+    if (gm.emissiveFactor.size() == 3)
+      emissive = {gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]};
+    if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
+      mat.emission_strength = number(it->second, "emissiveStrength", 1.0);
+    if (max_component(emissive) > 0) {
+      mat.emission = gm.emissiveTexture.index >= 0
+                         ? texture(tex_ref(gm.emissiveTexture), true, emissive, 1)
+                         : Texture::constant(emissive);
+    }
   }
 
   // KHR_materials_transmission's factor (its texture is not read) and KHR_materials_volume:
