@@ -123,12 +123,6 @@ void TileBuffer::reset(const TileRect& rect) {
   aov_.assign(rect.pixels() * aov_floats_, 0.0f);
 }
 
-void TileBuffer::reuse(const TileRect& rect) {
-  rect_ = rect;
-  px_.resize(rect.pixels());
-  aov_.assign(rect.pixels() * aov_floats_, 0.0f);
-}
-
 void TileBuffer::set(int x, int y, const Color& L, double alpha, uint32_t spp, const AovSample& a) {
   PixelSum& p = at(x, y);
   p = PixelSum{};

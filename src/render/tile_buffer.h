@@ -92,9 +92,6 @@ class TileBuffer {
   // Zeroed for another rectangle, keeping the storage (a thread's next tile: no allocation, and
   // the memory is still in cache).
   void reset(const TileRect& rect);
-  // Another rectangle whose every pixel the caller stores before anything reads it (store() for
-  // its first sample): the pixel sums keep whatever they held, not zeroed (the AOV sums are).
-  void reuse(const TileRect& rect);
   const TileRect& rect() const { return rect_; }
   const std::vector<Aov>& aovs() const { return aovs_; }
 
@@ -110,23 +107,6 @@ class TileBuffer {
     p.lum2 += float(l * l);
     p.n++;
     p.spp++;
-    if (aov_floats_ > 0 && a.hit) add_aovs(x, y, a);
-  }
-  // A pixel's first camera sample (or, with `drop`, no sample: a non-finite one): the bits add()
-  // gives onto zeroed sums, without reading them (0.0f + v: add() turns -0 into +0).
-  void store(int x, int y, const Color& L, double alpha, const AovSample& a, bool drop = false) {
-    PixelSum& p = at(x, y);
-    if (drop) {
-      p = PixelSum{};
-      return;
-    }
-    const double l = luminance(L);
-    p = PixelSum{{0.0f + float(L.x), 0.0f + float(L.y), 0.0f + float(L.z)},
-                 0.0f + float(alpha),
-                 0.0f + float(l * l),
-                 1,
-                 0,
-                 1};
     if (aov_floats_ > 0 && a.hit) add_aovs(x, y, a);
   }
   // A pixel finished elsewhere (adaptive subdivision): its value and how many samples it took.

@@ -1,7 +1,6 @@
 #include "render/tile_sampler.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <vector>
 
 #include "render/sampler.h"
@@ -81,40 +80,34 @@ void TileSampler::fill_lane(Packet& p, int k, uint32_t s) const {
   }
 }
 
-void TileSampler::trace(Packet& p, uint32_t s, const SampleRange& r, TileBuffer& tile,
+void TileSampler::trace(Packet& p, uint32_t s, double footprint, TileBuffer& tile,
                         TileStats& st) const {
   const CameraRayBatch& cam = p.cam;
   job_.scene.camera->generate_batch(p.cs, kPacket, &p.cam);
   for (int k = 0; k < kPacket; ++k) p.valid[k] = cam.valid[k] && p.use[k];
   job_.accel.intersect16(cam.org, cam.dir, p.valid, p.hits, p.found, job_.hit_surface);
-  const bool first = r.stores && s == r.begin;  // store, not add (the sums were not zeroed)
-  const auto put = [&](int k, const Color& L, double alpha, const AovSample& a, bool drop) {
-    if (first)
-      tile.store(p.x[k], p.y[k], L, alpha, a, drop);
-    else if (!drop)
-      tile.add(p.x[k], p.y[k], L, alpha, a);
-  };
   SampleResult& res = p.res;
   for (int k = 0; k < kPacket; ++k) {
     if (!p.use[k]) continue;
     st.samples++;
     if (!p.valid[k]) {
-      put(k, {}, 0, AovSample{}, false);  // no ray: transparent
+      tile.add(p.x[k], p.y[k], {}, 0, AovSample{});  // no ray: transparent
       continue;
     }
     st.rays++;
     job_.finish(
         Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
-        p.found[k] ? &p.hits[k] : nullptr, p.cs[k].uv, p.rng[k], st.rays, res, r.footprint);
-    const bool drop = !film_storable(res.L);
-    if (drop) st.nan(p.x[k], p.y[k], int(s));  // dropped
-    put(k, res.L, res.alpha, res.aov, drop);
+        p.found[k] ? &p.hits[k] : nullptr, p.cs[k].uv, p.rng[k], st.rays, res, footprint);
+    if (!film_storable(res.L)) {
+      st.nan(p.x[k], p.y[k], int(s));  // dropped
+      continue;
+    }
+    tile.add(p.x[k], p.y[k], res.L, res.alpha, res.aov);
   }
 }
 
 void TileSampler::sample(const SampleRange& r, TileBuffer& tile, TileStats& st) const {
   if (r.active) {
-    if (r.stores) throw std::logic_error("TileSampler: stored first samples need whole tiles");
     sample_listed(r, tile, st);
     return;
   }
@@ -130,7 +123,7 @@ void TileSampler::sample(const SampleRange& r, TileBuffer& tile, TileStats& st) 
           build_random(r, t, x, y, s, p);
         else
           build_fixed(r, t, x, y, p);
-        trace(p, s, r, tile, st);
+        trace(p, s, r.footprint, tile, st);
       }
 }
 
@@ -159,7 +152,7 @@ void TileSampler::sample_listed(const SampleRange& r, TileBuffer& tile, TileStat
         p.y[k] = p.use[k] ? ys[j] : t.y0;
         fill_lane(p, k, s);
       }
-      trace(p, s, r, tile, st);
+      trace(p, s, r.footprint, tile, st);
     }
 }
 

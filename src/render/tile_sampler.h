@@ -27,9 +27,6 @@ struct SampleRange {
   uint32_t begin = 0, end = 1;
   double footprint = 1;
   const std::vector<uint8_t>* active = nullptr;
-  // The tile's sums were not zeroed (TileBuffer::reuse): sample `begin` of every pixel is stored,
-  // not added. Only for whole tiles (no `active`).
-  bool stores = false;
 };
 
 class TileSampler {
@@ -61,7 +58,7 @@ class TileSampler {
   void fill_lane(Packet& p, int k, uint32_t s) const;
   // The pixels `active` leaves on, packed 16 to a packet whatever their positions.
   void sample_listed(const SampleRange& r, TileBuffer& tile, TileStats& st) const;
-  void trace(Packet& p, uint32_t s, const SampleRange& r, TileBuffer& tile, TileStats& st) const;
+  void trace(Packet& p, uint32_t s, double footprint, TileBuffer& tile, TileStats& st) const;
 
   const RenderJob& job_;
   bool lens_time_, needs_rng_, qmc_, gaussian_;

@@ -67,12 +67,10 @@ FarmResult TileSession::render(const FarmTile& t, std::unique_ptr<TileBuffer>& b
   if (!t.whole) {
     samples(t.range, *t.sums, r.stats);
   } else {
-    if (!buffer)
-      buffer = std::make_unique<TileBuffer>(t.rect, aovs_);
-    else if (lattice_)
+    if (buffer)
       buffer->reset(t.rect);
     else
-      buffer->reuse(t.rect);  // the samples' first pass stores every pixel's sums
+      buffer = std::make_unique<TileBuffer>(t.rect, aovs_);
     whole(*buffer, r.stats);
     if (t.plan)
       r.resolved = resolve(t.index, *buffer, *t.plan);
@@ -87,7 +85,7 @@ void TileSession::whole(TileBuffer& tile, TileStats& st) const {
   if (lattice_)
     render_lattice_tile(*lattice_, job_, spaces_->local.local(), tile, st);
   else
-    sampler_.sample({0, uint32_t(rs_.spp), job_.uniform_scale, nullptr, true}, tile, st);
+    sampler_.sample({0, uint32_t(rs_.spp), job_.uniform_scale, nullptr}, tile, st);
 }
 
 uint64_t TileSession::whole_work_per_pixel(const RenderSettings& rs) {

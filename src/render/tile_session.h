@@ -36,13 +36,12 @@ class TileSession {
               const std::atomic<bool>* cancel = nullptr);
   ~TileSession();
   // One tile as a farm hands it out, rendered on the calling thread. A whole tile: every sample
-  // into `buffer` (allocated, or reused when there is one: every pixel's first sample is stored
-  // over what it held, the lattice's pixels are set), then resolved to `t`'s layers, or
+  // into `buffer` (allocated, or reset when there is one), then resolved to `t`'s layers, or
   // handed over in the result's `tile` (otherwise `buffer` stays for the thread's next tile). A
   // pass: the range's samples added to `*t.sums` in place.
   FarmResult render(const FarmTile& t, std::unique_ptr<TileBuffer>& buffer) const;
-  // Every sample of the tile (uniform sampling, or the adaptive lattice) into `tile`: uniform
-  // sampling stores every pixel's first sample (TileBuffer::reuse), the lattice needs it zeroed.
+  // Every sample of the tile (uniform sampling, or the adaptive lattice) into `tile`, zeroed by
+  // the caller.
   void whole(TileBuffer& tile, TileStats& st) const;
   // The range's samples added to `tile`'s sums (one pass of a pass render).
   void samples(const SampleRange& range, TileBuffer& tile, TileStats& st) const {
