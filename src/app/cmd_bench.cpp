@@ -53,18 +53,14 @@ int run(const BenchArgs& a) {
   const int warm = a.warm_up, measured = a.measure;
   std::vector<double> mrays;
   // One 8-bit RGBA frame buffer for every frame, as the viewer keeps one: each finished tile is
-  // resolved into it and freed, so memory is the frame buffer and the tiles in flight.
+  // resolved straight into it (render/frame_output.h: resolve_rgba8) and its buffer reused for
+  // the thread's next tile, so memory is the frame buffer and the tiles in flight.
   const int W = scene.render.width, H = scene.render.height;
   const TileGrid grid(W, H, scene.render.tile_size);
   std::vector<unsigned char> frame(size_t(W) * size_t(H) * 4);
-  const std::vector<LayerRequest> rgba8{{"", Encoding::Srgb8}};
-  const TileSink to_frame = [&](size_t i, std::unique_ptr<TileBuffer>& tile) {
-    const ResolvedTile t = resolve(i, *tile, rgba8);
+  const TileSink to_frame = [&](size_t, std::unique_ptr<TileBuffer>& tile) {
     const TileRect& r = tile->rect();
-    const size_t row = size_t(r.x1 - r.x0) * 4;
-    for (int y = r.y0; y < r.y1; ++y)
-      std::copy_n(t.planes[0].u8.begin() + ptrdiff_t(size_t(y - r.y0) * row), row,
-                  frame.begin() + ptrdiff_t((size_t(y) * size_t(W) + size_t(r.x0)) * 4));
+    resolve_rgba8(*tile, &frame[(size_t(r.y0) * size_t(W) + size_t(r.x0)) * 4], size_t(W) * 4);
   };
   // Per-pixel adaptive sampling looks across tiles: that one renders into a film.
   std::unique_ptr<Film> film;

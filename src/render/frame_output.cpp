@@ -103,6 +103,18 @@ ResolvedTile resolve(size_t index, const TileBuffer& tile, const std::vector<Lay
   return out;
 }
 
+void resolve_rgba8(const TileBuffer& tile, unsigned char* out, size_t stride) {
+  constexpr int kChunk = 64;  // pixels resolved to floats, then encoded, while in L1
+  float px[kChunk * 4];
+  const TileRect& r = tile.rect();
+  for (int y = r.y0; y < r.y1; ++y, out += stride)
+    for (int x = r.x0; x < r.x1; x += kChunk) {
+      const int n = std::min(kChunk, r.x1 - x);
+      for (int i = 0; i < n; ++i) tile.beauty_rgba(x + i, y, &px[i * 4]);
+      encode_rgba8(px, size_t(n), out + size_t(x - r.x0) * 4);
+    }
+}
+
 bool fits(const ResolvedTile& t, const std::vector<LayerRequest>& plan, const TileRect& rect,
           const std::vector<Aov>& aovs) {
   const std::vector<LayerSpec> layers = render_layers(aovs);

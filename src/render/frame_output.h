@@ -45,6 +45,10 @@ struct ResolvedTile {
 // Throws std::invalid_argument for a layer the tile does not sum or 8-bit colour of a layer
 // other than the beauty.
 ResolvedTile resolve(size_t index, const TileBuffer& tile, const std::vector<LayerRequest>& plan);
+// The tile's beauty as 8-bit sRGB RGBA, the bytes resolve() gives for {"", Srgb8}, written
+// straight into an image at `out` (the tile's top-left pixel; rows `stride` bytes apart): no
+// planes allocated, nothing copied (`anamorph bench`'s frame).
+void resolve_rgba8(const TileBuffer& tile, unsigned char* out, size_t stride);
 // Whether `t` holds `plan` over `rect` (sizes of every plane), for tiles read back or received.
 bool fits(const ResolvedTile& t, const std::vector<LayerRequest>& plan, const TileRect& rect,
           const std::vector<Aov>& aovs);

@@ -142,5 +142,41 @@ TEST_F(FrameOutputTest, ACompleteFrameInAnyOrderIsEveryTile) {
   expect_files(dir_ / "out.png", dir_ / "out.exr", expected(out, added));
 }
 
+// Pixel (x, y)'s samples in the test below: 0 to 3 of them, some with no ray, colours negative,
+// zero (both signs), in [0, 1], above 1 and huge, so that every branch of the resolve and of the
+// sRGB encoding is met.
+void add_samples(TileBuffer& t, const TileRect& r) {
+  const double colours[] = {0.5, -0.25, -0.0, 0.0, 1.5, 3e38, 1e-5, 0.0031, 0.999};
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x) {
+      const int k = x * 7 + y * 13, samples = k % 4;
+      for (int s = 0; s < samples; ++s) {
+        const double c = colours[size_t(k + s) % 9];
+        const Color L{c, colours[size_t(k + 2 * s) % 9], 0.125 * s};
+        const double alpha = (k + s) % 5 == 0 ? 0.0 : 1.0;  // some samples without a ray
+        t.add(x, y, L, alpha, AovSample{});
+      }
+    }
+}
+
+TEST(ResolveRgba8, WritesTheBytesOfResolveIntoTheFrameAndNothingElse) {
+  const TileRect r{70, 3, 150, 8};  // 80 wide: more than one 64-pixel chunk
+  TileBuffer t(r, {});
+  add_samples(t, r);
+  const ResolvedTile planes = resolve(0, t, {{"", Encoding::Srgb8}});
+  const size_t W = 200, stride = W * 4;
+  std::vector<unsigned char> frame(stride * 12, 7);
+  resolve_rgba8(t, &frame[(size_t(r.y0) * W + size_t(r.x0)) * 4], stride);
+  for (size_t y = 0; y < 12; ++y)
+    for (size_t x = 0; x < W; ++x)
+      for (size_t c = 0; c < 4; ++c) {
+        const bool inside = int(x) >= r.x0 && int(x) < r.x1 && int(y) >= r.y0 && int(y) < r.y1;
+        const unsigned char want =
+            inside ? planes.planes[0].u8[((y - size_t(r.y0)) * 80 + x - size_t(r.x0)) * 4 + c] : 7;
+        ASSERT_EQ(int(frame[y * stride + x * 4 + c]), int(want))
+            << "(" << x << ", " << y << ") channel " << c;
+      }
+}
+
 }  // namespace
 }  // namespace anamorph
