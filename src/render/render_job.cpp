@@ -77,6 +77,12 @@ RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other) const {
   to.wanted = true;
   if (!other) return to;
   to.camera = other->camera.get();
+  to.accel = &accel;
+  if (other->geometry) {
+    to.scene = other->geometry;
+    to.own = std::make_shared<const Accel>(*to.scene);
+    to.accel = to.own.get();
+  }
   to.there_from_here.resize(accel.object_count());
   for (uint32_t id = 0; id < accel.object_count(); ++id) {
     const Accel::Record& r = accel.record(id);
@@ -127,12 +133,21 @@ bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, in
   bool found = false;
   double best = kInf;
   for (const Vec2& at : to.camera->project(q)) {
-    if (!(at.x >= 0 && at.x <= 1 && at.y >= 0 && at.y <= 1)) continue;
+    if (!(at.x >= 0 && at.x <= 1 && at.y >= 0 && at.y <= 1) || hidden(to, q, at)) continue;
     const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
     const double d2 = d.x * d.x + d.y * d.y;
     if (d2 < best) best = d2, *flow = d, found = true;
   }
   return found;
+}
+
+// Traced from the origin of the other frame's camera ray at `at` to q: whatever it meets before
+// q (short of it by a relative 1e-4: the surface at q itself is not an occluder) hides q.
+bool RenderJob::hidden(const FlowTarget& to, const Vec3& q, Vec2 at) {
+  const std::optional<CameraRay> r = to.camera->generate({at});
+  if (!r) return true;
+  Ray seg{r->org, q - r->org, 0, 1 - 1e-4};
+  return to.accel->occluded(seg);
 }
 
 Color RenderJob::aov_beauty(const AovSample& a) const {

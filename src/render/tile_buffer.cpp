@@ -46,7 +46,8 @@ const std::vector<AovInfo>& aov_table() {
        "forward optical flow in pixels (x right, y down): where the first hit's point, moved "
        "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
        "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
-       "valid: their fraction of the hits. Occlusion at frame + 1 is not tested"},
+       "a sample has none when the point leaves the image or is hidden at frame + 1 (traced from "
+       "that frame's camera ray to it); valid: their fraction of the hits"},
       {Aov::FlowBackward,
        "flow_backward",
        {"X", "Y", "valid"},
