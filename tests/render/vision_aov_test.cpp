@@ -247,6 +247,44 @@ TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
   check_moving_sphere(1, Aov::FlowBackward, c + move, -move);
 }
 
+// The motion layer is the flows in Cycles' convention (y up; previous - now, now - next) where
+// they are valid, and keeps the motion of points hidden at the other frame (the still
+// background behind the moved sphere: 0).
+TEST(VisionAov, MotionLayerIsTheFlowsInCyclesConvention) {
+  const int W = 48, H = 48;
+  for (const double frame : {0.0, 1.0}) {
+    const VisionFrame f = render_frame(
+        moving_sphere(W, H), {Aov::Motion, Aov::FlowForward, Aov::FlowBackward, Aov::Id}, frame);
+    int both = 0, hidden = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        if (f.at("id", x, y) < 0) {
+          for (int c = 0; c < 4; ++c) EXPECT_EQ(f.at("motion", x, y, c), 0) << "no hit";
+          continue;
+        }
+        SCOPED_TRACE("frame " + std::to_string(frame) + " pixel " + std::to_string(x) + "," +
+                     std::to_string(y));
+        const bool fv = f.at("flow_forward", x, y, 2) == 1,
+                   bv = f.at("flow_backward", x, y, 2) == 1;
+        if (!fv || !bv) {
+          hidden += f.at("id", x, y) == 0;
+          for (int c = 0; c < 4; ++c) EXPECT_TRUE(std::isfinite(f.at("motion", x, y, c)));
+          if (f.at("id", x, y) == 0) {
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(f.at("motion", x, y, c), 0, 1e-9) << "still";
+          }
+          continue;
+        }
+        ++both;
+        EXPECT_EQ(f.at("motion", x, y, 0), f.at("flow_backward", x, y, 0));
+        EXPECT_EQ(f.at("motion", x, y, 1), -f.at("flow_backward", x, y, 1));
+        EXPECT_EQ(f.at("motion", x, y, 2), -f.at("flow_forward", x, y, 0));
+        EXPECT_EQ(f.at("motion", x, y, 3), f.at("flow_forward", x, y, 1));
+      }
+    EXPECT_GT(both, 1000);
+    EXPECT_GT(hidden, 5);
+  }
+}
+
 // Warping: the surface parameters (uv) of frame `to`, read at each pixel of frame `from` plus its
 // flow (bilinear), give `from`'s, where the pixel has flow, faces the camera, and the four
 // neighbours at `to` see the same object. The pixels without flow are those the moving sphere
