@@ -164,6 +164,75 @@ TEST(VisionAov, PanFlowEqualsTheClosedFormProjection) {
   check_pan("fisheye", 180, true);  // pixels turned past 90 degrees have no flow
 }
 
+// A rolling shutter (top to bottom over the whole frame: shutter [0, 1]) on a perspective camera
+// panning at a constant rate inside a sphere: row v is read at frame F + v, with the camera
+// turned by yaw(F + v). A pixel's direction at frame 0, and where frame 1's camera sees it: the
+// row v' whose own readout yaw turns the direction onto row v' (solved here by bisection).
+TEST(VisionAov, RollingShutterFlowUsesEachPixelsReadoutTime) {
+  const int W = 32, H = 32;
+  const double fov = 60 * kPi / 180, w = 2 * std::tan(fov / 2), step = 3 * kPi / 180;
+  std::string keys;
+  double yaw[3];
+  for (int k = 0; k < 3; ++k) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s[%d, [%.17g, 0, %.17g]]", k ? ", " : "", k,
+                  std::sin(k * step), -std::cos(k * step));
+    keys += buf;
+    yaw[k] = std::atan2(std::sin(k * step), std::cos(k * step));
+  }
+  const std::string scene = image(W, H) +
+                            "[camera]\npreset = \"perspective\"\nfov = 60\n"
+                            "rolling_shutter = \"top_to_bottom\"\nshutter = [0, 1]\n"
+                            "look_from = [0, 0, 0]\nlook_at = [0, 0, -1]\n"
+                            "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 10\n"
+                            "[[animate]]\nkey = \"camera.look_at\"\nkeys = [" +
+                            keys + "]\n";
+  const VisionFrame f = render_frame(scene, {Aov::FlowForward});
+  // The camera's yaw at frame F's readout time t (slerp about y: linear in the angle).
+  const auto yaw_at = [&](int F, double t) { return yaw[F] + t * (yaw[F + 1] - yaw[F]); };
+  double worst = 0, largest_shift = 0;
+  int valid = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+      const double a = yaw_at(0, uv.y);
+      const Vec3 right{std::cos(a), 0, std::sin(a)}, fwd{std::sin(a), 0, -std::cos(a)};
+      const Vec3 d = right * ((uv.x - 0.5) * w) + Vec3{0, 1, 0} * (-(uv.y - 0.5) * w) + fwd;
+      // Frame 1: the row whose readout sees d there.
+      const auto row_error = [&](double v, Vec2* at) {
+        return perspective_uv(camera_space(d, yaw_at(1, v)), fov, at) || at->y >= 0 ? at->y - v
+                                                                                    : std::nan("");
+      };
+      double lo = 0, hi = 1;
+      Vec2 at;
+      const double elo = row_error(lo, &at), ehi = row_error(hi, &at);
+      if (!(elo * ehi <= 0)) continue;  // no row sees it
+      for (int k = 0; k < 200; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (row_error(mid, &at) * elo > 0 ? lo : hi) = mid;
+      }
+      row_error(0.5 * (lo + hi), &at);
+      if (!(at.x >= 0 && at.x <= 1)) continue;
+      const double fx = f.at("flow_forward", x, y, 0), fy = f.at("flow_forward", x, y, 1);
+      ASSERT_EQ(f.at("flow_forward", x, y, 2), 1) << "pixel " << x << "," << y;
+      ++valid;
+      const double ex = (at.x - uv.x) * W, ey = (at.y - uv.y) * H;
+      EXPECT_NEAR(fx, ex, 1e-5) << "pixel " << x << "," << y;
+      EXPECT_NEAR(fy, ey, 1e-5) << "pixel " << x << "," << y;
+      worst = std::max({worst, std::abs(fx - ex), std::abs(fy - ey)});
+      // How far a global shutter (the whole frame at its open yaw) would be off.
+      Vec2 global;
+      if (perspective_uv(camera_space(d, yaw[1]), fov, &global))
+        largest_shift = std::max(largest_shift, std::abs(global.x - at.x) * W);
+    }
+  EXPECT_GT(valid, W * H / 2);
+  EXPECT_GT(largest_shift, 0.5) << "the readout time matters in this test";
+  std::printf(
+      "rolling shutter: worst flow error %.3g px over %d pixels (readout shift up to %.3g "
+      "px)\n",
+      worst, valid, largest_shift);
+}
+
 // A sphere of radius 1 at (0, 0, -3) moving by (0.5, 0.2, 0) between frames 0 and 1, seen by a
 // still 180-degree equidistant fisheye at the origin, before a still sphere of radius 20.
 std::string moving_sphere(int W, int H) {
