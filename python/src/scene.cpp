@@ -21,6 +21,7 @@
 #include "render/radiosity.h"
 #include "render/renderer.h"
 #include "render/tile_buffer.h"
+#include "scene/scene_loader.h"
 #include "scene/scene_schema.h"
 
 namespace anamorph::py {
@@ -98,6 +99,27 @@ class SceneHandle {
     return std::make_shared<const Scene>(source_.load_view(extra, *scene_));
   }
   RenderStats run(Film& film, const RenderOptions& opt, const pb::object& progress);
+  // Frames + 1 / - 1 attached to scene_ for one render (flow, motion), and taken off after.
+  struct OtherFrames {
+    Scene& scene;
+    OtherFrames(const SceneHandle& h, const std::vector<Aov>& aovs,
+                const std::vector<std::string>& extra)
+        : scene(*h.scene_) {
+      scene.next = aovs_need_frame(aovs, 1) ? h.other_frame(1, extra) : nullptr;
+      scene.previous = aovs_need_frame(aovs, -1) ? h.other_frame(-1, extra) : nullptr;
+    }
+    ~OtherFrames() { scene.next = scene.previous = nullptr; }
+    OtherFrames(const OtherFrames&) = delete;
+    OtherFrames& operator=(const OtherFrames&) = delete;
+  };
+  // The scene at this frame + step (only the view when nothing else animates).
+  std::shared_ptr<const FrameMotion> other_frame(int step,
+                                                 const std::vector<std::string>& extra) const {
+    SceneSource s = source_;
+    s.frame += step;
+    if (animates_view_only(*scene_)) return frame_motion(s.load_view(extra, *scene_), scene_.get());
+    return frame_motion(s.load(extra));
+  }
   // Takes the render lock (without the GIL, so a render on another thread can finish) and
   // builds the acceleration structure on first use.
   std::unique_lock<std::mutex> lock_and_build() {
@@ -142,14 +164,10 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
       list += (list.empty() ? "" : ",") + a;
   }
   aovs = parse_aovs(list);
-  // Flow looks at the next frame, which `anamorph render` loads beside this one; a Scene here
-  // holds one frame.
-  for (Aov a : {Aov::FlowForward, Aov::FlowBackward})
-    if (std::find(aovs.begin(), aovs.end(), a) != aovs.end())
-      throw std::invalid_argument(std::string("AOV '") + aov_info(a).name +
-                                  "' needs another frame: render it with `anamorph render --aov " +
-                                  aov_info(a).name + "` (docs/vision.md)");
   const auto lock = lock_and_build();
+  // Flow and motion layers look at frames + 1 and - 1: loaded beside this one for this render,
+  // with the same overrides, as `anamorph render` does.
+  const OtherFrames others(*this, aovs, req.overrides);
   Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;
   if (!req.overrides.empty()) swap.emplace(*scene_, view);

@@ -25,3 +25,13 @@ def cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:
 @pytest.fixture
 def root() -> pathlib.Path:
     return ROOT
+
+
+def read_exr(path) -> dict:
+    """An EXR's channels by name, as float32 arrays (H, W); skips without OpenImageIO."""
+    oiio = pytest.importorskip("OpenImageIO")
+    i = oiio.ImageInput.open(str(path))
+    names = i.spec().channelnames
+    a = i.read_image(format="float")
+    i.close()
+    return {n: a[..., k] for k, n in enumerate(names)}

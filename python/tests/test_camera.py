@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import anamorph
-from conftest import ROOT, cli
+from conftest import ROOT, cli, read_exr
 
 SCENES = ["examples/apps/focus_context.toml", "examples/apps/fisheye_180.toml",
           "examples/paper/06.toml", "examples/apps/vr_ods.toml"]
@@ -179,15 +179,6 @@ def test_coins_report_their_image_positions():
     info = cli("info", ROOT / "examples/apps/focus_context.toml").stdout
     for c in coins:
         assert f"(uc, vc) = ({c['uv'][0]:.4f}, {c['uv'][1]:.4f})" in info
-
-
-def read_exr(path) -> dict[str, np.ndarray]:
-    oiio = pytest.importorskip("OpenImageIO")
-    i = oiio.ImageInput.open(str(path))
-    names = i.spec().channelnames
-    a = i.read_image(format="float")
-    i.close()
-    return {n: a[..., k] for k, n in enumerate(names)}
 
 
 @pytest.mark.parametrize("inverse", [False, True])

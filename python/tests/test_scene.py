@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import anamorph
-from conftest import ROOT, cli
+from conftest import ROOT, cli, read_exr
 
 DEMO = ROOT / "examples/demo.toml"
 
@@ -193,9 +193,9 @@ def test_a_time_limit_stops_at_whole_passes_with_every_pixel_sampled():
     assert (img["rgba"][..., 3] > 0).all()
 
 
-def test_depth_layers_and_no_flow_from_python():
+def test_depth_layers_from_python():
     # A plane 5 units in front of a perspective camera: depth_z is 5 at every pixel, distance
-    # 5 / cos(angle to the axis), and position_camera's z is -5; flow needs the next frame.
+    # 5 / cos(angle to the axis), and position_camera's z is -5.
     scene = anamorph.loads(
         '[image]\nwidth = 8\nheight = 6\n[render]\nintegrator = "albedo"\nsampler = "center"\n'
         '[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 90\n'
@@ -206,6 +206,34 @@ def test_depth_layers_and_no_flow_from_python():
     xy = img["position_camera"][..., :2]
     np.testing.assert_allclose(img["distance"][..., 0],
                                np.sqrt(25 + (xy ** 2).sum(axis=-1)), rtol=1e-6)
-    for flow in ("flow_forward", "flow_backward"):
-        with pytest.raises(ValueError, match=flow):
-            scene.render(aovs=[flow])
+
+
+# A fisheye turning between frames 0 and 2 before a sphere moving across a still one: flow
+# (with occlusion) and motion from Python equal the CLI's EXR, which loads frames F +- 1 the same.
+FLOW_SCENE = """[image]\nwidth = 24\nheight = 20\n[render]\nintegrator = "albedo"
+sampler = "center"\n[camera]\npreset = "fisheye"\nfov = 160\nlook_from = [0, 0, 0]
+look_at = [0, 0, -1]\n[[object]]\ntype = "sphere"\ncenter = [0, 0, 0]\nradius = 20
+[[object]]\ntype = "sphere"\ncenter = [0, 0, -3]\nradius = 1
+[[animate]]\nkey = "camera.look_at"\nkeys = [[0, [0, 0, -1]], [2, [0.1, 0.04, -1]]]
+[[animate]]\nkey = "object.1.center"\nkeys = [[0, [0, 0, -3]], [2, [0.6, 0, -3]]]
+"""
+
+
+@pytest.mark.parametrize("set_", [{}, {"image.width": 16}])
+def test_flow_and_motion_layers_equal_the_cli(tmp_path, set_):
+    path = tmp_path / "s.toml"
+    path.write_text(FLOW_SCENE)
+    layers = ["flow_forward", "flow_backward", "motion"]
+    img = anamorph.load(path, frame=1, set=set_).render(aovs=layers)
+    over = [a for k, v in set_.items() for a in ("--set", f"{k}={v}")]
+    cli("render", path, "--frames", "1:1", "-o", tmp_path / "f_%04d.exr", "--aov",
+        ",".join(layers), "-q", *over)
+    want = read_exr(tmp_path / "f_0001.exr")
+    for layer, chans in (("flow_forward", "X Y valid"), ("flow_backward", "X Y valid"),
+                         ("motion", "X Y Z W")):
+        for k, c in enumerate(chans.split()):
+            np.testing.assert_array_equal(img[layer][..., k], want[f"{layer}.{c}"],
+                                          err_msg=f"{layer}.{c}")
+    valid = img["flow_forward"][..., 2]
+    assert (valid == 1).sum() > valid.size // 2 and (valid == 0).sum() > 0  # some hidden
+    assert np.isnan(img["flow_forward"][..., 0][valid == 0]).all()

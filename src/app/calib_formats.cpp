@@ -78,6 +78,28 @@ std::string opencv_text(const Calibration& c, bool json) {
   return s;
 }
 
+std::string kalibr_text(const Calibration& c) {
+  const bool kb = c.model == Model::KannalaBrandt;
+  std::vector<double> d = kb ? c.dist : std::vector<double>(4, 0.0);
+  if (c.model == Model::BrownConrady) {
+    if (c.dist[4] != 0)
+      throw NoCalibration{
+          "Kalibr's radtan model has k1 k2 p1 p2 only, and this camera's k3 is not 0"};
+    d.assign(c.dist.begin(), c.dist.begin() + 4);
+  }
+  std::string s = fmt::format(
+      "# anamorph calib: preset {}; Kalibr camchain, OpenCV's pixels (top-left pixel centre at\n"
+      "# 0,0) and camera axes (X right, Y down, Z forward); T_cam_imu: the scene's world frame to\n"
+      "# the camera (anamorph has no IMU: its world stands for it), x_cam = T_cam_imu x_world\n"
+      "cam0:\n  camera_model: pinhole\n  intrinsics: [{}]\n  distortion_model: {}\n"
+      "  distortion_coeffs: [{}]\n  resolution: [{}, {}]\n  T_cam_imu:\n",
+      c.preset, list({c.fx, c.fy, c.cx, c.cy}), kb ? "equidistant" : "radtan", list(d), c.width,
+      c.height);
+  for (size_t i = 0; i < 3; ++i)
+    s += fmt::format("  - [{}]\n", list({c.R[i][0], c.R[i][1], c.R[i][2], c.t[int(i)]}));
+  return s + "  - [0, 0, 0, 1]\n";
+}
+
 std::string colmap_cameras(const Calibration& c) {
   // COLMAP puts the top-left pixel's centre at (0.5, 0.5): its cx, cy are OpenCV's + 0.5.
   std::vector<double> p{c.fx, c.fy, c.cx + 0.5, c.cy + 0.5};
@@ -124,64 +146,6 @@ std::string calibration_json(const Calibration& c) {
       {"pixels", "OpenCV: top-left pixel centre at (0, 0); px = u W - 0.5, py = v H - 0.5"},
       {"pose", "x_camera = R x_world + t"}};
   return j.dump(2) + "\n";
-}
-
-Calibration read_opencv_json(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(name + ": cannot be read");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format(
-        "{}: not JSON ({}); --import reads OpenCV FileStorage JSON (cv2.FileStorage('x.json'))",
-        name, e.what()));
-  }
-  const auto matrix = [&](const char* key, size_t rows, size_t cols, bool required) {
-    std::vector<double> v;
-    const auto fail = [&](const std::string& why) {
-      throw std::runtime_error(fmt::format("{}: key {}: {}", name, key, why));
-    };
-    if (!j.is_object() || !j.contains(key)) {
-      if (required) fail("missing");
-      return v;
-    }
-    const nlohmann::json& m = j[key];
-    if (!m.is_object() || !m.contains("data") || !m["data"].is_array())
-      fail("expected an opencv-matrix with data");
-    for (const auto& x : m["data"]) {
-      if (!x.is_number() || !std::isfinite(x.get<double>())) fail("expected finite numbers");
-      v.push_back(x.get<double>());
-    }
-    if (rows && v.size() != rows * cols) fail(fmt::format("expected {} numbers", rows * cols));
-    return v;
-  };
-  Calibration c;
-  for (const char* key : {"image_width", "image_height"})
-    if (!j.is_object() || !j.contains(key) || !j[key].is_number_integer() || j[key].get<int>() < 1)
-      throw std::runtime_error(fmt::format("{}: key {}: expected a positive integer", name, key));
-  c.width = j["image_width"].get<int>(), c.height = j["image_height"].get<int>();
-  const std::vector<double> K = matrix("camera_matrix", 3, 3, true);
-  if (K[1] != 0 || K[3] != 0 || K[6] != 0 || K[7] != 0 || K[8] != 1 || !(K[0] > 0) || !(K[4] > 0))
-    throw std::runtime_error(name + ": key camera_matrix: expected [fx 0 cx; 0 fy cy; 0 0 1] " +
-                             "with fx, fy > 0 (no skew)");
-  c.fx = K[0], c.cx = K[2], c.fy = K[4], c.cy = K[5];
-  const bool fisheye = j.value("distortion_model", std::string()) == "fisheye";
-  c.model = fisheye ? Model::KannalaBrandt : Model::BrownConrady;
-  c.dist = matrix("distortion_coefficients", 0, 0, false);
-  const size_t want = fisheye ? 4 : 5;
-  if (c.dist.size() == 4 && !fisheye) c.dist.push_back(0);  // (k1 k2 p1 p2)
-  for (size_t i = want; i < c.dist.size(); ++i)
-    if (c.dist[i] != 0)
-      throw std::runtime_error(fmt::format(
-          "{}: key distortion_coefficients: coefficient {} is not 0 (only {} are supported)", name,
-          i + 1, want));
-  c.dist.resize(want, 0.0);
-  const std::vector<double> r = matrix("rvec", 3, 1, false), t = matrix("tvec", 3, 1, false);
-  c.R = rotation_matrix(r.empty() ? Vec3{} : Vec3{r[0], r[1], r[2]});
-  if (!t.empty()) c.t = {t[0], t[1], t[2]};
-  return c;
 }
 
 std::string camera_toml(const Calibration& c, const std::string& from) {

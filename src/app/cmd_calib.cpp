@@ -1,5 +1,6 @@
-// `anamorph calib`: the scene camera as a calibration file for OpenCV, COLMAP or as anamorph's
-// JSON, and an OpenCV file back as a scene camera (app/calib_formats.h, docs/vision.md).
+// `anamorph calib`: the scene camera as a calibration file for OpenCV, COLMAP, Kalibr or as
+// anamorph's JSON, and an OpenCV or Kalibr file back as a scene camera (app/calib_formats.h,
+// docs/vision.md).
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -31,7 +32,7 @@ void write_text(const fs::path& file, const std::string& text) {
 int run_import(const CalibArgs& a) {
   Calibration c;
   try {
-    c = read_opencv_json(a.import);
+    c = read_calibration(a.import);
   } catch (const std::runtime_error& e) {
     print_error(e.what());
     return kBadInput;
@@ -67,6 +68,10 @@ int run_calib(const CalibArgs& a) {
     print_error(fmt::format("-o {}: an OpenCV FileStorage file is .yml, .yaml or .json", a.output));
     return kBadInput;
   }
+  if (a.format == "kalibr" && ext != ".yml" && ext != ".yaml") {
+    print_error(fmt::format("-o {}: a Kalibr camchain is .yaml or .yml", a.output));
+    return kBadInput;
+  }
   std::vector<std::pair<fs::path, std::string>> outputs;
   if (a.format == "colmap") {
     for (const char* f : {"cameras.txt", "images.txt", "points3D.txt"})
@@ -79,8 +84,10 @@ int run_calib(const CalibArgs& a) {
   const Scene s = load(a.scene);
   check_outputs(s.inputs, outputs);
   Calibration c;
+  std::string kalibr;
   try {
     c = calibration_of(s, nullptr);
+    if (a.format == "kalibr") kalibr = kalibr_text(c);
   } catch (const NoCalibration& e) {
     print_error(fmt::format(
         "{}: no {} calibration: {}; `anamorph rays {} -o rays.exr` writes the ray of every "
@@ -90,6 +97,8 @@ int run_calib(const CalibArgs& a) {
   }
   if (a.format == "opencv") {
     write_text(out, opencv_text(c, ext == ".json"));
+  } else if (a.format == "kalibr") {
+    write_text(out, kalibr);
   } else if (a.format == "json") {
     write_text(out, calibration_json(c));
   } else {
@@ -114,17 +123,20 @@ void add_calib(CLI::App& app, std::function<int()>& runner) {
   auto a = std::make_shared<CalibArgs>();
   CLI::App* cmd = app.add_subcommand(
       "calib",
-      "Write the camera as a calibration (OpenCV FileStorage, COLMAP text model, JSON) for the "
-      "presets with such a model, or read an OpenCV file back as a scene camera (docs/vision.md)");
+      "Write the camera as a calibration (OpenCV FileStorage, COLMAP text model, Kalibr camchain, "
+      "JSON) for the presets with such a model, or read an OpenCV or Kalibr file back as a scene "
+      "camera (docs/vision.md)");
   a->scene.add_to(*cmd, false);
   cmd->add_option("--format", a->format,
                   "opencv (-o .yml/.yaml/.json), colmap (-o an existing directory: cameras.txt, "
-                  "images.txt, points3D.txt) or json (anamorph's)")
-      ->check(CLI::IsMember({"opencv", "colmap", "json"}));
+                  "images.txt, points3D.txt), kalibr (-o .yaml/.yml camchain) or json (anamorph's)")
+      ->check(CLI::IsMember({"opencv", "colmap", "kalibr", "json"}));
   cmd->add_option("-o,--output", a->output,
                   "Output file (directory for colmap); with --import the TOML (default: stdout)");
-  cmd->add_option("--import", a->import,
-                  "Read an OpenCV FileStorage JSON file and print its scene camera as TOML");
+  cmd->add_option(
+      "--import", a->import,
+      "Read an OpenCV FileStorage file (.json, .yml, .yaml) or a Kalibr camchain (.yaml) and "
+      "print its scene camera as TOML");
   cmd->add_option("--image-name", a->image_name, "NAME in COLMAP's images.txt")
       ->capture_default_str();
   cmd->callback([a, &runner] { runner = [a] { return run_calib(*a); }; });

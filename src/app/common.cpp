@@ -141,9 +141,8 @@ void attach_next_frame(const SceneOptions& o, const std::vector<std::string>& ex
       return frame_motion(load_view(o.scene, with_extra(o, extra), frame, scene), &scene);
     return frame_motion(load_scene(o.scene, with_extra(o, extra), frame));
   };
-  const auto has = [&aovs](Aov a) { return std::find(aovs.begin(), aovs.end(), a) != aovs.end(); };
-  scene.next = has(Aov::FlowForward) ? motion(scene.frame + 1) : nullptr;
-  scene.previous = has(Aov::FlowBackward) ? motion(scene.frame - 1) : nullptr;
+  scene.next = aovs_need_frame(aovs, 1) ? motion(scene.frame + 1) : nullptr;
+  scene.previous = aovs_need_frame(aovs, -1) ? motion(scene.frame - 1) : nullptr;
 }
 
 void print_error(const std::string& message) {

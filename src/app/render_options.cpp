@@ -117,7 +117,7 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--aov", a->aovs,
                   "Extra layers written to EXR (beside a PNG: <output>.exr): "
                   "albedo,normal,depth,distance,depth_z,position,position_camera,id,uv,spp,"
-                  "flow_forward,flow_backward,coins "
+                  "flow_forward,flow_backward,motion,coins "
                   "(coins also writes <output>.coins.png with the markers drawn in)");
   cmd->add_option("--frames", a->frames,
                   "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");

@@ -35,5 +35,6 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/cmd_solve.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/calib_formats.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/calib_import.cpp
   ${CMAKE_CURRENT_LIST_DIR}/stmap_options.cpp
 )

@@ -267,9 +267,34 @@ void VirtualCamera::to_world(CameraRay* r, const Transform& t) const {
 }
 
 std::vector<Vec2> VirtualCamera::project(const Vec3& p) const {
-  // The closed form knows only the undistorted functions.
+  // The closed form knows only the undistorted functions (project_numeric inverts generate(),
+  // rolling shutter and motion included).
   if (!inverse_ || !coins_.empty()) return project_numeric(*this, p);
+  if (moving_ && shutter_.rolling) return project_rolling(p);
   return inverse_->project(rig_identity_ ? p : world_from_camera_.inverse().point(p));
+}
+
+std::vector<Vec2> VirtualCamera::project_rolling(const Vec3& p) const {
+  const auto at_time = [&](Vec2 uv) {
+    return inverse_->project(motion_.at(shutter_time({uv})).inverse().point(p));
+  };
+  std::vector<Vec2> out;
+  for (Vec2 uv : inverse_->project(world_from_camera_.inverse().point(p))) {
+    // Contracts by the image motion over the readout per unit of image (well below 1 for any
+    // usable footage); a point the iteration loses is dropped.
+    bool converged = false;
+    for (int k = 0; k < 100 && !converged; ++k) {
+      double best = kInf;
+      Vec2 next;
+      for (const Vec2& q : at_time(uv))
+        if (length(q - uv) < best) best = length(q - uv), next = q;
+      if (!(best < kInf)) break;
+      converged = best < 1e-14;
+      uv = next;
+    }
+    if (converged) out.push_back(uv);
+  }
+  return out;
 }
 
 namespace {

@@ -60,6 +60,8 @@ class VirtualCamera final : public Camera {
   std::optional<CameraRay> generate(const CameraSample& s) const override;
   void generate_batch(const CameraSample* s, int n, CameraRayBatch* out) const override;
   bool uses_lens_or_time() const override { return dof_.aperture_radius > 0 || moving_; }
+  // Under a rolling shutter with camera motion, each image position's ray is that of the rig at
+  // its readout time (project_rolling).
   std::vector<Vec2> project(const Vec3& p) const override;
   std::string describe() const override { return description_; }
 
@@ -82,6 +84,9 @@ class VirtualCamera final : public Camera {
   double shutter_time(const CameraSample& s) const;
 
  private:
+  // The closed-form inverse under a moving rolling shutter: from the images with the rig at
+  // open, the fixed point uv = inverse(rig at shutter_time(uv)) by iteration.
+  std::vector<Vec2> project_rolling(const Vec3& p) const;
   // What the constructor finds out about the functions and the rig.
   void detect_linear_field();
   void detect_point_origin();

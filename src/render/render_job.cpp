@@ -66,17 +66,24 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
   hit_surface = film_aovs || !(mode == RenderMode::Depth || mode == RenderMode::Id ||
                                (mode == RenderMode::Albedo && !any_texture));
   const auto has = [&aovs](Aov k) { return std::find(aovs.begin(), aovs.end(), k) != aovs.end(); };
-  if (has(Aov::FlowForward)) flow[0] = flow_target(s.next.get());
-  if (has(Aov::FlowBackward)) flow[1] = flow_target(s.previous.get());
+  if (aovs_need_frame(aovs, 1)) flow[0] = flow_target(s.next.get(), has(Aov::FlowForward));
+  if (aovs_need_frame(aovs, -1)) flow[1] = flow_target(s.previous.get(), has(Aov::FlowBackward));
 }
 
 // An object's map to the next frame: its transform there after the inverse of its transform here
 // (rigid or affine motion; a deforming mesh's own vertex motion is not followed).
-RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other) const {
+RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other, bool occlusion) const {
   FlowTarget to;
   to.wanted = true;
+  to.occlusion = occlusion;
   if (!other) return to;
   to.camera = other->camera.get();
+  to.accel = &accel;
+  if (other->geometry && occlusion) {
+    to.scene = other->geometry;
+    to.own = std::make_shared<const Accel>(*to.scene);
+    to.accel = to.own.get();
+  }
   to.there_from_here.resize(accel.object_count());
   for (uint32_t id = 0; id < accel.object_count(); ++id) {
     const Accel::Record& r = accel.record(id);
@@ -116,23 +123,38 @@ void RenderJob::fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footpri
 void RenderJob::fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const {
   a.position_camera = camera_from_world.point(hit.p);
   a.depth_z = -a.position_camera.z;
-  for (int d = 0; d < 2; ++d)
-    a.flow_valid[d] = flow[d].wanted && flow_at(flow[d], hit, uv, W, H, &a.flow[d]);
+  for (int d = 0; d < 2; ++d) {
+    bool hid = false;
+    a.moved[d] = flow[d].wanted && flow_at(flow[d], hit, uv, W, H, &a.flow[d], &hid);
+    a.flow_valid[d] = a.moved[d] && !hid;
+  }
 }
 
-bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow) {
+bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow,
+                        bool* hidden_there) {
   if (!to.camera || !to.there_from_here[hit.object_id]) return false;
   const Vec3 q = to.there_from_here[hit.object_id]->point(hit.p);
   // Of several images (a point seen twice), the nearest to where it is now.
   bool found = false;
   double best = kInf;
+  Vec2 there;
   for (const Vec2& at : to.camera->project(q)) {
     if (!(at.x >= 0 && at.x <= 1 && at.y >= 0 && at.y <= 1)) continue;
     const Vec2 d{(at.x - uv.x) * W, (at.y - uv.y) * H};
     const double d2 = d.x * d.x + d.y * d.y;
-    if (d2 < best) best = d2, *flow = d, found = true;
+    if (d2 < best) best = d2, *flow = d, there = at, found = true;
   }
+  *hidden_there = found && to.occlusion && hidden(to, q, there);
   return found;
+}
+
+// Traced from the origin of the other frame's camera ray at `at` to q: whatever it meets before
+// q (short of it by a relative 1e-4: the surface at q itself is not an occluder) hides q.
+bool RenderJob::hidden(const FlowTarget& to, const Vec3& q, Vec2 at) {
+  const std::optional<CameraRay> r = to.camera->generate({at});
+  if (!r) return true;
+  Ray seg{r->org, q - r->org, 0, 1 - 1e-4};
+  return to.accel->occluded(seg);
 }
 
 Color RenderJob::aov_beauty(const AovSample& a) const {

@@ -48,12 +48,17 @@ struct RenderJob {
   bool want_aovs;               // AOV values: for the film's layers or a view
   bool film_aovs;               // the film has AOV layers
   Transform camera_from_world;  // the camera rig at shutter open, inverted (depth_z)
-  // Flow toward another frame: its camera (null: none), and per object id the map taking this
-  // frame's point to that frame's (none: the object is not there).
+  // Flow toward another frame: its camera (null: none), per object id the map taking this
+  // frame's point to that frame's (none: the object is not there), and that frame's geometry to
+  // test whether the moved point is hidden there (this frame's when the objects do not move).
   struct FlowTarget {
-    bool wanted = false;  // the film has this flow layer
+    bool wanted = false;     // the film has this flow layer or the motion layer
+    bool occlusion = false;  // the flow layer: hidden points have none
     const Camera* camera = nullptr;
     std::vector<std::optional<Transform>> there_from_here;
+    const Accel* accel = nullptr;
+    std::shared_ptr<const Scene> scene;  // keeps `own` valid
+    std::shared_ptr<const Accel> own;    // built for the other frame's geometry
   };
   FlowTarget flow[2];  // forward (frame + 1), backward (frame - 1)
   // Whether primary hits need their surface geometry (points, normals, uv): not for depth, ids
@@ -109,11 +114,15 @@ struct RenderJob {
  private:
   void fill_aovs(const Ray& ray, const Hit& hit, Vec2 uv, const Footprint& fp, AovSample& a) const;
   // The layers a view never shows: depth conventions, camera-space position, flow.
-  FlowTarget flow_target(const FrameMotion* other) const;
+  FlowTarget flow_target(const FrameMotion* other, bool occlusion) const;
   void fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const;
-  // The flow of the point `hit` sees from image position uv toward `to`, in pixels: false when
-  // it has no image there.
-  static bool flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow);
+  // The flow of the point `hit` sees from image position uv toward `to`, in pixels (of several
+  // images, the nearest): false when it has no image there; *hidden when `to` tests occlusion
+  // and another surface hides it there.
+  static bool flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow,
+                      bool* hidden);
+  // Whether the point q, seen at image position at by `to`'s camera, is hidden there.
+  static bool hidden(const FlowTarget& to, const Vec3& q, Vec2 at);
   Color aov_beauty(const AovSample& a) const;
 };
 

@@ -46,14 +46,29 @@ const std::vector<AovInfo>& aov_table() {
        "forward optical flow in pixels (x right, y down): where the first hit's point, moved "
        "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
        "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
-       "valid: their fraction of the hits. Occlusion at frame + 1 is not tested"},
+       "a sample has none when the point leaves the image or is hidden at frame + 1 (traced from "
+       "that frame's camera ray to it); valid: their fraction of the hits"},
       {Aov::FlowBackward,
        "flow_backward",
        {"X", "Y", "valid"},
        "backward optical flow in pixels (x right, y down): flow_forward's definition toward "
        "frame - 1"},
+      {Aov::Motion,
+       "motion",
+       {"X", "Y", "Z", "W"},
+       "motion vectors in Blender Cycles' Vector pass convention, pixels with y up: (X, Y) = "
+       "position at frame - 1 minus position now, (Z, W) = position now minus position at "
+       "frame + 1; the first hit's point moved with its object and seen by that frame's "
+       "camera, hidden or not; mean over the pixel's hits, a hit without an image there "
+       "counting 0; 0 where nothing is hit"},
   };
   return t;
+}
+
+bool aovs_need_frame(const std::vector<Aov>& aovs, int step) {
+  const Aov flow = step > 0 ? Aov::FlowForward : Aov::FlowBackward;
+  return std::find(aovs.begin(), aovs.end(), flow) != aovs.end() ||
+         std::find(aovs.begin(), aovs.end(), Aov::Motion) != aovs.end();
 }
 
 const AovInfo& aov_info(Aov a) {
@@ -186,6 +201,12 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
           add({a.flow[d].x, a.flow[d].y, 1.0});
         else
           v += 3;
+        break;
+      }
+      case Aov::Motion: {
+        // Cycles: y up, (previous - now, now - next).
+        const Vec2 back = a.moved[1] ? a.flow[1] : Vec2{}, fwd = a.moved[0] ? a.flow[0] : Vec2{};
+        add({back.x, -back.y, -fwd.x, fwd.y});
         break;
       }
     }

@@ -29,6 +29,7 @@ enum class Aov {
   CameraPosition,  // the hit in camera space (x right, y up, looking along -z)
   FlowForward,     // pixels to where the point is seen at frame + 1, and the valid fraction
   FlowBackward,    // the same toward frame - 1
+  Motion,          // Cycles' Vector pass: pixels to frame - 1 (x, y up) and from frame + 1 (z, w)
 };
 
 struct AovInfo {
@@ -43,6 +44,8 @@ std::vector<Aov> parse_aovs(const std::string& list);
 const AovInfo& aov_info(Aov a);
 // Floats one pixel of these AOVs takes.
 size_t aov_floats(const std::vector<Aov>& aovs);
+// Whether these AOVs look at frame + 1 (step 1) or frame - 1 (step -1): flow or motion layers.
+bool aovs_need_frame(const std::vector<Aov>& aovs, int step);
 
 // What one camera sample contributes to the AOVs (valid only when `hit`).
 struct AovSample {
@@ -54,7 +57,11 @@ struct AovSample {
   Vec2 uv;
   double depth_z = 0;    // DepthZ (Distance is `depth`)
   Vec3 position_camera;  // CameraPosition
-  Vec2 flow[2];          // FlowForward, FlowBackward: in pixels, when flow_valid
+  // Toward frame + 1 [0] and frame - 1 [1], in pixels: where the moved point is seen minus
+  // where it is now, when `moved` (it has an image there); `flow_valid` when moreover it is
+  // not hidden there (FlowForward, FlowBackward; Motion takes every moved sample).
+  Vec2 flow[2];
+  bool moved[2] = {false, false};
   bool flow_valid[2] = {false, false};
 };
 

@@ -23,6 +23,7 @@ std::shared_ptr<const FrameMotion> frame_motion(Scene&& other, const Scene* geom
   for (const Instance& i : g.instances) m->instances.push_back(i.world_from_object);
   for (const AnalyticShape& s : g.shapes) m->shapes.push_back(s.world_from_object);
   m->camera = std::move(other.camera);
+  if (!geometry) m->geometry = std::make_shared<const Scene>(std::move(other));
   return m;
 }
 

@@ -75,12 +75,16 @@ struct SceneRig {
   bool animate = true;                      // false: the file's static pose, always
 };
 
+struct Scene;
+
 // The scene at another frame, as motion vectors need it: that frame's camera and the transforms
-// of its instances and analytic shapes, indexed as the scene's own (frame_motion).
+// of its instances and analytic shapes, indexed as the scene's own (frame_motion), and its
+// geometry there for the occlusion test (null: the objects do not move, the scene's own holds).
 struct FrameMotion {
   double frame = 0;
   std::shared_ptr<const VirtualCamera> camera;
   std::vector<Transform> instances, shapes;
+  std::shared_ptr<const Scene> geometry;
 };
 
 struct Scene {

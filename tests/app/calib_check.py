@@ -2,7 +2,8 @@
 """Projects world points with an exported calibration through independent code, for
 calib_cli_test: `opencv FILE` uses cv2.projectPoints / cv2.fisheye.projectPoints on the
 FileStorage file; `colmap DIR` parses cameras.txt and images.txt per COLMAP's documented text
-format and applies COLMAP's camera models (written out here with numpy). Points come as
+format and applies COLMAP's camera models (written out here with numpy); `kalibr FILE` reads
+the camchain with PyYAML and projects with cv2. Points come as
 X,Y,Z arguments; prints one "px py" line per point in anamorph's pixel units (u W, v H: the
 top-left pixel's centre at (0.5, 0.5), as `anamorph project` prints them)."""
 import sys
@@ -16,8 +17,10 @@ def opencv(path, pts):
     K = fs.getNode("camera_matrix").mat()
     D = fs.getNode("distortion_coefficients").mat()
     rvec, tvec = fs.getNode("rvec").mat(), fs.getNode("tvec").mat()
+    if rvec is None:  # (a file of OpenCV's calibration samples: no pose)
+        rvec, tvec = np.zeros(3), np.zeros(3)
     model = fs.getNode("distortion_model").string()
-    if model == "fisheye":
+    if model == "fisheye" or fs.getNode("fisheye_model").real() == 1:
         out, _ = cv2.fisheye.projectPoints(pts.reshape(-1, 1, 3), rvec, tvec, K, D.reshape(-1))
     else:
         out, _ = cv2.projectPoints(pts, rvec, tvec, K, D)
@@ -65,10 +68,32 @@ def colmap(d, pts):
     return np.array(res)
 
 
+def kalibr(path, pts):
+    """Kalibr's camchain (PyYAML), projected by cv2: radtan is cv2.projectPoints' k1 k2 p1 p2,
+    equidistant cv2.fisheye's k1..k4; T_cam_imu takes the points to the camera."""
+    import cv2
+    import yaml
+    with open(path) as f:
+        cam = yaml.safe_load(f)["cam0"]
+    assert cam["camera_model"] == "pinhole"
+    fu, fv, pu, pv = cam["intrinsics"]
+    K = np.array([[fu, 0, pu], [0, fv, pv], [0, 0, 1]], dtype=np.float64)
+    D = np.array(cam["distortion_coeffs"], dtype=np.float64)
+    T = np.array(cam["T_cam_imu"], dtype=np.float64)
+    rvec, _ = cv2.Rodrigues(T[:3, :3])
+    tvec = T[:3, 3].copy()
+    if cam["distortion_model"] == "equidistant":
+        out, _ = cv2.fisheye.projectPoints(pts.reshape(-1, 1, 3), rvec, tvec, K, D)
+    else:
+        assert cam["distortion_model"] == "radtan"
+        out, _ = cv2.projectPoints(pts, rvec, tvec, K, D)
+    return out.reshape(-1, 2) + 0.5  # OpenCV's (and Kalibr's) top-left pixel centre at 0
+
+
 def main():
     kind, path = sys.argv[1], sys.argv[2]
     pts = np.array([[float(v) for v in a.split(",")] for a in sys.argv[3:]], dtype=np.float64)
-    out = opencv(path, pts) if kind == "opencv" else colmap(path, pts)
+    out = {"opencv": opencv, "colmap": colmap, "kalibr": kalibr}[kind](path, pts)
     for px, py in out:
         print(f"{px!r} {py!r}")
 

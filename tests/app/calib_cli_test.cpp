@@ -39,13 +39,15 @@ const char* kKannalaBrandt =
 const char* kPerspective = "preset = \"perspective\"\nfov = 70\nlens_shift = [0.05, -0.03]\n";
 const char* kEquidistant = "preset = \"fisheye\"\nfov = 160\n";
 
-bool have_cv2() { return test::run_shell("/usr/bin/python3 -c 'import cv2, numpy'").code == 0; }
+bool have_cv2() {
+  return test::run_shell("/usr/bin/python3 -c 'import cv2, numpy, yaml'").code == 0;
+}
 
 // World points the camera sees: along rays of a few pixels, at a few distances, less than 85
 // degrees off the axis (OpenCV's fisheye model, theta = atan(r), ends at 90).
 std::vector<Vec3> seen_points(const Scene& s) {
   std::vector<Vec3> p;
-  const Vec3 ahead = normalize(Vec3{1.3, 1.4, 0.8} - Vec3{0.3, 0.9, 1.5});
+  const Vec3 ahead = normalize(s.camera->rig().vector({0, 0, -1}));
   const Vec2 uv[] = {{0.5, 0.5},   {0.1, 0.2},  {0.85, 0.3}, {0.3, 0.9},
                      {0.95, 0.95}, {0.6, 0.12}, {0.4, 0.6},  {0.62, 0.41}};
   for (size_t i = 0; i < std::size(uv); ++i)
@@ -88,7 +90,7 @@ struct Fixture {
 };
 
 TEST(CalibCli, OpenCvAndColmapReprojectAsTheCamera) {
-  if (!have_cv2()) GTEST_SKIP() << "/usr/bin/python3 with cv2 and numpy not available";
+  if (!have_cv2()) GTEST_SKIP() << "/usr/bin/python3 with cv2, numpy and yaml not available";
   Fixture fx;
   const std::pair<const char*, const char*> cams[] = {{"bc", kBrownConrady},
                                                       {"kb", kKannalaBrandt},
@@ -108,6 +110,11 @@ TEST(CalibCli, OpenCvAndColmapReprojectAsTheCamera) {
     const CliResult r = test::run_cli("calib " + file + " --format colmap -o " + dir);
     ASSERT_EQ(r.code, 0) << r.out;
     std::printf("%s colmap: worst %.3g px\n", name, worst_difference(s, "colmap", dir));
+    if (std::string(name) == "bc") continue;  // (k3: no Kalibr radtan)
+    const std::string kalibr = fx.path(std::string(name) + ".yaml");
+    const CliResult k = test::run_cli("calib " + file + " --format kalibr -o " + kalibr);
+    ASSERT_EQ(k.code, 0) << k.out;
+    std::printf("%s kalibr: worst %.3g px\n", name, worst_difference(s, "kalibr", kalibr));
   }
 }
 
@@ -139,6 +146,89 @@ TEST(CalibCli, ImportAfterExportIsTheIdentity) {
     ASSERT_EQ(a.size(), b.size());
     for (size_t i = 0; i < a.size(); ++i)
       EXPECT_NEAR(a[i], b[i], 1e-12 * (1 + std::abs(a[i]))) << "number " << i;
+  }
+}
+
+// The worst difference in pixels between two cameras' images of the points `a` sees.
+double worst_between(const Scene& a, const Scene& b) {
+  double worst = 0;
+  for (const Vec3& p : seen_points(a)) {
+    const std::vector<Vec2> ua = a.camera->project(p), ub = b.camera->project(p);
+    EXPECT_EQ(ua.size(), 1u);
+    EXPECT_EQ(ub.size(), 1u);
+    if (ua.size() != 1 || ub.size() != 1) continue;
+    const double d = std::max(std::abs(ua[0].x - ub[0].x) * a.render.width,
+                              std::abs(ua[0].y - ub[0].y) * a.render.height);
+    EXPECT_LE(d, 1e-9) << "point " << p.x << "," << p.y << "," << p.z;
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+// Export in each format that reads back, import: the imported scene camera projects world points
+// where the original does (a perspective becomes an opencv_pinhole without distortion).
+TEST(CalibCli, ImportOfEachFormatProjectsAsTheExportedCamera) {
+  Fixture fx;
+  const char* kBrownConradyNoK3 =
+      "preset = \"opencv_pinhole\"\nfx = 50\nfy = 52\ncx = 30.2\ncy = 24.1\nk1 = -0.2\n"
+      "k2 = 0.05\np1 = 0.001\np2 = -0.002\n";
+  const std::pair<const char*, const char*> cams[] = {{"persp", kPerspective},
+                                                      {"bc", kBrownConrady},
+                                                      {"bc4", kBrownConradyNoK3},
+                                                      {"kb", kKannalaBrandt},
+                                                      {"equidistant", kEquidistant}};
+  const std::pair<const char*, const char*> formats[] = {
+      {"opencv", ".yml"}, {"opencv", ".json"}, {"kalibr", ".yaml"}};
+  for (const auto& [name, cam] : cams) {
+    const std::string file = fx.dir.write(std::string(name) + ".toml", scene(cam));
+    const Scene a = load_scene(file);
+    for (const auto& [format, ext] : formats) {
+      const std::string out = fx.path(std::string(name) + "_" + format + ext);
+      const CliResult r =
+          test::run_cli(fmt::format("calib {} --format {} -o {}", file, format, out));
+      if (std::string(name) == "bc" && std::string(format) == "kalibr") {
+        EXPECT_EQ(r.code, 2) << "radtan has no k3: " << r.out;
+        EXPECT_CONTAINS(r.out, "k3");
+        EXPECT_FALSE(fs::exists(out));
+        continue;
+      }
+      ASSERT_EQ(r.code, 0) << r.out;
+      const std::string toml = fx.path(std::string(name) + "_" + format + ext + ".toml");
+      const CliResult imp = test::run_cli("calib --import " + out + " -o " + toml);
+      ASSERT_EQ(imp.code, 0) << imp.out;
+      SCOPED_TRACE(std::string(name) + " via " + format + ext);
+      std::printf("%s %s%s: import of export, worst %.3g px\n", name, format, ext,
+                  worst_between(a, load_scene(toml)));
+    }
+  }
+}
+
+// A file as OpenCV's calibration samples write it (cv2.FileStorage: image size, flags,
+// fisheye_model, camera_matrix, a 5 x 1 distortion_coefficients, no pose): imported, the camera
+// projects points as cv2.projectPoints / cv2.fisheye.projectPoints with the file.
+TEST(CalibCli, ImportOfOpenCvSampleFilesProjectsAsCv2) {
+  if (!have_cv2()) GTEST_SKIP() << "/usr/bin/python3 with cv2, numpy and yaml not available";
+  Fixture fx;
+  for (const int fisheye : {0, 1}) {
+    const std::string yml = fx.path(fmt::format("sample{}.yml", fisheye));
+    const std::string dist = fisheye ? "[[0.05], [-0.01], [0.002], [-0.0003]]"
+                                     : "[[-0.2], [0.05], [0.001], [-0.002], [0.01]]";
+    const CliResult w = test::run_shell(fmt::format(
+        "/usr/bin/python3 -c \"import cv2, numpy as np\n"
+        "fs = cv2.FileStorage('{}', cv2.FILE_STORAGE_WRITE)\n"
+        "fs.write('image_width', 64); fs.write('image_height', 48); fs.write('flags', 0)\n"
+        "fs.write('fisheye_model', {})\n"
+        "fs.write('camera_matrix', np.array([[30., 0, 31.7], [0, 31, 23.2], [0, 0, 1]]))\n"
+        "fs.write('distortion_coefficients', np.array({}))\n"
+        "fs.write('avg_reprojection_error', 0.3); fs.release()\"",
+        yml, fisheye, dist));
+    ASSERT_EQ(w.code, 0) << w.out;
+    const std::string toml = fx.path(fmt::format("sample{}.toml", fisheye));
+    const CliResult imp = test::run_cli("calib --import " + yml + " -o " + toml);
+    ASSERT_EQ(imp.code, 0) << imp.out;
+    const Scene s = load_scene(toml);
+    std::printf("OpenCV sample file, fisheye_model %d: worst %.3g px\n", fisheye,
+                worst_difference(s, "opencv", yml));
   }
 }
 
@@ -174,6 +264,17 @@ TEST(CalibCli, BadInputsExit2Named) {
   r = test::run_cli("calib --import " + skew);
   EXPECT_EQ(r.code, 2);
   EXPECT_CONTAINS(r.out, "camera_matrix");
+  const std::string omni = fx.dir.write(
+      "omni.yaml",
+      "cam0:\n  camera_model: omni\n  intrinsics: [0.8, 400, 400, 320, 240]\n"
+      "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n  resolution: [640, 480]\n");
+  r = test::run_cli("calib --import " + omni);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_CONTAINS(r.out, "cam0.camera_model");
+  const std::string broken = fx.dir.write("broken.yml", "%YAML:1.0\n---\nimage_width: [1, 2\n");
+  r = test::run_cli("calib --import " + broken);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_CONTAINS(r.out, "broken.yml:");
 }
 
 }  // namespace

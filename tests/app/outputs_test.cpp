@@ -84,6 +84,7 @@ const OutputOption kOptions[] = {
     {"warp", "w.png", "{scene} {d}/in.png --source fisheye:180 -o {d}/w.png", "-o "},
     {"calib", "c.yml", "{scene} --format opencv -o {d}/c.yml", "-o "},
     {"calib", "cameras.txt", "{scene} --format colmap -o {d}", "-o "},
+    {"calib", "k.yaml", "{scene} --format kalibr -o {d}/k.yaml", "-o "},
     {"solve", "s.toml", "{scene} -o {d}/s.toml", "-o "},
 };
 // Commands that write no file of their own (stdout only), and serve, whose files are the

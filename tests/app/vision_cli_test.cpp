@@ -97,5 +97,124 @@ TEST(VisionCli, FlowOfASequenceIsTheOtherFramesProjection) {
   }
 }
 
+// The same scene for Blender (a script building it: camera and a unit cube keyed at frames 0, 1,
+// 2, a 40 x 40 plane behind) and for anamorph; Blender's world is z up, as the TOML says with
+// `up`. Camera 50 degrees wide, looking along +y.
+const char* kCyclesScript = R"(import bpy, sys, math
+out = sys.argv[sys.argv.index("--") + 1]
+sc = bpy.context.scene
+for o in list(bpy.data.objects):
+    bpy.data.objects.remove(o)
+sc.render.engine = "CYCLES"
+sc.cycles.device = "CPU"
+sc.cycles.samples = 1
+sc.cycles.use_denoising = False
+sc.cycles.filter_width = 0.01  # (samples at the pixel centre)
+sc.render.use_motion_blur = False  # (the Vector pass needs it off)
+sc.render.resolution_x, sc.render.resolution_y, sc.render.resolution_percentage = 48, 36, 100
+sc.view_layers[0].use_pass_vector = True
+cd = bpy.data.cameras.new("cam")
+cd.sensor_fit = "HORIZONTAL"
+cd.angle = math.radians(50)
+cam = bpy.data.objects.new("cam", cd)
+sc.collection.objects.link(cam)
+sc.camera = cam
+cam.rotation_euler = (math.pi / 2, 0, 0)
+def keys(obj, pts):
+    for f, p in enumerate(pts):
+        obj.location = p
+        obj.keyframe_insert("location", frame=f)
+keys(cam, [(-0.2, -6, 0.5), (0, -6, 0.5), (0.3, -6.2, 0.6)])
+bpy.ops.mesh.primitive_cube_add(size=1)
+keys(bpy.context.active_object, [(-0.4, -0.5, 0.2), (0, 0, 0.5), (0.5, 0.6, 0.9)])
+bpy.ops.mesh.primitive_plane_add(size=40, location=(0, 3, 0), rotation=(math.pi / 2, 0, 0))
+sc.frame_set(1)
+sc.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+sc.render.image_settings.color_depth = "32"
+sc.render.filepath = out
+bpy.ops.render.render(write_still=True)
+)";
+
+const char* kCyclesScene = R"([image]
+width = 48
+height = 36
+[render]
+integrator = "albedo"
+sampler = "center"
+[camera]
+preset = "perspective"
+fov = 50
+look_from = [-0.2, -6, 0.5]
+look_at = [-0.2, -5, 0.5]
+up = [0, 0, 1]
+[[object]]
+type = "box"
+[[object]]
+type = "rectangle"
+center = [0, 3, 0]
+edge_u = [40, 0, 0]
+edge_v = [0, 0, 40]
+[[animate]]
+key = "camera.look_from"
+keys = [[0, [-0.2, -6, 0.5]], [1, [0, -6, 0.5]], [2, [0.3, -6.2, 0.6]]]
+[[animate]]
+key = "camera.look_at"
+keys = [[0, [-0.2, -5, 0.5]], [1, [0, -5, 0.5]], [2, [0.3, -5.2, 0.6]]]
+[[animate]]
+key = "object.0.center"
+keys = [[0, [-0.4, -0.5, 0.2]], [1, [0, 0, 0.5]], [2, [0.5, 0.6, 0.9]]]
+)";
+
+// An independent tool: anamorph's `motion` layer against Blender Cycles' Vector pass of the same
+// scene at frame 1 (a moving camera, a moving cube, a still plane), away from silhouettes.
+TEST(VisionCli, MotionLayerMatchesCyclesVectorPass) {
+  if (test::run_shell("command -v blender").code != 0)
+    GTEST_SKIP() << "blender not installed (Debian's blender): the Cycles comparison is skipped";
+  test::ScratchDir dir{"cycles"};
+  const std::string script = dir.write("cycles.py", kCyclesScript);
+  const fs::path cycles_exr = dir.dir / "cycles.exr";
+  const test::CliResult b = test::run_shell("blender -b --factory-startup --python " + script +
+                                            " -- " + cycles_exr.string());
+  ASSERT_EQ(b.code, 0) << b.out;
+  ASSERT_TRUE(fs::exists(cycles_exr)) << b.out;
+  const std::string scene = dir.write("s.toml", kCyclesScene);
+  const test::CliResult r =
+      test::run_cli("render " + scene + " --frames 1:1 -o " + (dir.dir / "a_%04d.exr").string() +
+                    " --aov motion,id -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  int W = 0, H = 0, cw = 0, chh = 0;
+  const auto a = read_exr_channels(dir.dir / "a_0001.exr", &W, &H);
+  const auto c = read_exr_channels(cycles_exr, &cw, &chh);
+  ASSERT_EQ(W, cw);
+  ASSERT_EQ(H, chh);
+  const char* xyzw = "XYZW";
+  int compared = 0, cube = 0;
+  double worst = 0, largest = 0;
+  for (int y = 1; y + 1 < H; ++y)
+    for (int x = 1; x + 1 < W; ++x) {
+      const auto id = [&](int dx, int dy) {
+        return a.at("id.id")[size_t(y + dy) * size_t(W) + size_t(x + dx)];
+      };
+      bool inside = true;  // the 3 x 3 pixels see the same object
+      for (int k = 0; k < 9; ++k) inside = inside && id(k % 3 - 1, k / 3 - 1) == id(0, 0);
+      if (!inside || id(0, 0) < 0) continue;
+      ++compared;
+      cube += id(0, 0) == 0;
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      for (int k = 0; k < 4; ++k) {
+        const double mine = a.at(std::string("motion.") + xyzw[k])[i];
+        const double theirs = c.at(std::string("ViewLayer.Vector.") + xyzw[k])[i];
+        EXPECT_NEAR(mine, theirs, 1e-4) << "pixel " << x << "," << y << " channel " << xyzw[k];
+        worst = std::max(worst, std::abs(mine - theirs));
+        largest = std::max(largest, std::abs(theirs));
+      }
+    }
+  EXPECT_GT(cube, 20);
+  EXPECT_GT(compared, W * H / 2);
+  EXPECT_GT(largest, 1) << "the scene moves by pixels";
+  std::printf("motion vs Cycles' Vector: %d pixels (%d of the cube), worst %.3g px of up to %.3g\n",
+              compared, cube, worst, largest);
+}
+
 }  // namespace
 }  // namespace anamorph

@@ -2,6 +2,7 @@
 // and forward flow against closed-form projections of a panning camera and a moving sphere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -163,6 +164,75 @@ TEST(VisionAov, PanFlowEqualsTheClosedFormProjection) {
   check_pan("fisheye", 180, true);  // pixels turned past 90 degrees have no flow
 }
 
+// A rolling shutter (top to bottom over the whole frame: shutter [0, 1]) on a perspective camera
+// panning at a constant rate inside a sphere: row v is read at frame F + v, with the camera
+// turned by yaw(F + v). A pixel's direction at frame 0, and where frame 1's camera sees it: the
+// row v' whose own readout yaw turns the direction onto row v' (solved here by bisection).
+TEST(VisionAov, RollingShutterFlowUsesEachPixelsReadoutTime) {
+  const int W = 32, H = 32;
+  const double fov = 60 * kPi / 180, w = 2 * std::tan(fov / 2), step = 3 * kPi / 180;
+  std::string keys;
+  double yaw[3];
+  for (int k = 0; k < 3; ++k) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s[%d, [%.17g, 0, %.17g]]", k ? ", " : "", k,
+                  std::sin(k * step), -std::cos(k * step));
+    keys += buf;
+    yaw[k] = std::atan2(std::sin(k * step), std::cos(k * step));
+  }
+  const std::string scene = image(W, H) +
+                            "[camera]\npreset = \"perspective\"\nfov = 60\n"
+                            "rolling_shutter = \"top_to_bottom\"\nshutter = [0, 1]\n"
+                            "look_from = [0, 0, 0]\nlook_at = [0, 0, -1]\n"
+                            "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 10\n"
+                            "[[animate]]\nkey = \"camera.look_at\"\nkeys = [" +
+                            keys + "]\n";
+  const VisionFrame f = render_frame(scene, {Aov::FlowForward});
+  // The camera's yaw at frame F's readout time t (slerp about y: linear in the angle).
+  const auto yaw_at = [&](int F, double t) { return yaw[F] + t * (yaw[F + 1] - yaw[F]); };
+  double worst = 0, largest_shift = 0;
+  int valid = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+      const double a = yaw_at(0, uv.y);
+      const Vec3 right{std::cos(a), 0, std::sin(a)}, fwd{std::sin(a), 0, -std::cos(a)};
+      const Vec3 d = right * ((uv.x - 0.5) * w) + Vec3{0, 1, 0} * (-(uv.y - 0.5) * w) + fwd;
+      // Frame 1: the row whose readout sees d there.
+      const auto row_error = [&](double v, Vec2* at) {
+        return perspective_uv(camera_space(d, yaw_at(1, v)), fov, at) || at->y >= 0 ? at->y - v
+                                                                                    : std::nan("");
+      };
+      double lo = 0, hi = 1;
+      Vec2 at;
+      const double elo = row_error(lo, &at), ehi = row_error(hi, &at);
+      if (!(elo * ehi <= 0)) continue;  // no row sees it
+      for (int k = 0; k < 200; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (row_error(mid, &at) * elo > 0 ? lo : hi) = mid;
+      }
+      row_error(0.5 * (lo + hi), &at);
+      if (!(at.x >= 0 && at.x <= 1)) continue;
+      const double fx = f.at("flow_forward", x, y, 0), fy = f.at("flow_forward", x, y, 1);
+      ASSERT_EQ(f.at("flow_forward", x, y, 2), 1) << "pixel " << x << "," << y;
+      ++valid;
+      const double ex = (at.x - uv.x) * W, ey = (at.y - uv.y) * H;
+      EXPECT_NEAR(fx, ex, 1e-5) << "pixel " << x << "," << y;
+      EXPECT_NEAR(fy, ey, 1e-5) << "pixel " << x << "," << y;
+      worst = std::max({worst, std::abs(fx - ex), std::abs(fy - ey)});
+      // How far a global shutter (the whole frame at its open yaw) would be off.
+      Vec2 global;
+      if (perspective_uv(camera_space(d, yaw[1]), fov, &global))
+        largest_shift = std::max(largest_shift, std::abs(global.x - at.x) * W);
+    }
+  EXPECT_GT(valid, W * H / 2);
+  EXPECT_GT(largest_shift, 0.5) << "the readout time matters in this test";
+  std::printf(
+      "rolling shutter: worst flow error %.3g px over %d pixels (readout shift up to %.3g "
+      "px)\n",
+      worst, valid, largest_shift);
+}
+
 // A sphere of radius 1 at (0, 0, -3) moving by (0.5, 0.2, 0) between frames 0 and 1, seen by a
 // still 180-degree equidistant fisheye at the origin, before a still sphere of radius 20.
 std::string moving_sphere(int W, int H) {
@@ -181,13 +251,15 @@ double ray_sphere(const Vec3& d, const Vec3& c, double r) {
 }
 
 // The flow layer `layer` of frame `frame`: the sphere is at `c` then and moves by `move` to the
-// other frame.
+// other frame. Occlusion there, in closed form: a point of the background is hidden when the
+// moved sphere lies on its ray; a point of the sphere when it has turned to the sphere's far side
+// (its normal away from the camera). Hidden points have no flow (NaN, valid 0).
 void check_moving_sphere(double frame, Aov layer, const Vec3& c, const Vec3& move) {
   const int W = 48, H = 48;
   const double fov = kPi;
   const std::string name = aov_info(layer).name;
   const VisionFrame f = render_frame(moving_sphere(W, H), {layer, Aov::Id}, frame);
-  int on_sphere = 0;
+  int on_sphere = 0, hidden_sphere = 0, hidden_background = 0, background = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
@@ -198,21 +270,44 @@ void check_moving_sphere(double frame, Aov layer, const Vec3& c, const Vec3& mov
       const double miss = length(c - ray->dir * dot(c, ray->dir));
       if (miss > 0.98 && miss < 1.02) continue;
       SCOPED_TRACE(name + " pixel " + std::to_string(x) + "," + std::to_string(y));
-      const double fx = f.at(name, x, y, 0), fy = f.at(name, x, y, 1);
-      if (t < 0) {  // the still background: no motion
+      const double fx = f.at(name, x, y, 0), fy = f.at(name, x, y, 1), valid = f.at(name, x, y, 2);
+      if (t < 0) {  // the still background: no motion, unless the sphere covers it there
         EXPECT_EQ(f.at("id", x, y), 0);
+        const double cover = length(c + move - ray->dir * dot(c + move, ray->dir));
+        if (cover > 0.98 && cover < 1.02) continue;  // its silhouette there
+        if (cover < 1) {
+          ++hidden_background;
+          EXPECT_EQ(valid, 0) << "covered by the sphere at the other frame";
+          EXPECT_TRUE(std::isnan(fx) && std::isnan(fy)) << fx << " " << fy;
+          continue;
+        }
+        ++background;
+        EXPECT_EQ(valid, 1);
         EXPECT_NEAR(fx, 0, 1e-9);
         EXPECT_NEAR(fy, 0, 1e-9);
         continue;
       }
-      ++on_sphere;
       EXPECT_EQ(f.at("id", x, y), 1);
+      const Vec3 q = ray->dir * t + move;
+      const double facing = dot(q - (c + move), q) / length(q);  // > 0: turned away
+      if (std::abs(facing) < 0.02) continue;                     // on the limb there
+      if (facing > 0) {
+        ++hidden_sphere;
+        EXPECT_EQ(valid, 0) << "turned to the sphere's far side";
+        continue;
+      }
+      ++on_sphere;
+      EXPECT_EQ(valid, 1);
       Vec2 there;
-      ASSERT_TRUE(fisheye_uv(ray->dir * t + move, fov, &there));
+      ASSERT_TRUE(fisheye_uv(q, fov, &there));
       EXPECT_NEAR(fx, (there.x - uv.x) * W, 1e-4);
       EXPECT_NEAR(fy, (there.y - uv.y) * H, 1e-4);
     }
   EXPECT_GT(on_sphere, 50);
+  EXPECT_GT(background, 500);
+  EXPECT_GT(hidden_background, 5) << "the moved sphere covers part of the background";
+  std::printf("%s: %d sphere pixels with flow, %d hidden; background %d with flow, %d hidden\n",
+              name.c_str(), on_sphere, hidden_sphere, background, hidden_background);
 }
 
 TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
@@ -221,50 +316,112 @@ TEST(VisionAov, MovingSphereFlowUnderAFisheye) {
   check_moving_sphere(1, Aov::FlowBackward, c + move, -move);
 }
 
-// Warping: the surface parameters (uv) of frame 1, read at each pixel's position plus its flow
-// (bilinear), give frame 0's, where the point stays in view and its four neighbours at frame 1
-// see the moving sphere too.
-TEST(VisionAov, WarpingTheNextFrameByTheFlowGivesThisOne) {
-  const int W = 128, H = 128;
-  const std::string scene = moving_sphere(W, H);
-  const VisionFrame now = render_frame(scene, {Aov::FlowForward, Aov::Uv, Aov::Id, Aov::Normal});
-  const VisionFrame next = render_frame(scene, {Aov::Uv, Aov::Id}, 1);
+// The motion layer is the flows in Cycles' convention (y up; previous - now, now - next) where
+// they are valid, and keeps the motion of points hidden at the other frame (the still
+// background behind the moved sphere: 0).
+TEST(VisionAov, MotionLayerIsTheFlowsInCyclesConvention) {
+  const int W = 48, H = 48;
+  for (const double frame : {0.0, 1.0}) {
+    const VisionFrame f = render_frame(
+        moving_sphere(W, H), {Aov::Motion, Aov::FlowForward, Aov::FlowBackward, Aov::Id}, frame);
+    int both = 0, hidden = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        if (f.at("id", x, y) < 0) {
+          for (int c = 0; c < 4; ++c) EXPECT_EQ(f.at("motion", x, y, c), 0) << "no hit";
+          continue;
+        }
+        SCOPED_TRACE("frame " + std::to_string(frame) + " pixel " + std::to_string(x) + "," +
+                     std::to_string(y));
+        const bool fv = f.at("flow_forward", x, y, 2) == 1,
+                   bv = f.at("flow_backward", x, y, 2) == 1;
+        if (!fv || !bv) {
+          hidden += f.at("id", x, y) == 0;
+          for (int c = 0; c < 4; ++c) EXPECT_TRUE(std::isfinite(f.at("motion", x, y, c)));
+          if (f.at("id", x, y) == 0) {
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(f.at("motion", x, y, c), 0, 1e-9) << "still";
+          }
+          continue;
+        }
+        ++both;
+        EXPECT_EQ(f.at("motion", x, y, 0), f.at("flow_backward", x, y, 0));
+        EXPECT_EQ(f.at("motion", x, y, 1), -f.at("flow_backward", x, y, 1));
+        EXPECT_EQ(f.at("motion", x, y, 2), -f.at("flow_forward", x, y, 0));
+        EXPECT_EQ(f.at("motion", x, y, 3), f.at("flow_forward", x, y, 1));
+      }
+    EXPECT_GT(both, 1000);
+    EXPECT_GT(hidden, 5);
+  }
+}
+
+// Warping: the surface parameters (uv) of frame `to`, read at each pixel of frame `from` plus its
+// flow (bilinear), give `from`'s, where the pixel has flow, faces the camera, and the four
+// neighbours at `to` see the same object. The pixels without flow are those the moving sphere
+// covers at `to` (give or take a pixel at its silhouette).
+void check_warp(const VisionFrame& from, const VisionFrame& to, const std::string& layer) {
+  const int W = from.out.width, H = from.out.height;
   double worst = 0;
-  int checked = 0;
+  int checked = 0, hidden = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      if (now.at("id", x, y) != 1 || now.at("flow_forward", x, y, 2) != 1) continue;
+      const double id = from.at("id", x, y);
+      if (id < 0) continue;  // outside the fisheye's circle
+      if (from.at(layer, x, y, 2) != 1) {
+        bool covered = false;  // the sphere at `to`, here or next to here
+        for (int k = 0; k < 9; ++k) {
+          const int xi = std::clamp(x + k % 3 - 1, 0, W - 1),
+                    yi = std::clamp(y + k / 3 - 1, 0, H - 1);
+          covered = covered || to.at("id", xi, yi) == 1;
+        }
+        EXPECT_TRUE(covered) << layer << " pixel " << x << "," << y << " (id " << id
+                             << ") has no flow but nothing covers it";
+        hidden += id == 0;
+        continue;
+      }
       // Facing the camera (away from the limb, where the point may turn away at frame 1).
-      const auto ray = now.scene.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
-      const Vec3 n{now.at("normal", x, y, 0), now.at("normal", x, y, 1), now.at("normal", x, y, 2)};
+      const auto ray = from.scene.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
+      const Vec3 n{from.at("normal", x, y, 0), from.at("normal", x, y, 1),
+                   from.at("normal", x, y, 2)};
       if (!ray || dot(n, ray->dir) > -0.7) continue;
-      const double px = x + now.at("flow_forward", x, y, 0),
-                   py = y + now.at("flow_forward", x, y, 1);
+      const double px = x + from.at(layer, x, y, 0), py = y + from.at(layer, x, y, 1);
       const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
       if (x0 < 0 || y0 < 0 || x0 + 1 >= W || y0 + 1 >= H) continue;
       bool same = true;
       double uvs[4][2];
       for (int k = 0; k < 4; ++k) {
         const int xi = x0 + (k & 1), yi = y0 + (k >> 1);
-        same = same && next.at("id", xi, yi) == 1;
-        for (int c = 0; c < 2; ++c) uvs[k][c] = next.at("uv", xi, yi, c);
+        same = same && to.at("id", xi, yi) == id;
+        for (int c = 0; c < 2; ++c) uvs[k][c] = to.at("uv", xi, yi, c);
       }
-      // The sphere's u wraps around once: not across the seam.
+      // The spheres' u wraps around once: not across the seam.
       if (!same || std::abs(uvs[0][0] - uvs[3][0]) > 0.2) continue;
       const double ax = px - x0, ay = py - y0;
       for (int c = 0; c < 2; ++c) {
         const double warped = (1 - ay) * ((1 - ax) * uvs[0][c] + ax * uvs[1][c]) +
                               ay * ((1 - ax) * uvs[2][c] + ax * uvs[3][c]);
-        const double diff = std::abs(warped - now.at("uv", x, y, c));
+        const double diff = std::abs(warped - from.at("uv", x, y, c));
         worst = std::max(worst, diff);
-        EXPECT_LT(diff, 2e-3) << "pixel " << x << "," << y << " channel " << c << ": warped "
-                              << warped << ", this frame " << now.at("uv", x, y, c);
+        EXPECT_LT(diff, 2e-3) << layer << " pixel " << x << "," << y << " channel " << c
+                              << ": warped " << warped << ", this frame " << from.at("uv", x, y, c);
       }
       ++checked;
     }
-  EXPECT_GT(checked, 100);
-  ::testing::Test::RecordProperty("worst_uv", std::to_string(worst));
-  std::printf("worst warped uv difference %.3g over %d pixels\n", worst, checked);
+  EXPECT_GT(checked, 1000) << layer;
+  EXPECT_GT(hidden, 50) << layer << ": background pixels the sphere covers at the other frame";
+  ::testing::Test::RecordProperty(layer + "_worst_uv", std::to_string(worst));
+  std::printf("%s: worst warped uv difference %.3g over %d pixels; %d background pixels hidden\n",
+              layer.c_str(), worst, checked, hidden);
+}
+
+// Frame 1 warped by frame 0's forward flow gives frame 0; frame 0 warped by frame 1's backward
+// flow gives frame 1. The moving sphere passes in front of the still background sphere.
+TEST(VisionAov, WarpingTheOtherFrameByTheFlowGivesThisOne) {
+  const int W = 128, H = 128;
+  const std::string scene = moving_sphere(W, H);
+  const std::vector<Aov> aovs{Aov::FlowForward, Aov::FlowBackward, Aov::Uv, Aov::Id, Aov::Normal};
+  const VisionFrame f0 = render_frame(scene, aovs), f1 = render_frame(scene, aovs, 1);
+  check_warp(f0, f1, "flow_forward");
+  check_warp(f1, f0, "flow_backward");
 }
 
 }  // namespace
