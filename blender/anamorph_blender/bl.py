@@ -333,11 +333,65 @@ def _environment(world, warnings):
     if bg.type != "BACKGROUND":
         warnings.append(f"world '{world.name}': only a Background node is carried over")
         return None
-    if bg.inputs["Color"].is_linked or bg.inputs["Strength"].is_linked:
-        warnings.append(f"world '{world.name}': a texture on the background is not carried "
-                        "over yet (its unlinked colour is used)")
     strength = bg.inputs["Strength"].default_value
+    if bg.inputs["Strength"].is_linked:
+        warnings.append(f"world '{world.name}': a texture on the strength is not carried over "
+                        "(its unlinked value is used)")
+    if bg.inputs["Color"].is_linked:
+        env = _environment_texture(bg.inputs["Color"].links[0].from_node, strength, warnings)
+        if env is not None:
+            return env
+        warnings.append(f"world '{world.name}': only an Environment Texture (equirectangular "
+                        "image, optionally through a Mapping node) on the background's colour "
+                        "is carried over (its unlinked colour is used)")
     return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
+
+
+def _environment_texture(node, strength, warnings):
+    """[environment] of an Environment Texture node (equirectangular image on disk), or None."""
+    if node.type != "TEX_ENVIRONMENT" or node.projection != "EQUIRECTANGULAR":
+        return None
+    image = node.image
+    path = bpy.path.abspath(image.filepath, library=image.library) if image else ""
+    if image is None or image.packed_file or image.source != "FILE" or not os.path.isfile(path):
+        warnings.append(f"environment texture '{node.name}': its image is not a file on disk "
+                        f"({path or 'no image'})")
+        return None
+    z_rotation = _mapping_z(node, warnings)
+    return None if z_rotation is None else scene_toml.environment_image(
+        os.path.abspath(path), strength, z_rotation)
+
+
+def _mapping_z(tex, warnings):
+    """The rotation about Blender's +Z [radians] that a Mapping node on `tex`'s Vector input
+    applies to the lookup direction: 0 without one; None (with a warning) for what anamorph's
+    single rotation about its up axis cannot express."""
+    if not tex.inputs["Vector"].is_linked:
+        return 0.0
+    m = tex.inputs["Vector"].links[0].from_node
+    if not _z_only_mapping(m):
+        warnings.append(f"environment texture '{tex.name}': only a Mapping node turning "
+                        "Generated coordinates about Z (uniform scale, no location) is carried "
+                        "over")
+        return None
+    rot = m.inputs["Rotation"].default_value
+    return -rot[2] if m.vector_type == "TEXTURE" else rot[2]
+
+
+def _z_only_mapping(m):
+    """Whether `m` is a Mapping node of Generated coordinates (a world's directions) whose only
+    effect on an equirectangular lookup is a turn about Z."""
+    if m.type != "MAPPING" or m.vector_type not in {"POINT", "VECTOR", "TEXTURE"}:
+        return False
+    if any(m.inputs[k].is_linked for k in ("Rotation", "Scale", "Location")):
+        return False
+    fed = m.inputs["Vector"].links[0].from_socket if m.inputs["Vector"].is_linked else None
+    if fed is None or fed.node.type != "TEX_COORD" or fed.name != "Generated":
+        return False
+    rot, scale = m.inputs["Rotation"].default_value, m.inputs["Scale"].default_value
+    location = m.inputs["Location"].default_value if m.vector_type != "VECTOR" else (0, 0, 0)
+    return abs(rot[0]) < 1e-6 and abs(rot[1]) < 1e-6 and max(map(abs, location)) < 1e-6 and \
+        scale[0] > 0 and abs(scale[1] - scale[0]) < 1e-6 and abs(scale[2] - scale[0]) < 1e-6
 
 
 def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):

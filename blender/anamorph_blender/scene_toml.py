@@ -31,6 +31,22 @@ def rig_matrix(m):
     return [v for row in rows for v in row] + [0.0, 0.0, 0.0, 1.0]
 
 
+def environment_image(path, strength, z_rotation=0.0):
+    """The [environment] table of a Blender world whose Background shows an equirectangular
+    image `path` (times `strength`), its lookup direction turned by `z_rotation` radians about
+    Blender's +Z first (a Mapping node of type Point or Vector; Texture is the inverse).
+
+    Cycles looks a direction (x, y, z) up at u = 0.5 - atan2(y, x) / 2pi (its
+    direction_to_equirectangular: the image's centre faces +X, u grows clockwise seen from
+    above); anamorph at u = (atan2(x', -z') - rotation) / 2pi + 0.5 in its own axes
+    (x', y', z') = (x, z, -y), i.e. atan2(x, y). A direction at azimuth a in Blender's xy plane,
+    turned by z_rotation, has Cycles' u at 0.5 - (a + z_rotation) / 2pi and anamorph's at
+    0.5 + (pi/2 - a - rotation) / 2pi: they agree when rotation = z_rotation + 90 degrees (the
+    glTF issue's "undocumented 90 degrees"). Both put +Z (anamorph's +y) at the top row."""
+    degrees = (math.degrees(z_rotation) + 90.0 + 180.0) % 360.0 - 180.0
+    return {"file": path, "strength": float(strength), "rotation": degrees}
+
+
 def _table(lines, header, values, fmt):
     lines.append(header)
     for k, v in values.items():
