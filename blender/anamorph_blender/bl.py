@@ -535,7 +535,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         return self._anamorph_preview
 
     def __del__(self):
-        preview = getattr(self, "_anamorph_preview", None)
+        try:
+            preview = getattr(self, "_anamorph_preview", None)
+        except ReferenceError:  # Blender freed the engine first (seen after each F12 render)
+            return
         if preview is not None:
             preview.close()
 

@@ -115,12 +115,13 @@ def small_scene(width=80, height=60, spp=16):
 
 def cycles_settings(scene, spp):
     """Cycles set to what anamorph computes: CPU, fixed samples and seed, no adaptive sampling,
-    denoising or clamping, 8 bounces of each kind, a 1-pixel box filter, an opaque film."""
+    denoising, clamping or glossy filter, 8 bounces of each kind, a 1-pixel box filter, an opaque film."""
     cy = scene.cycles
     cy.device, cy.samples, cy.seed = "CPU", spp, 1
     cy.use_adaptive_sampling = cy.use_denoising = False
     cy.max_bounces = cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 8
     cy.sample_clamp_direct = cy.sample_clamp_indirect = cy.light_sampling_threshold = 0.0
+    cy.blur_glossy = 0.0  # Filter Glossy: Cycles' default 1 blurs caustics (a bias)
     cy.pixel_filter_type, cy.filter_width = "BOX", 1.0
     scene.render.film_transparent = False
 
