@@ -296,6 +296,11 @@ def _coins(depsgraph, cam_ob, src=lambda x: x):
     return [c for _, c in sorted(out, key=lambda nc: nc[0])]
 
 
+# A sun wider than this [radians] gets a warning: its soft shadows are lost. Blender's default
+# (0.526 degrees, the real sun's) gives shadows nearly as hard as anamorph's.
+SUN_ANGLE_WARNED = math.radians(1.0)
+
+
 def _lights(depsgraph, warnings):
     out = []
     for ob in depsgraph.objects:
@@ -304,6 +309,10 @@ def _lights(depsgraph, warnings):
         li = ob.data
         size = (li.size, li.size if li.shape in {"SQUARE", "DISK"} else li.size_y) \
             if li.type == "AREA" else (0.0, 0.0)
+        if li.type == "SUN" and li.angle > SUN_ANGLE_WARNED:
+            warnings.append(f"light '{ob.name}': the sun's angle ({math.degrees(li.angle):.3g}"
+                            " degrees) is not carried over: anamorph's directional light is "
+                            "one direction (hard shadows)")
         if li.type == "AREA" and li.shape in {"DISK", "ELLIPSE"}:
             warnings.append(f"light '{ob.name}': a {li.shape.lower()} area light becomes a "
                             "rectangle of the same size")

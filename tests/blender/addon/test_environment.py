@@ -74,6 +74,15 @@ common.check(env.get("file", "").endswith("lopsided.exr") and abs(env["rotation"
              "the world becomes [environment] file, rotation 130 (40 + 90), strength 1.5, no "
              "warning: %r %r" % (env, warnings))
 
+sun = bpy.data.objects.new("wide_sun", bpy.data.lights.new("wide_sun", "SUN"))
+sun.data.angle = math.radians(10.0)
+scene.collection.objects.link(sun)
+_, warnings = written_environment()
+common.check(any("wide_sun" in w and "angle (10 degrees)" in w for w in warnings),
+             "a sun of angle 10 degrees gives a warning that its angle is not carried over: %r"
+             % warnings)
+bpy.data.objects.remove(sun)
+
 # 1. The world alone, through Blender's equirectangular camera.
 for ob in bpy.data.objects:
     ob.hide_render = ob.type != "CAMERA"
