@@ -117,6 +117,10 @@ def _register_declared(am):
     for n, (doc, specs) in presets.items():
         cls = _group("ANAMORPH_PG_preset_" + n, specs)
         extra["p_" + n] = bpy.props.PointerProperty(type=cls)
+    extra["image_surface"] = bpy.props.PointerProperty(
+        type=bpy.types.Object, name="Image surface", poll=lambda _, ob: ob.type == "SURFACE",
+        description="A NURBS surface as the image surface instead of the preset: org = its "
+        "control net (row v = 0 at the image's top), dir = its normal")
     common = _group("ANAMORPH_PG_camera_common", schema_props.camera_common_specs(decl))
     extra["common"] = bpy.props.PointerProperty(type=common)
     cam = _group("ANAMORPH_PG_camera", [], extra)
@@ -271,15 +275,37 @@ def _blender_dof(cam_ob, common):
 def _camera_table(cam_ob, width, height, src=lambda x: x):
     cam = cam_ob.data
     settings = src(cam).anamorph
-    if settings.preset == "BLENDER":
+    if settings.image_surface is not None:
+        preset, keys = None, _image_surface(cam_ob, settings.image_surface)
+    elif settings.preset == "BLENDER":
         preset, keys = blender_lens(cam, width, height)
     else:
         preset = settings.preset
         keys = set_values(getattr(settings, "p_" + preset), "camera")
-    table = {"preset": preset, **keys, **_blender_dof(cam_ob, settings.common),
-             **set_values(settings.common, "camera")}
+    table = {**({"preset": preset} if preset else {}), **keys,
+             **_blender_dof(cam_ob, settings.common), **set_values(settings.common, "camera")}
     table["matrix"] = scene_toml.rig_matrix([list(r) for r in cam_ob.matrix_world])
     return table
+
+
+def _image_surface(cam_ob, surf_ob):
+    """org and dir of the camera's image surface: the first spline of a NURBS surface object,
+    its control points in the camera's space (the rig without scale, as rig_matrix makes it)."""
+    splines = surf_ob.data.splines
+    sp = splines[0] if len(splines) else None
+    if sp is None or sp.type != "NURBS" or sp.use_cyclic_u or sp.use_cyclic_v or \
+            sp.use_bezier_u or sp.use_bezier_v:
+        raise ValueError(f"image surface '{surf_ob.name}': a NURBS surface without cyclic or "
+                         "Bezier knots is needed")
+    loc, rot, _ = cam_ob.matrix_world.decompose()
+    camera_from_surface = mathutils.Matrix.LocRotScale(loc, rot, None).inverted() @ \
+        surf_ob.matrix_world
+    nu, nv = sp.point_count_u, sp.point_count_v
+    rows = [[sp.points[v * nu + u].co for u in range(nu)] for v in range(nv)]
+    return scene_toml.nurbs_image_surface(
+        [[list(camera_from_surface @ c.xyz) for c in row] for row in rows],
+        [[float(c[3]) for c in row] for row in rows],
+        sp.order_u, sp.order_v, sp.use_endpoint_u, sp.use_endpoint_v)
 
 
 def _coins(depsgraph, cam_ob, src=lambda x: x):
@@ -804,8 +830,10 @@ class ANAMORPH_PT_camera(bpy.types.Panel):
             layout.label(text=_load_error.splitlines()[0], icon="ERROR")
             return
         settings = context.camera.anamorph
-        layout.prop(settings, "preset")
-        if settings.preset != "BLENDER":
+        layout.prop(settings, "image_surface")
+        if settings.image_surface is None:
+            layout.prop(settings, "preset")
+        if settings.image_surface is None and settings.preset != "BLENDER":
             _draw_group(layout.column(), getattr(settings, "p_" + settings.preset))
         _draw_group(layout.column(), settings.common)
         layout.operator(ANAMORPH_OT_add_coin.bl_idname, icon="EMPTY_AXIS")

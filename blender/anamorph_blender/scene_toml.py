@@ -47,6 +47,20 @@ def environment_image(path, strength, z_rotation=0.0):
     return {"file": path, "strength": float(strength), "rotation": degrees}
 
 
+def nurbs_image_surface(points, weights, order_u, order_v, endpoint_u, endpoint_v):
+    """The camera's org and dir for a Blender NURBS surface as the image surface: `points` rows
+    of [x, y, z] in the camera's own space (Blender's row v = 0 first: the image's top edge;
+    each row along u, left to right), `weights` in the same rows. Rays leave along the
+    surface's normal dp/du x dp/dv, so a patch in front of the camera with u toward the
+    camera's right and v toward its bottom looks where the camera does. Orders are Blender's
+    (degree + 1); "Endpoint" knots are anamorph's clamped ones, else uniform."""
+    org = {"type": "nurbs", "points": points, "weights": weights,
+           "degree_u": order_u - 1, "degree_v": order_v - 1,
+           "knot_type_u": "clamped" if endpoint_u else "uniform",
+           "knot_type_v": "clamped" if endpoint_v else "uniform"}
+    return {"org": org, "dir": {"type": "normal"}}
+
+
 def _table(lines, header, values, fmt):
     lines.append(header)
     for k, v in values.items():

@@ -115,7 +115,8 @@ def small_scene(width=80, height=60, spp=16):
 
 def cycles_settings(scene, spp):
     """Cycles set to what anamorph computes: CPU, fixed samples and seed, no adaptive sampling,
-    denoising, clamping or glossy filter, 8 bounces of each kind, a 1-pixel box filter, an opaque film."""
+    denoising, clamping or glossy filter, 8 bounces of each kind, a 1-pixel box filter, an
+    opaque film."""
     cy = scene.cycles
     cy.device, cy.samples, cy.seed = "CPU", spp, 1
     cy.use_adaptive_sampling = cy.use_denoising = False
