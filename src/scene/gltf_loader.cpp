@@ -450,14 +450,7 @@ class GltfBuilder {
 
     auto where = [&](const char* what) { return fmt::format("mesh '{}' {}: ", name, what); };
     try {
-      tm.positions = to_vec3(read_accessor_floats(m_, pos, 3));
-      if (const int a = attr("NORMAL"); a >= 0)
-        tm.normals = to_vec3(read_accessor_floats(m_, a, 3));
-      if (const int a = attr(fmt::format("TEXCOORD_{}", uv_set)); a >= 0) {
-        const auto f = read_accessor_floats(m_, a, 2);
-        tm.uvs.resize(f.size() / 2);
-        for (size_t i = 0; i < tm.uvs.size(); ++i) tm.uvs[i] = {f[2 * i], f[2 * i + 1]};
-      }
+      read_attributes(pr, pos, uv_set, tm);
     } catch (const LoadError& e) {
       throw LoadError(where("attributes") + e.what());
     }
@@ -471,12 +464,7 @@ class GltfBuilder {
 
     std::vector<uint32_t> idx;
     try {
-      if (pr.indices >= 0) {
-        idx = read_accessor_indices(m_, pr.indices);
-      } else {
-        idx.resize(tm.positions.size());
-        std::iota(idx.begin(), idx.end(), 0u);
-      }
+      idx = read_indices(pr, tm.positions.size());
     } catch (const LoadError& e) {
       throw LoadError(where("indices") + e.what());
     }
@@ -493,6 +481,29 @@ class GltfBuilder {
       for (auto& x : w) warnings_.add(file_ + ": " + x);
     }
     return tm;
+  }
+
+  // Positions (accessor `pos`), normals and the material's TEXCOORD set.
+  void read_attributes(const tinygltf::Primitive& pr, int pos, int uv_set, TriangleMesh& tm) {
+    const auto attr = [&](const std::string& key) {
+      auto it = pr.attributes.find(key);
+      return it == pr.attributes.end() ? -1 : it->second;
+    };
+    tm.positions = to_vec3(read_accessor_floats(m_, pos, 3));
+    if (const int a = attr("NORMAL"); a >= 0) tm.normals = to_vec3(read_accessor_floats(m_, a, 3));
+    if (const int a = attr(fmt::format("TEXCOORD_{}", uv_set)); a >= 0) {
+      const auto f = read_accessor_floats(m_, a, 2);
+      tm.uvs.resize(f.size() / 2);
+      for (size_t i = 0; i < tm.uvs.size(); ++i) tm.uvs[i] = {f[2 * i], f[2 * i + 1]};
+    }
+  }
+
+  // The primitive's indices, or 0..n-1 without an accessor.
+  std::vector<uint32_t> read_indices(const tinygltf::Primitive& pr, size_t n) {
+    if (pr.indices >= 0) return read_accessor_indices(m_, pr.indices);
+    std::vector<uint32_t> idx(n);
+    std::iota(idx.begin(), idx.end(), 0u);
+    return idx;
   }
 
   static std::vector<Vec3f> to_vec3(const std::vector<float>& f) {
