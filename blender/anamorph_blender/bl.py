@@ -117,6 +117,10 @@ def _register_declared(am):
     for n, (doc, specs) in presets.items():
         cls = _group("ANAMORPH_PG_preset_" + n, specs)
         extra["p_" + n] = bpy.props.PointerProperty(type=cls)
+    extra["image_surface"] = bpy.props.PointerProperty(
+        type=bpy.types.Object, name="Image surface", poll=lambda _, ob: ob.type == "SURFACE",
+        description="A NURBS surface as the image surface instead of the preset: org = its "
+        "control net (row v = 0 at the image's top), dir = its normal")
     common = _group("ANAMORPH_PG_camera_common", schema_props.camera_common_specs(decl))
     extra["common"] = bpy.props.PointerProperty(type=common)
     cam = _group("ANAMORPH_PG_camera", [], extra)
@@ -271,15 +275,37 @@ def _blender_dof(cam_ob, common):
 def _camera_table(cam_ob, width, height, src=lambda x: x):
     cam = cam_ob.data
     settings = src(cam).anamorph
-    if settings.preset == "BLENDER":
+    if settings.image_surface is not None:
+        preset, keys = None, _image_surface(cam_ob, settings.image_surface)
+    elif settings.preset == "BLENDER":
         preset, keys = blender_lens(cam, width, height)
     else:
         preset = settings.preset
         keys = set_values(getattr(settings, "p_" + preset), "camera")
-    table = {"preset": preset, **keys, **_blender_dof(cam_ob, settings.common),
-             **set_values(settings.common, "camera")}
+    table = {**({"preset": preset} if preset else {}), **keys,
+             **_blender_dof(cam_ob, settings.common), **set_values(settings.common, "camera")}
     table["matrix"] = scene_toml.rig_matrix([list(r) for r in cam_ob.matrix_world])
     return table
+
+
+def _image_surface(cam_ob, surf_ob):
+    """org and dir of the camera's image surface: the first spline of a NURBS surface object,
+    its control points in the camera's space (the rig without scale, as rig_matrix makes it)."""
+    splines = surf_ob.data.splines
+    sp = splines[0] if len(splines) else None
+    if sp is None or sp.type != "NURBS" or sp.use_cyclic_u or sp.use_cyclic_v or \
+            sp.use_bezier_u or sp.use_bezier_v:
+        raise ValueError(f"image surface '{surf_ob.name}': a NURBS surface without cyclic or "
+                         "Bezier knots is needed")
+    loc, rot, _ = cam_ob.matrix_world.decompose()
+    camera_from_surface = mathutils.Matrix.LocRotScale(loc, rot, None).inverted() @ \
+        surf_ob.matrix_world
+    nu, nv = sp.point_count_u, sp.point_count_v
+    rows = [[sp.points[v * nu + u].co for u in range(nu)] for v in range(nv)]
+    return scene_toml.nurbs_image_surface(
+        [[list(camera_from_surface @ c.xyz) for c in row] for row in rows],
+        [[float(c[3]) for c in row] for row in rows],
+        sp.order_u, sp.order_v, sp.use_endpoint_u, sp.use_endpoint_v)
 
 
 def _coins(depsgraph, cam_ob, src=lambda x: x):
@@ -296,6 +322,11 @@ def _coins(depsgraph, cam_ob, src=lambda x: x):
     return [c for _, c in sorted(out, key=lambda nc: nc[0])]
 
 
+# A sun wider than this [radians] gets a warning: its soft shadows are lost. Blender's default
+# (0.526 degrees, the real sun's) gives shadows nearly as hard as anamorph's.
+SUN_ANGLE_WARNED = math.radians(1.0)
+
+
 def _lights(depsgraph, warnings):
     out = []
     for ob in depsgraph.objects:
@@ -304,6 +335,10 @@ def _lights(depsgraph, warnings):
         li = ob.data
         size = (li.size, li.size if li.shape in {"SQUARE", "DISK"} else li.size_y) \
             if li.type == "AREA" else (0.0, 0.0)
+        if li.type == "SUN" and li.angle > SUN_ANGLE_WARNED:
+            warnings.append(f"light '{ob.name}': the sun's angle ({math.degrees(li.angle):.3g}"
+                            " degrees) is not carried over: anamorph's directional light is "
+                            "one direction (hard shadows)")
         if li.type == "AREA" and li.shape in {"DISK", "ELLIPSE"}:
             warnings.append(f"light '{ob.name}': a {li.shape.lower()} area light becomes a "
                             "rectangle of the same size")
@@ -333,11 +368,65 @@ def _environment(world, warnings):
     if bg.type != "BACKGROUND":
         warnings.append(f"world '{world.name}': only a Background node is carried over")
         return None
-    if bg.inputs["Color"].is_linked or bg.inputs["Strength"].is_linked:
-        warnings.append(f"world '{world.name}': a texture on the background is not carried "
-                        "over yet (its unlinked colour is used)")
     strength = bg.inputs["Strength"].default_value
+    if bg.inputs["Strength"].is_linked:
+        warnings.append(f"world '{world.name}': a texture on the strength is not carried over "
+                        "(its unlinked value is used)")
+    if bg.inputs["Color"].is_linked:
+        env = _environment_texture(bg.inputs["Color"].links[0].from_node, strength, warnings)
+        if env is not None:
+            return env
+        warnings.append(f"world '{world.name}': only an Environment Texture (equirectangular "
+                        "image, optionally through a Mapping node) on the background's colour "
+                        "is carried over (its unlinked colour is used)")
     return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
+
+
+def _environment_texture(node, strength, warnings):
+    """[environment] of an Environment Texture node (equirectangular image on disk), or None."""
+    if node.type != "TEX_ENVIRONMENT" or node.projection != "EQUIRECTANGULAR":
+        return None
+    image = node.image
+    path = bpy.path.abspath(image.filepath, library=image.library) if image else ""
+    if image is None or image.packed_file or image.source != "FILE" or not os.path.isfile(path):
+        warnings.append(f"environment texture '{node.name}': its image is not a file on disk "
+                        f"({path or 'no image'})")
+        return None
+    z_rotation = _mapping_z(node, warnings)
+    return None if z_rotation is None else scene_toml.environment_image(
+        os.path.abspath(path), strength, z_rotation)
+
+
+def _mapping_z(tex, warnings):
+    """The rotation about Blender's +Z [radians] that a Mapping node on `tex`'s Vector input
+    applies to the lookup direction: 0 without one; None (with a warning) for what anamorph's
+    single rotation about its up axis cannot express."""
+    if not tex.inputs["Vector"].is_linked:
+        return 0.0
+    m = tex.inputs["Vector"].links[0].from_node
+    if not _z_only_mapping(m):
+        warnings.append(f"environment texture '{tex.name}': only a Mapping node turning "
+                        "Generated coordinates about Z (uniform scale, no location) is carried "
+                        "over")
+        return None
+    rot = m.inputs["Rotation"].default_value
+    return -rot[2] if m.vector_type == "TEXTURE" else rot[2]
+
+
+def _z_only_mapping(m):
+    """Whether `m` is a Mapping node of Generated coordinates (a world's directions) whose only
+    effect on an equirectangular lookup is a turn about Z."""
+    if m.type != "MAPPING" or m.vector_type not in {"POINT", "VECTOR", "TEXTURE"}:
+        return False
+    if any(m.inputs[k].is_linked for k in ("Rotation", "Scale", "Location")):
+        return False
+    fed = m.inputs["Vector"].links[0].from_socket if m.inputs["Vector"].is_linked else None
+    if fed is None or fed.node.type != "TEX_COORD" or fed.name != "Generated":
+        return False
+    rot, scale = m.inputs["Rotation"].default_value, m.inputs["Scale"].default_value
+    location = m.inputs["Location"].default_value if m.vector_type != "VECTOR" else (0, 0, 0)
+    return abs(rot[0]) < 1e-6 and abs(rot[1]) < 1e-6 and max(map(abs, location)) < 1e-6 and \
+        scale[0] > 0 and abs(scale[1] - scale[0]) < 1e-6 and abs(scale[2] - scale[0]) < 1e-6
 
 
 def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
@@ -481,7 +570,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         return self._anamorph_preview
 
     def __del__(self):
-        preview = getattr(self, "_anamorph_preview", None)
+        try:
+            preview = getattr(self, "_anamorph_preview", None)
+        except ReferenceError:  # Blender freed the engine first (seen after each F12 render)
+            return
         if preview is not None:
             preview.close()
 
@@ -738,8 +830,10 @@ class ANAMORPH_PT_camera(bpy.types.Panel):
             layout.label(text=_load_error.splitlines()[0], icon="ERROR")
             return
         settings = context.camera.anamorph
-        layout.prop(settings, "preset")
-        if settings.preset != "BLENDER":
+        layout.prop(settings, "image_surface")
+        if settings.image_surface is None:
+            layout.prop(settings, "preset")
+        if settings.image_surface is None and settings.preset != "BLENDER":
             _draw_group(layout.column(), getattr(settings, "p_" + settings.preset))
         _draw_group(layout.column(), settings.common)
         layout.operator(ANAMORPH_OT_add_coin.bl_idname, icon="EMPTY_AXIS")

@@ -31,6 +31,36 @@ def rig_matrix(m):
     return [v for row in rows for v in row] + [0.0, 0.0, 0.0, 1.0]
 
 
+def environment_image(path, strength, z_rotation=0.0):
+    """The [environment] table of a Blender world whose Background shows an equirectangular
+    image `path` (times `strength`), its lookup direction turned by `z_rotation` radians about
+    Blender's +Z first (a Mapping node of type Point or Vector; Texture is the inverse).
+
+    Cycles looks a direction (x, y, z) up at u = 0.5 - atan2(y, x) / 2pi (its
+    direction_to_equirectangular: the image's centre faces +X, u grows clockwise seen from
+    above); anamorph at u = (atan2(x', -z') - rotation) / 2pi + 0.5 in its own axes
+    (x', y', z') = (x, z, -y), i.e. atan2(x, y). A direction at azimuth a in Blender's xy plane,
+    turned by z_rotation, has Cycles' u at 0.5 - (a + z_rotation) / 2pi and anamorph's at
+    0.5 + (pi/2 - a - rotation) / 2pi: they agree when rotation = z_rotation + 90 degrees (the
+    glTF issue's "undocumented 90 degrees"). Both put +Z (anamorph's +y) at the top row."""
+    degrees = (math.degrees(z_rotation) + 90.0 + 180.0) % 360.0 - 180.0
+    return {"file": path, "strength": float(strength), "rotation": degrees}
+
+
+def nurbs_image_surface(points, weights, order_u, order_v, endpoint_u, endpoint_v):
+    """The camera's org and dir for a Blender NURBS surface as the image surface: `points` rows
+    of [x, y, z] in the camera's own space (Blender's row v = 0 first: the image's top edge;
+    each row along u, left to right), `weights` in the same rows. Rays leave along the
+    surface's normal dp/du x dp/dv, so a patch in front of the camera with u toward the
+    camera's right and v toward its bottom looks where the camera does. Orders are Blender's
+    (degree + 1); "Endpoint" knots are anamorph's clamped ones, else uniform."""
+    org = {"type": "nurbs", "points": points, "weights": weights,
+           "degree_u": order_u - 1, "degree_v": order_v - 1,
+           "knot_type_u": "clamped" if endpoint_u else "uniform",
+           "knot_type_v": "clamped" if endpoint_v else "uniform"}
+    return {"org": org, "dir": {"type": "normal"}}
+
+
 def _table(lines, header, values, fmt):
     lines.append(header)
     for k, v in values.items():

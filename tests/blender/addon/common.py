@@ -111,3 +111,55 @@ def small_scene(width=80, height=60, spp=16):
     scene.collection.objects.link(cam_ob)
     scene.camera = cam_ob
     return scene
+
+
+def cycles_settings(scene, spp):
+    """Cycles set to what anamorph computes: CPU, fixed samples and seed, no adaptive sampling,
+    denoising, clamping or glossy filter, 8 bounces of each kind, a 1-pixel box filter, an
+    opaque film."""
+    cy = scene.cycles
+    cy.device, cy.samples, cy.seed = "CPU", spp, 1
+    cy.use_adaptive_sampling = cy.use_denoising = False
+    cy.max_bounces = cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 8
+    cy.sample_clamp_direct = cy.sample_clamp_indirect = cy.light_sampling_threshold = 0.0
+    cy.blur_glossy = 0.0  # Filter Glossy: Cycles' default 1 blurs caustics (a bias)
+    cy.pixel_filter_type, cy.filter_width = "BOX", 1.0
+    scene.render.film_transparent = False
+
+
+def both_engines(name, cycles_spp):
+    """(anamorph's image, Cycles') of the current scene, rendered into OUT/name_{a,c}.exr."""
+    from anamorph_blender import bl
+
+    scene = bpy.context.scene
+    scene.render.engine = "ANAMORPH"
+    mine = read_rgba(render_still(os.path.join(OUT, name + "_a.exr")))
+    check(bl.last_error == "", "%s: anamorph rendered without error (%r)"
+          % (name, bl.last_error))
+    scene.render.engine = "CYCLES"
+    cycles_settings(scene, cycles_spp)
+    return mine, read_rgba(render_still(os.path.join(OUT, name + "_c.exr")))
+
+
+def compare_means(name, mine, ref, tolerance=0.03):
+    """Image means per channel within `tolerance` (relative) of the reference's."""
+    m, r = mine[..., :3].mean(axis=(0, 1)), ref[..., :3].mean(axis=(0, 1))
+    rel = m / r - 1
+    check(bool(np.all(np.abs(rel) < tolerance)),
+          "%s: image means per channel within %g %%: anamorph %s, Cycles %s, relative %s"
+          % (name, 100 * tolerance, np.round(m, 5), np.round(r, 5), np.round(rel, 4)))
+
+
+def compare_blocks(name, mine, ref, block, tolerance, floor=0.02):
+    """block x block means per channel within `tolerance` of the reference's, relative to the
+    reference's block mean plus `floor` (dark blocks are noise): a turned or mirrored picture
+    fails it. Returns the worst relative difference."""
+    h, w = ref.shape[0] // block, ref.shape[1] // block
+    blocks = [img[:h * block, :w * block, :3].reshape(h, block, w, block, 3).mean(axis=(1, 3))
+              for img in (mine, ref)]
+    worst = np.abs(blocks[0] - blocks[1]) / (blocks[1] + floor)
+    at = np.unravel_index(np.argmax(worst), worst.shape)[:2]
+    check(worst.max() < tolerance, "%s: %d x %d block means within %g %% (+%g): worst %.3f at "
+          "block %s, anamorph %s, Cycles %s" % (name, block, block, 100 * tolerance, floor,
+                                                worst.max(), at, blocks[0][at], blocks[1][at]))
+    return worst.max()

@@ -88,6 +88,35 @@ common.check(abs(c["aperture_radius"] - cam.lens * 1e-3 / 4) < 1e-9
              % (c.get("aperture_radius"), cam.lens, c.get("focus_distance")))
 cam.dof.use_dof = False
 
+# A NURBS surface as the image surface: a flat cubic patch (endpoint knots, control points
+# evenly spaced: p(u, v) is linear) on the camera's plane, u to its right, v down, 6 m square,
+# rays along its normal, is Blender's orthographic camera of scale 6.
+cam.type, cam.ortho_scale = "ORTHO", 6.0
+_, ortho = render()
+bpy.ops.surface.primitive_nurbs_surface_surface_add()
+surf = bpy.context.active_object
+surf.matrix_world = scene.camera.matrix_world.copy()
+surf.hide_render = True
+sp = surf.data.splines[0]
+sp.order_u = sp.order_v = 4
+sp.use_endpoint_u = sp.use_endpoint_v = True
+for k, p in enumerate(sp.points):
+    p.co = (-3.0 + 2.0 * (k % 4), 3.0 - 2.0 * (k // 4), 0.0, 1.0)
+cam.anamorph.image_surface = surf
+toml, on_surface = render()
+c = toml["camera"]
+diff = np.abs(on_surface - ortho).mean() / ortho.mean()
+common.check(c["org"]["type"] == "nurbs" and c["org"]["knot_type_u"] == "clamped"
+             and c["org"]["degree_v"] == 3 and c["dir"]["type"] == "normal"
+             and "preset" not in c and np.allclose(c["org"]["points"][0][3], [3, 3, 0], atol=1e-5)
+             and diff < 1e-3,
+             "a flat NURBS image surface is the orthographic camera: org %s, mean |difference| "
+             "%.2g of the mean (mirrored: %.2g)" % (c["org"], diff, np.abs(
+                 on_surface[:, ::-1] - ortho).mean() / ortho.mean()))
+cam.anamorph.image_surface = None
+bpy.data.objects.remove(surf)
+cam.type = "PERSP"
+
 # Coin edits through the empty's properties.
 coin = bl.add_coin(scene.camera, (0.0, 0.0, -7.0))
 coin.anamorph_coin.strength = 0.0

@@ -192,7 +192,16 @@ def step():
         return 0.1
     if state["phase"] == "animation" and state["finished"]:
         after_animation()
-        show_panel()
+        state["phase"] = "show_panel"
+        return 0.1
+    if state["phase"] == "show_panel":
+        try:
+            show_panel()
+        except AttributeError as e:
+            # Seen once under load, right after the animation: "Writing to ID classes in this
+            # context is not allowed" (the render job still held the scene). Try again.
+            print("show_panel: %s; again in 0.1 s" % e, flush=True)
+            return 0.1
         state["phase"] = "panel"
         return 1.0
     if state["phase"] == "panel":
