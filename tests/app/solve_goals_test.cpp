@@ -1,0 +1,96 @@
+// `anamorph solve`, the goals beyond pins, each with a known answer checked by `anamorph project`
+// (not by the solver's own numbers): size (a perspective fov from a segment's projected length,
+// closed form), keep (a coin magnifies while the image elsewhere stays put).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cli_util.h"
+#include "run_fixture.h"
+#include "solve_util.h"
+#include "test_util.h"
+
+namespace anamorph {
+namespace {
+
+using test::CliResult;
+using test::numbers_of;
+using test::projected;
+
+const char* kImage = "[image]\nwidth = 320\nheight = 240\n";
+constexpr double kPi = 3.14159265358979323846;
+
+// Solves `scene` into solved.toml beside it; the run's output.
+CliResult solve(const test::ScratchDir& dir, const std::string& scene) {
+  return test::run_cli(fmt::format("solve '{}' -o '{}'", scene, (dir.dir / "solved.toml").string()),
+                       60);
+}
+
+TEST(SolveGoals, SizeGivesTheFovOfAKnownProjectedLength) {
+  // A segment of length 1 at distance 5, facing the camera: it spans 1 / (2 * 5 * tan(fov / 2))
+  // of the width, so 0.25 of it at fov = 2 atan(0.4).
+  test::ScratchDir dir("solve_size");
+  const std::string scene = dir.write(
+      "s.toml", std::string(kImage) +
+                    "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 60\n"
+                    "[[camera.free]]\nkey = \"camera.fov\"\n[[camera.constraint]]\nkind = "
+                    "\"size\"\nfrom = [0.2, 0.3, 0]\nto = [1.2, 0.3, 0]\nfraction = 0.25\n"
+                    "tolerance = 1e-6\n");
+  const CliResult r = solve(dir, scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string solved = (dir.dir / "solved.toml").string();
+  const double fov = numbers_of(test::read_text(solved), "fov").at(0);
+  EXPECT_NEAR(fov, 2 * std::atan(0.4) * 180 / kPi, 1e-8);
+  const std::vector<double> a = projected(solved, {0.2, 0.3, 0}),
+                            b = projected(solved, {1.2, 0.3, 0});
+  EXPECT_NEAR(std::hypot(a[0] - b[0], a[1] - b[1]) / 320, 0.25, 1e-7)
+      << a[0] << "," << a[1] << " to " << b[0] << "," << b[1];
+}
+
+TEST(SolveGoals, KeepHoldsTheImageWhileACoinMagnifies) {
+  // A coin at the image's centre must magnify by 2 (strength 0.5 with affects = "dir", whatever
+  // its radius); keep holds a 4 x 4 grid of the starting image (no effect: strength 0). From
+  // radius 0.5, which would move every sample, the solve must shrink the coin between them.
+  test::ScratchDir dir("solve_keep");
+  const std::string camera =
+      std::string(kImage) +
+      "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 60\n[[camera.coin]]\n"
+      "position = [0, 0, 0]\naffects = \"dir\"\nradius = 0.5\n";
+  const std::string scene =
+      dir.write("s.toml", camera +
+                              "strength = 0\n[[camera.free]]\nkey = \"camera.coin.0.strength\"\n"
+                              "[[camera.free]]\nkey = \"camera.coin.0.radius\"\nmin = 0.02\n"
+                              "[[camera.constraint]]\nkind = \"magnification\"\npoint = [0, 0, 0]\n"
+                              "magnification = 2\ntolerance = 1e-4\n[[camera.constraint]]\nkind = "
+                              "\"keep\"\nsamples = 4\nepsilon = 0.01\ndistance = 5\n");
+  const CliResult r = solve(dir, scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string solved = (dir.dir / "solved.toml").string();
+  const std::string text = test::read_text(solved);
+  EXPECT_NEAR(numbers_of(text, "strength").at(0), 0.5, 1e-6);
+  // keep's samples: the points at distance 5 along the starting (plain perspective) camera's rays
+  // through the grid (i + 1/2) / 4, here on the plane z = 0.
+  const double hx = 5 * std::tan(kPi / 6), hy = hx * 240 / 320;
+  const std::string unheld = dir.write("unheld.toml", camera + "strength = 0.5\n");
+  double moved_unheld = 0;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const double u = (i + 0.5) / 4, v = (j + 0.5) / 4;
+      const std::vector<double> p = {(2 * u - 1) * hx, (1 - 2 * v) * hy, 0};
+      const std::vector<double> got = projected(solved, p);
+      EXPECT_LE(std::hypot(got[0] - u * 320, got[1] - v * 240), 0.01)
+          << "sample " << i << "," << j << " at " << got[0] << "," << got[1];
+      if (i == 1 && j == 1) {
+        const std::vector<double> o = projected(unheld, p);
+        moved_unheld = std::hypot(o[0] - u * 320, o[1] - v * 240);
+      }
+    }
+  // Without keep the coin at its starting radius would have moved the samples by pixels.
+  EXPECT_GT(moved_unheld, 1);
+}
+
+}  // namespace
+}  // namespace anamorph
