@@ -1,6 +1,7 @@
 // `anamorph solve`, the goals beyond pins, each with a known answer checked by `anamorph project`
 // (not by the solver's own numbers): size (a perspective fov from a segment's projected length,
-// closed form), keep (a coin magnifies while the image elsewhere stays put).
+// closed form), keep (a coin magnifies while the image elsewhere stays put), straight (a dome's
+// tilt from a level horizon; a coin's strength undone to straighten a line).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -90,6 +91,55 @@ TEST(SolveGoals, KeepHoldsTheImageWhileACoinMagnifies) {
     }
   // Without keep the coin at its starting radius would have moved the samples by pixels.
   EXPECT_GT(moved_unheld, 1);
+}
+
+TEST(SolveGoals, StraightGivesTheTiltThatLevelsAHorizonOnADome) {
+  // A level line 10 in front of the dome's centre, tan(20 deg) * 10 below it, lies in the plane
+  // through the centre perpendicular to the axis of a dome tilted by 20 degrees: there (only) it
+  // appears as a circle about the dome master's centre.
+  test::ScratchDir dir("solve_straight_dome");
+  const double y = -10 * std::tan(20 * kPi / 180);
+  const std::string scene = dir.write(
+      "s.toml", fmt::format("[image]\nwidth = 256\nheight = 256\n[camera]\npreset = \"dome\"\n"
+                            "fov = 220\ntilt = 0\n[[camera.free]]\nkey = \"camera.tilt\"\n"
+                            "[[camera.constraint]]\nkind = \"straight\"\nshape = \"circle\"\n"
+                            "from = [-30, {0}, -10]\nto = [30, {0}, -10]\ntolerance = 1e-6\n",
+                            y));
+  const CliResult r = solve(dir, scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string solved = (dir.dir / "solved.toml").string();
+  EXPECT_NEAR(numbers_of(test::read_text(solved), "tilt").at(0), 20, 1e-8);
+  // The line's points all appear at one distance from the image's centre.
+  double lo = 1e9, hi = 0;
+  for (double x : {-30.0, -12.0, -3.0, 0.0, 5.0, 30.0}) {
+    const std::vector<double> p = projected(solved, {x, y, -10});
+    const double d = std::hypot(p[0] - 128, p[1] - 128);
+    lo = std::min(lo, d), hi = std::max(hi, d);
+  }
+  EXPECT_LT(hi - lo, 1e-6) << "distances from the centre between " << lo << " and " << hi;
+}
+
+TEST(SolveGoals, StraightUndoesTheCoinThatBendsALine) {
+  // A coin bends the image of a line that passes through its radius; only strength 0 (no coin)
+  // leaves it straight on a perspective camera.
+  test::ScratchDir dir("solve_straight_line");
+  const std::string scene = dir.write(
+      "s.toml",
+      std::string(kImage) +
+          "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 60\n[[camera.coin]]\n"
+          "position = [0.3, 0.2, 0]\naffects = \"dir\"\nradius = 0.3\nstrength = 0.4\n"
+          "[[camera.free]]\nkey = \"camera.coin.0.strength\"\n[[camera.constraint]]\n"
+          "kind = \"straight\"\nfrom = [-2, 0.5, 0]\nto = [2, 0.5, 0]\ntolerance = 1e-6\n");
+  // At the start the line is bent by more than a pixel (its middle off the ends' chord).
+  const std::vector<double> a = projected(scene, {-2, 0.5, 0}), b = projected(scene, {2, 0.5, 0}),
+                            m = projected(scene, {0.3, 0.5, 0});
+  const double bend = std::abs((b[0] - a[0]) * (m[1] - a[1]) - (b[1] - a[1]) * (m[0] - a[0])) /
+                      std::hypot(b[0] - a[0], b[1] - a[1]);
+  EXPECT_GT(bend, 1);
+  const CliResult r = solve(dir, scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(numbers_of(test::read_text((dir.dir / "solved.toml").string()), "strength").at(0), 0,
+              1e-8);
 }
 
 }  // namespace
