@@ -445,8 +445,10 @@ const TableVariant kConstraintVariants[] = {
 
 const ParamSpec kFree[] = {
     {"key", ParamType::String, "",
-     "A number or vector of the camera, dotted as for --set: \"camera.fov\", "
-     "\"camera.look_at\", \"camera.coin.0.strength\"."},
+     "A number, vector or list of numbers of the camera, dotted as for --set: \"camera.fov\", "
+     "\"camera.look_at\", \"camera.coin.0.strength\", \"camera.org.points\"; indices after it "
+     "select part of it: \"camera.look_at.1\", \"camera.org.points.1.2\" (row 1, column 2), "
+     "\"camera.org.points.1.2.0\" (its x)."},
     {"min", ParamType::Number, "none",
      "Narrows the key's declared range (every component) from below."},
     {"max", ParamType::Number, "none", "Narrows the key's declared range from above."},

@@ -1,7 +1,8 @@
 // `anamorph solve`, the goals beyond pins, each with a known answer checked by `anamorph project`
 // (not by the solver's own numbers): size (a perspective fov from a segment's projected length,
 // closed form), keep (a coin magnifies while the image elsewhere stays put), straight (a dome's
-// tilt from a level horizon; a coin's strength undone to straighten a line).
+// tilt from a level horizon; a coin's strength undone to straighten a line), list-valued free keys
+// (B-spline image-surface control points from pins made by the known surface).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -140,6 +141,79 @@ TEST(SolveGoals, StraightUndoesTheCoinThatBendsALine) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NEAR(numbers_of(test::read_text((dir.dir / "solved.toml").string()), "strength").at(0), 0,
               1e-8);
+}
+
+// A B-spline image surface (4 x 4 control points in the plane z = 0) with parallel rays: `moved`
+// replaces the point of row 1, column 2 and the x of row 2, column 1.
+std::string bspline_camera(const std::string& p12, const std::string& x21) {
+  return fmt::format(
+      "[camera.org]\ntype = \"bspline\"\npoints = [\n"
+      "  [[-2, 1.5, 0], [-0.7, 1.5, 0], [0.7, 1.5, 0], [2, 1.5, 0]],\n"
+      "  [[-2, 0.5, 0], [-0.7, 0.5, 0], {}, [2, 0.5, 0]],  # row 1\n"
+      "  [[-2, -0.5, 0], [{}, -0.5, 0], [0.7, -0.5, 0], [2, -0.5, 0]],\n"
+      "  [[-2, -1.5, 0], [-0.7, -1.5, 0], [0.7, -1.5, 0], [2, -1.5, 0]],\n]\n"
+      "[camera.dir]\ntype = \"constant\"\ndirection = [0, 0, -1]\n",
+      p12, x21);
+}
+
+TEST(SolveGoals, RecoversBSplineControlPointsFromPinsOfTheKnownSurface) {
+  test::ScratchDir dir("solve_bspline");
+  const std::string truth =
+      dir.write("truth.toml", kImage + bspline_camera("[1.0, 0.3, 0]", "-0.9"));
+  // (Not the whole point camera.org.points.1.2: its z, along the parallel rays, does not change
+  // the image, and the solve would leave it anywhere.)
+  std::string goals =
+      "[[camera.free]]\nkey = \"camera.org.points.1.2.0\"\n[[camera.free]]\n"
+      "key = \"camera.org.points.1.2.1\"\n[[camera.free]]\nkey = \"camera.org.points.2.1.0\"\n";
+  const std::vector<std::vector<double>> points = {
+      {0.5, 0.3, -1}, {0, 0, -1}, {1, 1, -1}, {-1, -1, -1}, {0.9, -0.6, -1}, {-0.6, 0.4, -1}};
+  for (const std::vector<double>& p : points) {
+    const std::vector<double> px = projected(truth, p);
+    goals += fmt::format(
+        "[[camera.constraint]]\nkind = \"pin\"\npoint = [{}, {}, {}]\nuv = [{}, {}]\n"
+        "tolerance = 1e-4\n",
+        p[0], p[1], p[2], px[0] / 320, px[1] / 240);
+  }
+  const std::string scene =
+      dir.write("s.toml", kImage + bspline_camera("[0.7, 0.5, 0]", "-0.7") + goals);
+  const CliResult r = solve(dir, scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("camera.org.points.1.2.1"), std::string::npos) << r.out;
+  const std::string solved = (dir.dir / "solved.toml").string();
+  const std::vector<double> net = numbers_of(test::read_text(solved), "points");
+  ASSERT_EQ(net.size(), 48u) << test::read_text(solved);
+  // Row 1, column 2 at (1 * 4 + 2) * 3; row 2, column 1 at (2 * 4 + 1) * 3. The pins were made
+  // from positions printed to 1e-6 px: the points come back to about 3e-8.
+  EXPECT_NEAR(net[18], 1.0, 1e-6);
+  EXPECT_NEAR(net[19], 0.3, 1e-6);
+  EXPECT_EQ(net[20], 0);  // not free
+  EXPECT_NEAR(net[27], -0.9, 1e-6);
+  EXPECT_EQ(net[28], -0.5);
+  // The solved net re-projects every pin where the known surface put it.
+  for (const std::vector<double>& p : points) {
+    const std::vector<double> want = projected(truth, p), got = projected(solved, p);
+    EXPECT_LT(std::hypot(got[0] - want[0], got[1] - want[1]), 1e-3)
+        << p[0] << "," << p[1] << ": " << got[0] << "," << got[1] << " vs " << want[0] << ","
+        << want[1];
+  }
+  // An index beyond the net, and a whole point freed twice, are refused by name.
+  const std::string head = kImage + bspline_camera("[0.7, 0.5, 0]", "-0.7") +
+                           "[[camera.constraint]]\nkind = \"pin\"\npoint = [0, 0, -1]\n"
+                           "uv = [0.5, 0.5]\n[[camera.free]]\nkey = ";
+  const CliResult far = test::run_cli(
+      fmt::format("solve '{}'", dir.write("far.toml", head + "\"camera.org.points.1.4\"\n")), 60);
+  EXPECT_EQ(far.code, 2) << far.out;
+  EXPECT_NE(far.out.find("index 4 is out of range: that level has 4 entries (0..3)"),
+            std::string::npos)
+      << far.out;
+  const CliResult twice = test::run_cli(
+      fmt::format("solve '{}'", dir.write("twice.toml", head + "\"camera.org.points.1\"\n"
+                                                               "[[camera.free]]\nkey = "
+                                                               "\"camera.org.points.1.2.0\"\n")),
+      60);
+  EXPECT_EQ(twice.code, 2) << twice.out;
+  EXPECT_NE(twice.out.find("camera.free[1].key"), std::string::npos) << twice.out;
+  EXPECT_NE(twice.out.find("is already free"), std::string::npos) << twice.out;
 }
 
 }  // namespace
