@@ -8,4 +8,5 @@ PYBIND11_MODULE(_anamorph, m) {
   anamorph::py::bind_camera(m);
   anamorph::py::bind_scene(m);
   anamorph::py::bind_image(m);
+  anamorph::py::bind_solve(m);
 }
