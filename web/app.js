@@ -117,6 +117,16 @@ async function main() {
 // The final render: progress and ETA while it runs, the files to download when done.
 function renderDialog() {
   const d = $('render-dialog');
+  // One box per file format the server writes (its sinks), the first ticked.
+  get('/api/render').then((s) => {
+    $('r-formats').replaceChildren(...s.available.map((f, i) => {
+      const l = document.createElement('label');
+      const box = document.createElement('input');
+      Object.assign(box, { type: 'checkbox', value: f.name, checked: i === 0, id: `r-${f.name}` });
+      l.append(box, ` ${f.label || f.name} `);
+      return l;
+    }));
+  });
   $('render').onclick = () => {
     $('r-last').value = $('time-end').value;
     $('r-seq').checked = !!(window.anamorphEditor.doc.value('animate') || []).length;
@@ -126,7 +136,7 @@ function renderDialog() {
   $('r-cancel').onclick = () => post('/api/render/cancel').catch((e) => ($('r-status').textContent = e.message));
   $('r-start').onclick = async () => {
     try {
-      const body = { png: $('r-png').checked, exr: $('r-exr').checked };
+      const body = { formats: [...$('r-formats').querySelectorAll('input:checked')].map((b) => b.value) };
       if ($('r-seq').checked) body.frames = [Number($('r-first').value), Number($('r-last').value)];
       await post('/api/render', body);
     } catch (e) { $('r-status').textContent = e.message; return; }
@@ -151,7 +161,7 @@ function renderDialog() {
           a.textContent = f === undefined ? ext.toUpperCase() : `${f}`;
           return a;
         };
-        for (const ext of ['png', 'exr'].filter((x) => s[x])) {
+        for (const ext of s.available.filter((f) => s.formats.includes(f.name)).map((f) => f.extension)) {
           if (!s.frames) { $('r-links').append(link(ext), ' '); continue; }
           $('r-links').append(`${ext.toUpperCase()} frames `);
           for (let f = s.frames[0]; f <= s.frames[1] && f < s.frames[0] + 50; ++f) $('r-links').append(link(ext, f), ' ');

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <functional>
 
+#include "app/build_id.h"
 #include "app/common.h"
 #include "render/frame_output.h"
 
@@ -26,6 +27,17 @@ std::unique_ptr<CheckpointReader> open_checkpoint(const FrameJob& job,
   if (job.checkpoint.empty() || !fs::exists(job.checkpoint)) return nullptr;
   auto reader = std::make_unique<CheckpointReader>(job.checkpoint);
   const std::string diff = identity_changes(reader->identity(), id);
+  const auto build = [](const CheckpointIdentity& i) {
+    const auto b =
+        std::find_if(i.begin(), i.end(), [](const auto& e) { return e.first == "build"; });
+    return b == i.end() ? std::string() : b->second;
+  };
+  if (build(reader->identity()) != build(id))
+    throw CheckpointError(fmt::format(
+        "checkpoint '{}' was made by another build of anamorph (build {}, this one is {}), whose "
+        "pixels may differ: finish it with that build, or delete it to start over",
+        job.checkpoint.string(),
+        build(reader->identity()).empty() ? "not recorded" : build(reader->identity()), build(id)));
   if (!diff.empty())
     throw CheckpointError(
         fmt::format("checkpoint '{}' belongs to another render: {} (delete it to start over)",
@@ -203,6 +215,7 @@ bool renders_in_passes(const RenderSettings& rs) {
 
 CheckpointIdentity frame_identity(const FrameJob& job) {
   CheckpointIdentity id = {{"anamorph", ANAMORPH_VERSION}};
+  if (!job.checkpoint.empty()) id.emplace_back("build", build_id());
   for (const fs::path& f : job.files) id.emplace_back("output." + sink_kind(f).name, f.string());
   id.emplace_back("frame", fmt::format("{}", job.scene.frame));
   std::string aovs;

@@ -5,6 +5,7 @@
 #include <cctype>
 
 #include "app/output_guard.h"
+#include "io/image_sink.h"
 #include "render/frame_output.h"
 
 namespace anamorph::app {
@@ -18,7 +19,8 @@ std::string default_render_output(const fs::path& scene, bool frames) {
     for (char c : stem) escaped += c == '%' ? std::string("%%") : std::string(1, c);
     stem = escaped + "_%04d";
   }
-  return (fs::path("out") / (stem + ".png")).string();
+  // (in the first output kind: PNG)
+  return (fs::path("out") / (stem + sink_kinds().front()->extensions.front())).string();
 }
 
 fs::path coin_overlay_file(const fs::path& out) {

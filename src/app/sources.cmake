@@ -11,6 +11,7 @@ set(ANAMORPH_APP_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/render_worker.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_resume.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_pattern.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/build_id.cpp
   ${CMAKE_CURRENT_LIST_DIR}/frame_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/output_guard.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_outputs.cpp

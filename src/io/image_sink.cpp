@@ -94,6 +94,12 @@ const SinkKind* find_sink_kind(const fs::path& file) {
   return nullptr;
 }
 
+const SinkKind* find_sink_kind_named(std::string_view name) {
+  for (const SinkKind* k : sink_kinds())
+    if (k->name == name) return k;
+  return nullptr;
+}
+
 std::string unsupported_extension(const fs::path& file) {
   std::string supported;
   for (const SinkKind* k : sink_kinds())

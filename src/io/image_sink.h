@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace anamorph {
@@ -94,7 +95,12 @@ struct SinkKind {
   // How many copies of a strip's planes it holds at most while it waits to be appended (PNG: the
   // strip and its deflated band, 2), for memory estimates.
   unsigned strip_copies = 1;
+  // Its media type (HTTP's Content-Type, for the editor's downloads) and a name for people.
+  const char* media_type = "application/octet-stream";
+  const char* label = "";
 };
+// The kind named `name` ("png"); null when none is.
+const SinkKind* find_sink_kind_named(std::string_view name);
 
 // Every kind: the built-in ones (io/sink_list.h) in their order, then any registered since.
 std::vector<const SinkKind*> sink_kinds();

@@ -37,8 +37,12 @@ class ExrSink final : public ImageSink {
 
 extern const SinkKind kExrSink;
 const SinkKind kExrSink{
-    "exr", {".exr"}, every_layer, [](const SinkSpec& s) -> std::unique_ptr<ImageSink> {
-      return std::make_unique<ExrSink>(s);
-    }};
+    "exr",
+    {".exr"},
+    every_layer,
+    [](const SinkSpec& s) -> std::unique_ptr<ImageSink> { return std::make_unique<ExrSink>(s); },
+    1,
+    "image/x-exr",
+    "OpenEXR (float, every layer)"};
 
 }  // namespace anamorph

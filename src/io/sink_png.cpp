@@ -40,6 +40,8 @@ const SinkKind kPngSink{
       return std::vector<LayerRequest>{{"", Encoding::Srgb8}};
     },
     [](const SinkSpec& s) -> std::unique_ptr<ImageSink> { return std::make_unique<PngSink>(s); },
-    2};
+    2,
+    "image/png",
+    "PNG (8-bit sRGB)"};
 
 }  // namespace anamorph

@@ -163,6 +163,20 @@ Sums over_points(const MeasurableSurface& surface, int origins, size_t cols, uin
   return total;
 }
 
+// Reciprocity (A_i F_ij = A_j F_ji) over the measured pairs: the worst pair's difference in
+// standard errors.
+void check_reciprocity(FormFactors& out) {
+  for (size_t a = 0; a < out.rows.size(); ++a)
+    for (size_t b = a + 1; b < out.rows.size(); ++b) {
+      const size_t i = size_t(out.rows[a]), j = size_t(out.rows[b]);
+      const double lhs = out.areas[i] * out.F[a][j], rhs = out.areas[j] * out.F[b][i];
+      const double se = std::hypot(out.areas[i] * out.error[a][j], out.areas[j] * out.error[b][i]);
+      const double z = se > 0 ? std::abs(lhs - rhs) / se : (lhs == rhs ? 0 : kInf);
+      if (z > out.worst_reciprocity_z)
+        out.worst_reciprocity_z = z, out.worst_i = int(i), out.worst_j = int(j);
+    }
+}
+
 }  // namespace
 
 FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o) {
@@ -217,16 +231,7 @@ FormFactors measure_form_factors(const Accel& accel, const FormFactorOptions& o)
     out.F.push_back(std::move(row));
     out.error.push_back(std::move(err));
   }
-  // Reciprocity over measured pairs.
-  for (size_t a = 0; a < out.rows.size(); ++a)
-    for (size_t b = a + 1; b < out.rows.size(); ++b) {
-      const size_t i = size_t(out.rows[a]), j = size_t(out.rows[b]);
-      const double lhs = out.areas[i] * out.F[a][j], rhs = out.areas[j] * out.F[b][i];
-      const double se = std::hypot(out.areas[i] * out.error[a][j], out.areas[j] * out.error[b][i]);
-      const double z = se > 0 ? std::abs(lhs - rhs) / se : (lhs == rhs ? 0 : kInf);
-      if (z > out.worst_reciprocity_z)
-        out.worst_reciprocity_z = z, out.worst_i = int(i), out.worst_j = int(j);
-    }
+  check_reciprocity(out);
   return out;
 }
 

@@ -197,7 +197,6 @@ double Lights::pdf_environment(const Vec3& d, const Vec3& n) const {
   if (env_index_ < 0) return 0;
   const double pick = pick_.pmf(size_t(env_index_));
   if (!scene_.environment.image) {
-    if (n == Vec3{}) return pick * uniform_sphere_pdf();
     return pick * cosine_hemisphere_pdf(std::max(0.0, dot(d, n)));
   }
   const Vec2 uv = env_uv(d);
@@ -247,7 +246,7 @@ Color Lights::emission_at(const Emitter& e, Vec2 uv) const {
   return e.material->emission.eval(tc) * e.material->emission_strength;
 }
 
-bool Lights::sample(size_t i, const Vec3& p, const Vec3& n, Vec2 u, LightSample* out) const {
+bool Lights::sample_from(size_t i, const Vec3& p, const Vec3* n, Vec2 u, LightSample* out) const {
   const Emitter& e = emitters_[i];
   switch (e.kind) {
     case Emitter::Kind::Point:
@@ -321,14 +320,14 @@ bool Lights::sample_sphere(const Emitter& e, const Vec3& p, Vec2 u, LightSample*
   return true;
 }
 
-bool Lights::sample_environment(const Vec3& n, Vec2 u, LightSample* out) const {
-  if (!scene_.environment.image && n == Vec3{}) {
+bool Lights::sample_environment(const Vec3* n, Vec2 u, LightSample* out) const {
+  if (!scene_.environment.image && !n) {
     out->wi = sample_uniform_sphere(u);
     out->pdf = uniform_sphere_pdf();
   } else if (!scene_.environment.image) {
-    const Vec3 w = Frame::from_normal(n).to_world(sample_cosine_hemisphere(u));
+    const Vec3 w = Frame::from_normal(*n).to_world(sample_cosine_hemisphere(u));
     out->wi = normalize(w);
-    out->pdf = cosine_hemisphere_pdf(dot(out->wi, n));
+    out->pdf = cosine_hemisphere_pdf(dot(out->wi, *n));
     if (!(out->pdf > 0)) return false;
   } else {
     double pdf_uv;

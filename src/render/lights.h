@@ -27,10 +27,17 @@ class Lights {
   size_t count() const { return emitters_.size(); }
   // Chooses a light proportionally to its estimated power.
   size_t pick(double u, double* pmf) const { return pick_.sample_discrete(u, pmf); }
-  // n: the shading normal at p, or zero. A constant environment is then sampled
-  // cosine-weighted about n (no sample below the shading hemisphere; directions there are left
-  // to BSDF sampling, whose MIS weight becomes 1), else uniformly over the sphere.
-  bool sample(size_t i, const Vec3& p, const Vec3& n, Vec2 u, LightSample* out) const;
+  // A direction toward light i from p, whose shading normal is n: a constant environment is
+  // sampled cosine-weighted about n (no sample below the shading hemisphere; directions there
+  // are left to BSDF sampling, whose MIS weight becomes 1).
+  bool sample(size_t i, const Vec3& p, const Vec3& n, Vec2 u, LightSample* out) const {
+    return sample_from(i, p, &n, u, out);
+  }
+  // The same for a point without a normal (Whitted's): a constant environment is sampled
+  // uniformly over the sphere.
+  bool sample(size_t i, const Vec3& p, Vec2 u, LightSample* out) const {
+    return sample_from(i, p, nullptr, u, out);
+  }
   // Whitted shades every delta light and one power-chosen area emitter.
   const std::vector<uint32_t>& delta_lights() const { return delta_; }
   bool has_area() const { return area_pick_.size() > 0 && area_pick_.total() > 0; }
@@ -46,7 +53,7 @@ class Lights {
 
   Color environment(const Vec3& dir) const;
   bool has_environment() const { return env_index_ >= 0; }
-  // Pick pmf included; n as for sample() (the normal of the point the ray left).
+  // Pick pmf included; n: the shading normal of the point the ray left (as for sample()).
   double pdf_environment(const Vec3& dir, const Vec3& n) const;
   // Mean radiance of the environment over the sphere (Whitted's ambient term).
   Color environment_average() const { return env_average_; }
@@ -87,7 +94,9 @@ class Lights {
   static bool sample_punctual(const Emitter& e, const Vec3& p, LightSample* out);
   bool sample_triangle(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out) const;
   static bool sample_sphere(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out);
-  bool sample_environment(const Vec3& n, Vec2 u, LightSample* out) const;
+  // n: the shading normal at p, or null.
+  bool sample_from(size_t i, const Vec3& p, const Vec3* n, Vec2 u, LightSample* out) const;
+  bool sample_environment(const Vec3* n, Vec2 u, LightSample* out) const;
   Color emission_at(const Emitter& e, Vec2 uv) const;
   // A point or spot light's factor toward -wi beyond its intensity / distance^2: the spot's
   // cone and the range's window.

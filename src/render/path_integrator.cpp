@@ -46,11 +46,7 @@ class PathTracer final : public Integrator {
       if (depth >= ctx_.max_depth || ctx_.cancelled()) break;
       const Material& m = *ctx_.scene.materials[hit.material];
       const Bsdf b = m.bsdf(shading_point(hit, fp), wo);
-      // Leaving an absorbing solid: the segment inside was attenuated (Beer-Lambert).
-      if (!b.entering && max_component(b.sigma_a) > 0) {
-        const double d = hit.t * length(ray.d);
-        for (int c = 0; c < 3; ++c) beta[c] *= std::exp(-b.sigma_a[c] * d);
-      }
+      absorb(b, hit, ray, beta);
 
       // This bounce's numbers, drawn up front so that 2D samples stay paired (with a QMC stream,
       // stratified across the pixel's samples): light position, BSDF direction, light choice
@@ -60,20 +56,7 @@ class PathTracer final : public Integrator {
       rng.uniform2(u_bsdf.x, u_bsdf.y);
       const double u_pick = rng.uniform(), u_lobe = rng.uniform();
 
-      // Next-event estimation.
-      if (b.has_smooth() && lights.count() > 0) {
-        double pmf;
-        const size_t li = lights.pick(u_pick, &pmf);
-        LightSample ls;
-        if (pmf > 0 && lights.sample(li, hit.p, b.frame.n, u_light, &ls) && ls.pdf > 0) {
-          const Color f = b.eval(wo, ls.wi);
-          if (max_component(f) > 0 && light_visible(ctx_, hit, ls, rays)) {
-            const double lpdf = ls.pdf * pmf;
-            const double w = ls.delta ? 1 : power_heuristic(lpdf, b.pdf(wo, ls.wi));
-            L += beta * f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) * w / lpdf);
-          }
-        }
-      }
+      L += direct(hit, b, wo, beta, u_light, u_pick, rays);
 
       BsdfSample s;
       if (!b.sample(wo, u_bsdf, u_lobe, &s)) break;
@@ -82,12 +65,7 @@ class PathTracer final : public Integrator {
       prev_delta = s.delta;
       prev_p = hit.p;
       prev_n = b.frame.n;
-      if (depth >= 3) {
-        const double q = std::max(0.05, 1 - max_component(beta));
-        if (rng.uniform() < q) break;
-        beta /= 1 - q;
-      }
-      if (max_component(beta) <= 0) break;
+      if (!survives_roulette(depth, rng, beta)) break;
       ray = spawn(hit, s.wi);
       ++rays;
       found = ctx_.accel.intersect(ray, &hit);
@@ -96,6 +74,43 @@ class PathTracer final : public Integrator {
       fp = found && s.delta ? propagate(fp, hit) : Footprint{};
     }
     return L;
+  }
+
+ private:
+  // Russian roulette from the fourth bounce: the path ends with probability 1 - throughput (at
+  // least 5 %), and survivors carry what the ended ones would have. Also ends dark paths.
+  static bool survives_roulette(int depth, Rng& rng, Color& beta) {
+    if (depth >= 3) {
+      const double q = std::max(0.05, 1 - max_component(beta));
+      if (rng.uniform() < q) return false;
+      beta /= 1 - q;
+    }
+    return !(max_component(beta) <= 0);  // (a NaN path goes on, as it always did)
+  }
+
+  // Next-event estimation: the light of one picked light source reaching `hit` unoccluded,
+  // times the path's throughput, weighted against the BSDF's sampling of the same direction.
+  Color direct(const Hit& hit, const Bsdf& b, const Vec3& wo, const Color& beta, Vec2 u_light,
+               double u_pick, uint64_t& rays) const {
+    const Lights& lights = ctx_.lights;
+    if (!b.has_smooth() || lights.count() == 0) return Color();
+    double pmf;
+    const size_t li = lights.pick(u_pick, &pmf);
+    LightSample ls;
+    if (!(pmf > 0 && lights.sample(li, hit.p, b.frame.n, u_light, &ls) && ls.pdf > 0))
+      return Color();
+    const Color f = b.eval(wo, ls.wi);
+    if (!(max_component(f) > 0 && light_visible(ctx_, hit, ls, rays))) return Color();
+    const double lpdf = ls.pdf * pmf;
+    const double w = ls.delta ? 1 : power_heuristic(lpdf, b.pdf(wo, ls.wi));
+    return beta * f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) * w / lpdf);
+  }
+
+  // Leaving an absorbing solid at `hit`: the segment inside is attenuated (Beer-Lambert).
+  static void absorb(const Bsdf& b, const Hit& hit, const Ray& ray, Color& beta) {
+    if (b.entering || !(max_component(b.sigma_a) > 0)) return;
+    const double d = hit.t * length(ray.d);
+    for (int c = 0; c < 3; ++c) beta[c] *= std::exp(-b.sigma_a[c] * d);
   }
 };
 

@@ -126,27 +126,37 @@ void check_radiosity_inputs(const Scene& scene, const Accel& accel,
   }
 }
 
-std::vector<Color> solve_radiosity(const Scene& scene, const Accel& accel, const FormFactors& f) {
-  const int n = int(f.rows.size());
-  if (size_t(n) != f.names.size())
-    throw std::invalid_argument(
-        "radiosity needs a row of form factors for every object (all with finite area)");
-  // Each pair's exchange A_i F_ij = A_j F_ji is measured twice, from either side, usually with
-  // very different errors (a small lamp's row measures its exchange with a big room far more
-  // precisely than the room's row does): combine the two by inverse variance and use that.
-  std::vector<std::vector<double>> F(static_cast<size_t>(n),
-                                     std::vector<double>(static_cast<size_t>(n)));
-  for (int a = 0; a < n; ++a)
-    for (int j = 0; j < n; ++j) F[size_t(f.rows[size_t(a)])][size_t(j)] = f.F[size_t(a)][size_t(j)];
-  std::vector<int> row_of(static_cast<size_t>(n));
-  for (int a = 0; a < n; ++a) row_of[size_t(f.rows[size_t(a)])] = a;
-  for (size_t i = 0; i < size_t(n); ++i)
-    for (size_t j = i + 1; j < size_t(n); ++j) {
+namespace {
+
+// Each pair's exchange A_i F_ij = A_j F_ji is measured twice, from either side, usually with
+// very different errors (a small lamp's row measures its exchange with a big room far more
+// precisely than the room's row does): the two combined by inverse variance, by object index.
+std::vector<std::vector<double>> combined_form_factors(const FormFactors& f,
+                                                       const std::vector<int>& row_of) {
+  const size_t n = row_of.size();
+  std::vector<std::vector<double>> F(n, std::vector<double>(n));
+  for (size_t a = 0; a < n; ++a)
+    for (size_t j = 0; j < n; ++j) F[size_t(f.rows[a])][j] = f.F[a][j];
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
       const double Ai = f.areas[i], Aj = f.areas[j];
       const double si = Ai * f.error[size_t(row_of[i])][j], sj = Aj * f.error[size_t(row_of[j])][i];
       const double g = combined_exchange(Ai * F[i][j], si, Aj * F[j][i], sj);
       F[i][j] = g / Ai, F[j][i] = g / Aj;
     }
+  return F;
+}
+
+}  // namespace
+
+std::vector<Color> solve_radiosity(const Scene& scene, const Accel& accel, const FormFactors& f) {
+  const int n = int(f.rows.size());
+  if (size_t(n) != f.names.size())
+    throw std::invalid_argument(
+        "radiosity needs a row of form factors for every object (all with finite area)");
+  std::vector<int> row_of(static_cast<size_t>(n));
+  for (int a = 0; a < n; ++a) row_of[size_t(f.rows[size_t(a)])] = a;
+  const std::vector<std::vector<double>> F = combined_form_factors(f, row_of);
   std::vector<Color> B(static_cast<size_t>(n));
   for (int c = 0; c < 3; ++c) {
     if (const auto closed = lossless_enclosure(scene, accel, f, row_of, c); !closed.empty()) {

@@ -47,7 +47,7 @@ class Whitted final : public Integrator {
       auto add = [&](size_t li, double pmf, bool delta) {
         LightSample ls;
         const Vec2 u = delta ? Vec2{0.5, 0.5} : Vec2{rng.uniform(), rng.uniform()};
-        if (!lights.sample(li, h->p, Vec3{}, u, &ls) || !(ls.pdf > 0)) return;
+        if (!lights.sample(li, h->p, u, &ls) || !(ls.pdf > 0)) return;
         const Color f = b.eval(wo, ls.wi);
         if (max_component(f) <= 0) return;
         const double T =

@@ -450,14 +450,7 @@ class GltfBuilder {
 
     auto where = [&](const char* what) { return fmt::format("mesh '{}' {}: ", name, what); };
     try {
-      tm.positions = to_vec3(read_accessor_floats(m_, pos, 3));
-      if (const int a = attr("NORMAL"); a >= 0)
-        tm.normals = to_vec3(read_accessor_floats(m_, a, 3));
-      if (const int a = attr(fmt::format("TEXCOORD_{}", uv_set)); a >= 0) {
-        const auto f = read_accessor_floats(m_, a, 2);
-        tm.uvs.resize(f.size() / 2);
-        for (size_t i = 0; i < tm.uvs.size(); ++i) tm.uvs[i] = {f[2 * i], f[2 * i + 1]};
-      }
+      read_attributes(pr, pos, uv_set, tm);
     } catch (const LoadError& e) {
       throw LoadError(where("attributes") + e.what());
     }
@@ -471,12 +464,7 @@ class GltfBuilder {
 
     std::vector<uint32_t> idx;
     try {
-      if (pr.indices >= 0) {
-        idx = read_accessor_indices(m_, pr.indices);
-      } else {
-        idx.resize(tm.positions.size());
-        std::iota(idx.begin(), idx.end(), 0u);
-      }
+      idx = read_indices(pr, tm.positions.size());
     } catch (const LoadError& e) {
       throw LoadError(where("indices") + e.what());
     }
@@ -493,6 +481,29 @@ class GltfBuilder {
       for (auto& x : w) warnings_.add(file_ + ": " + x);
     }
     return tm;
+  }
+
+  // Positions (accessor `pos`), normals and the material's TEXCOORD set.
+  void read_attributes(const tinygltf::Primitive& pr, int pos, int uv_set, TriangleMesh& tm) {
+    const auto attr = [&](const std::string& key) {
+      auto it = pr.attributes.find(key);
+      return it == pr.attributes.end() ? -1 : it->second;
+    };
+    tm.positions = to_vec3(read_accessor_floats(m_, pos, 3));
+    if (const int a = attr("NORMAL"); a >= 0) tm.normals = to_vec3(read_accessor_floats(m_, a, 3));
+    if (const int a = attr(fmt::format("TEXCOORD_{}", uv_set)); a >= 0) {
+      const auto f = read_accessor_floats(m_, a, 2);
+      tm.uvs.resize(f.size() / 2);
+      for (size_t i = 0; i < tm.uvs.size(); ++i) tm.uvs[i] = {f[2 * i], f[2 * i + 1]};
+    }
+  }
+
+  // The primitive's indices, or 0..n-1 without an accessor.
+  std::vector<uint32_t> read_indices(const tinygltf::Primitive& pr, size_t n) {
+    if (pr.indices >= 0) return read_accessor_indices(m_, pr.indices);
+    std::vector<uint32_t> idx(n);
+    std::iota(idx.begin(), idx.end(), 0u);
+    return idx;
   }
 
   static std::vector<Vec3f> to_vec3(const std::vector<float>& f) {
@@ -573,7 +584,6 @@ class GltfBuilder {
     } else if (gm.alphaMode == "BLEND") {
       mat.alpha_mode = Material::AlphaMode::Blend;  // transparency: the BSDF's opacity
     }
-    const bool uses_alpha = mat.alpha_mode != Material::AlphaMode::Opaque;
     mat.double_sided = gm.doubleSided;
 
     int uv_set = -1;
@@ -591,23 +601,8 @@ class GltfBuilder {
       return t;
     };
 
+    read_base_color(gm, mat, texture);
     const auto& pbr = gm.pbrMetallicRoughness;
-    Color base{1, 1, 1};
-    double alpha = 1;
-    if (pbr.baseColorFactor.size() == 4) {
-      base = {pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]};
-      alpha = pbr.baseColorFactor[3];
-    }
-    // The base colour factor's alpha multiplies the texture's alpha; Texture has no alpha
-    // factor, so it is baked into the image (or a 1x1 image when there is no texture).
-    const float alpha_scale = uses_alpha ? float(alpha) : 1.0f;
-    if (pbr.baseColorTexture.index >= 0)
-      mat.base_color = texture(tex_ref(pbr.baseColorTexture), true, base, alpha_scale);
-    else if (alpha_scale < 1)
-      mat.base_color = constant_with_alpha(base, alpha_scale);
-    else
-      mat.base_color = Texture::constant(base);
-
     mat.metallic = pbr.metallicFactor;
     mat.roughness = pbr.roughnessFactor;
     if (pbr.metallicRoughnessTexture.index >= 0)
@@ -618,16 +613,7 @@ class GltfBuilder {
       mat.normal_scale = gm.normalTexture.scale;
     }
 
-    Color emissive{0, 0, 0};
-    if (gm.emissiveFactor.size() == 3)
-      emissive = {gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]};
-    if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
-      mat.emission_strength = number(it->second, "emissiveStrength", 1.0);
-    if (max_component(emissive) > 0) {
-      mat.emission = gm.emissiveTexture.index >= 0
-                         ? texture(tex_ref(gm.emissiveTexture), true, emissive, 1)
-                         : Texture::constant(emissive);
-    }
+    read_emission(gm, mat, texture);
     if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end())
       mat.ior = number(it->second, "ior", 1.5);
     if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
@@ -638,6 +624,45 @@ class GltfBuilder {
     material_textured_[size_t(index)] = uv_set >= 0;
     if (gm.extensions.count("KHR_materials_unlit")) return unlit(mat);
     return owned;
+  }
+
+  // pbrMetallicRoughness's base colour: factor times texture. The factor's alpha multiplies the
+  // texture's alpha when the material uses alpha; Texture has no alpha factor, so it is baked
+  // into the image (or a 1x1 image when there is no texture).
+  template <class TextureFn>
+  void read_base_color(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                       TextureFn&& texture) {
+    const auto& pbr = gm.pbrMetallicRoughness;
+    Color base{1, 1, 1};
+    double alpha = 1;
+    if (pbr.baseColorFactor.size() == 4) {
+      base = {pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]};
+      alpha = pbr.baseColorFactor[3];
+    }
+    const bool uses_alpha = mat.alpha_mode != Material::AlphaMode::Opaque;
+    const float alpha_scale = uses_alpha ? float(alpha) : 1.0f;
+    if (pbr.baseColorTexture.index >= 0)
+      mat.base_color = texture(tex_ref(pbr.baseColorTexture), true, base, alpha_scale);
+    else if (alpha_scale < 1)
+      mat.base_color = constant_with_alpha(base, alpha_scale);
+    else
+      mat.base_color = Texture::constant(base);
+  }
+
+  // The emissive factor times its texture, and KHR_materials_emissive_strength.
+  template <class TextureFn>
+  void read_emission(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                     TextureFn&& texture) {
+    Color emissive{0, 0, 0};
+    if (gm.emissiveFactor.size() == 3)
+      emissive = {gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]};
+    if (auto it = gm.extensions.find("KHR_materials_emissive_strength"); it != gm.extensions.end())
+      mat.emission_strength = number(it->second, "emissiveStrength", 1.0);
+    if (max_component(emissive) > 0) {
+      mat.emission = gm.emissiveTexture.index >= 0
+                         ? texture(tex_ref(gm.emissiveTexture), true, emissive, 1)
+                         : Texture::constant(emissive);
+    }
   }
 
   // KHR_materials_transmission's factor (its texture is not read) and KHR_materials_volume:

@@ -80,12 +80,15 @@ size_t buffer_bytes(const tinygltf::Model& m) {
   return n;
 }
 
-// Calls f(element, component, value) for every component of every element, sparse substitutions
-// applied. Elements not covered by a bufferView are zero. Every count is checked against the
-// bytes present before f sees an element (callers allocate on the first call).
-template <class F>
-void for_each_component(const tinygltf::Model& m, int index, int want_components, F&& f) {
-  const std::string what = fmt::format("accessor {}", index);
+// An accessor's element layout, checked against its declared type and the file's buffers.
+struct AccessorLayout {
+  const tinygltf::Accessor& a;
+  int ncomp, csize;
+  size_t elem;  // bytes per element
+};
+
+AccessorLayout accessor_layout(const tinygltf::Model& m, int index, int want_components,
+                               const std::string& what) {
   if (index < 0 || size_t(index) >= m.accessors.size())
     throw LoadError(fmt::format("{}: does not exist ({} accessors)", what, m.accessors.size()));
   const tinygltf::Accessor& a = m.accessors[size_t(index)];
@@ -103,32 +106,44 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
         fmt::format("{}: {} elements without a bufferView are more than the file's buffers "
                     "({} bytes) could hold",
                     what, a.count, buffer_bytes(m)));
+  return {a, ncomp, csize, elem};
+}
 
-  if (a.bufferView >= 0) {
-    size_t size = 0;
-    const unsigned char* base = view_bytes(m, a.bufferView, &size, what);
-    // byteStride 0 (or absent) means tightly packed; tinygltf's ByteStride handles both.
-    const int stride = a.ByteStride(m.bufferViews[size_t(a.bufferView)]);
-    if (stride <= 0)
-      throw LoadError(fmt::format("{}: invalid byteStride for its componentType", what));
-    // Divided, not multiplied: a forged count must not wrap the product around.
-    if (a.count > 0 && (a.byteOffset > size || size - a.byteOffset < elem ||
-                        a.count - 1 > (size - a.byteOffset - elem) / size_t(stride)))
-      throw LoadError(
-          fmt::format("{}: {} elements at offset {} with stride {} overrun "
-                      "bufferView {} ({} bytes)",
-                      what, a.count, a.byteOffset, stride, a.bufferView, size));
-    for (size_t i = 0; i < a.count; ++i) {
-      const unsigned char* p = base + a.byteOffset + i * size_t(stride);
-      for (int c = 0; c < ncomp; ++c)
-        f(i, c, component(p + c * csize, a.componentType, a.normalized));
-    }
-  } else {
+// The elements stored in the accessor's bufferView (zero without one).
+template <class F>
+void for_each_dense(const tinygltf::Model& m, const AccessorLayout& l, const std::string& what,
+                    F& f) {
+  const tinygltf::Accessor& a = l.a;
+  if (a.bufferView < 0) {
     for (size_t i = 0; i < a.count; ++i)
-      for (int c = 0; c < ncomp; ++c) f(i, c, 0.0);
+      for (int c = 0; c < l.ncomp; ++c) f(i, c, 0.0);
+    return;
   }
+  size_t size = 0;
+  const unsigned char* base = view_bytes(m, a.bufferView, &size, what);
+  // byteStride 0 (or absent) means tightly packed; tinygltf's ByteStride handles both.
+  const int stride = a.ByteStride(m.bufferViews[size_t(a.bufferView)]);
+  if (stride <= 0)
+    throw LoadError(fmt::format("{}: invalid byteStride for its componentType", what));
+  // Divided, not multiplied: a forged count must not wrap the product around.
+  if (a.count > 0 && (a.byteOffset > size || size - a.byteOffset < l.elem ||
+                      a.count - 1 > (size - a.byteOffset - l.elem) / size_t(stride)))
+    throw LoadError(
+        fmt::format("{}: {} elements at offset {} with stride {} overrun "
+                    "bufferView {} ({} bytes)",
+                    what, a.count, a.byteOffset, stride, a.bufferView, size));
+  for (size_t i = 0; i < a.count; ++i) {
+    const unsigned char* p = base + a.byteOffset + i * size_t(stride);
+    for (int c = 0; c < l.ncomp; ++c)
+      f(i, c, component(p + c * l.csize, a.componentType, a.normalized));
+  }
+}
 
-  if (!a.sparse.isSparse) return;
+// The sparse substitutions, each index and the bytes of both views checked.
+template <class F>
+void for_each_sparse(const tinygltf::Model& m, const AccessorLayout& l, const std::string& what,
+                     F& f) {
+  const tinygltf::Accessor& a = l.a;
   const auto& sp = a.sparse;
   if (sp.count < 0 || size_t(sp.count) > a.count)
     throw LoadError(fmt::format("{}: sparse count {} exceeds count {}", what, sp.count, a.count));
@@ -142,7 +157,7 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
   const unsigned char* vb = view_bytes(m, sp.values.bufferView, &vsz, what + " sparse values");
   if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0 ||
       size_t(sp.indices.byteOffset) + n * size_t(isize) > isz ||
-      size_t(sp.values.byteOffset) + n * elem > vsz)
+      size_t(sp.values.byteOffset) + n * l.elem > vsz)
     throw LoadError(fmt::format("{}: sparse data overruns its bufferViews", what));
   for (size_t k = 0; k < n; ++k) {
     const double di =
@@ -151,10 +166,21 @@ void for_each_component(const tinygltf::Model& m, int index, int want_components
     if (i >= a.count)
       throw LoadError(
           fmt::format("{}: sparse index {} out of range ({} elements)", what, i, a.count));
-    const unsigned char* p = vb + sp.values.byteOffset + k * elem;
-    for (int c = 0; c < ncomp; ++c)
-      f(i, c, component(p + c * csize, a.componentType, a.normalized));
+    const unsigned char* p = vb + sp.values.byteOffset + k * l.elem;
+    for (int c = 0; c < l.ncomp; ++c)
+      f(i, c, component(p + c * l.csize, a.componentType, a.normalized));
   }
+}
+
+// Calls f(element, component, value) for every component of every element, sparse substitutions
+// applied. Elements not covered by a bufferView are zero. Every count is checked against the
+// bytes present before f sees an element (callers allocate on the first call).
+template <class F>
+void for_each_component(const tinygltf::Model& m, int index, int want_components, F&& f) {
+  const std::string what = fmt::format("accessor {}", index);
+  const AccessorLayout l = accessor_layout(m, index, want_components, what);
+  for_each_dense(m, l, what, f);
+  if (l.a.sparse.isSparse) for_each_sparse(m, l, what, f);
 }
 
 }  // namespace

@@ -644,17 +644,13 @@ void read_render(const TableReader& r, RenderSettings& rs) {
 // cameras of `loaded`, a scene loaded from the same file.
 enum class Build { Full, View, Check };
 
-// The scene at `frame` from `root` (its [[animate]] entries taken out into `animation`;
-// `original` is root as it was, for the shutter's extra camera builds).
-Scene build_frame(toml::table& root, const toml::table& original,
-                  const std::vector<AnimatedKey>& animation, const fs::path& file,
-                  const std::vector<std::string>& overrides, double frame, Build build,
-                  const Scene* loaded) {
-  const Scene* view_from = build == Build::View ? loaded : nullptr;
+// The frame's keys applied to `root` (animated values, then the command line's overrides), and
+// what the scene records of them.
+void apply_frame_keys(toml::table& root, const std::vector<AnimatedKey>& animation,
+                      const std::vector<std::string>& overrides, double frame, Scene& s) {
   for (const AnimatedKey& a : animation)
     set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
-  Scene s;
   s.frame = frame;
   s.effective_toml = to_toml_text(root);
   for (const AnimatedKey& a : animation) {
@@ -662,13 +658,11 @@ Scene build_frame(toml::table& root, const toml::table& original,
     s.last_key = s.animated.empty() ? a.frames.back() : std::max(s.last_key, a.frames.back());
     s.animated.push_back(a.key);
   }
-  s.path = file.string();
-  Context c;
-  c.dir = file.parent_path();
-  c.scene = &s;
-  c.check_only = build == Build::Check;
-  const TableReader top(root, "");
-  // The top level: `include` was merged already; the tables are read below.
+}
+
+// [animation], [image] and [render], after checking the top level's keys (`include` was merged
+// already; the tables are read by their own readers).
+void read_settings(const TableReader& top, Scene& s) {
   static constexpr std::string_view kTables[] = {"image",       "render",  "camera",
                                                  "material",    "object",  "light",
                                                  "environment", "animate", "animation"};
@@ -677,7 +671,6 @@ Scene build_frame(toml::table& root, const toml::table& original,
     const ParamValues v = TableReader(*t, "animation").params({animation_schema().common});
     s.fps = v.number("fps");
   }
-
   if (const toml::table* t = sub_table(top, "image")) {
     const ParamValues v = TableReader(*t, "image").params({image_schema().common});
     s.render.width = int(v.integer("width"));
@@ -685,65 +678,96 @@ Scene build_frame(toml::table& root, const toml::table& original,
   }
   if (const toml::table* t = sub_table(top, "render"))
     read_render(TableReader(*t, "render"), s.render);
+}
 
-  // The glTF rigs that move the model cameras: the loaded scene's unless this one reads them.
-  const std::vector<SceneRig>* rigs = &s.rigs;
-  if (view_from) {
-    // (The world was read, and validated, when view_from was loaded; nothing in it is animated
-    // by [[animate]] keys.)
-    s.model_cameras = view_from->model_cameras;
-    rigs = &view_from->rigs;
-  } else {
-    if (c.check_only) {
-      s.model_cameras = loaded->model_cameras;
-      rigs = &loaded->rigs;
-    }
-    read_world(c, top);
-  }
-  const std::vector<ModelCamera> rest_cameras = s.model_cameras;
-  const auto cameras_at = [&](double f) {
-    std::vector<ModelCamera> cams = rest_cameras;
-    pose_model_cameras(*rigs, s.fps, f, cams);
+// The model cameras (glTF) at rest, and the rigs that move them over the animation.
+struct ModelCameraRigs {
+  std::vector<ModelCamera> rest;
+  const std::vector<SceneRig>* rigs;
+  double fps;
+  std::vector<ModelCamera> at(double frame) const {
+    std::vector<ModelCamera> cams = rest;
+    pose_model_cameras(*rigs, fps, frame, cams);
     return cams;
-  };
-  s.model_cameras = cameras_at(frame);
-  if (is_gltf_scene_file(file)) {
-    complete_gltf_view(root,
-                       view_from      ? *view_from
-                       : c.check_only ? *loaded
-                                      : s,
-                       s.model_cameras, s.render);
-    s.effective_toml = to_toml_text(root);
   }
+};
 
-  const toml::table* cn = sub_table(top, "camera");
+// The world (objects, materials, lights, environment) unless `from` (a scene loaded from the
+// same file) lends it, and the model cameras posed at the frame.
+ModelCameraRigs read_world_and_model_cameras(Context& c, const TableReader& top,
+                                             const Scene* from) {
+  Scene& s = *c.scene;
+  const std::vector<SceneRig>* rigs = &s.rigs;
+  if (from) {
+    // (The world was read, and validated, when `from` was loaded; nothing in it is animated
+    // by [[animate]] keys.)
+    s.model_cameras = from->model_cameras;
+    rigs = &from->rigs;
+  }
+  if (!from || c.check_only) read_world(c, top);
+  ModelCameraRigs m{s.model_cameras, rigs, s.fps};
+  s.model_cameras = m.at(s.frame);
+  return m;
+}
+
+// [camera]; with a shutter, the camera at shutter open and its rig at close (from the animation).
+CameraSpec read_scene_camera(const TableReader& top, const toml::table& original,
+                             const std::vector<std::string>& overrides, const ModelCameraRigs& rigs,
+                             Scene& s) {
   const toml::table empty;
-  const toml::table& ct = cn ? *cn : empty;
-  const TableReader cr(ct, "camera");
+  const auto camera_table = [&](const toml::table& root) -> const toml::table& {
+    const toml::node* n = root.get("camera");
+    return n && n->is_table() ? *n->as_table() : empty;
+  };
   const bool preset_overridden =
       std::any_of(overrides.begin(), overrides.end(),
                   [](const std::string& o) { return o.rfind("camera.preset=", 0) == 0; });
-  CameraSpec cam = read_camera(cr, {s.render.width, s.render.height}, s.model_cameras,
-                               preset_overridden, &s.warnings);
+  const ImageInfo size{s.render.width, s.render.height};
+  const toml::table* cn = sub_table(top, "camera");
+  const toml::table& ct = cn ? *cn : empty;
+  CameraSpec cam =
+      read_camera(TableReader(ct, "camera"), size, s.model_cameras, preset_overridden, &s.warnings);
   s.camera_toml = to_toml_text(ct);
-  if (cam.shutter_close > cam.shutter_open || cam.shutter_open != 0) {
-    // Camera motion blur: the camera at shutter open, and its rig at close, from the animation.
-    auto camera_at = [&](double t) {
-      const toml::table r2 = at_frame(original, overrides, frame + t);
-      const toml::node* n2 = r2.get("camera");
-      const TableReader cr2(n2 && n2->is_table() ? *n2->as_table() : empty, "camera");
-      return read_camera(cr2, {s.render.width, s.render.height}, cameras_at(frame + t),
-                         preset_overridden, nullptr);
-    };
-    const Shutter shutter = cam.parts.shutter;
-    if (cam.shutter_open != 0) {
-      CameraSpec open = camera_at(cam.shutter_open);
-      cam.parts = std::move(open.parts);
-      cam.dof = open.dof;
-      cam.parts.shutter = shutter;
-    }
-    cam.parts.world_from_camera_close = camera_at(cam.shutter_close).parts.world_from_camera;
+  if (cam.shutter_close <= cam.shutter_open && cam.shutter_open == 0) return cam;
+  const auto camera_at = [&](double t) {
+    const toml::table r2 = at_frame(original, overrides, s.frame + t);
+    return read_camera(TableReader(camera_table(r2), "camera"), size, rigs.at(s.frame + t),
+                       preset_overridden, nullptr);
+  };
+  const Shutter shutter = cam.parts.shutter;
+  if (cam.shutter_open != 0) {
+    CameraSpec open = camera_at(cam.shutter_open);
+    cam.parts = std::move(open.parts);
+    cam.dof = open.dof;
+    cam.parts.shutter = shutter;
   }
+  cam.parts.world_from_camera_close = camera_at(cam.shutter_close).parts.world_from_camera;
+  return cam;
+}
+
+// The scene at `frame` from `root` (its [[animate]] entries taken out into `animation`;
+// `original` is root as it was, for the shutter's extra camera builds).
+Scene build_frame(toml::table& root, const toml::table& original,
+                  const std::vector<AnimatedKey>& animation, const fs::path& file,
+                  const std::vector<std::string>& overrides, double frame, Build build,
+                  const Scene* loaded) {
+  const Scene* view_from = build == Build::View ? loaded : nullptr;
+  Scene s;
+  apply_frame_keys(root, animation, overrides, frame, s);
+  s.path = file.string();
+  Context c;
+  c.dir = file.parent_path();
+  c.scene = &s;
+  c.check_only = build == Build::Check;
+  const TableReader top(root, "");
+  read_settings(top, s);
+  const Scene* lender = view_from ? view_from : c.check_only ? loaded : nullptr;
+  const ModelCameraRigs rigs = read_world_and_model_cameras(c, top, lender);
+  if (is_gltf_scene_file(file)) {
+    complete_gltf_view(root, lender ? *lender : s, s.model_cameras, s.render);
+    s.effective_toml = to_toml_text(root);
+  }
+  CameraSpec cam = read_scene_camera(top, original, overrides, rigs, s);
   if (build == Build::Full) pose_scene(s, frame);
   s.camera = std::make_unique<VirtualCamera>(std::move(cam.parts), cam.dof);
   for (const std::string& w : s.camera->coin_warnings()) s.warnings.push_back("camera." + w);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "io/image_sink.h"
 #include "io/json_nesting.h"
 #include "scene/declarations.h"
 #include "scene/scene_schema.h"
@@ -188,10 +189,34 @@ HttpResponse save(Editor& ed, const ApiCall& c) {
                              {"normalized", saved.normalized}});
 }
 
+// The file formats asked for: "formats": [names of sink kinds], or one boolean per kind named
+// for it ({"png": true, "exr": true}, the older form); none: the editor's default (the first).
+std::vector<std::string> requested_formats(const Json& body) {
+  const Json& formats = field(body, "formats");
+  std::vector<std::string> names;
+  if (!formats.is_null()) {
+    if (!formats.is_array()) throw std::invalid_argument("'formats' is a list of names");
+    for (const Json& f : formats) {
+      if (!f.is_string()) throw std::invalid_argument("'formats' is a list of names");
+      names.push_back(f.get<std::string>());
+    }
+    if (names.empty()) throw std::invalid_argument("'formats' names no file format");
+    return names;
+  }
+  bool any_named = false;
+  for (const SinkKind* k : sink_kinds()) {
+    const Json& b = field(body, k->name.c_str());
+    if (!b.is_boolean()) continue;
+    any_named = true;
+    if (b.get<bool>()) names.push_back(k->name);
+  }
+  if (any_named && names.empty()) throw std::invalid_argument("ask for at least one file format");
+  return names;  // (none named: the editor's default)
+}
+
 HttpResponse start_render(Editor& ed, const ApiCall& c) {
   Editor::RenderRequest req;
-  if (field(c.body, "png").is_boolean()) req.png = field(c.body, "png").get<bool>();
-  if (field(c.body, "exr").is_boolean()) req.exr = field(c.body, "exr").get<bool>();
+  req.formats = requested_formats(c.body);
   const Json& frames = field(c.body, "frames");
   if (!frames.is_null()) {
     if (!frames.is_array() || frames.size() != 2 || !frames[0].is_number_integer() ||
@@ -199,10 +224,6 @@ HttpResponse start_render(Editor& ed, const ApiCall& c) {
       throw std::invalid_argument("'frames' is [first, last]");
     req.frames = std::pair{frames[0].get<int>(), frames[1].get<int>()};
   }
-  if (!req.png && !req.exr) throw std::invalid_argument("ask for a PNG, an EXR or both");
-  if (req.frames && (req.frames->first < 0 || req.frames->first > req.frames->second ||
-                     req.frames->second - req.frames->first > 100000))
-    throw std::invalid_argument("'frames' go from a first to a last frame (0 <= first <= last)");
   if (auto why = ed.start_render(req)) return error_response(409, *why);  // (one is running)
   return json_response(200, ed.render_status());
 }
@@ -218,13 +239,13 @@ HttpResponse cancel_render(Editor& ed, const ApiCall&) {
 
 // A finished render's file, by the extension the path ends in.
 HttpResponse render_result(Editor& ed, const ApiCall& c) {
-  const std::string ext = c.q.path.substr(c.q.path.size() - 3);
+  const std::string ext = c.q.path.substr(c.q.path.rfind('.') + 1);
   std::optional<int> frame;
   if (c.q.query.count("frame")) frame = int(std::clamp(query_number(c.q, "frame", 0), -1e9, 1e9));
   const auto file = ed.render_result(ext, frame);
   if (!file) return error_response(404, "no finished render with a " + ext + " file");
   HttpResponse r;
-  r.content_type = ext == "png" ? "image/png" : "image/x-exr";
+  r.content_type = sink_kind(*file).media_type;
   r.file = *file;
   r.headers.emplace_back("Content-Disposition",
                          "attachment; filename=\"" + file->filename().string() + "\"");
@@ -255,9 +276,14 @@ constexpr Route kRoutes[] = {
     {"POST", "/api/render", start_render},
     {"GET", "/api/render", render_status},
     {"POST", "/api/render/cancel", cancel_render},
-    {"GET", "/api/render/result.png", render_result},
-    {"GET", "/api/render/result.exr", render_result},
+    {"GET", "/api/render/result.*", render_result},  // (* any extension)
 };
+
+bool matches(const Route& r, const std::string& path) {
+  const std::string_view p = r.path;
+  if (p.ends_with('*')) return path.starts_with(p.substr(0, p.size() - 1));
+  return path == p;
+}
 
 }  // namespace
 
@@ -269,7 +295,7 @@ HttpResponse Api::route_api(const HttpRequest& q, const std::function<bool()>& c
   const Json body = post && !q.body.empty() ? Json::parse(q.body) : Json::object();
   if (!body.is_object()) throw std::invalid_argument("the body must be a JSON object");
   for (const Route& r : kRoutes)
-    if (q.path == r.path && (!*r.method || q.method == r.method))
+    if (matches(r, q.path) && (!*r.method || q.method == r.method))
       return r.handle(editor_, {q, body, client_gone});
   return error_response(404, "no such API call: " + q.method + " " + q.path);
 }

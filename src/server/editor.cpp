@@ -4,13 +4,16 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "io/image_io.h"
+#include "io/image_sink.h"
 #include "scene/loaders.h"
 #include "scene/scene_loader.h"
 #include "scene/toml_reader.h"
@@ -74,8 +77,8 @@ struct Editor::Render {
   double fraction = 0, seconds = 0;
   std::string error;
   int64_t version = 0;
-  bool png = false, exr = false;
-  bool sequence = false;  // frames first..last as NAME_%04d (else one frame, NAME)
+  std::vector<const SinkKind*> kinds;  // one file each per frame
+  bool sequence = false;               // frames first..last as NAME_%04d (else one frame, NAME)
   int first = 0, last = 0, done_frames = 0;
   std::string file_name(const std::string& stem, std::optional<int> frame,
                         const std::string& ext) const;
@@ -278,11 +281,29 @@ std::string Editor::Render::file_name(const std::string& stem, std::optional<int
   return fmt::format("{}_{:04d}.{}", stem, frame.value_or(first), ext);
 }
 
+namespace {
+
+// The sink kinds named, or the first one when none is (std::invalid_argument for an unknown name).
+std::vector<const SinkKind*> sink_kinds_named(const std::vector<std::string>& names) {
+  std::string known;
+  for (const SinkKind* k : sink_kinds()) known += (known.empty() ? "" : ", ") + k->name;
+  if (names.empty()) return {sink_kinds().front()};
+  std::vector<const SinkKind*> kinds;
+  for (const std::string& n : names) {
+    const SinkKind* k = find_sink_kind_named(n);
+    if (!k) throw std::invalid_argument("no file format is named '" + n + "' (" + known + ")");
+    if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
+  }
+  return kinds;
+}
+
+}  // namespace
+
 std::optional<std::string> Editor::start_render(const RenderRequest& req) {
-  if (!req.png && !req.exr) return "ask for a PNG, an EXR or both";
+  std::vector<const SinkKind*> kinds = sink_kinds_named(req.formats);
   if (req.frames && (req.frames->first > req.frames->second || req.frames->first < 0 ||
                      req.frames->second - req.frames->first > 100000))
-    return "frames go from a first to a last frame (0 <= first <= last)";
+    throw std::invalid_argument("'frames' go from a first to a last frame (0 <= first <= last)");
   Render& r = *render_;
   {
     std::lock_guard rl(r.mu);
@@ -305,8 +326,7 @@ std::optional<std::string> Editor::start_render(const RenderRequest& req) {
     r.state = "running";
     r.fraction = r.seconds = 0;
     r.error.clear();
-    r.png = req.png;
-    r.exr = req.exr;
+    r.kinds = std::move(kinds);
     r.sequence = bool(req.frames);
     r.cancel = false;
     r.first = req.frames ? req.frames->first : int(job.frame);
@@ -332,8 +352,8 @@ void Editor::render_frames(FinalRenderJob job, const std::string& stem) {
     for (int f = r.first; f <= r.last && !r.cancel; ++f) {
       if (r.sequence) job.frame = f;
       job.files.clear();
-      if (r.png) job.files.push_back(r.folder / r.file_name(stem, f, "png"));
-      if (r.exr) job.files.push_back(r.folder / r.file_name(stem, f, "exr"));
+      for (const SinkKind* k : r.kinds)
+        job.files.push_back(r.folder / r.file_name(stem, f, k->extensions.front().substr(1)));
       const int done = f - r.first;
       job.progress = [&r, start, done, count](double fraction, double) {
         std::lock_guard rl(r.mu);
@@ -367,9 +387,19 @@ Json Editor::render_status() const {
   std::lock_guard rl(r.mu);
   const double eta =
       r.fraction > 0.01 && r.state == "running" ? r.seconds * (1 - r.fraction) / r.fraction : 0;
-  Json j = {{"state", r.state}, {"fraction", r.fraction}, {"seconds", r.seconds},
-            {"eta", eta},       {"version", r.version},   {"error", r.error},
-            {"png", r.png},     {"exr", r.exr},           {"folder", r.folder.string()}};
+  Json j = {
+      {"state", r.state},     {"fraction", r.fraction}, {"seconds", r.seconds},       {"eta", eta},
+      {"version", r.version}, {"error", r.error},       {"folder", r.folder.string()}};
+  // The formats of this render (each also as NAME: true), and every one the editor can write.
+  j["formats"] = Json::array();
+  j["available"] = Json::array();
+  for (const SinkKind* k : sink_kinds()) {
+    const bool asked = std::find(r.kinds.begin(), r.kinds.end(), k) != r.kinds.end();
+    j[k->name] = asked;
+    if (asked) j["formats"].push_back(k->name);
+    j["available"].push_back(
+        {{"name", k->name}, {"extension", k->extensions.front().substr(1)}, {"label", k->label}});
+  }
   if (r.sequence) j["frames"] = {r.first, r.last}, j["frames_done"] = r.done_frames;
   return j;
 }
@@ -378,12 +408,13 @@ std::optional<fs::path> Editor::render_result(const std::string& ext,
                                               std::optional<int> frame) const {
   const Render& r = *render_;
   std::lock_guard rl(r.mu);
-  if ((ext == "png" && !r.png) || (ext == "exr" && !r.exr) || (ext != "png" && ext != "exr"))
+  const SinkKind* kind = find_sink_kind(fs::path("result." + ext));
+  if (!kind || std::find(r.kinds.begin(), r.kinds.end(), kind) == r.kinds.end())
     return std::nullopt;
   const int f = frame.value_or(r.first);
   if (r.sequence ? (f < r.first || f >= r.first + r.done_frames) : r.state != "done")
     return std::nullopt;
-  return r.folder / r.file_name(doc_.file().stem().string(), f, ext);
+  return r.folder / r.file_name(doc_.file().stem().string(), f, kind->extensions.front().substr(1));
 }
 
 }  // namespace anamorph::server

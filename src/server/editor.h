@@ -112,15 +112,19 @@ class Editor {
   // The final render of the current document into a private folder, one frame (the one shown)
   // or, with `frames`, a sequence (what `anamorph render --frames A:B` writes); status as JSON.
   struct RenderRequest {
-    bool png = true, exr = false;
+    // Output sink kinds by name (io/image_sink.h), one file each; none: the first kind.
+    std::vector<std::string> formats;
     std::optional<std::pair<int, int>> frames;
   };
+  // Why not when one is running; std::invalid_argument for a request that names no format, an
+  // unknown one or bad frames.
   std::optional<std::string> start_render(const RenderRequest& req);
   Json render_status() const;
   // Stops the final render at its next packet (its state becomes "cancelled"); false when none
   // is running.
   bool cancel_render();
-  // A finished file: "png" or "exr", of frame `frame` of a sequence (default its first).
+  // A finished file by its extension without the dot ("png"), of frame `frame` of a sequence
+  // (default its first).
   std::optional<std::filesystem::path> render_result(const std::string& ext,
                                                      std::optional<int> frame = {}) const;
 

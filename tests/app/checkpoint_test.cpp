@@ -22,6 +22,7 @@
 #include "app/cli_util.h"
 #include "app/same_images.h"
 #include "io/image_io.h"
+#include "render/checkpoint.h"
 #include "test_util.h"
 
 namespace anamorph {
@@ -338,6 +339,60 @@ TEST(Checkpoint, ChangedSceneOrSettingsAreRefused) {
   fs::resize_file(ck, fs::file_size(ck) - 7);
   const test::CliResult cut = test::run_cli(base);
   EXPECT_EQ(cut.code, 0) << cut.out;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+// A checkpoint records the build that made it (a hash of the program): another build's checkpoint
+// is refused, saying so, and one without a build (older) too; the same build resumes it.
+TEST(Checkpoint, AnotherBuildsCheckpointIsRefused) {
+  Scratch s;
+  const fs::path out = s.dir / "out.png", ck = s.dir / "r.ckpt";
+  const std::vector<std::string> args = {"render",
+                                         demo_scene(),
+                                         "-q",
+                                         "--width",
+                                         "64",
+                                         "--height",
+                                         "64",
+                                         "--integrator",
+                                         "path",
+                                         "--spp",
+                                         std::to_string(test::spp(512)),
+                                         "-o",
+                                         out.string(),
+                                         "--checkpoint",
+                                         ck.string()};
+  uintmax_t identity_size = 0;
+  ASSERT_EQ(run_signalled(
+                args, [&] { return has_tile(ck, &identity_size); }, SIGINT, s.dir / "log"),
+            3)
+      << test::read_text(s.dir / "log");
+  const std::string good = test::read_text(ck);
+  CheckpointIdentity id = CheckpointReader(ck).identity();
+  const auto build = std::find_if(id.begin(), id.end(), [](auto& e) { return e.first == "build"; });
+  ASSERT_NE(build, id.end()) << "no build in the checkpoint's identity";
+  EXPECT_EQ(build->second.size(), 16 + 1 + std::to_string(fs::file_size(ANAMORPH_BINARY)).size())
+      << build->second << ": hash-size of the program";
+  const std::string mine = build->second;
+  std::string cmd;
+  for (const std::string& a : args) cmd += (cmd.empty() ? "" : " ") + a;
+  // Forged: the same render from another build, then from one that recorded none.
+  build->second = "0123456789abcdef-1";
+  { CheckpointWriter(ck, id, 1e9); }
+  const test::CliResult other = test::run_cli(cmd);
+  EXPECT_EQ(other.code, 2) << other.out;
+  EXPECT_CONTAINS(
+      other.out,
+      "made by another build of anamorph (build 0123456789abcdef-1, this one is " + mine + ")");
+  EXPECT_FALSE(fs::exists(out));
+  id.erase(build);
+  { CheckpointWriter(ck, id, 1e9); }
+  const test::CliResult none = test::run_cli(cmd);
+  EXPECT_EQ(none.code, 2) << none.out;
+  EXPECT_CONTAINS(none.out, "(build not recorded, this one is " + mine + ")");
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << good;
+  const test::CliResult same = test::run_cli(cmd);
+  EXPECT_EQ(same.code, 0) << same.out;
   EXPECT_TRUE(fs::exists(out));
 }
 

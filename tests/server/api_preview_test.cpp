@@ -186,6 +186,41 @@ TEST_F(PreviewTest, FinalRenderGivesAPng) {
   EXPECT_TRUE(png.body == read_text(written)) << "the download differs from " << written;
   EXPECT_EQ(get("/api/render/result.exr").status, 404);              // (none asked for)
   EXPECT_EQ(post("/api/render", json{{"png", false}}).status, 400);  // (neither file asked for)
+  // Formats by the sinks' names: each offered in the status, an unknown one refused by name.
+  const json status = json::parse(last);
+  std::vector<std::string> available;
+  for (const json& f : status["available"]) available.push_back(f["name"]);
+  EXPECT_EQ(available, (std::vector<std::string>{"png", "exr"})) << last;
+  EXPECT_EQ(status["formats"], json::array({"png"})) << last;
+  const Reply tiff = post("/api/render", json{{"formats", {"exr", "tiff"}}});
+  EXPECT_EQ(tiff.status, 400) << tiff.body;
+  EXPECT_CONTAINS(tiff.body, "'tiff' (png, exr)");
+  EXPECT_EQ(post("/api/render", json{{"formats", json::array()}}).status, 400);
+  EXPECT_EQ(post("/api/render", json{{"formats", "exr"}}).status, 400);
+}
+
+TEST_F(PreviewTest, FinalRenderGivesAnExrByItsSinkName) {
+  const Reply start = post("/api/render", json{{"formats", {"exr"}}});
+  ASSERT_EQ(start.status, 200) << start.body;
+  std::string last;
+  EXPECT_TRUE(eventually(
+      [&] {
+        last = get("/api/render").body;
+        const json s = json::parse(last, nullptr, false);
+        return s.is_object() && s.value("state", "") != "running";
+      },
+      60))
+      << last;
+  const json s = json::parse(last);
+  EXPECT_EQ(s["formats"], json::array({"exr"})) << last;
+  EXPECT_EQ(s["exr"], true);
+  EXPECT_EQ(s["png"], false);
+  EXPECT_EQ(get("/api/render/result.png").status, 404);
+  const Reply exr = get("/api/render/result.exr");
+  ASSERT_EQ(exr.status, 200) << exr.body.substr(0, 200);
+  EXPECT_EQ(exr.header("content-type"), "image/x-exr");
+  EXPECT_EQ(exr.body.substr(0, 4), "\x76\x2f\x31\x01") << "OpenEXR's magic number";
+  EXPECT_EQ(get("/api/render/result.tif").status, 404);
 }
 
 }  // namespace
