@@ -19,13 +19,13 @@ import numpy as np
 
 from . import _anamorph
 from ._anamorph import SceneError
-from ._camera import Camera, Coin, Projection
+from ._camera import Camera, Coin, Projection, Solved
 from ._functions import Function, dir, org
 from ._scene import Scene, load, loads
 
 __version__: str = _anamorph.__version__
 __all__ = ["Camera", "Coin", "Function", "Projection", "Scene", "SceneError", "declarations",
-           "dir", "load", "loads", "org", "read_exr", "schema", "warp"]
+           "Solved", "dir", "load", "loads", "org", "read_exr", "schema", "warp"]
 
 
 def schema() -> dict[str, Any]:

@@ -31,6 +31,14 @@ class Projection(NamedTuple):
     def pixels(self) -> np.ndarray: ...
     def of(self, i: int) -> np.ndarray: ...
 
+class Solved(NamedTuple):
+    camera: Camera
+    values: list[dict[str, Any]]
+    constraints: list[dict[str, Any]]
+    iterations: int
+    termination: str
+    met: bool
+
 class Camera:
     def __init__(self, preset: Literal['crossed_slits', 'cubemap', 'cylindrical', 'dome', 'equirectangular', 'fisheye', 'integral', 'lambert_equal_area', 'light_field', 'mercator', 'mirror_ball', 'ods', 'opencv_fisheye', 'opencv_pinhole', 'orthographic', 'panini', 'perspective', 'pushbroom', 'stereographic'] | None = None, *, width: int | None = None,
                  height: int | None = None, org: Mapping[str, Any] | None = None,
@@ -55,6 +63,9 @@ class Camera:
     def stmap(self, source: str, *, width: int | None = None, height: int | None = None,
               inverse: bool = False, source_size: tuple[int, int] | None = None,
               threads: int = 0) -> dict[str, np.ndarray]: ...
+    def solve(self, constraints: Sequence[Mapping[str, Any]],
+              free: Sequence[str | Mapping[str, Any]], *, check: bool = True,
+              **options: Any) -> Solved: ...
     def describe(self) -> str: ...
 
 class Scene:

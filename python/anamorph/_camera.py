@@ -72,6 +72,20 @@ class Projection(NamedTuple):
         return self.uv[int(self.offsets[i]):int(self.offsets[i + 1])]
 
 
+class Solved(NamedTuple):
+    """What ``Camera.solve`` found: the solved camera, each free number (name, start, value, min,
+    max, at_bound), each constraint's residual (where, kind, residual, unit, tolerance, met;
+    when not met, met_alone and the constraints it conflicts with), as ``anamorph solve``
+    prints them."""
+
+    camera: "Camera"
+    values: list[dict[str, Any]]
+    constraints: list[dict[str, Any]]
+    iterations: int
+    termination: str
+    met: bool
+
+
 class Camera:
     """A virtual camera: org(u, v) and dir(u, v) for an image of ``width`` x ``height`` pixels.
 
@@ -186,6 +200,40 @@ class Camera:
         if source_size is not None and not (1 <= sw <= 65536 and 1 <= sh <= 65536):
             raise ValueError(f"source_size {source_size}: each in [1, 65536]")
         return cam._impl.stmap(source, inverse, sw, sh, threads)
+
+    def solve(self, constraints: Sequence[Mapping[str, Any]],
+              free: Sequence[str | Mapping[str, Any]], *, check: bool = True,
+              **options: Any) -> Solved:
+        """Solves the ``free`` keys of this camera for ``constraints``, as ``anamorph solve``
+        (docs/solve.md): each constraint a mapping of a ``[[camera.constraint]]`` entry
+        (``{"kind": "pin", "point": [1, 0, 0], "uv": [0.6, 0.5]}``), each free key its dotted
+        name (``"camera.fov"``, ``"camera.org.points.1.2.0"``) or a ``[[camera.free]]`` mapping
+        (key, min, max); ``options`` are ``[camera.solve]``'s keys (loss, loss_scale,
+        max_iterations). Points only: objects are the scene's (solve a scene file with
+        ``anamorph solve``). With ``check``, a constraint not met raises ValueError naming it
+        and what it conflicts with; otherwise see ``Solved.met``."""
+        lines = ["[image]", f"width = {self.width}", f"height = {self.height}", "[camera]",
+                 self.toml]
+        for c in constraints:
+            lines.append("[[camera.constraint]]")
+            lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in c.items()]
+        for f in free:
+            lines.append("[[camera.free]]")
+            entry = {"key": f} if isinstance(f, str) else f
+            lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in entry.items()]
+        if options:
+            lines.append("[camera.solve]")
+            lines += [f"{_toml.key(k)} = {_toml.value(v)}" for k, v in options.items()]
+        r = _anamorph.solve_text("\n".join(lines) + "\n", "<anamorph.Camera.solve>")
+        out = Solved(Camera._wrap(r["camera"]), r["values"], r["constraints"], r["iterations"],
+                     r["termination"], r["met"])
+        if check and not out.met:
+            raise ValueError("constraints not met:\n" + "\n".join(
+                f"  {c['where']} ({c['kind']}): residual {c['residual']:g} {c['unit']}"
+                + (f", conflicts with {', '.join(c['conflicts'])}" if c["conflicts"] else
+                   "" if c["met_alone"] else ", not met even alone")
+                for c in out.constraints if not c["met"]))
+        return out
 
     def describe(self) -> str:
         return self._impl.describe()

@@ -48,5 +48,6 @@ void bind_camera(pb::module_& m);
 void bind_scene(pb::module_& m);
 void bind_image(pb::module_& m);
 void bind_warp(pb::module_& m);
+void bind_solve(pb::module_& m);
 
 }  // namespace anamorph::py

@@ -9,4 +9,5 @@ PYBIND11_MODULE(_anamorph, m) {
   anamorph::py::bind_scene(m);
   anamorph::py::bind_image(m);
   anamorph::py::bind_warp(m);
+  anamorph::py::bind_solve(m);
 }

@@ -363,16 +363,18 @@ const ParamSpec kCameraCommon[] = {
 
 // The camera's goals (`anamorph solve`, docs/solve.md): [[camera.constraint]], [[camera.free]]
 // and [camera.solve].
-constexpr std::string_view kConstraintKinds[] = {"pin", "size", "magnification", "keep"};
+constexpr std::string_view kConstraintKinds[] = {"pin", "size", "magnification", "keep",
+                                                  "straight"};
 const ParamSpec kConstraintCommon[] = {
     {"kind", ParamType::String, "",
-     "What the constraint asks: `pin`, `size`, `magnification` or `keep`.", -kInf, kInf,
+     "What the constraint asks: `pin`, `size`, `magnification`, `keep` or `straight`.", -kInf,
+     kInf,
      kConstraintKinds},
     {"weight", ParamType::Number, "1", "Multiplies the constraint's residuals in the solve.", 0,
      1e6, {}, true},
     {"tolerance", ParamType::Number, "none",
-     "The constraint is met when its residual is at most this (in its unit: pixels for pin and "
-     "keep, percent for size and magnification).",
+     "The constraint is met when its residual is at most this (in its unit: pixels for pin, "
+     "keep and straight, percent for size and magnification).",
      0, kInf, {}, true, false, {}, "0.5 (pixels or percent); keep: its epsilon"},
 };
 const ParamSpec kPinConstraint[] = {
@@ -411,6 +413,25 @@ const ParamSpec kKeepConstraint[] = {
      "Each sample is the point this far along the starting camera's ray.", 0, kInf, {}, true,
      false, "scene units"},
 };
+constexpr std::string_view kStraightShapes[] = {"line", "circle"};
+const ParamSpec kStraightConstraint[] = {
+    {"from", ParamType::Vec3, "", "One end of the world segment (e.g. a stretch of the horizon).",
+     -kInf, kInf, {}, false, false, "scene units"},
+    {"to", ParamType::Vec3, "", "The other end.", -kInf, kInf, {}, false, false, "scene units"},
+    {"samples", ParamType::Integer, "16",
+     "Points of the segment, evenly spaced from `from` to `to`, whose image positions must lie "
+     "on one line (or circle).",
+     4, 1024},
+    {"shape", ParamType::String, "\"line\"",
+     "What the segment must look like: `line` (a straight image line) or `circle` (an arc of a "
+     "circle about `center`: on a dome master or a centred fisheye, a circle of constant angle "
+     "from the axis, e.g. a level horizon).",
+     -kInf, kInf, kStraightShapes},
+    {"center", ParamType::Vec2, "[0.5, 0.5]",
+     "With shape = \"circle\": the circle's centre (u, v) in the image (the image circle's "
+     "centre for a dome master).",
+     -kInf, kInf},
+};
 const TableVariant kConstraintVariants[] = {
     {"pin", "A world point (or an object's centre) appears at an image position.",
      kPinConstraint},
@@ -418,12 +439,16 @@ const TableVariant kConstraintVariants[] = {
     {"magnification", "The camera magnifies the image at a point by a given factor.",
      kMagnificationConstraint},
     {"keep", "A regularizer: the image elsewhere moves at most epsilon pixels.", kKeepConstraint},
+    {"straight", "A world segment appears straight (or as a circle about a centre).",
+     kStraightConstraint},
 };
 
 const ParamSpec kFree[] = {
     {"key", ParamType::String, "",
-     "A number or vector of the camera, dotted as for --set: \"camera.fov\", "
-     "\"camera.look_at\", \"camera.coin.0.strength\"."},
+     "A number, vector or list of numbers of the camera, dotted as for --set: \"camera.fov\", "
+     "\"camera.look_at\", \"camera.coin.0.strength\", \"camera.org.points\"; indices after it "
+     "select part of it: \"camera.look_at.1\", \"camera.org.points.1.2\" (row 1, column 2), "
+     "\"camera.org.points.1.2.0\" (its x)."},
     {"min", ParamType::Number, "none",
      "Narrows the key's declared range (every component) from below."},
     {"max", ParamType::Number, "none", "Narrows the key's declared range from above."},

@@ -2,7 +2,9 @@
 
 #include <ceres/ceres.h>
 #include <fmt/format.h>
+#include <glog/logging.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -122,6 +124,9 @@ Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const 
   o.num_threads = 1;
   o.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
+  // Ceres logs a failed evaluation through glog to stderr ("Logging before InitGoogleLogging",
+  // "Terminating: ..."); the report says what happened, in the user's terms.
+  FLAGS_minloglevel = std::max(FLAGS_minloglevel, int(google::GLOG_FATAL));
   ceres::Solve(o, &problem, &summary);
   out.iterations = int(summary.iterations.size());
   out.termination = summary.message;

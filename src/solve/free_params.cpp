@@ -71,38 +71,86 @@ const ParamSpec* declaration(const toml::table& scene, const std::vector<std::st
   return nullptr;
 }
 
-int components(ParamType t) {
+// The number of array levels of a value of type `t` (0: a number), or -1 when it is not made of
+// numbers.
+int depth(ParamType t) {
   switch (t) {
     case ParamType::Number:
-      return 1;
+      return 0;
     case ParamType::Vec2:
-      return 2;
     case ParamType::Vec3:
+    case ParamType::NumberList:
+      return 1;
+    case ParamType::Vec3List:
+    case ParamType::NumberGrid:
+      return 2;
+    case ParamType::Vec3Grid:
       return 3;
     default:
-      return 0;
+      return -1;
   }
 }
 
-// The value's components: from the scene, else the declared default.
-std::vector<double> start_value(const toml::table& scene, const std::string& key,
-                                const ParamSpec& spec, int n) {
+// Appends the numbers of `node` (a number or nested arrays of them, as deep as `dims` is long,
+// with these extents) to `v`. False when it is not of that form (ragged, or not numbers).
+bool flatten(const toml::node& node, const std::vector<size_t>& dims, std::vector<double>& v,
+             size_t level = 0) {
+  if (level == dims.size()) {
+    const std::optional<double> x = node.value<double>();
+    if (x) v.push_back(*x);
+    return x.has_value();
+  }
+  const toml::array* a = node.as_array();
+  if (!a || a->size() != dims[level]) return false;
+  for (const toml::node& e : *a)
+    if (!flatten(e, dims, v, level + 1)) return false;
+  return true;
+}
+
+// The extents of `node`'s first entries, `levels` deep (empty entries: false).
+bool extents(const toml::node& node, int levels, std::vector<size_t>& dims) {
+  const toml::node* n = &node;
+  for (int l = 0; l < levels; ++l) {
+    const toml::array* a = n->as_array();
+    if (!a || a->empty()) return false;
+    dims.push_back(a->size());
+    n = a->get(0);
+  }
+  return true;
+}
+
+// The value of `key`: from the scene, else the declared default; empty when neither.
+FreeValue start_value(const toml::table& scene, const std::string& key, const ParamSpec& spec) {
   const toml::node* node = at_path(scene, split(key));
   toml::table def;
   if (!node && spec.default_value != "none" && !spec.default_value.empty()) {
     def = parse_value_text(std::string(spec.default_value));
     node = def.get("v");
   }
-  if (!node) return {};
-  std::vector<double> v;
-  if (const toml::array* a = node->as_array()) {
-    for (const toml::node& e : *a)
-      if (auto x = e.value<double>()) v.push_back(*x);
-  } else if (auto x = node->value<double>()) {
-    v.push_back(*x);
+  FreeValue f{key, {}, {}};
+  if (!node || !extents(*node, depth(spec.type), f.dims) || !flatten(*node, f.dims, f.start))
+    f.start.clear();
+  return f;
+}
+
+// "1.2.0": the indices of flat component `i` of a value of extents `dims`.
+std::string index_text(size_t i, const std::vector<size_t>& dims) {
+  std::string t;
+  for (size_t k = dims.size(); k-- > 0;) {
+    t = fmt::format(".{}", i % dims[k]) + t;
+    i /= dims[k];
   }
-  if (int(v.size()) != n) return {};
-  return v;
+  return t;
+}
+
+// The value's numbers as TOML text, nested as `dims` says.
+std::string nested_text(const std::vector<double>& v, const std::vector<size_t>& dims, size_t level,
+                        size_t& at) {
+  if (level == dims.size()) return fmt::format("{}", v[at++]);
+  std::string t = "[";
+  for (size_t i = 0; i < dims[level]; ++i)
+    t += (i ? ", " : "") + nested_text(v, dims, level + 1, at);
+  return t + "]";
 }
 
 // Bounds strictly inside an exclusive end (the reader refuses the end itself).
@@ -128,9 +176,8 @@ std::vector<std::pair<std::string, std::string>> FreeValues::texts(
     v[scalars[i].value][size_t(scalars[i].component)] = x[i];
   std::vector<std::pair<std::string, std::string>> out;
   for (size_t k = 0; k < values.size(); ++k) {
-    std::string t;
-    for (double c : v[k]) t += fmt::format("{}{}", t.empty() ? "" : ", ", c);
-    out.emplace_back(values[k].key, values[k].vector ? "[" + t + "]" : t);
+    size_t at = 0;
+    out.emplace_back(values[k].key, nested_text(v[k], values[k].dims, 0, at));
   }
   return out;
 }
@@ -141,6 +188,48 @@ std::vector<std::string> FreeValues::overrides(const std::vector<double>& x) con
   return o;
 }
 
+namespace {
+
+// The declaration of `parts` (a camera key, without "camera", possibly ending in indices into a
+// list value); the indices are moved from `parts` to `index`.
+const ParamSpec* resolve_key(const toml::table& scene, std::vector<std::string>& parts,
+                             std::vector<size_t>& index) {
+  const ParamSpec* spec = declaration(scene, parts);
+  std::vector<size_t> reversed;
+  while (!spec && parts.size() >= 2 && is_index(parts.back()) && reversed.size() < 3) {
+    reversed.push_back(std::stoul(parts.back()));
+    parts.pop_back();
+    spec = declaration(scene, parts);
+  }
+  index.assign(reversed.rbegin(), reversed.rend());
+  return spec;
+}
+
+// One scalar per component [first, first + count) of value `vi`, bounded by the declared range
+// narrowed by the entry's min and max.
+template <class Fail>
+void add_scalars(FreeValues& out, size_t vi, size_t first, size_t count, const ParamSpec& spec,
+                 const FreeKey& k, const Fail& fail) {
+  const FreeValue& v = out.values[vi];
+  const ParamSpec range = with_world_range(spec);
+  for (size_t c = first; c < first + count; ++c) {
+    for (const FreeScalar& s : out.scalars)
+      if (s.value == vi && s.component == int(c)) fail("is already free (a key that holds it)");
+    double lo = inside(range.min, range.min_exclusive, range.max);
+    double hi = inside(range.max, range.max_exclusive, range.min);
+    if (k.min) lo = std::max(lo, *k.min);
+    if (k.max) hi = std::min(hi, *k.max);
+    if (!(lo <= hi))
+      fail(fmt::format("min and max leave no value in [{}, {}]", range.min, range.max));
+    const double s0 = v.start[c];
+    if (s0 < lo || s0 > hi)
+      fail(fmt::format("its value {} lies outside the bounds [{}, {}]", s0, lo, hi));
+    out.scalars.push_back({vi, int(c), v.key + index_text(c, v.dims), lo, hi, k.where});
+  }
+}
+
+}  // namespace
+
 FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& scene,
                         const std::vector<std::string>& animated, const std::string& file) {
   FreeValues out;
@@ -150,19 +239,12 @@ FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& sce
     };
     std::vector<std::string> parts = split(k.key);
     parts.erase(parts.begin());  // "camera"
-    int component = -1;
-    const ParamSpec* spec = declaration(scene, parts);
-    if (!spec && parts.size() >= 2 && is_index(parts.back())) {
-      component = std::stoi(parts.back());
-      parts.pop_back();
-      spec = declaration(scene, parts);
-    }
+    std::vector<size_t> index;
+    const ParamSpec* spec = resolve_key(scene, parts, index);
     if (!spec) fail("not a declared key of this camera");
-    const int n = components(spec->type);
-    if (n == 0 || (component >= 0 && n == 1))
-      fail(fmt::format("a {}: only numbers and vectors of numbers can be solved for",
+    if (depth(spec->type) < 0 || int(index.size()) > depth(spec->type))
+      fail(fmt::format("a {}: only numbers and lists of numbers can be solved for",
                        to_string(spec->type)));
-    if (component >= n) fail(fmt::format("the key has {} components (0..{})", n, n - 1));
     std::string value_key = "camera";
     for (const std::string& p : parts) value_key += "." + p;
     for (const std::string& a : animated)
@@ -171,26 +253,21 @@ FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& sce
     size_t vi = 0;
     while (vi < out.values.size() && out.values[vi].key != value_key) ++vi;
     if (vi == out.values.size()) {
-      std::vector<double> start = start_value(scene, value_key, *spec, n);
-      if (start.empty()) fail("has no value to start from: give it one in the scene");
-      out.values.push_back({value_key, std::move(start), n > 1});
+      FreeValue v = start_value(scene, value_key, *spec);
+      if (v.start.empty()) fail("has no value to start from: give it one in the scene");
+      out.values.push_back(std::move(v));
     }
-    const ParamSpec range = with_world_range(*spec);
-    for (int c = component < 0 ? 0 : component; c < (component < 0 ? n : component + 1); ++c) {
-      for (const FreeScalar& s : out.scalars)
-        if (s.value == vi && s.component == c) fail("is already free (a key that holds it)");
-      double lo = inside(range.min, range.min_exclusive, range.max);
-      double hi = inside(range.max, range.max_exclusive, range.min);
-      if (k.min) lo = std::max(lo, *k.min);
-      if (k.max) hi = std::min(hi, *k.max);
-      if (!(lo <= hi))
-        fail(fmt::format("min and max leave no value in [{}, {}]", range.min, range.max));
-      const double s0 = out.values[vi].start[size_t(c)];
-      if (s0 < lo || s0 > hi)
-        fail(fmt::format("its value {} lies outside the bounds [{}, {}]", s0, lo, hi));
-      out.scalars.push_back(
-          {vi, c, n > 1 ? fmt::format("{}.{}", value_key, c) : value_key, lo, hi, k.where});
+    const std::vector<size_t>& dims = out.values[vi].dims;
+    // The block of components the indices select: [first, first + count).
+    size_t first = 0, count = out.values[vi].start.size();
+    for (size_t l = 0; l < index.size(); ++l) {
+      if (index[l] >= dims[l])
+        fail(fmt::format("index {} is out of range: that level has {} entries (0..{})", index[l],
+                         dims[l], dims[l] - 1));
+      count /= dims[l];
+      first += index[l] * count;
     }
+    add_scalars(out, vi, first, count, *spec, k, fail);
   }
   return out;
 }

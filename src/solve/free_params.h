@@ -1,8 +1,9 @@
 // The free parameters of `anamorph solve`: each [[camera.free]] key resolved to its declaration
 // (camera/presets, the camera's common keys, coins, org/dir functions), its value in the loaded
 // scene (or its declared default) and its bounds (the declared range, narrowed by the entry's
-// min and max). A vector key (camera.look_at) gives one scalar per component; a component key
-// (camera.look_at.1) one scalar of its vector.
+// min and max). A vector or list key (camera.look_at, camera.org.points) gives one scalar per
+// number; indices after it select part of it: camera.look_at.1 one number, camera.org.points.1.2
+// the point in row 1, column 2 (three numbers), camera.org.points.1.2.0 its x.
 #pragma once
 
 #include <string>
@@ -16,14 +17,14 @@ namespace anamorph::solve {
 
 struct FreeValue {
   std::string key;            // the value's own key: "camera.look_at" for camera.look_at.1
-  std::vector<double> start;  // the value's components at the start (1 for a number)
-  bool vector = false;        // written as an array
+  std::vector<double> start;  // the value's numbers at the start, flattened (1 for a number)
+  std::vector<size_t> dims;   // its array extents: {} a number, {3} a Vec3, {rows, cols, 3} a net
 };
 
 struct FreeScalar {
   size_t value;       // index into FreeValues::values
   int component;      // into its start vector
-  std::string name;   // "camera.look_at.1" or "camera.fov", for reports
+  std::string name;   // "camera.look_at.1", "camera.fov", "camera.org.points.1.2.0", for reports
   double lo, hi;      // bounds (may be infinite)
   std::string where;  // the [[camera.free]] entry
 };

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
+
 #include <cmath>
 #include <limits>
 
@@ -63,6 +65,39 @@ double footprint(const Camera& cam, Vec2 uv, double t) {
   return length(cross(r->dorg_du + r->ddir_du * t, r->dorg_dv + r->ddir_dv * t));
 }
 
+// The unit eigenvector of the smallest eigenvalue of the symmetric matrix `m`.
+Eigen::Vector2d least_axis(const Eigen::Matrix2d& m) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(m);
+  return es.eigenvectors().col(0);  // eigenvalues ascending
+}
+
+// Signed distances of the image points `p` (pixels) from the line fitted to them (total least
+// squares), oriented by the chord from the first point to the last so that the sign does not
+// flip between nearby cameras.
+void line_distances(const std::vector<Vec2>& p, double* r) {
+  Vec2 c{0, 0};
+  for (const Vec2& q : p) c = c + q;
+  c = c * (1.0 / double(p.size()));
+  Eigen::Matrix2d m = Eigen::Matrix2d::Zero();
+  for (const Vec2& q : p) {
+    const Eigen::Vector2d d(q.x - c.x, q.y - c.y);
+    m += d * d.transpose();
+  }
+  Eigen::Vector2d n = least_axis(m);
+  const Vec2 chord = p.back() - p.front();
+  if (n.x() * -chord.y + n.y() * chord.x < 0) n = -n;
+  for (size_t i = 0; i < p.size(); ++i) r[i] = n.x() * (p[i].x - c.x) + n.y() * (p[i].y - c.y);
+}
+
+// Distances of the image points `p` (pixels) from the circle about `centre` (pixels) through
+// them: |p - centre| minus its mean over the points.
+void circle_distances(const std::vector<Vec2>& p, Vec2 centre, double* r) {
+  double mean = 0;
+  for (const Vec2& q : p) mean += length(q - centre);
+  mean /= double(p.size());
+  for (size_t i = 0; i < p.size(); ++i) r[i] = length(p[i] - centre) - mean;
+}
+
 }  // namespace
 
 Goals::Goals(const CameraGoals& goals, const Scene& loaded, const Camera& start, int width,
@@ -75,7 +110,12 @@ Goals::Goals(const CameraGoals& goals, const Scene& loaded, const Camera& start,
       it.point =
           v.has("point") ? v.vec3("point") : object_centre(loaded, v.string("object"), c.where);
     if (c.kind == "pin") it.uv = v.vec2("uv");
-    if (c.kind == "size") it.point = v.vec3("from"), it.to = v.vec3("to");
+    if (c.kind == "size" || c.kind == "straight") it.point = v.vec3("from"), it.to = v.vec3("to");
+    if (c.kind == "straight") {
+      const int n = int(v.integer("samples"));
+      for (int k = 0; k < n; ++k)
+        it.samples.push_back(it.point + (it.to - it.point) * (k / (n - 1.0)));
+    }
     if (c.kind == "keep") {
       const int n = int(v.integer("samples"));
       for (int j = 0; j < n; ++j)
@@ -96,6 +136,7 @@ int Goals::residual_count(size_t i) const {
   const std::string& k = items_[i].c.kind;
   if (k == "pin") return 2;
   if (k == "keep") return 2 * int(items_[i].samples.size());
+  if (k == "straight") return int(items_[i].samples.size());
   return 1;
 }
 
@@ -107,7 +148,7 @@ bool Goals::needs_plain() const {
 
 const char* Goals::unit(size_t i) const {
   const std::string& k = items_[i].c.kind;
-  return k == "pin" || k == "keep" ? "px" : "%";
+  return k == "pin" || k == "keep" || k == "straight" ? "px" : "%";
 }
 
 void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
@@ -144,6 +185,8 @@ void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
     const double a = footprint(cam, uv, t), ref = footprint(*cp.plain, uv, t);
     const double m = a > 0 && ref > 0 ? std::sqrt(ref / a) : 0;
     r[0] = 100 * (m / it.c.values.number("magnification") - 1);
+  } else if (it.c.kind == "straight") {
+    straight_residuals(it, cam, r);
   } else {  // keep
     for (size_t k = 0; k < it.samples.size(); ++k) {
       Vec2 uv;
@@ -156,6 +199,24 @@ void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
   }
 }
 
+void Goals::straight_residuals(const Item& it, const Camera& cam, double* r) const {
+  const double w = width_, h = height_;
+  std::vector<Vec2> px;
+  Vec2 uv{0.5, 0.5};
+  for (const Vec3& p : it.samples) {
+    if (!seen_at(cam, p, uv, &uv)) {
+      for (size_t k = 0; k < it.samples.size(); ++k) r[k] = 2 * std::max(w, h);
+      return;
+    }
+    px.push_back({uv.x * w, uv.y * h});
+  }
+  if (it.c.values.string("shape") == "circle") {
+    const Vec2 c = it.c.values.vec2("center");
+    circle_distances(px, {c.x * w, c.y * h}, r);
+  } else
+    line_distances(px, r);
+}
+
 double Goals::measure(size_t i, const CameraPair& cam) const {
   std::vector<double> r(size_t(residual_count(i)));
   residuals(i, cam, r.data());
@@ -166,6 +227,13 @@ double Goals::measure(size_t i, const CameraPair& cam) const {
     for (size_t k = 0; k + 1 < r.size(); k += 2) {
       if (r[k] == unseen && r[k + 1] == unseen) return kUnseen;
       m = std::max(m, std::hypot(r[k], r[k + 1]));
+    }
+    return m;
+  }
+  if (it.c.kind == "straight") {
+    for (double x : r) {
+      if (x == unseen) return kUnseen;
+      m = std::max(m, std::abs(x));
     }
     return m;
   }

@@ -1,5 +1,5 @@
 // The residuals of the camera's constraints (scene/camera_goals.h) for one camera: what the
-// solver drives to zero and what the report shows. Pins and keep are in pixels, size and
+// solver drives to zero and what the report shows. Pins, keep and straight are in pixels, size and
 // magnification in percent of their target.
 #pragma once
 
@@ -42,9 +42,10 @@ class Goals {
     CameraConstraint c;
     Vec3 point, to;             // pin, magnification: point; size: from, to
     Vec2 uv;                    // pin: target
-    std::vector<Vec3> samples;  // keep: points seen by the starting camera
+    std::vector<Vec3> samples;  // keep: points seen by the starting camera; straight: the segment's
     std::vector<Vec2> at;       // keep: where it saw them
   };
+  void straight_residuals(const Item& it, const Camera& cam, double* r) const;
   std::vector<Item> items_;
   int width_, height_;
 };

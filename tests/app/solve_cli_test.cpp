@@ -13,6 +13,7 @@
 
 #include "cli_util.h"
 #include "run_fixture.h"
+#include "solve_util.h"
 #include "test_util.h"
 
 namespace anamorph {
@@ -20,44 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::CliResult;
+using test::numbers_of;
+using test::printed_residual;
+using test::projected;
 
 #define EXPECT_CONTAINS(hay, needle) \
   EXPECT_NE(std::string(hay).find(needle), std::string::npos) << "output was:\n" << (hay)
 
 const char* kImage = "[image]\nwidth = 320\nheight = 240\n";
-
-// Where `anamorph project` puts `p` through `scene`, in pixels (the first position).
-std::vector<double> projected(const std::string& scene, const std::vector<double>& p) {
-  const CliResult r =
-      test::run_cli(fmt::format("project '{}' --point {},{},{}", scene, p[0], p[1], p[2]), 60);
-  EXPECT_EQ(r.code, 0) << r.out;
-  double x = NAN, y = NAN;
-  EXPECT_EQ(std::sscanf(r.out.c_str(), "px %lf py %lf", &x, &y), 2) << r.out;
-  return {x, y};
-}
-
-// The numbers of `key = ...` in TOML text (one, or an array's).
-std::vector<double> numbers_of(const std::string& text, const std::string& key) {
-  std::smatch m;
-  EXPECT_TRUE(std::regex_search(text, m, std::regex("\n" + key + R"( = \[?([^\]\n#]*))")))
-      << key << " not in:\n"
-      << text;
-  std::vector<double> v;
-  std::string s = m.size() > 1 ? m[1].str() : "";
-  for (char& c : s)
-    if (c == ',') c = ' ';
-  std::istringstream is(s);
-  for (double x; is >> x;) v.push_back(x);
-  return v;
-}
-
-// The residual `solve` printed for constraint i, in its unit.
-double printed_residual(const std::string& out, int i) {
-  std::smatch m;
-  const std::regex re(fmt::format(R"(camera\.constraint\[{}\] +\w+ +residual (\S+))", i));
-  EXPECT_TRUE(std::regex_search(out, m, re)) << out;
-  return m.size() > 1 ? std::stod(m[1].str()) : NAN;
-}
 
 // Pins [[camera.constraint]] of `points` where `truth` shows them (through `anamorph project`).
 std::string pins(const std::string& truth, const std::vector<std::vector<double>>& points) {
