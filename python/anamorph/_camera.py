@@ -186,7 +186,7 @@ class Camera:
 
     def stmap(self, source: str, *, width: int | None = None, height: int | None = None,
               inverse: bool = False, source_size: tuple[int, int] | None = None,
-              threads: int = 0) -> dict[str, np.ndarray]:
+              threads: int = 0, depth: float | None = None) -> dict[str, np.ndarray]:
         """The camera as an STMap to a source projection (``"equirect"``, ``"cubemap[:3x2]"``,
         ``"fisheye:FOV[:ASPECT]"``, ``"perspective:FOV[:ASPECT]"``), what ``anamorph stmap``
         writes (docs/compositing.md): ``st`` (H, W, 2) float32, s left to right and t from the
@@ -194,12 +194,15 @@ class Camera:
         pixel has a ray the source shows); ``direction`` (H, W, 3) unit world directions.
         ``inverse``: the map the other way, at ``source_size`` (W, H; default the camera's width
         and the projection's aspect). A camera whose rays leave different points raises
-        ValueError."""
+        ValueError unless ``depth`` is given: the map is then exact at that distance from the
+        rays' mean origin (as ``stmap --depth``)."""
         cam = self._at(width, height)
         sw, sh = (0, 0) if source_size is None else (int(source_size[0]), int(source_size[1]))
         if source_size is not None and not (1 <= sw <= 65536 and 1 <= sh <= 65536):
             raise ValueError(f"source_size {source_size}: each in [1, 65536]")
-        return cam._impl.stmap(source, inverse, sw, sh, threads)
+        if depth is not None and not depth > 0:
+            raise ValueError(f"depth {depth}: a distance > 0")
+        return cam._impl.stmap(source, inverse, sw, sh, threads, float(depth or 0.0))
 
     def solve(self, constraints: Sequence[Mapping[str, Any]],
               free: Sequence[str | Mapping[str, Any]], *, check: bool = True,

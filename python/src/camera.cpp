@@ -113,9 +113,9 @@ pb::tuple project(const CameraHandle& c, const Doubles& points, int threads) {
 // The camera's STMap to the source projection `spec` (camera/stmap.h): st (H, W, 2), alpha (H,
 // W), direction (H, W, 3), float32; with `inverse` the map the other way at the source's size
 // (source_width, source_height; 0: the camera's width and the projection's aspect). A
-// non-central camera raises ValueError (NonCentralCamera).
+// non-central camera raises ValueError (NonCentralCamera) unless `depth` > 0 (DepthSphere).
 pb::dict stmap(const CameraHandle& c, const std::string& spec, bool inverse, int source_width,
-               int source_height, int threads) {
+               int source_height, int threads, double depth) {
   const Camera& cam = c.camera();
   const int W = c.width(), H = c.height();
   const bool sized = source_width > 0 && source_height > 0;
@@ -124,15 +124,16 @@ pb::dict stmap(const CameraHandle& c, const std::string& spec, bool inverse, int
   StMap m;
   {
     pb::gil_scoped_release release;
-    const Vec3 origin = central_origin(cam, W, H);
+    const std::optional<double> d = depth > 0 ? std::optional(depth) : std::nullopt;
+    const DepthSphere sphere = map_sphere(cam, W, H, d);
     in_arena(threads, [&] {
       if (!inverse) {
-        m = forward_stmap(cam, *source, W, H);
+        m = forward_stmap(cam, *source, W, H, d ? std::optional(sphere) : std::nullopt);
         return;
       }
       const int sw = sized ? source_width : W;
       const int sh = sized ? source_height : std::max(1, int(std::lround(sw / source->aspect())));
-      m = inverse_stmap(cam, origin, *source, sw, sh);
+      m = inverse_stmap(cam, sphere, *source, sw, sh);
     });
   }
   const pb::ssize_t h = m.height, w = m.width;
@@ -174,7 +175,7 @@ void bind_camera(pb::module_& m) {
            pb::arg("time"), pb::arg("differentials"), pb::arg("threads"))
       .def("project", &project, pb::arg("points"), pb::arg("threads"))
       .def("stmap", &stmap, pb::arg("source"), pb::arg("inverse"), pb::arg("source_width"),
-           pb::arg("source_height"), pb::arg("threads"));
+           pb::arg("source_height"), pb::arg("threads"), pb::arg("depth") = 0.0);
 }
 
 }  // namespace anamorph::py

@@ -214,6 +214,22 @@ def test_stmap_refuses_a_camera_that_is_not_central():
         anamorph.Camera("fisheye", width=16, height=16).stmap("mercator")
 
 
+def test_stmap_with_a_depth_maps_a_camera_that_is_not_central():
+    # An orthographic view 2 wide along -z (the default view) at depth 4: each ray from (x, y, 0)
+    # leaves the sphere at (x, y, -sqrt(16 - x^2 - y^2)), seen from the centre.
+    cam = anamorph.Camera("orthographic", width=16, height=16, view_width=2)
+    m = cam.stmap("equirect", depth=4.0)
+    assert np.all(m["alpha"] == 1)
+    c = (np.arange(16) + 0.5) / 16 * 2 - 1
+    x, y = np.meshgrid(c, -c)
+    d = np.stack([x, y, -np.sqrt(16 - x * x - y * y)], axis=-1) / 4
+    np.testing.assert_allclose(m["direction"], d, atol=1e-6)
+    s = 0.5 + np.arctan2(d[..., 0], -d[..., 2]) / (2 * np.pi)
+    np.testing.assert_allclose(m["st"][..., 0], s, atol=1e-6)
+    with pytest.raises(ValueError, match="depth"):
+        cam.stmap("equirect", depth=0)
+
+
 @pytest.fixture(scope="module")
 def small_equirect(tmp_path_factory):
     """A 128 x 64 equirect render of the fisheye example's world (EXR, 4 spp)."""

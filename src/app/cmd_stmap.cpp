@@ -20,6 +20,7 @@ struct StmapArgs {
   SceneOptions scene;
   std::string source, output, source_size;
   bool inverse = false;
+  double depth = 0;  // 0: the camera must be central
 };
 
 OutputImage map_image(const StMap& m) {
@@ -54,14 +55,16 @@ int run_stmap(const StmapArgs& a) {
   const Scene s = load(a.scene);
   check_outputs(s.inputs, outputs);
   const int W = s.render.width, H = s.render.height;
-  const Vec3 origin = central_origin(*s.camera, W, H);
+  const std::optional<double> depth = a.depth > 0 ? std::optional(a.depth) : std::nullopt;
+  const DepthSphere sphere = map_sphere(*s.camera, W, H, depth);
   OutputImage img;
   if (a.inverse) {
     const int sw = size ? size->first : W;
     const int sh = size ? size->second : std::max(1, int(std::lround(sw / source->aspect())));
-    img = map_image(inverse_stmap(*s.camera, origin, *source, sw, sh));
+    img = map_image(inverse_stmap(*s.camera, sphere, *source, sw, sh));
   } else {
-    img = map_image(forward_stmap(*s.camera, *source, W, H));
+    img = map_image(
+        forward_stmap(*s.camera, *source, W, H, depth ? std::optional(sphere) : std::nullopt));
   }
   img.metadata["anamorph.command"] = command_line();
   img.metadata["anamorph.camera"] = s.camera->describe() + "\n" + s.camera_toml;
@@ -69,6 +72,10 @@ int run_stmap(const StmapArgs& a) {
       "{} {}: R = s, G = t (from the bottom), A = coverage; direction.XYZ = unit "
       "world direction",
       a.inverse ? "source -> camera" : "camera -> source", source->describe());
+  if (depth)
+    img.metadata["anamorph.stmap.depth"] = fmt::format(
+        "exact at distance {:.17g} from the eye ({:.17g}, {:.17g}, {:.17g}), the mean ray origin",
+        sphere.depth, sphere.eye.x, sphere.eye.y, sphere.eye.z);
   write_exr(out, img);
   return kOk;
 }
@@ -87,6 +94,10 @@ void add_stmap(CLI::App& app, std::function<int()>& runner) {
   cmd->add_flag("--inverse", a->inverse,
                 "The map the other way: for each source pixel, the camera's image position (alpha "
                 "0 where no camera pixel sees its direction)");
+  cmd->add_option("--depth", a->depth,
+                  "For a camera whose rays leave different points: the distance D at which the map "
+                  "is exact (the world taken as a sphere of radius D about the mean ray origin)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option(
       "--source-size", a->source_size,
       "WxH of the source image: its aspect for fisheye and perspective sources (default "

@@ -62,12 +62,52 @@ Vec3 central_origin(const Camera& camera, int width, int height) {
   return *first;
 }
 
-StMap forward_stmap(const Camera& camera, const SourceProjection& source, int width, int height) {
+Vec3 mean_origin(const Camera& camera, int width, int height) {
+  constexpr int kGrid = 33;
+  Vec3 sum;
+  int n = 0;
+  for (int j = 0; j < kGrid; ++j)
+    for (int i = 0; i < kGrid; ++i)
+      if (const auto r =
+              ray_at(camera, (i + 0.5) / kGrid * width, (j + 0.5) / kGrid * height, width, height))
+        sum += r->org, ++n;
+  if (n == 0) throw NonCentralCamera("the camera has no ray anywhere in the image");
+  return sum / double(n);
+}
+
+std::optional<CameraRay> seen_from_eye(const CameraRay& r, const DepthSphere& s) {
+  // |o + t d - eye| = depth, the larger root (the ray leaving the sphere).
+  const Vec3 oc = r.org - s.eye;
+  const double b = dot(oc, r.dir), c = dot(oc, oc) - s.depth * s.depth;
+  const double disc = b * b - c;
+  if (!(disc >= 0)) return std::nullopt;
+  const double t = -b + std::sqrt(disc);
+  if (!(t > 0)) return std::nullopt;
+  const Vec3 n = (oc + r.dir * t) / s.depth;  // the unit direction from the eye
+  const double nd = dot(n, r.dir);
+  if (!(nd > 0)) return std::nullopt;
+  // On the sphere dP.n = 0, so dt = -n.(do + t dd) / n.d and the direction moves by dP / depth.
+  const auto moved = [&](const Vec3& dorg, const Vec3& ddir) {
+    const Vec3 a = dorg + ddir * t;
+    return (a - r.dir * (dot(n, a) / nd)) / s.depth;
+  };
+  return CameraRay{
+      s.eye, n, Vec3{}, Vec3{}, moved(r.dorg_du, r.ddir_du), moved(r.dorg_dv, r.ddir_dv)};
+}
+
+DepthSphere map_sphere(const Camera& camera, int width, int height, std::optional<double> depth) {
+  if (depth) return {mean_origin(camera, width, height), *depth};
+  return {central_origin(camera, width, height), 1};
+}
+
+StMap forward_stmap(const Camera& camera, const SourceProjection& source, int width, int height,
+                    const std::optional<DepthSphere>& sphere) {
   StMap m = empty_map(width, height);
   parallel_for_each(0, height, [&](int y) {
     for (int x = 0; x < width; ++x) {
       const size_t i = size_t(y) * size_t(width) + size_t(x);
-      const auto r = ray_at(camera, x + 0.5, y + 0.5, width, height);
+      auto r = ray_at(camera, x + 0.5, y + 0.5, width, height);
+      if (r && sphere) r = seen_from_eye(*r, *sphere);
       if (!r) continue;
       const auto uv = source.to_image(r->dir);
       put_pixel(&m, i, uv.value_or(Vec2{}), r->dir, bool(uv));
@@ -76,7 +116,7 @@ StMap forward_stmap(const Camera& camera, const SourceProjection& source, int wi
   return m;
 }
 
-StMap inverse_stmap(const Camera& camera, const Vec3& origin, const SourceProjection& source,
+StMap inverse_stmap(const Camera& camera, const DepthSphere& sphere, const SourceProjection& source,
                     int source_width, int source_height) {
   StMap m = empty_map(source_width, source_height);
   parallel_for_each(0, source_height, [&](int y) {
@@ -84,12 +124,13 @@ StMap inverse_stmap(const Camera& camera, const Vec3& origin, const SourceProjec
       const size_t i = size_t(y) * size_t(source_width) + size_t(x);
       const auto d = source.to_direction({(x + 0.5) / source_width, (y + 0.5) / source_height});
       if (!d) continue;
-      // A point one unit along the direction: the image positions whose rays pass through it,
+      // The sphere's point in that direction: the image positions whose rays pass through it,
       // kept only when the ray points that way (not through it backwards).
+      const Vec3 p = sphere.eye + *d * sphere.depth;
       std::optional<Vec2> hit;
-      for (const Vec2& uv : camera.project(origin + *d)) {
+      for (const Vec2& uv : camera.project(p)) {
         const auto r = camera.generate(CameraSample{uv});
-        if (r && dot(r->dir, *d) > 1 - 1e-6) {
+        if (r && dot(r->dir, normalize(p - r->org)) > 1 - 1e-6) {
           hit = uv;
           break;
         }

@@ -7,9 +7,10 @@
 // right in [0,1] with pixel centers at (x + 0.5) / W; t from the BOTTOM of the source:
 // t = 1 - v = 1 - (y + 0.5) / H at the center of row y (row 0 on top).
 // Only a central camera (one eye point: every ray leaves the same origin) is a reprojection of
-// directions; others are refused (NonCentralCamera).
+// directions; others are refused (NonCentralCamera), or mapped through a DepthSphere.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -26,6 +27,28 @@ struct NonCentralCamera : std::runtime_error {
 // throws NonCentralCamera naming two pixels whose origins differ, or when no ray exists.
 Vec3 central_origin(const Camera& camera, int width, int height);
 
+// The mean origin of the camera's rays on the same grid (a non-central camera's eye for a
+// DepthSphere: the centre of an omnidirectional stereo circle, of a light-field array).
+Vec3 mean_origin(const Camera& camera, int width, int height);
+
+// A non-central camera as a reprojection: the world taken as a sphere of radius `depth` about
+// `eye` (what a 360-degree image is to its viewer). A camera ray is carried to where it leaves
+// that sphere and seen from the eye: exact for points at that distance from the eye, and, for a
+// central camera at the eye, its own directions.
+struct DepthSphere {
+  Vec3 eye;
+  double depth = 1;
+};
+// The ray seen from the sphere's eye: origin the eye, unit direction toward the ray's point on
+// the sphere, and the differentials of that direction (dorg zero); none when the ray does not
+// leave the sphere ahead (its origin outside it, pointing away).
+std::optional<CameraRay> seen_from_eye(const CameraRay& r, const DepthSphere& s);
+
+// The sphere a map goes through: with `depth` (> 0), {mean_origin, depth} for any camera;
+// without, a central camera's {central_origin, 1} (NonCentralCamera for another).
+DepthSphere map_sphere(const Camera& camera, int width, int height,
+                       std::optional<double> depth = std::nullopt);
+
 // A map of width x height pixels, top row first: st (2 floats per pixel, the convention above),
 // alpha (1 where the pixel has a ray and the other side shows its direction, else 0, st 0),
 // direction (3 floats, the unit world direction; 0 where none).
@@ -34,13 +57,15 @@ struct StMap {
   std::vector<float> st, alpha, direction;
 };
 
-// Camera pixel -> source position.
-StMap forward_stmap(const Camera& camera, const SourceProjection& source, int width, int height);
+// Camera pixel -> source position (through `sphere` when given).
+StMap forward_stmap(const Camera& camera, const SourceProjection& source, int width, int height,
+                    const std::optional<DepthSphere>& sphere = std::nullopt);
 
 // Source pixel (source_width x source_height) -> camera position (s = u, t = 1 - v of the
-// camera's image): the first image position Camera::project gives for the direction whose ray
-// has that direction. `origin` is central_origin's.
-StMap inverse_stmap(const Camera& camera, const Vec3& origin, const SourceProjection& source,
+// camera's image): the first image position Camera::project gives for the point of the sphere in
+// the pixel's direction from its eye whose ray goes toward that point. A central camera's sphere
+// is {central_origin, 1}.
+StMap inverse_stmap(const Camera& camera, const DepthSphere& sphere, const SourceProjection& source,
                     int source_width, int source_height);
 
 // The source position of a unit direction and its change per target pixel along x and y, from

@@ -328,4 +328,35 @@ TEST(StmapCli, BadInputsExitTwoNamed) {
 }
 
 }  // namespace
+// stmap --depth maps a non-central camera (an orthographic view 2 wide along -z, 16 px, at depth
+// 4: pixel (8, 8)'s ray from (1/16, -1/16, 0) about the eye leaves the sphere almost ahead) and
+// says so in the header; a depth of 0 is refused.
+TEST(StmapCli, DepthMapsANonCentralCamera) {
+  Fixture fx;
+  const std::string ortho = fx.dir.write(
+      "o.toml",
+      scene("preset = \"orthographic\"\nview_width = 2\nlook_at = [0.3, 0.9, 0.5]\n", 16, 16, 1));
+  const std::string out = fx.path("m.exr");
+  const CliResult r = test::run_cli("stmap " + ortho + " --source equirect --depth 4 -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(read_metadata(out).at("anamorph.stmap.depth"),
+                  "exact at distance 4 from the eye");
+  int w = 0, h = 0;
+  auto ch = read_exr_channels(out, &w, &h);
+  ASSERT_EQ(w * h, 16 * 16);
+  // Pixel (8, 8): origin (0.0625, -0.0625, 0), direction -z; its point on the sphere, seen from
+  // the eye at the origin through the equirect (t from the bottom).
+  const double x = 0.0625, y = -0.0625, z = -std::sqrt(16 - x * x - y * y);
+  const double s = 0.5 + std::atan2(x, -z) / (2 * 3.141592653589793);
+  const double t = 0.5 + std::asin(y / 4) / 3.141592653589793;
+  const size_t i = 8 * 16 + 8;
+  EXPECT_NEAR(ch["R"][i], s, 1e-6);
+  EXPECT_NEAR(ch["G"][i], t, 1e-6);
+  EXPECT_EQ(ch["A"][i], 1.0f);
+  const CliResult zero =
+      test::run_cli("stmap " + ortho + " --source equirect --depth 0 -o " + fx.path("z.exr"));
+  EXPECT_EQ(zero.code, 2) << zero.out;
+  EXPECT_CONTAINS(zero.out, "--depth");
+}
+
 }  // namespace anamorph

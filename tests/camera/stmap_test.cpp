@@ -151,8 +151,7 @@ TEST(StMap, ForwardOfInverseIsTheIdentity) {
     VirtualCameraParts parts = make_preset(c.preset, c.toml, {W, H});
     if (!c.coin.empty()) parts.coins.push_back(make_coin(c.coin));
     const VirtualCamera cam(std::move(parts));
-    const Vec3 o = central_origin(cam, W, H);
-    const StMap inv = inverse_stmap(cam, o, *source, SW, SH);
+    const StMap inv = inverse_stmap(cam, map_sphere(cam, W, H), *source, SW, SH);
     int defined = 0;
     double worst = 0;
     for (int y = 0; y < SH; ++y)
@@ -187,6 +186,62 @@ TEST(StMap, NonCentralCamerasAreRefused) {
   const VirtualCamera fish = test::camera("fisheye", "look_from = [1, 2, 3]", {16, 16});
   const Vec3 o = central_origin(fish, 16, 16);
   EXPECT_LT(length(o - Vec3{1, 2, 3}), 1e-12) << str(o);
+}
+
+// A non-central camera through a sphere of radius D about its mean origin: an orthographic
+// camera's ray from (x, y, 0) along -z leaves the sphere at (x, y, -sqrt(D^2 - x^2 - y^2)), seen
+// from the centre in that direction; the differentials are those of the carried direction; and
+// forward o inverse is the identity.
+TEST(StMap, ANonCentralCameraMapsThroughASphereAtTheGivenDepth) {
+  const int W = 24, H = 16;
+  const VirtualCamera ortho = test::camera("orthographic", "view_width = 3", {W, H});
+  const double D = 2.5;
+  const DepthSphere sphere = map_sphere(ortho, W, H, D);
+  EXPECT_LT(length(sphere.eye), 1e-12) << str(sphere.eye);
+  const auto source = make_source_projection("equirect");
+  const StMap m = forward_stmap(ortho, *source, W, H, sphere);
+  double worst = 0, worst_d = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+      const auto r = test::ray(ortho, uv);
+      ASSERT_TRUE(r);
+      const Vec3 o = r->org;
+      const Vec3 want = Vec3{o.x, o.y, -std::sqrt(D * D - o.x * o.x - o.y * o.y)} / D;
+      const auto st = source->to_image(want);
+      ASSERT_TRUE(st);
+      const size_t i = size_t(y) * W + size_t(x);
+      ASSERT_EQ(m.alpha[i], 1.0f);
+      worst = std::max(worst, std::hypot(m.st[2 * i] - st->x, m.st[2 * i + 1] - (1 - st->y)));
+      // d(direction)/du against a central difference of the carried directions.
+      const double h = 1e-6;
+      const auto at = [&](double du) {
+        return seen_from_eye(*test::ray(ortho, {uv.x + du, uv.y}), sphere)->dir;
+      };
+      const Vec3 fd = (at(h) - at(-h)) / (2 * h);
+      worst_d = std::max(worst_d, length(seen_from_eye(*r, sphere)->ddir_du - fd));
+    }
+  EXPECT_LT(worst, 1e-6) << "largest st difference from the closed form";
+  EXPECT_LT(worst_d, 1e-5) << "largest ddir_du difference from finite differences";
+  // The inverse: each defined source pixel's camera position carries back to that pixel.
+  const int SW = 64, SH = 32;
+  const StMap inv = inverse_stmap(ortho, sphere, *source, SW, SH);
+  int defined = 0;
+  double back_worst = 0;
+  for (int y = 0; y < SH; ++y)
+    for (int x = 0; x < SW; ++x) {
+      const size_t i = size_t(y) * SW + size_t(x);
+      if (inv.alpha[i] == 0) continue;
+      ++defined;
+      const auto r = test::ray(ortho, {inv.st[2 * i], 1 - double(inv.st[2 * i + 1])});
+      ASSERT_TRUE(r);
+      const auto back = source->to_image(seen_from_eye(*r, sphere)->dir);
+      ASSERT_TRUE(back);
+      back_worst =
+          std::max(back_worst, std::hypot(back->x * SW - (x + 0.5), back->y * SH - (y + 0.5)));
+    }
+  EXPECT_GT(defined, 8) << "source pixels that the orthographic view covers";
+  EXPECT_LT(back_worst, 1e-3) << "largest |forward(inverse(p)) - p| in source pixels";
 }
 
 }  // namespace
