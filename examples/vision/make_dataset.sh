@@ -12,7 +12,9 @@ bin=${2:-anamorph}
 frames=${3:-0:8}
 size=""
 if [ -n "${4:-}" ]; then
-  case $4 in *[!0-9]*) echo "make_dataset.sh: SIZE must be a whole number, not '$4'" >&2; exit 2 ;; esac
+  case $4 in
+    *[!0-9]*) echo "make_dataset.sh: SIZE must be a whole number, not '$4'" >&2; exit 2 ;;
+  esac
   size="--width $4 --height $4"
 fi
 mkdir -p "$out/colmap"
@@ -24,4 +26,5 @@ for f in "opencv camera_opencv.yml" "kalibr camchain.yaml" "colmap colmap"; do
   "$bin" calib "$here/sequence.toml" $size --set 'camera.shutter=[0, 0]' \
     --set camera.rolling_shutter=none --format "${f% *}" -o "$out/${f#* }"
 done
-echo "wrote $out: frame_NNNN.png (RGB) and frame_NNNN.exr (layers), camera_opencv.yml, camchain.yaml, colmap/"
+echo "wrote $out: frame_NNNN.png (RGB) and frame_NNNN.exr (layers)," \
+  "camera_opencv.yml, camchain.yaml, colmap/"

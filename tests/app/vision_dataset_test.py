@@ -24,10 +24,11 @@ try:
     import cv2
     import numpy as np
     import OpenImageIO as oiio
-    import yaml  # noqa: F401 (calib_check.py reads the Kalibr file with it)
+    import yaml
 except ImportError as e:
     print(f"SKIP: {e} (Debian: python3-numpy, python3-opencv, python3-openimageio, python3-yaml)")
     sys.exit(77)
+del yaml  # (calib_check.py reads the Kalibr file with it)
 
 LAYERS = {"distance": ["D"], "depth_z": ["Z"], "normal": ["X", "Y", "Z"], "id": ["id"],
           "flow_forward": ["X", "Y", "valid"], "flow_backward": ["X", "Y", "valid"],
@@ -70,7 +71,8 @@ def check_frame(out, f):
             check(f"{layer}.{c}" in ch, f"{path}: channel {layer}.{c} (has {sorted(ch)})")
         check(len(attrs.get(f"anamorph.layer.{layer}", "")) > 20,
               f"{path}: attribute anamorph.layer.{layer} with its definition")
-    check(attrs.get("anamorph.frame") == str(f), f"{path}: anamorph.frame {attrs.get('anamorph.frame')}")
+    frame = attrs.get("anamorph.frame")
+    check(frame == str(f), f"{path}: anamorph.frame {frame}")
     hit = ch["id.id"] >= 0
     check(0 < hit.sum() < hit.size, f"{path}: {hit.sum()} of {hit.size} pixels hit")
     for name in ("distance.D", "depth_z.Z"):
@@ -103,10 +105,10 @@ def check_calibration(bin, src, out):
     args = [",".join(map(repr, p)) for p in pts]
     for kind, f in (("opencv", "camera_opencv.yml"), ("kalibr", "camchain.yaml"),
                     ("colmap", "colmap")):
-        got = np.array([[float(v) for v in line.split()] for line in
-                        run(sys.executable, checker, kind, os.path.join(out, f), *args).splitlines()])
+        lines = run(sys.executable, checker, kind, os.path.join(out, f), *args).splitlines()
+        got = np.array([[float(v) for v in line.split()] for line in lines])
         worst = np.abs(got - ref).max()
-        print(f"{kind}: worst difference from anamorph project {worst:.3g} px over {len(pts)} points")
+        print(f"{kind}: worst difference from anamorph project {worst:.3g} px, {len(pts)} points")
         check(worst < 2e-6, f"{f}: projects {got.tolist()}, anamorph project {ref.tolist()}")
     for f in ("camera_opencv.yml", "camchain.yaml"):
         toml = os.path.join(out, f + ".toml")
