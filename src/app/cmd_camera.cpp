@@ -103,6 +103,7 @@ struct ProjectArgs {
   SceneOptions scene;
   std::string point;
   bool json = false;
+  int frame = 0;
 };
 
 int run_project(const ProjectArgs& a) {
@@ -117,7 +118,7 @@ int run_project(const ProjectArgs& a) {
       return kBadInput;
     }
   }
-  const Scene s = load(a.scene);
+  const Scene s = load(a.scene, {}, a.frame);
   const std::vector<Vec2> seen = s.camera->project(p);
   if (a.json) {
     std::string list;
@@ -158,6 +159,7 @@ void add_project(CLI::App& app, std::function<int()>& runner) {
       "(floating-point pixels from the top-left corner)");
   a->scene.add_to(*cmd);
   cmd->add_option("--point", a->point, "World point X,Y,Z")->required();
+  cmd->add_option("--frame", a->frame, "The frame of the scene's [[animate]] keys (default 0)");
   cmd->add_flag("--json", a->json,
                 "Print {\"point\", \"width\", \"height\", \"pixels\": [[px, py], ...]} instead");
   cmd->callback([a, &runner] { runner = [a] { return run_project(*a); }; });

@@ -45,13 +45,13 @@ class CameraBuilder {
     try {
       std::vector<std::string> o = in_.overrides;
       for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
-      camera_ =
-          std::make_unique<Scene>(load_view_from_string(in_.text, in_.file, o, 0, *in_.loaded));
+      camera_ = std::make_unique<Scene>(
+          load_view_from_string(in_.text, in_.file, o, in_.frame, *in_.loaded));
       pair_ = {camera_->camera.get(), nullptr};
       if (plain_) {
         std::erase_if(o, is_coin_key);
         plain_camera_ = std::make_unique<Scene>(
-            load_view_from_string(plain_text_, in_.file, o, 0, *in_.loaded));
+            load_view_from_string(plain_text_, in_.file, o, in_.frame, *in_.loaded));
         pair_.plain = plain_camera_->camera.get();
       }
     } catch (const std::exception&) {
@@ -157,8 +157,7 @@ bool met(const Goals& goals, size_t i, CameraBuilder& b, const std::vector<doubl
 // For each constraint not met: is it met alone (from the start)? Then which one it cannot be met
 // together with (pairs solved from the start; up to 12 constraints).
 void explain_unmet(SolveReport& rep, const Goals& goals, const FreeValues& free,
-                   const SolveOptions& opt, CameraBuilder& b) {
-  const std::vector<double> x0 = free.start();
+                   const std::vector<double>& x0, const SolveOptions& opt, CameraBuilder& b) {
   for (size_t i = 0; i < goals.size(); ++i) {
     ConstraintReport& r = rep.constraints[i];
     if (r.met) continue;
@@ -194,10 +193,13 @@ SolveReport solve_camera(const SolveInput& in) {
   const FreeValues free = resolve_free(g.free, root, loaded.animated, in.file.string());
   const Goals goals(g, loaded, *loaded.camera, loaded.render.width, loaded.render.height);
   CameraBuilder builder(in, free, goals.needs_plain());
-  if (!builder.at(free.start().data()))
+  const std::vector<double> x0 = in.start.empty() ? free.start() : in.start;
+  if (x0.size() != free.scalars.size())
+    throw SceneError(at, "camera.free", "the start values do not match the free keys");
+  if (!builder.at(x0.data()))
     throw SceneError(at, "camera", "the camera cannot be built at the start values");
 
-  const Run best = run(all_of(goals.size()), free.start(), goals, free, g.options, builder);
+  const Run best = run(all_of(goals.size()), x0, goals, free, g.options, builder);
   SolveReport rep;
   rep.iterations = best.iterations;
   rep.termination = best.termination;
@@ -205,12 +207,12 @@ SolveReport solve_camera(const SolveInput& in) {
   for (size_t k = 0; k < free.scalars.size(); ++k) {
     const FreeScalar& s = free.scalars[k];
     const double v = best.x[k];
-    rep.values.push_back({s.name, free.start()[k], v, s.lo, s.hi, v <= s.lo || v >= s.hi});
+    rep.values.push_back({s.name, x0[k], v, s.lo, s.hi, v <= s.lo || v >= s.hi});
   }
   const CameraPair* cam = builder.at(best.x.data());
   if (!cam) throw SceneError(at, "camera", "the camera cannot be built at the solved values");
   for (size_t i = 0; i < goals.size(); ++i) rep.constraints.push_back(report(goals, i, *cam));
-  if (!rep.all_met()) explain_unmet(rep, goals, free, g.options, builder);
+  if (!rep.all_met()) explain_unmet(rep, goals, free, x0, g.options, builder);
   return rep;
 }
 

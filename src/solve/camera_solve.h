@@ -49,6 +49,10 @@ struct SolveInput {
   std::filesystem::path file;
   std::vector<std::string> overrides;  // --set etc., as the scene was loaded with
   const Scene* loaded = nullptr;       // the scene loaded from them (objects, model cameras)
+  double frame = 0;                    // the frame `loaded` was loaded at
+  // Where the solve starts, one number per free scalar (`solve --frames`: the previous frame's
+  // solution); empty: the scene's own values.
+  std::vector<double> start;
 };
 
 // Throws SceneError for goals that cannot be solved as given (no constraint or free key, a key

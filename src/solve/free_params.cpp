@@ -249,7 +249,9 @@ FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& sce
     for (const std::string& p : parts) value_key += "." + p;
     for (const std::string& a : animated)
       if (a == value_key || k.key.starts_with(a + ".") || a.starts_with(value_key + "."))
-        fail("has [[animate]] keys: solving an animated key is not supported yet");
+        fail(
+            "has [[animate]] keys: a free key cannot be animated (solve --frames writes its keys; "
+            "solve the scene without them)");
     size_t vi = 0;
     while (vi < out.values.size() && out.values[vi].key != value_key) ++vi;
     if (vi == out.values.size()) {

@@ -56,6 +56,7 @@ anamorph_add_test(test_calib_cli
   ${CMAKE_CURRENT_LIST_DIR}/calib_cli_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vision_cli_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/solve_cli_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/solve_frames_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/solve_goals_test.cpp
 )
 add_dependencies(test_calib_cli anamorph)
