@@ -1,7 +1,9 @@
 #include "app/build_id.h"
 
 #include <dlfcn.h>
+#include <elf.h>
 #include <fmt/format.h>
+#include <link.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -15,7 +17,46 @@ namespace anamorph::app {
 
 namespace {
 
-// Every byte of the file, eight at a time through a 64-bit mixer.
+// The linker's GNU build ID (a hash of the linked code) of the loaded object holding `addr`;
+// empty when it has none.
+std::string gnu_build_id(const void* addr) {
+  struct Search {
+    uintptr_t addr;
+    std::string id;
+  } s{reinterpret_cast<uintptr_t>(addr), {}};
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) {
+        auto& s = *static_cast<Search*>(data);
+        bool holds = false;
+        for (int i = 0; i < info->dlpi_phnum; ++i) {
+          const ElfW(Phdr)& p = info->dlpi_phdr[i];
+          const uintptr_t lo = info->dlpi_addr + p.p_vaddr;
+          if (p.p_type == PT_LOAD && s.addr >= lo && s.addr < lo + p.p_memsz) holds = true;
+        }
+        if (!holds) return 0;
+        for (int i = 0; i < info->dlpi_phnum; ++i) {
+          const ElfW(Phdr)& p = info->dlpi_phdr[i];
+          if (p.p_type != PT_NOTE) continue;
+          const char* n = reinterpret_cast<const char*>(info->dlpi_addr + p.p_vaddr);
+          const char* end = n + p.p_memsz;
+          while (n + sizeof(ElfW(Nhdr)) <= end) {
+            const auto* h = reinterpret_cast<const ElfW(Nhdr)*>(n);
+            const char* name = n + sizeof(ElfW(Nhdr));
+            const char* desc = name + ((h->n_namesz + 3) & ~3u);
+            if (h->n_type == NT_GNU_BUILD_ID && h->n_namesz == 4 &&
+                std::memcmp(name, "GNU", 4) == 0 && desc + h->n_descsz <= end)
+              for (unsigned k = 0; k < h->n_descsz; ++k)
+                s.id += fmt::format("{:02x}", static_cast<unsigned char>(desc[k]));
+            n = desc + ((h->n_descsz + 3) & ~3u);
+          }
+        }
+        return 1;
+      },
+      &s);
+  return s.id;
+}
+
+// Every byte of the file, eight at a time through a 64-bit mixer (without a build ID).
 std::string hash_of_file(const char* path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) return "";
@@ -38,9 +79,9 @@ std::string hash_of_file(const char* path) {
 
 const std::string& build_id() {
   static const std::string id = [] {
+    std::string h = gnu_build_id(reinterpret_cast<const void*>(&build_id));
     Dl_info info{};
-    std::string h;
-    if (::dladdr(reinterpret_cast<void*>(&build_id), &info) && info.dli_fname)
+    if (h.empty() && ::dladdr(reinterpret_cast<void*>(&build_id), &info) && info.dli_fname)
       h = hash_of_file(info.dli_fname);
     if (h.empty()) h = hash_of_file("/proc/self/exe");
     return h.empty() ? std::string("unknown") : h;

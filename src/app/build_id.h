@@ -7,9 +7,9 @@
 
 namespace anamorph::app {
 
-// A 64-bit hash (hex) of the file this code was loaded from: the program, or the Python module
-// it is linked into. Computed once per process (about 3 ms for 10 MB); "unknown" when the file
-// cannot be read.
+// The GNU build ID (hex: the linker's hash of the code) of the object this code is linked into,
+// the program or the Python module; without one, a 64-bit hash of that object's file
+// ("HASH-SIZE"); "unknown" when neither can be had. Computed once per process.
 const std::string& build_id();
 
 }  // namespace anamorph::app
