@@ -7,7 +7,22 @@
 namespace anamorph::test {
 namespace {
 
-using PreviewTest = ServerTest;
+class PreviewTest : public ServerTest {
+ protected:
+  // The final render's status once it is no longer running (within 60 s), as text.
+  std::string render_status_when_ended() {
+    std::string last;
+    EXPECT_TRUE(eventually(
+        [&] {
+          last = get("/api/render").body;
+          const json s = json::parse(last, nullptr, false);
+          return s.is_object() && s.value("state", "") != "running";
+        },
+        60))
+        << last;
+    return last;
+  }
+};
 
 int64_t header_int(const Reply& r, const std::string& name) {
   const std::string v = r.header(name);
@@ -163,15 +178,7 @@ TEST_F(PreviewTest, FinalRenderGivesAPng) {
   EXPECT_EQ(get("/api/render/result.png").status, 404);
   const Reply start = post("/api/render", json{{"png", true}});
   ASSERT_EQ(start.status, 200) << start.body;
-  std::string last;
-  EXPECT_TRUE(eventually(
-      [&] {
-        last = get("/api/render").body;
-        const json s = json::parse(last, nullptr, false);
-        return s.is_object() && s.value("state", "") != "running";
-      },
-      60))
-      << last;
+  const std::string last = render_status_when_ended();
   EXPECT_EQ(json::parse(last, nullptr, false).value("state", ""), "done") << last;
   const Reply png = get("/api/render/result.png");
   ASSERT_EQ(png.status, 200) << png.body.substr(0, 200);
@@ -202,15 +209,7 @@ TEST_F(PreviewTest, FinalRenderGivesAPng) {
 TEST_F(PreviewTest, FinalRenderGivesAnExrByItsSinkName) {
   const Reply start = post("/api/render", json{{"formats", {"exr"}}});
   ASSERT_EQ(start.status, 200) << start.body;
-  std::string last;
-  EXPECT_TRUE(eventually(
-      [&] {
-        last = get("/api/render").body;
-        const json s = json::parse(last, nullptr, false);
-        return s.is_object() && s.value("state", "") != "running";
-      },
-      60))
-      << last;
+  const std::string last = render_status_when_ended();
   const json s = json::parse(last);
   EXPECT_EQ(s["formats"], json::array({"exr"})) << last;
   EXPECT_EQ(s["exr"], true);
