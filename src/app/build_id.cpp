@@ -26,12 +26,12 @@ std::string gnu_build_id(const void* addr) {
   } s{reinterpret_cast<uintptr_t>(addr), {}};
   dl_iterate_phdr(
       [](dl_phdr_info* info, size_t, void* data) {
-        auto& s = *static_cast<Search*>(data);
+        auto& found = *static_cast<Search*>(data);
         bool holds = false;
         for (int i = 0; i < info->dlpi_phnum; ++i) {
           const ElfW(Phdr)& p = info->dlpi_phdr[i];
           const uintptr_t lo = info->dlpi_addr + p.p_vaddr;
-          if (p.p_type == PT_LOAD && s.addr >= lo && s.addr < lo + p.p_memsz) holds = true;
+          if (p.p_type == PT_LOAD && found.addr >= lo && found.addr < lo + p.p_memsz) holds = true;
         }
         if (!holds) return 0;
         for (int i = 0; i < info->dlpi_phnum; ++i) {
@@ -46,7 +46,7 @@ std::string gnu_build_id(const void* addr) {
             if (h->n_type == NT_GNU_BUILD_ID && h->n_namesz == 4 &&
                 std::memcmp(name, "GNU", 4) == 0 && desc + h->n_descsz <= end)
               for (unsigned k = 0; k < h->n_descsz; ++k)
-                s.id += fmt::format("{:02x}", static_cast<unsigned char>(desc[k]));
+                found.id += fmt::format("{:02x}", static_cast<unsigned char>(desc[k]));
             n = desc + ((h->n_descsz + 3) & ~3u);
           }
         }

@@ -374,8 +374,9 @@ TEST(Checkpoint, AnotherBuildsCheckpointIsRefused) {
   // The program's GNU build ID, as readelf shows it (when the tool is there).
   const test::CliResult readelf =
       test::run_shell("readelf -n " + std::string(ANAMORPH_BINARY) + " 2>/dev/null");
-  if (readelf.out.find("Build ID: ") != std::string::npos)
+  if (readelf.out.find("Build ID: ") != std::string::npos) {
     EXPECT_CONTAINS(readelf.out, "Build ID: " + build->second);
+  }
   const std::string mine = build->second;
   std::string cmd;
   for (const std::string& a : args) cmd += (cmd.empty() ? "" : " ") + a;
