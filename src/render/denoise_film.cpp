@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "math/parallel.h"
+
 namespace anamorph {
 
 namespace {
@@ -206,7 +208,7 @@ DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& r
     return r;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(arena_concurrency(opt.threads));
   DenoiseOptions o = options;
   if (!o.cancel) o.cancel = opt.cancel;
   arena.execute([&] { r.denoise = denoise_halves(a, film, o); });
