@@ -578,11 +578,12 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             preview.close()
 
     def view_update(self, context, depsgraph):
-        """The scene changed. Camera, coins, lights, world and settings are read again at once;
-        the meshes are exported again only when geometry, shading or a mesh's placement changed,
-        on the add-on's timer (an operator cannot run inside a depsgraph update: the exporter's
-        view layer update would wait for it forever). The preview restarts at the next draw
-        when anything it shows changed."""
+        """The scene changed. Camera, coins, lights, world and settings are read again at once
+        and the preview restarts here (not at the next draw: under Xvfb's software OpenGL a
+        window's frame took 0.5 s, bench/blender/run); the meshes are exported again only when
+        geometry, shading or a mesh's placement changed, on the add-on's timer (an operator
+        cannot run inside a depsgraph update: the exporter's view layer update would wait for
+        it forever), which restarts the preview with the view last drawn."""
         preview = self._preview()
         try:
             data, _ = scene_data(depsgraph, "", 0, export=False)
@@ -595,6 +596,7 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         if preview.exports and not _meshes_changed(depsgraph):
             if data != preview.data:
                 preview.data, preview.key = data, None
+                self._restart_last_view(preview, data)
                 self.tag_redraw()
             return
         preview.exports += 1
@@ -615,43 +617,67 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             latest["mesh_file"] = os.path.basename(stem + ".glb") if has_meshes else None
             preview.data = preview.latest = latest
             preview.key = None
+            self._restart_last_view(preview, latest)
             self.tag_redraw()
 
         _main_queue.put((export, {}, threading.Event()))
+
+    def _view(self, context, scene, data):
+        """(frame in region pixels, width, height, scene data as rendered) of the viewport's
+        view of `data`: the anamorph camera in the camera view, drawn into the camera frame at
+        its size (at most 1280 wide), else a perspective or orthographic camera of the view.
+        None when the camera frame is not on screen."""
+        region, rv3d = context.region, context.region_data
+        if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
+            frame = _camera_frame(context, scene)
+            if frame is None:
+                return None
+            aspect = data["image"]["width"] / data["image"]["height"]
+            width = max(1, min(int(frame[2]), 1280))
+            return frame, width, max(1, int(round(width / aspect))), data
+        frame = (0, 0, region.width, region.height)
+        return frame, region.width, region.height, dict(
+            data, camera=_view_camera(region, rv3d), coins=[])
+
+    def _restart_last_view(self, preview, data):
+        """Restarts the preview on new scene data with the view last drawn (its size and, out
+        of the camera view, its camera): view_update's region matrices still hold the old
+        camera (seen: the frame measured there differed, restarting it twice)."""
+        if preview.view is not None:
+            width, height, camera = preview.view
+            self._restart(preview, (None, width, height, data if camera is None else
+                                    dict(data, camera=camera, coins=[])))
+
+    def _restart(self, preview, view):
+        """Starts the preview of `view` (_view's answer) unless it shows that already."""
+        if view is None:
+            return
+        _, width, height, data = view
+        camera = data["camera"]
+        key = (width, height, tuple(camera["matrix"]), tuple(sorted(
+            (k, str(v)) for k, v in camera.items() if k != "matrix")))
+        if key != preview.key:
+            preview.key = key
+            preview.view = (width, height, camera if data is not preview.data else None)
+            preview.start(self, data, width, height)
 
     def view_draw(self, context, depsgraph):
         preview = self._preview()
         if preview.data is None:
             return
         scene = depsgraph.scene_eval
-        region, rv3d = context.region, context.region_data
-        if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
-            frame = _camera_frame(context, scene)
-            if frame is None:
-                return
-            camera = preview.data["camera"]
-            aspect = preview.data["image"]["width"] / preview.data["image"]["height"]
-            width = max(1, min(int(frame[2]), 1280))
-            height = max(1, int(round(width / aspect)))
-            data = preview.data
-        else:
-            frame = (0, 0, region.width, region.height)
-            width, height = region.width, region.height
-            camera = _view_camera(region, rv3d)
-            data = dict(preview.data, camera=camera, coins=[])
-        key = (width, height, tuple(camera["matrix"]), tuple(sorted(
-            (k, str(v)) for k, v in camera.items() if k != "matrix")))
-        if key != preview.key:
-            preview.key = key
-            preview.start(self, data, width, height)
-        self._draw_image(preview, scene, frame)
+        view = self._view(context, scene, preview.data)
+        if view is None:
+            return
+        self._restart(preview, view)
+        self._draw_image(preview, scene, view[0])
 
     def _draw_image(self, preview, scene, frame):
         import gpu
         from gpu_extras.presets import draw_texture_2d
 
         with preview.lock:
-            img = preview.image
+            img, log = preview.image, preview.image_log
         if img is None:
             return
         h, w = img.shape[:2]
@@ -664,6 +690,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         draw_texture_2d(texture, (frame[0], frame[1]), frame[2], frame[3])
         self.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
+        if log.get("first_drawn") is None:
+            log["first_drawn"] = time.monotonic()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -672,8 +700,9 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
 
 # What the viewport renders after each restart: (fraction of the size, samples per pixel).
 VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4), (1.0, 16), (1.0, 64))
-# The last viewport restarts, for scripts and tests: [{started, first_image, passes}] (seconds
-# of time.monotonic()), newest last; and the times of the viewport's exports.
+# The last viewport restarts, for scripts and tests: [{started, first_image, first_drawn,
+# passes}] (seconds of time.monotonic(); first_drawn: when view_draw first drew one of its
+# images), newest last; and the times of the viewport's exports.
 viewport_log = []
 viewport_exports = []
 
@@ -687,21 +716,27 @@ class _Preview:
         self.data = None  # scene_data of the last view_update
         self.key = None  # the view the running preview shows
         self.image = None  # (H, W, 4) float32, rows from the top, straight alpha
+        self.image_log = None  # the viewport_log entry of the preview that rendered it
         self.lock = threading.Lock()
         self.cancel = threading.Event()
-        self.thread = None
+        self.threads = []  # the running preview's thread last, cancelled ones before it
         self.count = 0
         self.exports = 0
         self.latest = None  # the newest scene_data, its mesh_file the last export's
+        self.view = None  # (width, height, camera or None: data's own) of the running preview
 
     def stop(self):
+        """Cancels the running preview and waits for its thread (before its files go)."""
         self.cancel.set()
-        if self.thread is not None:
-            self.thread.join()
-        self.thread = None
+        for thread in self.threads:
+            thread.join()
+        self.threads = []
 
     def start(self, engine, data, width, height):
-        self.stop()
+        """Renders `data` at width x height in a new thread. The running one is cancelled, not
+        waited for: it stops at its next progress report (every 50 ms), meanwhile rendering
+        beside the new one (waiting for it took up to 60 ms of an edit's first image)."""
+        self.cancel.set()
         self.count += 1
         path = write_toml(dict(data, image={"width": width, "height": height}),
                           os.path.join(self.folder, "view_%d.toml" % self.count))
@@ -709,9 +744,10 @@ class _Preview:
         del viewport_log[:-20]
         viewport_log.append(log)
         self.cancel = threading.Event()
-        self.thread = threading.Thread(target=self._run, daemon=True,
-                                       args=(engine, path, width, height, self.cancel, log))
-        self.thread.start()
+        self.threads = [t for t in self.threads if t.is_alive()]
+        self.threads.append(threading.Thread(target=self._run, daemon=True, args=(
+            engine, path, width, height, self.cancel, log)))
+        self.threads[-1].start()
 
     def _run(self, engine, path, width, height, cancel, log):
         am = locate.import_anamorph()
@@ -727,15 +763,17 @@ class _Preview:
                                     height=max(1, int(height * fraction)), spp=spp,
                                     progress=progress)["rgba"]
                 with self.lock:
-                    self.image = img
+                    if cancel.is_set():  # a newer preview started: its images only
+                        break
+                    self.image, self.image_log = img, log
                 log["passes"] += 1
                 log["first_image"] = log["first_image"] or time.monotonic()
-                _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+                _redraw(engine)
         except Cancelled:
             pass
         except Exception as e:  # shown in the status of the next draw
             log["error"] = str(e)
-            _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+            _redraw(engine)
         finally:
             try:
                 os.remove(path)
@@ -747,16 +785,37 @@ class _Preview:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+def _redraw(engine):
+    """Asks Blender to draw the viewport again, from the preview's thread: the engine's
+    tag_redraw only sets a flag the window manager's loop looks at (Cycles calls it from its
+    session thread too). Through the add-on's timer instead, the image waited 300-500 ms for
+    the timer's next call in a window under Xvfb (bench/blender/run)."""
+    try:
+        engine.tag_redraw()
+    except ReferenceError:  # the engine was freed (the viewport closed)
+        pass
+
+
 _MESH_DATA = (bpy.types.Mesh, bpy.types.Material, bpy.types.Image, bpy.types.Curve,
               bpy.types.NodeTree, bpy.types.Collection)
+
+
+# Data the export leaves out: read again by view_update without exporting. A camera's own
+# edit (its fov) comes as an update of its Camera and its Object with is_updated_geometry set
+# (seen in Blender 3.4): without this it exported the meshes again (a 50-150 ms export).
+_NOT_EXPORTED = (bpy.types.Camera, bpy.types.Light, bpy.types.World, bpy.types.Scene)
 
 
 def _meshes_changed(depsgraph):
     """Whether an update can change what the glTF export holds."""
     for u in depsgraph.updates:
+        if isinstance(u.id, _NOT_EXPORTED):
+            continue
+        if isinstance(u.id, bpy.types.Object):
+            if u.id.type not in {"CAMERA", "EMPTY", "LIGHT"}:
+                return True
+            continue
         if u.is_updated_geometry or u.is_updated_shading or isinstance(u.id, _MESH_DATA):
-            return True
-        if isinstance(u.id, bpy.types.Object) and u.id.type not in {"CAMERA", "EMPTY", "LIGHT"}:
             return True
     return False
 
