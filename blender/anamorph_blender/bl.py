@@ -81,10 +81,11 @@ def _group(name, specs, extra=None):
     return cls
 
 
-def set_values(group, where):
+def set_values(group, where, parsed=False):
     """{key: value} of the properties the user set (or animated) on a generated group: a key
     left alone takes anamorph's declared default, which may depend on other keys. `where` names
-    the table in messages (camera, coin '<name>', render)."""
+    the table in messages (camera, coin '<name>', render). TOML text stays text (written as
+    typed) unless `parsed`: inside an org/dir table it is written as its parsed value."""
     out = {}
     for spec in group.specs:
         if not group.is_property_set(spec["prop"]):
@@ -96,6 +97,8 @@ def set_values(group, where):
             if not v.strip():
                 continue
             v = scene_toml.Raw.checked(v, f"{where}.{spec['key']}")
+            if parsed:
+                v = schema_props.parse_default(v)
         elif spec["kind"] == "float":
             v = float(v)
         out[spec["key"]] = v
@@ -104,19 +107,29 @@ def set_values(group, where):
 
 LENS_ITEM = ("BLENDER", "Blender lens", "The camera's own lens type: perspective, "
              "orthographic, or the panoramic type as the matching preset")
+FUNCTIONS_ITEM = ("FUNCTIONS", "org/dir functions", "No preset: the rays leave the origin "
+                  "function's surface in the direction function's directions (docs/cameras.md)")
 
 
 def _register_declared(am):
     decl = am.declarations()
     presets = schema_props.preset_specs(decl)
     extra = {}
-    items = [LENS_ITEM] + [(n, n, doc) for n, (doc, _) in presets.items()]
+    items = [LENS_ITEM, FUNCTIONS_ITEM] + [(n, n, doc) for n, (doc, _) in presets.items()]
     extra["preset"] = bpy.props.EnumProperty(
         name="Preset", items=items, default="BLENDER",
         description="anamorph's camera preset (docs/cameras.md)")
     for n, (doc, specs) in presets.items():
         cls = _group("ANAMORPH_PG_preset_" + n, specs)
         extra["p_" + n] = bpy.props.PointerProperty(type=cls)
+    for kind, title in (("org", "Origin function"), ("dir", "Direction function")):
+        functions = schema_props.function_specs(decl, kind)
+        extra[kind + "_type"] = bpy.props.EnumProperty(
+            name=title, items=[(n, n, doc) for n, (doc, _) in functions.items()],
+            description=f"camera.{kind}'s type (with the preset 'org/dir functions')")
+        for n, (doc, specs) in functions.items():
+            extra[f"{kind}_{n}"] = bpy.props.PointerProperty(
+                type=_group(f"ANAMORPH_PG_{kind}_{n}", specs))
     extra["image_surface"] = bpy.props.PointerProperty(
         type=bpy.types.Object, name="Image surface", poll=lambda _, ob: ob.type == "SURFACE",
         description="A NURBS surface as the image surface instead of the preset: org = its "
@@ -279,6 +292,10 @@ def _camera_table(cam_ob, width, height, src=lambda x: x):
         preset, keys = None, _image_surface(cam_ob, settings.image_surface)
     elif settings.preset == "BLENDER":
         preset, keys = blender_lens(cam, width, height)
+    elif settings.preset == "FUNCTIONS":
+        preset, keys = None, {kind: {"type": t, **set_values(
+            getattr(settings, f"{kind}_{t}"), f"camera.{kind}", parsed=True)}
+            for kind, t in (("org", settings.org_type), ("dir", settings.dir_type))}
     else:
         preset = settings.preset
         keys = set_values(getattr(settings, "p_" + preset), "camera")
@@ -355,7 +372,7 @@ def _lights(depsgraph, warnings):
     return sorted(out, key=lambda t: t["name"])
 
 
-def _environment(world, warnings):
+def _environment(world, warnings, folder):
     if world is None:
         return None
     if not world.use_nodes:
@@ -373,7 +390,8 @@ def _environment(world, warnings):
         warnings.append(f"world '{world.name}': a texture on the strength is not carried over "
                         "(its unlinked value is used)")
     if bg.inputs["Color"].is_linked:
-        env = _environment_texture(bg.inputs["Color"].links[0].from_node, strength, warnings)
+        env = _environment_texture(bg.inputs["Color"].links[0].from_node, strength, warnings,
+                                   folder)
         if env is not None:
             return env
         warnings.append(f"world '{world.name}': only an Environment Texture (equirectangular "
@@ -382,25 +400,87 @@ def _environment(world, warnings):
     return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
 
 
-def _environment_texture(node, strength, warnings):
-    """[environment] of an Environment Texture node (equirectangular image on disk), or None."""
+def _environment_texture(node, strength, warnings, folder):
+    """[environment] of an Environment Texture node (equirectangular image), or None."""
     if node.type != "TEX_ENVIRONMENT" or node.projection != "EQUIRECTANGULAR":
         return None
     image = node.image
-    path = bpy.path.abspath(image.filepath, library=image.library) if image else ""
-    if image is None or image.packed_file or image.source != "FILE" or not os.path.isfile(path):
-        warnings.append(f"environment texture '{node.name}': its image is not a file on disk "
-                        f"({path or 'no image'})")
+    path = _image_file(image, folder) if image is not None else None
+    if path is None:
+        where = bpy.path.abspath(image.filepath, library=image.library) if image else ""
+        warnings.append(f"environment texture '{node.name}': its image is neither a file on "
+                        f"disk, packed nor generated ({where or 'no image'})")
         return None
     z_rotation = _mapping_z(node, warnings)
     return None if z_rotation is None else scene_toml.environment_image(
         os.path.abspath(path), strength, z_rotation)
 
 
+# Images written for anamorph (packed or generated): {path: what was written}, so the viewport
+# writes one again only when it changed.
+_written_images = {}
+
+
+def _image_file(image, folder):
+    """A file anamorph reads holding `image`: its own file on disk; a packed image's bytes as
+    they were packed (the same file, in `folder`); a generated one saved by Blender into
+    `folder` (float images as EXR, 8-bit ones as PNG in their colour space, as Cycles reads
+    them). None for anything else (a movie, a missing file)."""
+    image = image.original
+    if image.packed_file is None and image.source == "FILE":
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        return path if os.path.isfile(path) else None
+    if image.packed_file is not None:
+        ext = os.path.splitext(bpy.path.basename(image.filepath))[1] or ".png"
+        what = ("packed", image.packed_file.size, image.filepath)
+    elif image.source == "GENERATED":
+        ext = ".exr" if image.use_generated_float else ".png"
+        what = ("generated", image.generated_type, tuple(image.generated_color),
+                image.generated_width, image.generated_height, image.use_generated_float,
+                image.is_dirty, image.colorspace_settings.name)
+    else:
+        return None
+    path = os.path.join(folder, "environment_" + bpy.path.clean_name(image.name) + ext)
+    if _written_images.get(path) == what and os.path.isfile(path):
+        return path
+    part = path + ".part" + ext
+    if image.packed_file is not None:
+        with open(part, "wb") as f:
+            f.write(image.packed_file.data)
+    else:
+        main_thread_call(lambda: _save_generated(image, part), lambda: False)
+    os.replace(part, path)
+    _written_images[path] = what
+    return path
+
+
+def _save_generated(image, path):
+    """Saves a generated image's pixels through a new image of the same kind (saving the image
+    itself would turn it into a file image). A float image's pixels are scene linear, what
+    Cycles renders: written as they are only from a Non-Color image (from one in Linear,
+    Blender 3.4 wrote them sRGB-encoded, seen). An 8-bit one keeps its bytes and colour space."""
+    w, h = image.size
+    pixels = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    out = bpy.data.images.new("anamorph_environment", w, h, alpha=True,
+                              float_buffer=image.use_generated_float)
+    try:
+        out.colorspace_settings.name = "Non-Color" if image.use_generated_float else \
+            image.colorspace_settings.name
+        out.pixels.foreach_set(pixels)
+        out.file_format = "OPEN_EXR" if image.use_generated_float else "PNG"
+        out.filepath_raw = path
+        out.save()
+    finally:
+        bpy.data.images.remove(out)
+
+
 def _mapping_z(tex, warnings):
     """The rotation about Blender's +Z [radians] that a Mapping node on `tex`'s Vector input
     applies to the lookup direction: 0 without one; None (with a warning) for what anamorph's
-    single rotation about its up axis cannot express."""
+    single rotation about its up axis cannot express. Rotations about X and Y are dropped with
+    a warning naming them: anamorph's [environment] turns about its up axis only (the schema's
+    `rotation`), so the image is used turned about Z alone."""
     if not tex.inputs["Vector"].is_linked:
         return 0.0
     m = tex.inputs["Vector"].links[0].from_node
@@ -410,12 +490,18 @@ def _mapping_z(tex, warnings):
                         "over")
         return None
     rot = m.inputs["Rotation"].default_value
+    if abs(rot[0]) >= 1e-6 or abs(rot[1]) >= 1e-6:
+        warnings.append(f"environment texture '{tex.name}': the Mapping node's rotation about "
+                        f"X ({math.degrees(rot[0]):.4g} degrees) and Y "
+                        f"({math.degrees(rot[1]):.4g} degrees) is not carried over: anamorph's "
+                        "environment turns about the up axis only (its rotation about Z, "
+                        f"{math.degrees(rot[2]):.4g} degrees, is)")
     return -rot[2] if m.vector_type == "TEXTURE" else rot[2]
 
 
 def _z_only_mapping(m):
     """Whether `m` is a Mapping node of Generated coordinates (a world's directions) whose only
-    effect on an equirectangular lookup is a turn about Z."""
+    effect on an equirectangular lookup is a turn (_mapping_z warns about X and Y)."""
     if m.type != "MAPPING" or m.vector_type not in {"POINT", "VECTOR", "TEXTURE"}:
         return False
     if any(m.inputs[k].is_linked for k in ("Rotation", "Scale", "Location")):
@@ -423,15 +509,16 @@ def _z_only_mapping(m):
     fed = m.inputs["Vector"].links[0].from_socket if m.inputs["Vector"].is_linked else None
     if fed is None or fed.node.type != "TEX_COORD" or fed.name != "Generated":
         return False
-    rot, scale = m.inputs["Rotation"].default_value, m.inputs["Scale"].default_value
+    scale = m.inputs["Scale"].default_value
     location = m.inputs["Location"].default_value if m.vector_type != "VECTOR" else (0, 0, 0)
-    return abs(rot[0]) < 1e-6 and abs(rot[1]) < 1e-6 and max(map(abs, location)) < 1e-6 and \
+    return max(map(abs, location)) < 1e-6 and \
         scale[0] > 0 and abs(scale[1] - scale[0]) < 1e-6 and abs(scale[2] - scale[0]) < 1e-6
 
 
-def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
+def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, folder=None):
     """The scene as scene_toml.write takes it (the meshes exported to stem.glb unless `export`
-    is False: the viewport exports later, outside its update) and warnings.
+    is False: the viewport exports later, outside its update) and warnings. Images anamorph
+    reads from files (a packed or generated HDRI) are written into `folder` (default: stem's).
 
     A render reads the add-on's properties from its depsgraph's copies, which hold their
     animated values. The viewport (export False) reads them from the original data: its
@@ -451,7 +538,7 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
         "render": {"integrator": "path", **set_values(src(scene).anamorph, "render")},
         "camera": _camera_table(scene.camera, width, height, src),
         "coins": _coins(depsgraph, scene.camera, src),
-        "environment": _environment(scene.world, warnings),
+        "environment": _environment(scene.world, warnings, folder or os.path.dirname(stem)),
         "mesh_file": os.path.basename(stem + ".glb") if export and main_thread_call(
             lambda: _export_glb(stem + ".glb", scene.original.name, frame,
                                 scene.frame_subframe), should_stop) else None,
@@ -586,7 +673,7 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         it forever), which restarts the preview with the view last drawn."""
         preview = self._preview()
         try:
-            data, _ = scene_data(depsgraph, "", 0, export=False)
+            data, _ = scene_data(depsgraph, "", 0, export=False, folder=preview.folder)
         except Exception as e:
             preview.data = preview.latest = None
             self.report({"ERROR"}, str(e))
@@ -892,7 +979,12 @@ class ANAMORPH_PT_camera(bpy.types.Panel):
         layout.prop(settings, "image_surface")
         if settings.image_surface is None:
             layout.prop(settings, "preset")
-        if settings.image_surface is None and settings.preset != "BLENDER":
+        if settings.image_surface is None and settings.preset == "FUNCTIONS":
+            for kind in ("org", "dir"):
+                layout.prop(settings, kind + "_type")
+                _draw_group(layout.column(), getattr(
+                    settings, f"{kind}_{getattr(settings, kind + '_type')}"))
+        elif settings.image_surface is None and settings.preset != "BLENDER":
             _draw_group(layout.column(), getattr(settings, "p_" + settings.preset))
         _draw_group(layout.column(), settings.common)
         layout.operator(ANAMORPH_OT_add_coin.bl_idname, icon="EMPTY_AXIS")
