@@ -9,8 +9,8 @@ flip of the world changes which side of everything is which colour.
 2. A floor and a sphere lit by that world only: image means per channel within 3 % and
    10 x 10 block means within noise (5 %).
 3. The world alone again with the image packed into the .blend (its file gone) and generated
-   (Blender's colour grid in float, a plain 8-bit colour): 4 x 4 block means within 2 %. Rotations about X
-   and Y: the Z turn kept and a warning naming them."""
+   (Blender's colour grid in float, a plain 8-bit colour): 4 x 4 block means within 2 %.
+   Rotations about X and Y: the Z turn kept and a warning naming them."""
 
 import math
 import os

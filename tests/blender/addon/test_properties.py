@@ -1,6 +1,6 @@
 """The camera panel's properties reach anamorph: a preset switch with its keys, Blender's own
-panoramic lens types as the matching presets, org/dir functions, and coin edits on the empty. Also the Depth and
-Normal passes in the render result, against ray casts computed here."""
+panoramic lens types as the matching presets, org/dir functions, and coin edits on the empty.
+Also the Depth and Normal passes in the render result, against ray casts computed here."""
 
 import math
 import os
