@@ -81,10 +81,11 @@ def _group(name, specs, extra=None):
     return cls
 
 
-def set_values(group, where):
+def set_values(group, where, parsed=False):
     """{key: value} of the properties the user set (or animated) on a generated group: a key
     left alone takes anamorph's declared default, which may depend on other keys. `where` names
-    the table in messages (camera, coin '<name>', render)."""
+    the table in messages (camera, coin '<name>', render). TOML text stays text (written as
+    typed) unless `parsed`: inside an org/dir table it is written as its parsed value."""
     out = {}
     for spec in group.specs:
         if not group.is_property_set(spec["prop"]):
@@ -96,6 +97,8 @@ def set_values(group, where):
             if not v.strip():
                 continue
             v = scene_toml.Raw.checked(v, f"{where}.{spec['key']}")
+            if parsed:
+                v = schema_props.parse_default(v)
         elif spec["kind"] == "float":
             v = float(v)
         out[spec["key"]] = v
@@ -104,19 +107,29 @@ def set_values(group, where):
 
 LENS_ITEM = ("BLENDER", "Blender lens", "The camera's own lens type: perspective, "
              "orthographic, or the panoramic type as the matching preset")
+FUNCTIONS_ITEM = ("FUNCTIONS", "org/dir functions", "No preset: the rays leave the origin "
+                  "function's surface in the direction function's directions (docs/cameras.md)")
 
 
 def _register_declared(am):
     decl = am.declarations()
     presets = schema_props.preset_specs(decl)
     extra = {}
-    items = [LENS_ITEM] + [(n, n, doc) for n, (doc, _) in presets.items()]
+    items = [LENS_ITEM, FUNCTIONS_ITEM] + [(n, n, doc) for n, (doc, _) in presets.items()]
     extra["preset"] = bpy.props.EnumProperty(
         name="Preset", items=items, default="BLENDER",
         description="anamorph's camera preset (docs/cameras.md)")
     for n, (doc, specs) in presets.items():
         cls = _group("ANAMORPH_PG_preset_" + n, specs)
         extra["p_" + n] = bpy.props.PointerProperty(type=cls)
+    for kind, title in (("org", "Origin function"), ("dir", "Direction function")):
+        functions = schema_props.function_specs(decl, kind)
+        extra[kind + "_type"] = bpy.props.EnumProperty(
+            name=title, items=[(n, n, doc) for n, (doc, _) in functions.items()],
+            description=f"camera.{kind}'s type (with the preset 'org/dir functions')")
+        for n, (doc, specs) in functions.items():
+            extra[f"{kind}_{n}"] = bpy.props.PointerProperty(
+                type=_group(f"ANAMORPH_PG_{kind}_{n}", specs))
     extra["image_surface"] = bpy.props.PointerProperty(
         type=bpy.types.Object, name="Image surface", poll=lambda _, ob: ob.type == "SURFACE",
         description="A NURBS surface as the image surface instead of the preset: org = its "
@@ -279,6 +292,10 @@ def _camera_table(cam_ob, width, height, src=lambda x: x):
         preset, keys = None, _image_surface(cam_ob, settings.image_surface)
     elif settings.preset == "BLENDER":
         preset, keys = blender_lens(cam, width, height)
+    elif settings.preset == "FUNCTIONS":
+        preset, keys = None, {kind: {"type": t, **set_values(
+            getattr(settings, f"{kind}_{t}"), f"camera.{kind}", parsed=True)}
+            for kind, t in (("org", settings.org_type), ("dir", settings.dir_type))}
     else:
         preset = settings.preset
         keys = set_values(getattr(settings, "p_" + preset), "camera")
@@ -355,7 +372,7 @@ def _lights(depsgraph, warnings):
     return sorted(out, key=lambda t: t["name"])
 
 
-def _environment(world, warnings):
+def _environment(world, warnings, folder):
     if world is None:
         return None
     if not world.use_nodes:
@@ -373,7 +390,8 @@ def _environment(world, warnings):
         warnings.append(f"world '{world.name}': a texture on the strength is not carried over "
                         "(its unlinked value is used)")
     if bg.inputs["Color"].is_linked:
-        env = _environment_texture(bg.inputs["Color"].links[0].from_node, strength, warnings)
+        env = _environment_texture(bg.inputs["Color"].links[0].from_node, strength, warnings,
+                                   folder)
         if env is not None:
             return env
         warnings.append(f"world '{world.name}': only an Environment Texture (equirectangular "
@@ -382,25 +400,87 @@ def _environment(world, warnings):
     return {"color": [float(c) * strength for c in bg.inputs["Color"].default_value[:3]]}
 
 
-def _environment_texture(node, strength, warnings):
-    """[environment] of an Environment Texture node (equirectangular image on disk), or None."""
+def _environment_texture(node, strength, warnings, folder):
+    """[environment] of an Environment Texture node (equirectangular image), or None."""
     if node.type != "TEX_ENVIRONMENT" or node.projection != "EQUIRECTANGULAR":
         return None
     image = node.image
-    path = bpy.path.abspath(image.filepath, library=image.library) if image else ""
-    if image is None or image.packed_file or image.source != "FILE" or not os.path.isfile(path):
-        warnings.append(f"environment texture '{node.name}': its image is not a file on disk "
-                        f"({path or 'no image'})")
+    path = _image_file(image, folder) if image is not None else None
+    if path is None:
+        where = bpy.path.abspath(image.filepath, library=image.library) if image else ""
+        warnings.append(f"environment texture '{node.name}': its image is neither a file on "
+                        f"disk, packed nor generated ({where or 'no image'})")
         return None
     z_rotation = _mapping_z(node, warnings)
     return None if z_rotation is None else scene_toml.environment_image(
         os.path.abspath(path), strength, z_rotation)
 
 
+# Images written for anamorph (packed or generated): {path: what was written}, so the viewport
+# writes one again only when it changed.
+_written_images = {}
+
+
+def _image_file(image, folder):
+    """A file anamorph reads holding `image`: its own file on disk; a packed image's bytes as
+    they were packed (the same file, in `folder`); a generated one saved by Blender into
+    `folder` (float images as EXR, 8-bit ones as PNG in their colour space, as Cycles reads
+    them). None for anything else (a movie, a missing file)."""
+    image = image.original
+    if image.packed_file is None and image.source == "FILE":
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        return path if os.path.isfile(path) else None
+    if image.packed_file is not None:
+        ext = os.path.splitext(bpy.path.basename(image.filepath))[1] or ".png"
+        what = ("packed", image.packed_file.size, image.filepath)
+    elif image.source == "GENERATED":
+        ext = ".exr" if image.use_generated_float else ".png"
+        what = ("generated", image.generated_type, tuple(image.generated_color),
+                image.generated_width, image.generated_height, image.use_generated_float,
+                image.is_dirty, image.colorspace_settings.name)
+    else:
+        return None
+    path = os.path.join(folder, "environment_" + bpy.path.clean_name(image.name) + ext)
+    if _written_images.get(path) == what and os.path.isfile(path):
+        return path
+    part = path + ".part" + ext
+    if image.packed_file is not None:
+        with open(part, "wb") as f:
+            f.write(image.packed_file.data)
+    else:
+        main_thread_call(lambda: _save_generated(image, part), lambda: False)
+    os.replace(part, path)
+    _written_images[path] = what
+    return path
+
+
+def _save_generated(image, path):
+    """Saves a generated image's pixels through a new image of the same kind (saving the image
+    itself would turn it into a file image). A float image's pixels are scene linear, what
+    Cycles renders: written as they are only from a Non-Color image (from one in Linear,
+    Blender 3.4 wrote them sRGB-encoded, seen). An 8-bit one keeps its bytes and colour space."""
+    w, h = image.size
+    pixels = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    out = bpy.data.images.new("anamorph_environment", w, h, alpha=True,
+                              float_buffer=image.use_generated_float)
+    try:
+        out.colorspace_settings.name = "Non-Color" if image.use_generated_float else \
+            image.colorspace_settings.name
+        out.pixels.foreach_set(pixels)
+        out.file_format = "OPEN_EXR" if image.use_generated_float else "PNG"
+        out.filepath_raw = path
+        out.save()
+    finally:
+        bpy.data.images.remove(out)
+
+
 def _mapping_z(tex, warnings):
     """The rotation about Blender's +Z [radians] that a Mapping node on `tex`'s Vector input
     applies to the lookup direction: 0 without one; None (with a warning) for what anamorph's
-    single rotation about its up axis cannot express."""
+    single rotation about its up axis cannot express. Rotations about X and Y are dropped with
+    a warning naming them: anamorph's [environment] turns about its up axis only (the schema's
+    `rotation`), so the image is used turned about Z alone."""
     if not tex.inputs["Vector"].is_linked:
         return 0.0
     m = tex.inputs["Vector"].links[0].from_node
@@ -410,12 +490,18 @@ def _mapping_z(tex, warnings):
                         "over")
         return None
     rot = m.inputs["Rotation"].default_value
+    if abs(rot[0]) >= 1e-6 or abs(rot[1]) >= 1e-6:
+        warnings.append(f"environment texture '{tex.name}': the Mapping node's rotation about "
+                        f"X ({math.degrees(rot[0]):.4g} degrees) and Y "
+                        f"({math.degrees(rot[1]):.4g} degrees) is not carried over: anamorph's "
+                        "environment turns about the up axis only (its rotation about Z, "
+                        f"{math.degrees(rot[2]):.4g} degrees, is)")
     return -rot[2] if m.vector_type == "TEXTURE" else rot[2]
 
 
 def _z_only_mapping(m):
     """Whether `m` is a Mapping node of Generated coordinates (a world's directions) whose only
-    effect on an equirectangular lookup is a turn about Z."""
+    effect on an equirectangular lookup is a turn (_mapping_z warns about X and Y)."""
     if m.type != "MAPPING" or m.vector_type not in {"POINT", "VECTOR", "TEXTURE"}:
         return False
     if any(m.inputs[k].is_linked for k in ("Rotation", "Scale", "Location")):
@@ -423,15 +509,16 @@ def _z_only_mapping(m):
     fed = m.inputs["Vector"].links[0].from_socket if m.inputs["Vector"].is_linked else None
     if fed is None or fed.node.type != "TEX_COORD" or fed.name != "Generated":
         return False
-    rot, scale = m.inputs["Rotation"].default_value, m.inputs["Scale"].default_value
+    scale = m.inputs["Scale"].default_value
     location = m.inputs["Location"].default_value if m.vector_type != "VECTOR" else (0, 0, 0)
-    return abs(rot[0]) < 1e-6 and abs(rot[1]) < 1e-6 and max(map(abs, location)) < 1e-6 and \
+    return max(map(abs, location)) < 1e-6 and \
         scale[0] > 0 and abs(scale[1] - scale[0]) < 1e-6 and abs(scale[2] - scale[0]) < 1e-6
 
 
-def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
+def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, folder=None):
     """The scene as scene_toml.write takes it (the meshes exported to stem.glb unless `export`
-    is False: the viewport exports later, outside its update) and warnings.
+    is False: the viewport exports later, outside its update) and warnings. Images anamorph
+    reads from files (a packed or generated HDRI) are written into `folder` (default: stem's).
 
     A render reads the add-on's properties from its depsgraph's copies, which hold their
     animated values. The viewport (export False) reads them from the original data: its
@@ -451,7 +538,7 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True):
         "render": {"integrator": "path", **set_values(src(scene).anamorph, "render")},
         "camera": _camera_table(scene.camera, width, height, src),
         "coins": _coins(depsgraph, scene.camera, src),
-        "environment": _environment(scene.world, warnings),
+        "environment": _environment(scene.world, warnings, folder or os.path.dirname(stem)),
         "mesh_file": os.path.basename(stem + ".glb") if export and main_thread_call(
             lambda: _export_glb(stem + ".glb", scene.original.name, frame,
                                 scene.frame_subframe), should_stop) else None,
@@ -578,14 +665,15 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             preview.close()
 
     def view_update(self, context, depsgraph):
-        """The scene changed. Camera, coins, lights, world and settings are read again at once;
-        the meshes are exported again only when geometry, shading or a mesh's placement changed,
-        on the add-on's timer (an operator cannot run inside a depsgraph update: the exporter's
-        view layer update would wait for it forever). The preview restarts at the next draw
-        when anything it shows changed."""
+        """The scene changed. Camera, coins, lights, world and settings are read again at once
+        and the preview restarts here (not at the next draw: under Xvfb's software OpenGL a
+        window's frame took 0.5 s, bench/blender/run); the meshes are exported again only when
+        geometry, shading or a mesh's placement changed, on the add-on's timer (an operator
+        cannot run inside a depsgraph update: the exporter's view layer update would wait for
+        it forever), which restarts the preview with the view last drawn."""
         preview = self._preview()
         try:
-            data, _ = scene_data(depsgraph, "", 0, export=False)
+            data, _ = scene_data(depsgraph, "", 0, export=False, folder=preview.folder)
         except Exception as e:
             preview.data = preview.latest = None
             self.report({"ERROR"}, str(e))
@@ -595,6 +683,7 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         if preview.exports and not _meshes_changed(depsgraph):
             if data != preview.data:
                 preview.data, preview.key = data, None
+                self._restart_last_view(preview, data)
                 self.tag_redraw()
             return
         preview.exports += 1
@@ -615,43 +704,67 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             latest["mesh_file"] = os.path.basename(stem + ".glb") if has_meshes else None
             preview.data = preview.latest = latest
             preview.key = None
+            self._restart_last_view(preview, latest)
             self.tag_redraw()
 
         _main_queue.put((export, {}, threading.Event()))
+
+    def _view(self, context, scene, data):
+        """(frame in region pixels, width, height, scene data as rendered) of the viewport's
+        view of `data`: the anamorph camera in the camera view, drawn into the camera frame at
+        its size (at most 1280 wide), else a perspective or orthographic camera of the view.
+        None when the camera frame is not on screen."""
+        region, rv3d = context.region, context.region_data
+        if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
+            frame = _camera_frame(context, scene)
+            if frame is None:
+                return None
+            aspect = data["image"]["width"] / data["image"]["height"]
+            width = max(1, min(int(frame[2]), 1280))
+            return frame, width, max(1, int(round(width / aspect))), data
+        frame = (0, 0, region.width, region.height)
+        return frame, region.width, region.height, dict(
+            data, camera=_view_camera(region, rv3d), coins=[])
+
+    def _restart_last_view(self, preview, data):
+        """Restarts the preview on new scene data with the view last drawn (its size and, out
+        of the camera view, its camera): view_update's region matrices still hold the old
+        camera (seen: the frame measured there differed, restarting it twice)."""
+        if preview.view is not None:
+            width, height, camera = preview.view
+            self._restart(preview, (None, width, height, data if camera is None else
+                                    dict(data, camera=camera, coins=[])))
+
+    def _restart(self, preview, view):
+        """Starts the preview of `view` (_view's answer) unless it shows that already."""
+        if view is None:
+            return
+        _, width, height, data = view
+        camera = data["camera"]
+        key = (width, height, tuple(camera["matrix"]), tuple(sorted(
+            (k, str(v)) for k, v in camera.items() if k != "matrix")))
+        if key != preview.key:
+            preview.key = key
+            preview.view = (width, height, camera if data is not preview.data else None)
+            preview.start(self, data, width, height)
 
     def view_draw(self, context, depsgraph):
         preview = self._preview()
         if preview.data is None:
             return
         scene = depsgraph.scene_eval
-        region, rv3d = context.region, context.region_data
-        if rv3d.view_perspective == "CAMERA" and scene.camera is not None:
-            frame = _camera_frame(context, scene)
-            if frame is None:
-                return
-            camera = preview.data["camera"]
-            aspect = preview.data["image"]["width"] / preview.data["image"]["height"]
-            width = max(1, min(int(frame[2]), 1280))
-            height = max(1, int(round(width / aspect)))
-            data = preview.data
-        else:
-            frame = (0, 0, region.width, region.height)
-            width, height = region.width, region.height
-            camera = _view_camera(region, rv3d)
-            data = dict(preview.data, camera=camera, coins=[])
-        key = (width, height, tuple(camera["matrix"]), tuple(sorted(
-            (k, str(v)) for k, v in camera.items() if k != "matrix")))
-        if key != preview.key:
-            preview.key = key
-            preview.start(self, data, width, height)
-        self._draw_image(preview, scene, frame)
+        view = self._view(context, scene, preview.data)
+        if view is None:
+            return
+        self._restart(preview, view)
+        self._draw_image(preview, scene, view[0])
 
     def _draw_image(self, preview, scene, frame):
         import gpu
         from gpu_extras.presets import draw_texture_2d
 
         with preview.lock:
-            img = preview.image
+            img, log = preview.image, preview.image_log
         if img is None:
             return
         h, w = img.shape[:2]
@@ -664,6 +777,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         draw_texture_2d(texture, (frame[0], frame[1]), frame[2], frame[3])
         self.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
+        if log.get("first_drawn") is None:
+            log["first_drawn"] = time.monotonic()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -672,8 +787,9 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
 
 # What the viewport renders after each restart: (fraction of the size, samples per pixel).
 VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4), (1.0, 16), (1.0, 64))
-# The last viewport restarts, for scripts and tests: [{started, first_image, passes}] (seconds
-# of time.monotonic()), newest last; and the times of the viewport's exports.
+# The last viewport restarts, for scripts and tests: [{started, first_image, first_drawn,
+# passes}] (seconds of time.monotonic(); first_drawn: when view_draw first drew one of its
+# images), newest last; and the times of the viewport's exports.
 viewport_log = []
 viewport_exports = []
 
@@ -687,21 +803,27 @@ class _Preview:
         self.data = None  # scene_data of the last view_update
         self.key = None  # the view the running preview shows
         self.image = None  # (H, W, 4) float32, rows from the top, straight alpha
+        self.image_log = None  # the viewport_log entry of the preview that rendered it
         self.lock = threading.Lock()
         self.cancel = threading.Event()
-        self.thread = None
+        self.threads = []  # the running preview's thread last, cancelled ones before it
         self.count = 0
         self.exports = 0
         self.latest = None  # the newest scene_data, its mesh_file the last export's
+        self.view = None  # (width, height, camera or None: data's own) of the running preview
 
     def stop(self):
+        """Cancels the running preview and waits for its thread (before its files go)."""
         self.cancel.set()
-        if self.thread is not None:
-            self.thread.join()
-        self.thread = None
+        for thread in self.threads:
+            thread.join()
+        self.threads = []
 
     def start(self, engine, data, width, height):
-        self.stop()
+        """Renders `data` at width x height in a new thread. The running one is cancelled, not
+        waited for: it stops at its next progress report (every 50 ms), meanwhile rendering
+        beside the new one (waiting for it took up to 60 ms of an edit's first image)."""
+        self.cancel.set()
         self.count += 1
         path = write_toml(dict(data, image={"width": width, "height": height}),
                           os.path.join(self.folder, "view_%d.toml" % self.count))
@@ -709,9 +831,10 @@ class _Preview:
         del viewport_log[:-20]
         viewport_log.append(log)
         self.cancel = threading.Event()
-        self.thread = threading.Thread(target=self._run, daemon=True,
-                                       args=(engine, path, width, height, self.cancel, log))
-        self.thread.start()
+        self.threads = [t for t in self.threads if t.is_alive()]
+        self.threads.append(threading.Thread(target=self._run, daemon=True, args=(
+            engine, path, width, height, self.cancel, log)))
+        self.threads[-1].start()
 
     def _run(self, engine, path, width, height, cancel, log):
         am = locate.import_anamorph()
@@ -727,15 +850,17 @@ class _Preview:
                                     height=max(1, int(height * fraction)), spp=spp,
                                     progress=progress)["rgba"]
                 with self.lock:
-                    self.image = img
+                    if cancel.is_set():  # a newer preview started: its images only
+                        break
+                    self.image, self.image_log = img, log
                 log["passes"] += 1
                 log["first_image"] = log["first_image"] or time.monotonic()
-                _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+                _redraw(engine)
         except Cancelled:
             pass
         except Exception as e:  # shown in the status of the next draw
             log["error"] = str(e)
-            _main_queue.put((engine.tag_redraw, {}, threading.Event()))
+            _redraw(engine)
         finally:
             try:
                 os.remove(path)
@@ -747,16 +872,37 @@ class _Preview:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+def _redraw(engine):
+    """Asks Blender to draw the viewport again, from the preview's thread: the engine's
+    tag_redraw only sets a flag the window manager's loop looks at (Cycles calls it from its
+    session thread too). Through the add-on's timer instead, the image waited 300-500 ms for
+    the timer's next call in a window under Xvfb (bench/blender/run)."""
+    try:
+        engine.tag_redraw()
+    except ReferenceError:  # the engine was freed (the viewport closed)
+        pass
+
+
 _MESH_DATA = (bpy.types.Mesh, bpy.types.Material, bpy.types.Image, bpy.types.Curve,
               bpy.types.NodeTree, bpy.types.Collection)
+
+
+# Data the export leaves out: read again by view_update without exporting. A camera's own
+# edit (its fov) comes as an update of its Camera and its Object with is_updated_geometry set
+# (seen in Blender 3.4): without this it exported the meshes again (a 50-150 ms export).
+_NOT_EXPORTED = (bpy.types.Camera, bpy.types.Light, bpy.types.World, bpy.types.Scene)
 
 
 def _meshes_changed(depsgraph):
     """Whether an update can change what the glTF export holds."""
     for u in depsgraph.updates:
+        if isinstance(u.id, _NOT_EXPORTED):
+            continue
+        if isinstance(u.id, bpy.types.Object):
+            if u.id.type not in {"CAMERA", "EMPTY", "LIGHT"}:
+                return True
+            continue
         if u.is_updated_geometry or u.is_updated_shading or isinstance(u.id, _MESH_DATA):
-            return True
-        if isinstance(u.id, bpy.types.Object) and u.id.type not in {"CAMERA", "EMPTY", "LIGHT"}:
             return True
     return False
 
@@ -833,7 +979,12 @@ class ANAMORPH_PT_camera(bpy.types.Panel):
         layout.prop(settings, "image_surface")
         if settings.image_surface is None:
             layout.prop(settings, "preset")
-        if settings.image_surface is None and settings.preset != "BLENDER":
+        if settings.image_surface is None and settings.preset == "FUNCTIONS":
+            for kind in ("org", "dir"):
+                layout.prop(settings, kind + "_type")
+                _draw_group(layout.column(), getattr(
+                    settings, f"{kind}_{getattr(settings, kind + '_type')}"))
+        elif settings.image_surface is None and settings.preset != "BLENDER":
             _draw_group(layout.column(), getattr(settings, "p_" + settings.preset))
         _draw_group(layout.column(), settings.common)
         layout.operator(ANAMORPH_OT_add_coin.bl_idname, icon="EMPTY_AXIS")

@@ -23,6 +23,13 @@ _KINDS = {
     "[a, b]": ("vector", 2),
     "colour": ("vector", 3),
     "number list": ("toml", 0),
+    # Typed as TOML text too: grids and lists of points, tables of constants, a nested
+    # origin function (dir.from_surface's surface, e.g. {type = "sphere", radius = 2}).
+    "grid of [x, y, z]": ("toml", 0),
+    "grid of numbers": ("toml", 0),
+    "list of [x, y, z]": ("toml", 0),
+    "table name = number": ("toml", 0),
+    "origin function": ("toml", 0),
 }
 
 
@@ -80,6 +87,13 @@ def preset_specs(declarations):
     """{preset name: (doc, [descriptions])} for every declared preset."""
     return {name: (p["doc"], describe_all(p["params"]))
             for name, p in declarations["presets"].items()}
+
+
+def function_specs(declarations, kind):
+    """{type: (doc, [descriptions])} of every declared origin ("org") or direction ("dir")
+    function: the camera panel's org/dir compositions."""
+    return {name: (f["doc"], describe_all(f["params"]))
+            for name, f in declarations[kind].items()}
 
 
 def coin_specs(declarations):

@@ -7,7 +7,10 @@ flip of the world changes which side of everything is which colour.
    pixel's direction), turned 40 degrees by a Mapping node of type Point, 0 degrees, and 40
    degrees by one of type Texture (the inverse turn): 4 x 4 block means within 2 %.
 2. A floor and a sphere lit by that world only: image means per channel within 3 % and
-   10 x 10 block means within noise (5 %)."""
+   10 x 10 block means within noise (5 %).
+3. The world alone again with the image packed into the .blend (its file gone) and generated
+   (Blender's colour grid in float, a plain 8-bit colour): 4 x 4 block means within 2 %.
+   Rotations about X and Y: the Z turn kept and a warning naming them."""
 
 import math
 import os
@@ -64,13 +67,15 @@ def written_environment():
     """The [environment] table the add-on writes for the current scene, and its warnings."""
     from anamorph_blender import bl
 
-    data, warnings = bl.scene_data(bpy.context.evaluated_depsgraph_get(), "", 1, export=False)
+    data, warnings = bl.scene_data(bpy.context.evaluated_depsgraph_get(), "", 1, export=False,
+                                   folder=common.OUT)
     return data["environment"], warnings
 
 
 scene = common.small_scene(width=80, height=60)
 bpy.data.objects["lamp"].hide_render = True
-mapping = hdri_world(lopsided_hdri(os.path.join(common.OUT, "lopsided.exr")), 40.0)
+hdri_path = lopsided_hdri(os.path.join(common.OUT, "lopsided.exr"))
+mapping = hdri_world(hdri_path, 40.0)
 env, warnings = written_environment()
 common.check(env.get("file", "").endswith("lopsided.exr") and abs(env["rotation"] - 130) < 1e-4
              and env["strength"] == 1.5 and not warnings,
@@ -85,6 +90,16 @@ common.check(any("wide_sun" in w and "angle (10 degrees)" in w for w in warnings
              "a sun of angle 10 degrees gives a warning that its angle is not carried over: %r"
              % warnings)
 bpy.data.objects.remove(sun)
+
+# A Mapping node turning about X and Y too: anamorph's environment turns about its up axis only
+# (the schema's [environment] rotation); the Z turn is kept, X and Y named in a warning.
+mapping.inputs["Rotation"].default_value = (math.radians(10), math.radians(-5), math.radians(40))
+env, warnings = written_environment()
+common.check(abs(env.get("rotation", 0) - 130) < 1e-4 and any(
+    "about X (10 degrees) and Y (-5 degrees) is not carried over" in w for w in warnings),
+    "X/Y rotations: the image turned about Z only (rotation %r), a warning names them: %r"
+    % (env.get("rotation"), warnings))
+mapping.inputs["Rotation"].default_value = (0, 0, math.radians(40))
 
 # 1. The world alone, through Blender's equirectangular camera.
 for ob in bpy.data.objects:
@@ -113,4 +128,38 @@ mapping.inputs["Rotation"].default_value[2] = math.radians(40.0)
 mine, ref = common.both_engines("lit", 128)
 common.compare_means("lit", mine, ref)
 common.compare_blocks("lit", mine, ref, 10, 0.05)
+
+# 3. Images that are no file on disk, the world alone again: the add-on writes them for anamorph
+# (a packed image's bytes as packed; a generated one saved by Blender, 8-bit as PNG, float as
+# EXR), Cycles reads them from Blender's memory.
+for ob in bpy.data.objects:
+    ob.hide_render = ob.type != "CAMERA"
+cam.type = "PANO"
+scene.render.resolution_x, scene.render.resolution_y = 64, 32
+scene.anamorph.spp = 16
+tex = next(n for n in scene.world.node_tree.nodes if n.type == "TEX_ENVIRONMENT")
+tex.image.pack()
+os.rename(hdri_path, hdri_path + ".gone")
+env, warnings = written_environment()
+with open(env.get("file", os.devnull), "rb") as f:
+    same = f.read() == tex.image.packed_file.data
+common.check(os.path.dirname(env.get("file", "")) == common.OUT and same and not warnings,
+             "a packed image (its file gone) is written as packed: %r %r" % (env, warnings))
+mine, ref = common.both_engines("world_packed", 16)
+common.compare_blocks("world_packed", mine, ref, 4, 0.02)
+for float_buffer in (False, True):
+    grid = bpy.data.images.new("grid", 64, 32, float_buffer=float_buffer)
+    # The float one a colour grid (lopsided); the 8-bit one plain: Cycles filters 8-bit sRGB
+    # texels before decoding them, anamorph after (a grid's block means then part by 7 %).
+    grid.generated_type = "COLOR_GRID" if float_buffer else "BLANK"
+    grid.generated_color = (0.8, 0.3, 0.1, 1.0)
+    tex.image = grid
+    env, warnings = written_environment()
+    common.check(env.get("file", "").endswith(".exr" if float_buffer else ".png")
+                 and not warnings, "a generated image is written: %r %r" % (env, warnings))
+    name = "world_generated_%s" % ("float" if float_buffer else "8bit")
+    mine, ref = common.both_engines(name, 16)
+    # Without the rows at the poles: the grid's top and bottom rows differ, and within half a
+    # texel of a pole Cycles mixes in the other pole's row (measured there: 2.5 %).
+    common.compare_blocks(name, mine[4:-4], ref[4:-4], 4, 0.02)
 common.finish()

@@ -1,9 +1,10 @@
 """The camera panel's properties reach anamorph: a preset switch with its keys, Blender's own
-panoramic lens types as the matching presets, and coin edits on the empty. Also the Depth and
-Normal passes in the render result, against ray casts computed here."""
+panoramic lens types as the matching presets, org/dir functions, and coin edits on the empty.
+Also the Depth and Normal passes in the render result, against ray casts computed here."""
 
 import math
 import os
+import subprocess
 import sys
 import tomllib
 
@@ -115,6 +116,34 @@ common.check(c["org"]["type"] == "nurbs" and c["org"]["knot_type_u"] == "clamped
                  on_surface[:, ::-1] - ortho).mean() / ortho.mean()))
 cam.anamorph.image_surface = None
 bpy.data.objects.remove(surf)
+
+# org/dir functions chosen in the panel: a bilinear Bezier patch (its grid typed as TOML text)
+# on the camera's plane, 6 m square, rays along a constant direction (-z, camera space): the
+# orthographic camera again. The tables written are exactly the set keys, and the image is
+# `anamorph render` of the kept scene file bit for bit.
+grid = [[[-3, 3, 0], [3, 3, 0]], [[-3, -3, 0], [3, -3, 0]]]
+cam.anamorph.preset = "FUNCTIONS"
+cam.anamorph.org_type = "bezier"
+cam.anamorph.org_bezier.points = str(grid)
+cam.anamorph.dir_type = "constant"
+cam.anamorph.dir_constant.direction = (0.0, 0.0, -1.0)
+toml, functions = render()
+c = toml["camera"]
+diff = np.abs(functions - ortho).mean() / ortho.mean()
+common.check(c["org"] == {"type": "bezier", "points": grid} and "preset" not in c
+             and c["dir"] == {"type": "constant", "direction": [0.0, 0.0, -1.0]}
+             and diff < 1e-3, "org/dir functions from the panel: org %s, dir %s, mean "
+             "|difference| from the orthographic camera %.2g of the mean"
+             % (c["org"], c["dir"], diff))
+cli = os.path.join(common.OUT, "functions_cli.exr")
+run = subprocess.run([common.ANAMORPH_BIN, "render", os.path.join(keep, "frame_0001.toml"),
+                      "-o", cli, "--quiet"], capture_output=True, text=True)
+ref = common.read_rgba(cli) if run.returncode == 0 else np.zeros_like(functions)
+ref[..., :3] *= ref[..., 3:4]  # Blender's result is premultiplied
+common.check(np.array_equal(functions, ref), "org/dir functions: equal to `anamorph render` "
+             "of the kept scene bit for bit (%d values differ; %s)"
+             % (np.sum(functions != ref), run.stderr.strip()))
+cam.anamorph.preset = "BLENDER"
 cam.type = "PERSP"
 
 # Coin edits through the empty's properties.

@@ -30,17 +30,26 @@ common.check(engine_available(), "the render engine 'anamorph' is registered")
 decl = am.declarations()
 cam = bpy.data.cameras.new("c")
 items = {i.identifier for i in cam.anamorph.bl_rna.properties["preset"].enum_items}
-common.check(items == set(decl["presets"]) | {"BLENDER"},
-             "preset choices = the declared presets + BLENDER (missing %s, extra %s)"
-             % (set(decl["presets"]) - items, items - set(decl["presets"]) - {"BLENDER"}))
-holdable = {"number", "integer", "bool", "string", "[x, y, z]", "[a, b]", "colour", "number list"}
+extra = {"BLENDER", "FUNCTIONS"}
+common.check(items == set(decl["presets"]) | extra,
+             "preset choices = the declared presets + BLENDER, FUNCTIONS (missing %s, extra %s)"
+             % (set(decl["presets"]) - items, items - set(decl["presets"]) - extra))
+holdable = {"number", "integer", "bool", "string", "[x, y, z]", "[a, b]", "colour", "number list",
+            "grid of [x, y, z]", "grid of numbers", "list of [x, y, z]", "table name = number",
+            "origin function"}
 missing = []
-for name, p in decl["presets"].items():
-    group = getattr(cam.anamorph, "p_" + name)
+groups = [("p_" + n, p) for n, p in decl["presets"].items()]
+for kind in ("org", "dir"):
+    types = {i.identifier for i in cam.anamorph.bl_rna.properties[kind + "_type"].enum_items}
+    common.check(types == set(decl[kind]), "%s function choices = the declared ones (missing "
+                 "%s, extra %s)" % (kind, set(decl[kind]) - types, types - set(decl[kind])))
+    groups += [(kind + "_" + n, f) for n, f in decl[kind].items()]
+for attr, p in groups:
+    group = getattr(cam.anamorph, attr)
     for k in p["params"]:
         if k["type"] in holdable and k["name"] not in {"look_from", "look_at", "up"} \
                 and k["name"] not in group.bl_rna.properties:
-            missing.append(name + "." + k["name"])
+            missing.append(attr + "." + k["name"])
 for k in decl["coin"]:
     if k["name"] != "position" and k["name"] not in bpy.types.Object.bl_rna.properties[
             "anamorph_coin"].fixed_type.bl_rna.properties:
