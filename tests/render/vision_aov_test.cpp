@@ -92,6 +92,48 @@ TEST(VisionAov, MissesHaveInfiniteDepthAndNoFlow) {
   EXPECT_EQ(f.at("flow_forward", 1, 1, 2), 0) << "valid fraction";
 }
 
+// ray_origin / ray_direction: the pixel-centre camera ray of every pixel, hits and misses alike,
+// whatever the samples (4 stratified a pixel here), and NaN where the camera has no ray.
+void check_ray_layers(const std::string& camera, bool corners_without_ray) {
+  const int W = 12, H = 10;
+  const VisionFrame f = render_frame(
+      "[image]\nwidth = 12\nheight = 10\n[render]\nintegrator = \"albedo\"\n"
+      "sampler = \"stratified\"\nspp = 4\n" +
+          camera + "look_from = [0.5, 0.2, 5]\nlook_at = [0, 0, 0]\n" +
+          "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n",
+      {Aov::RayOrigin, Aov::Distance, Aov::RayDirection});
+  int no_ray = 0, misses = 0;
+  double worst = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const auto ray = f.scene.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
+      SCOPED_TRACE(camera + " pixel " + std::to_string(x) + "," + std::to_string(y));
+      misses += std::isinf(f.at("distance", x, y));
+      for (int c = 0; c < 3; ++c) {
+        if (!ray) {
+          EXPECT_TRUE(std::isnan(f.at("ray_origin", x, y, c))) << f.at("ray_origin", x, y, c);
+          EXPECT_TRUE(std::isnan(f.at("ray_direction", x, y, c)));
+          continue;
+        }
+        EXPECT_NEAR(f.at("ray_origin", x, y, c), ray->org[c], 1e-6);
+        EXPECT_NEAR(f.at("ray_direction", x, y, c), ray->dir[c], 1e-6);
+        worst = std::max({worst, std::abs(f.at("ray_origin", x, y, c) - ray->org[c]),
+                          std::abs(f.at("ray_direction", x, y, c) - ray->dir[c])});
+      }
+      no_ray += !ray;
+    }
+  EXPECT_EQ(no_ray > 0, corners_without_ray) << no_ray << " pixels without a ray";
+  std::printf("%s: worst ray difference %.3g, %d misses, %d pixels without a ray\n",
+              corners_without_ray ? "fisheye" : "perspective", worst, misses, no_ray);
+  EXPECT_GT(misses, 20) << "pixels that hit nothing";
+}
+
+TEST(VisionAov, RayLayersHoldThePixelCentreRayEverywhere) {
+  check_ray_layers("[camera]\npreset = \"perspective\"\nfov = 60\n", false);
+  // The inscribed circle of a 12 x 10 image: the corners have no ray.
+  check_ray_layers("[camera]\npreset = \"fisheye\"\nfov = 180\n", true);
+}
+
 // Camera space (x right, y up, looking along -z) of a camera at the origin turned by `yaw`
 // (radians, toward +x) from looking along -z.
 Vec3 camera_space(const Vec3& p, double yaw) {
