@@ -44,7 +44,8 @@ const std::vector<AovInfo>& aov_table() {
        "flow_forward",
        {"X", "Y", "valid"},
        "forward optical flow in pixels (x right, y down): where the first hit's point, moved "
-       "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
+       "with its object (a deforming mesh's: with its triangle's vertices) to frame + 1, is seen "
+       "by frame + 1's camera (inverse map), minus where "
        "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
        "a sample has none when the point leaves the image or is hidden at frame + 1 (traced from "
        "that frame's camera ray to it); valid: their fraction of the hits"},
@@ -58,7 +59,8 @@ const std::vector<AovInfo>& aov_table() {
        {"X", "Y", "Z", "W"},
        "motion vectors in Blender Cycles' Vector pass convention, pixels with y up: (X, Y) = "
        "position at frame - 1 minus position now, (Z, W) = position now minus position at "
-       "frame + 1; the first hit's point moved with its object and seen by that frame's "
+       "frame + 1; the first hit's point moved with its object (or its deforming mesh's "
+       "vertices) and seen by that frame's "
        "camera, hidden or not; mean over the pixel's hits, a hit without an image there "
        "counting 0; 0 where nothing is hit"},
       {Aov::RayOrigin,
