@@ -66,8 +66,8 @@ class Scene:
         """Renders the scene as ``anamorph render`` does, with the same options (``spp`` implies
         uniform sampling). Returns float32 arrays of shape (H, W, C): ``rgba`` (linear colour,
         straight alpha) and one per AOV (albedo, normal, depth, position, id, uv, spp, distance,
-        depth_z, position_camera, flow_forward, flow_backward, motion, coins; the flow and motion
-        layers load the scene at frame + 1 and - 1 for the render).
+        depth_z, position_camera, flow_forward, flow_backward, motion, ray_origin, ray_direction,
+        coins; the flow and motion layers load the scene at frame + 1 and - 1 for the render).
         ``progress`` is called on this thread with a dict (fraction, seconds, rays, pass,
         passes); an exception from it, or Ctrl-C, cancels the render and is raised. The GIL is
         released while rendering. ``denoise`` is the CLI's ``--denoise`` (docs/denoise.md: uniform

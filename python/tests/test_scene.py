@@ -208,6 +208,24 @@ def test_depth_layers_from_python():
                                np.sqrt(25 + (xy ** 2).sum(axis=-1)), rtol=1e-6)
 
 
+def test_ray_layers_are_the_cameras_pixel_centre_rays():
+    # ray_origin / ray_direction at every pixel, hit or miss, equal Camera.rays (float32 of its
+    # float64), NaN outside a fisheye's circle.
+    for preset in ("perspective", "fisheye"):
+        scene = anamorph.loads(
+            '[image]\nwidth = 10\nheight = 8\n[render]\nintegrator = "albedo"\nspp = 2\n'
+            f'[camera]\npreset = "{preset}"\nfov = 120\nlook_from = [1, 2, 3]\n'
+            'look_at = [0, 0, 0]\n[[object]]\ntype = "sphere"\nradius = 1\n')
+        img = scene.render(aovs=["ray_origin", "ray_direction", "id"])
+        rays = scene.camera.rays(differentials=False)
+        valid = rays["valid"]
+        assert (img["id"][..., 0] < 0).sum() > 10, "misses"
+        assert (~valid).any() == (preset == "fisheye")
+        for layer, key in (("ray_origin", "org"), ("ray_direction", "dir")):
+            np.testing.assert_array_equal(img[layer][valid], rays[key][valid].astype(np.float32))
+            assert np.isnan(img[layer][~valid]).all()
+
+
 # A fisheye turning between frames 0 and 2 before a sphere moving across a still one: flow
 # (with occlusion) and motion from Python equal the CLI's EXR, which loads frames F +- 1 the same.
 FLOW_SCENE = """[image]\nwidth = 24\nheight = 20\n[render]\nintegrator = "albedo"

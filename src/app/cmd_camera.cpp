@@ -8,6 +8,7 @@
 
 #include "app/common.h"
 #include "app/output_guard.h"
+#include "camera/ray_field.h"
 #include "io/image_io.h"
 
 namespace anamorph::app {
@@ -19,6 +20,17 @@ struct RaysArgs {
   std::string output;
 };
 
+// One image row's pixel-centre rays (the render's ray_origin / ray_direction layers' code).
+struct RayRow {
+  std::vector<double> org, dir;
+  std::vector<uint8_t> valid;
+  RayRow(const Scene& s, int y)
+      : org(3 * size_t(s.render.width)), dir(org.size()), valid(size_t(s.render.width)) {
+    generate_pixel_rays(*s.camera, s.render.width, s.render.height, 0, y, s.render.width, y + 1,
+                        {org.data(), dir.data(), nullptr, nullptr, nullptr, nullptr, valid.data()});
+  }
+};
+
 // Every pixel centre's ray as CSV rows, streamed a row at a time: a 30000 x 30000 table is
 // 80 GB, never held in memory.
 void write_rays_csv(const std::filesystem::path& out, const Scene& s) {
@@ -26,14 +38,14 @@ void write_rays_csv(const std::filesystem::path& out, const Scene& s) {
   AtomicFile file(out);
   std::string row = "px,py,u,v,ox,oy,oz,dx,dy,dz,valid\n";
   for (int y = 0; y < H; ++y) {
+    const RayRow r(s, y);
     for (int x = 0; x < W; ++x) {
       const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
-      const auto r = s.camera->generate({uv});
-      if (r)
+      const double *o = &r.org[3 * size_t(x)], *d = &r.dir[3 * size_t(x)];
+      if (r.valid[size_t(x)])
         fmt::format_to(std::back_inserter(row),
                        "{},{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},1\n",
-                       x, y, uv.x, uv.y, r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y,
-                       r->dir.z);
+                       x, y, uv.x, uv.y, o[0], o[1], o[2], d[0], d[1], d[2]);
       else
         fmt::format_to(std::back_inserter(row), "{},{},{:.17g},{:.17g},0,0,0,0,0,0,0\n", x, y, uv.x,
                        uv.y);
@@ -60,16 +72,14 @@ void write_rays_exr(const std::filesystem::path& out, const Scene& s) {
     hi.data.push_back(h);
     lo.data.push_back(float(x - double(h)));
   };
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const auto r = s.camera->generate({{(x + 0.5) / W, (y + 0.5) / H}});
-      const Vec3 o = r ? r->org : Vec3{}, d = r ? r->dir : Vec3{};
-      for (int k = 0; k < 3; ++k) {
-        put(org, org_lo, o[k]);
-        put(dir, dir_lo, d[k]);
-      }
-      valid.data.push_back(r ? 1.0f : 0.0f);
+  for (int y = 0; y < H; ++y) {
+    const RayRow r(s, y);  // (zeros where there is no ray)
+    for (size_t k = 0; k < 3 * size_t(W); ++k) {
+      put(org, org_lo, r.org[k]);
+      put(dir, dir_lo, r.dir[k]);
     }
+    for (const uint8_t v : r.valid) valid.data.push_back(v ? 1.0f : 0.0f);
+  }
   img.layers = {std::move(org), std::move(dir), std::move(org_lo), std::move(dir_lo),
                 std::move(valid)};
   img.metadata["anamorph.command"] = command_line();

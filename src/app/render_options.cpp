@@ -73,8 +73,16 @@ int check_options(RenderSetup& s) {
                     s.args.coins_overlay ? "the coin overlay" : "a checkpoint"));
     return kBadInput;
   }
-  if (!find_sink_kind(s.out)) {
+  const SinkKind* kind = find_sink_kind(s.out);
+  if (!kind) {
     print_error(fmt::format("-o {}: {}", s.out, unsupported_extension(s.out)));
+    return kBadInput;
+  }
+  if (kind->takes(s.outs.layers).empty()) {  // (a .flo file without a flow layer)
+    print_error(
+        fmt::format("-o {}: a {} file ({}) holds none of this render's layers: add the "
+                    "--aov it holds",
+                    s.out, kind->name, kind->label));
     return kBadInput;
   }
   return kOk;
@@ -125,7 +133,7 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
   cmd->add_option("--aov", a->aovs,
                   "Extra layers written to EXR (beside a PNG: <output>.exr): "
                   "albedo,normal,depth,distance,depth_z,position,position_camera,id,uv,spp,"
-                  "flow_forward,flow_backward,motion,coins "
+                  "flow_forward,flow_backward,motion,ray_origin,ray_direction,coins "
                   "(coins also writes <output>.coins.png with the markers drawn in)");
   cmd->add_option("--frames", a->frames,
                   "Render frames FIRST:LAST of the scene's [[animate]] keys (inclusive)");

@@ -43,6 +43,13 @@ void all_rays(const Camera& cam, size_t n, const SampleAt& sample, const RayArra
   });
 }
 
+// The pixel-centre sample of pixel (x, y) of a width x height image.
+CameraSample pixel_centre(size_t x, size_t y, int width, int height) {
+  CameraSample s;
+  s.uv = {(double(x) + 0.5) / width, (double(y) + 0.5) / height};
+  return s;
+}
+
 }  // namespace
 
 void generate_rays(const Camera& cam, size_t n, const SampleArrays& in, const RayArrays& out) {
@@ -62,13 +69,18 @@ void generate_rays(const Camera& cam, size_t n, const SampleArrays& in, const Ra
 void generate_ray_field(const Camera& cam, int width, int height, const RayArrays& out) {
   const size_t w = size_t(width);
   all_rays(
-      cam, w * size_t(height),
-      [&](size_t k) {
-        CameraSample s;
-        s.uv = {(double(k % w) + 0.5) / width, (double(k / w) + 0.5) / height};
-        return s;
-      },
+      cam, w * size_t(height), [&](size_t k) { return pixel_centre(k % w, k / w, width, height); },
       out);
+}
+
+void generate_pixel_rays(const Camera& cam, int width, int height, int x0, int y0, int x1, int y1,
+                         const RayArrays& out) {
+  const size_t w = size_t(std::max(0, x1 - x0)), n = w * size_t(std::max(0, y1 - y0));
+  const auto sample = [&](size_t k) {
+    return pixel_centre(size_t(x0) + k % w, size_t(y0) + k / w, width, height);
+  };
+  for (size_t k = 0; k < n; k += kCameraBatch)
+    batch(cam, k, int(std::min<size_t>(kCameraBatch, n - k)), sample, out);
 }
 
 Projections project_points(const Camera& cam, size_t n, const double* xyz) {

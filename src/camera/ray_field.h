@@ -40,6 +40,11 @@ void generate_rays(const Camera& cam, size_t n, const SampleArrays& in, const Ra
 // The rays at the pixel centers ((x + 0.5) / width, (y + 0.5) / height) of a width x height
 // image, row-major from the top-left.
 void generate_ray_field(const Camera& cam, int width, int height, const RayArrays& out);
+// The same rays for the pixels x0 <= x < x1, y0 <= y < y1 of that image only, row-major over the
+// rectangle, on the calling thread (a tile's: the render's ray_origin / ray_direction layers, a
+// row of `anamorph rays`). The same bits as generate_ray_field's.
+void generate_pixel_rays(const Camera& cam, int width, int height, int x0, int y0, int x1, int y1,
+                         const RayArrays& out);
 
 // Every image position (u, v) of each of n points (xyz interleaved): point i's positions are
 // uv[offsets[i] .. offsets[i + 1]) (two doubles each); offsets has n + 1 entries.

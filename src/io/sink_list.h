@@ -5,3 +5,4 @@
 // its file and its line. (No include guard: read once per use, with ANAMORPH_SINK defined.)
 ANAMORPH_SINK(kPngSink, sink_png.cpp)
 ANAMORPH_SINK(kExrSink, sink_exr.cpp)
+ANAMORPH_SINK(kFloSink, sink_flo.cpp)

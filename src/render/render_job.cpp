@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/shading.h"
+#include "scene/gltf_rig.h"
 
 namespace anamorph {
 
@@ -71,7 +72,7 @@ RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, i
 }
 
 // An object's map to the next frame: its transform there after the inverse of its transform here
-// (rigid or affine motion; a deforming mesh's own vertex motion is not followed).
+// (rigid or affine motion), and which objects are deforming meshes, followed by their vertices.
 RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other, bool occlusion) const {
   FlowTarget to;
   to.wanted = true;
@@ -79,8 +80,8 @@ RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other, bool occl
   if (!other) return to;
   to.camera = other->camera.get();
   to.accel = &accel;
-  if (other->geometry && occlusion) {
-    to.scene = other->geometry;
+  to.scene = other->geometry;
+  if (to.scene && occlusion) {
     to.own = std::make_shared<const Accel>(*to.scene);
     to.accel = to.own.get();
   }
@@ -95,7 +96,65 @@ RenderJob::FlowTarget RenderJob::flow_target(const FrameMotion* other, bool occl
                                   : scene.instances[r.source].world_from_object;
     to.there_from_here[id] = there[r.source] * here.inverse();
   }
+  if (to.scene) find_deforming(to);
   return to;
+}
+
+bool RenderJob::same_triangles(uint32_t proto, const Scene& other) const {
+  if (proto >= other.prototypes.size()) return false;
+  const std::vector<TriangleMesh>&a = scene.prototypes[proto].meshes,
+        &b = other.prototypes[proto].meshes;
+  if (a.size() != b.size()) return false;
+  for (size_t m = 0; m < a.size(); ++m)
+    if (a[m].indices != b[m].indices || a[m].positions.size() != b[m].positions.size())
+      return false;
+  return true;
+}
+
+void RenderJob::find_deforming(FlowTarget& to) const {
+  std::vector<uint8_t> deformed(scene.prototypes.size());
+  for (const SceneRig& r : scene.rigs)
+    if (r.animate && r.rig && r.rig->animated())
+      for (const Deformer& d : r.rig->deformers) deformed.at(r.first_prototype + d.prototype) = 1;
+  to.deforming.resize(accel.object_count());
+  int flat_mesh = 0;  // a flattened instance's meshes are consecutive objects, one each
+  for (uint32_t id = 0; id < accel.object_count(); ++id) {
+    const Accel::Record& r = accel.record(id);
+    const bool flat = r.kind == Accel::Record::Kind::FlatMesh;
+    flat_mesh = flat && id > 0 && accel.record(id - 1).kind == r.kind &&
+                        accel.record(id - 1).source == r.source
+                    ? flat_mesh + 1
+                    : 0;
+    if (r.kind == Accel::Record::Kind::Shape || r.source >= scene.instances.size() ||
+        r.source >= to.scene->instances.size())
+      continue;
+    const uint32_t proto = scene.instances[r.source].prototype;
+    if (deformed[proto] && same_triangles(proto, *to.scene))
+      to.deforming[id] = FlowTarget::Deforming{proto, r.source, flat ? flat_mesh : -1};
+  }
+}
+
+std::optional<Vec3> RenderJob::moved_point(const FlowTarget& to, const Hit& hit) const {
+  if (!to.there_from_here[hit.object_id]) return std::nullopt;
+  if (to.deforming.empty() || !to.deforming[hit.object_id])
+    return to.there_from_here[hit.object_id]->point(hit.p);
+  const FlowTarget::Deforming& d = *to.deforming[hit.object_id];
+  const uint32_t mesh = d.mesh >= 0 ? uint32_t(d.mesh) : hit.mesh;
+  const TriangleMesh& a = scene.prototypes[d.prototype].meshes.at(mesh);
+  const TriangleMesh& b = to.scene->prototypes[d.prototype].meshes.at(mesh);
+  // The hit's barycentric coordinates in its triangle here (world space: flattened meshes are).
+  const Transform& here = scene.instances[d.instance].world_from_object;
+  const uint32_t* idx = &a.indices[size_t(hit.prim) * 3];
+  const Vec3 p0 = here.point(Vec3(a.positions[idx[0]])),
+             e1 = here.point(Vec3(a.positions[idx[1]])) - p0,
+             e2 = here.point(Vec3(a.positions[idx[2]])) - p0, q = hit.p - p0;
+  const double d00 = dot(e1, e1), d01 = dot(e1, e2), d11 = dot(e2, e2), den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0)) return std::nullopt;
+  const double v = (d11 * dot(q, e1) - d01 * dot(q, e2)) / den,
+               w = (d00 * dot(q, e2) - d01 * dot(q, e1)) / den;
+  const Vec3 there = Vec3(b.positions[idx[0]]) * (1 - v - w) + Vec3(b.positions[idx[1]]) * v +
+                     Vec3(b.positions[idx[2]]) * w;
+  return to.scene->instances[d.instance].world_from_object.point(there);
 }
 
 double RenderJob::footprint_scale(uint32_t n) {
@@ -125,15 +184,17 @@ void RenderJob::fill_vision_aovs(const Hit& hit, Vec2 uv, AovSample& a) const {
   a.depth_z = -a.position_camera.z;
   for (int d = 0; d < 2; ++d) {
     bool hid = false;
-    a.moved[d] = flow[d].wanted && flow_at(flow[d], hit, uv, W, H, &a.flow[d], &hid);
+    a.moved[d] = flow[d].wanted && flow_at(flow[d], hit, uv, &a.flow[d], &hid);
     a.flow_valid[d] = a.moved[d] && !hid;
   }
 }
 
-bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow,
-                        bool* hidden_there) {
-  if (!to.camera || !to.there_from_here[hit.object_id]) return false;
-  const Vec3 q = to.there_from_here[hit.object_id]->point(hit.p);
+bool RenderJob::flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, Vec2* flow,
+                        bool* hidden_there) const {
+  if (!to.camera) return false;
+  const std::optional<Vec3> moved = moved_point(to, hit);
+  if (!moved) return false;
+  const Vec3 q = *moved;
   // Of several images (a point seen twice), the nearest to where it is now.
   bool found = false;
   double best = kInf;

@@ -56,6 +56,13 @@ struct RenderJob {
     bool occlusion = false;  // the flow layer: hidden points have none
     const Camera* camera = nullptr;
     std::vector<std::optional<Transform>> there_from_here;
+    // Per object id of a deforming mesh (a glTF skin or animated morph targets): its prototype
+    // and mesh (-1: the hit's), followed by its vertices instead of its transform.
+    struct Deforming {
+      uint32_t prototype = 0, instance = 0;
+      int mesh = -1;
+    };
+    std::vector<std::optional<Deforming>> deforming;
     const Accel* accel = nullptr;
     std::shared_ptr<const Scene> scene;  // keeps `own` valid
     std::shared_ptr<const Accel> own;    // built for the other frame's geometry
@@ -119,8 +126,15 @@ struct RenderJob {
   // The flow of the point `hit` sees from image position uv toward `to`, in pixels (of several
   // images, the nearest): false when it has no image there; *hidden when `to` tests occlusion
   // and another surface hides it there.
-  static bool flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, int W, int H, Vec2* flow,
-                      bool* hidden);
+  bool flow_at(const FlowTarget& to, const Hit& hit, Vec2 uv, Vec2* flow, bool* hidden) const;
+  // The deforming meshes' object ids of `to` (to.scene: the other frame's geometry).
+  void find_deforming(FlowTarget& to) const;
+  // Whether prototype `proto` has the same meshes and triangles in `other` (vertices may move).
+  bool same_triangles(uint32_t proto, const Scene& other) const;
+  // Where the point `hit` sees is at the other frame: moved with its object, or on a deforming
+  // mesh the same barycentric combination of its triangle's vertices there; none when its
+  // object is not there.
+  std::optional<Vec3> moved_point(const FlowTarget& to, const Hit& hit) const;
   // Whether the point q, seen at image position at by `to`'s camera, is hidden there.
   static bool hidden(const FlowTarget& to, const Vec3& q, Vec2 at);
   Color aov_beauty(const AovSample& a) const;

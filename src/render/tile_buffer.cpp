@@ -44,7 +44,8 @@ const std::vector<AovInfo>& aov_table() {
        "flow_forward",
        {"X", "Y", "valid"},
        "forward optical flow in pixels (x right, y down): where the first hit's point, moved "
-       "with its object to frame + 1, is seen by frame + 1's camera (inverse map), minus where "
+       "with its object (a deforming mesh's: with its triangle's vertices) to frame + 1, is seen "
+       "by frame + 1's camera (inverse map), minus where "
        "it is seen now; mean over the pixel's samples that have one (NaN where none has); "
        "a sample has none when the point leaves the image or is hidden at frame + 1 (traced from "
        "that frame's camera ray to it); valid: their fraction of the hits"},
@@ -58,9 +59,22 @@ const std::vector<AovInfo>& aov_table() {
        {"X", "Y", "Z", "W"},
        "motion vectors in Blender Cycles' Vector pass convention, pixels with y up: (X, Y) = "
        "position at frame - 1 minus position now, (Z, W) = position now minus position at "
-       "frame + 1; the first hit's point moved with its object and seen by that frame's "
+       "frame + 1; the first hit's point moved with its object (or its deforming mesh's "
+       "vertices) and seen by that frame's "
        "camera, hidden or not; mean over the pixel's hits, a hit without an image there "
        "counting 0; 0 where nothing is hit"},
+      {Aov::RayOrigin,
+       "ray_origin",
+       {"X", "Y", "Z"},
+       "world-space origin of the camera ray through the pixel centre ((x + 1/2) / W, "
+       "(y + 1/2) / H) with the lens centre and the shutter-open time (what `anamorph rays` "
+       "writes), scene units; set for every pixel, hit or not; NaN where the camera has no ray "
+       "(outside a fisheye's circle)"},
+      {Aov::RayDirection,
+       "ray_direction",
+       {"X", "Y", "Z"},
+       "world-space unit direction of ray_origin's ray (the pixel-centre camera ray); NaN where "
+       "the camera has no ray"},
   };
   return t;
 }
@@ -152,6 +166,11 @@ void TileBuffer::set(int x, int y, const Color& L, double alpha, uint32_t spp, c
   if (a.hit) add_aovs(x, y, a);
 }
 
+void TileBuffer::set_values(int x, int y, size_t layer, const float* values) {
+  const size_t n = aov_info(aovs_[layer]).channels.size();
+  std::copy_n(values, n, aov_.begin() + ptrdiff_t(index(x, y) * aov_floats_ + aov_offsets_[layer]));
+}
+
 void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
   PixelSum& p = at(x, y);
   p.hits++;
@@ -203,6 +222,10 @@ void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
           v += 3;
         break;
       }
+      case Aov::RayOrigin:
+      case Aov::RayDirection:
+        v += 3;  // per pixel, set_values
+        break;
       case Aov::Motion: {
         // Cycles: y up, (previous - now, now - next).
         const Vec2 back = a.moved[1] ? a.flow[1] : Vec2{}, fwd = a.moved[0] ? a.flow[0] : Vec2{};
@@ -227,6 +250,10 @@ void resolve_flow(const PixelSum& p, const float* v, float* out) {
 // One AOV's resolved channels from its sums `v` (a pixel's share of aov_sums()).
 void resolve_aov(Aov k, size_t channels, const PixelSum& p, const float* v, float* out) {
   if (k == Aov::FlowForward || k == Aov::FlowBackward) return resolve_flow(p, v, out);
+  if (aov_is_per_pixel(k)) {
+    std::copy_n(v, channels, out);
+    return;
+  }
   const bool distance = k == Aov::Depth || k == Aov::Distance || k == Aov::DepthZ;
   for (size_t c = 0; c < channels; ++c, ++v, ++out) {
     if (k == Aov::Id)

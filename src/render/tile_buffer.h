@@ -30,7 +30,11 @@ enum class Aov {
   FlowForward,     // pixels to where the point is seen at frame + 1, and the valid fraction
   FlowBackward,    // the same toward frame - 1
   Motion,          // Cycles' Vector pass: pixels to frame - 1 (x, y up) and from frame + 1 (z, w)
+  RayOrigin,       // the pixel centre's camera ray, world space: every pixel, hit or not
+  RayDirection,    // (set per pixel by set_values, not summed over hits)
 };
+// Layers that hold one value a pixel whatever its samples hit (the pixel-centre camera ray).
+inline bool aov_is_per_pixel(Aov a) { return a == Aov::RayOrigin || a == Aov::RayDirection; }
 
 struct AovInfo {
   Aov aov;
@@ -124,6 +128,9 @@ class TileBuffer {
   // data() + offset, not &aov_[i]: with no AOVs the vector is empty and [0] would bind a null.
   const float* aov_at(int x, int y) const { return aov_.data() + index(x, y) * aov_floats_; }
   size_t aov_floats() const { return aov_floats_; }
+
+  // Layer `layer`'s (aovs()[layer], a per-pixel layer) values at a pixel, written as they are.
+  void set_values(int x, int y, size_t layer, const float* values);
 
   // Raw storage, for checkpoints: the pixel sums and the AOV sums, row-major over the rect.
   std::vector<PixelSum>& sums() { return px_; }

@@ -2,9 +2,12 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
 #include "accel/accel.h"
+#include "camera/ray_field.h"
 #include "render/adaptive.h"
 #include "render/lights.h"
 
@@ -37,6 +40,31 @@ void render_lattice_tile(const AdaptiveGrid& grid, const RenderJob& job, Adaptiv
       st.rays, st.samples);
 }
 
+// The per-pixel layers (ray_origin, ray_direction) of the tile: the pixel-centre camera ray of
+// every pixel, hit or not, NaN where the camera has none. Written after each of the tile's
+// sweeps (the same values each time), so whole tiles, passes and resumed sums all hold them.
+void set_ray_layers(const Camera& cam, int W, int H, TileBuffer& tile) {
+  const std::vector<Aov>& aovs = tile.aovs();
+  if (std::none_of(aovs.begin(), aovs.end(), aov_is_per_pixel)) return;
+  const TileRect& r = tile.rect();
+  const size_t n = r.pixels();
+  std::vector<double> org(3 * n), dir(3 * n);
+  std::vector<uint8_t> valid(n);
+  generate_pixel_rays(cam, W, H, r.x0, r.y0, r.x1, r.y1,
+                      {org.data(), dir.data(), nullptr, nullptr, nullptr, nullptr, valid.data()});
+  for (size_t layer = 0; layer < aovs.size(); ++layer) {
+    if (!aov_is_per_pixel(aovs[layer])) continue;
+    const double* v = aovs[layer] == Aov::RayOrigin ? org.data() : dir.data();
+    for (size_t k = 0; k < n; ++k) {
+      float f[3];
+      for (size_t c = 0; c < 3; ++c)
+        f[c] = valid[k] ? float(v[3 * k + c]) : std::numeric_limits<float>::quiet_NaN();
+      tile.set_values(r.x0 + int(k % size_t(r.width())), r.y0 + int(k / size_t(r.width())), layer,
+                      f);
+    }
+  }
+}
+
 }  // namespace
 
 struct TileSession::Workspaces {
@@ -66,12 +94,14 @@ FarmResult TileSession::render(const FarmTile& t, std::unique_ptr<TileBuffer>& b
   const auto t0 = std::chrono::steady_clock::now();
   if (!t.whole) {
     samples(t.range, *t.sums, r.stats);
+    set_ray_layers(*job_.scene.camera, job_.W, job_.H, *t.sums);
   } else {
     if (buffer)
       buffer->reset(t.rect);
     else
       buffer = std::make_unique<TileBuffer>(t.rect, aovs_);
     whole(*buffer, r.stats);
+    set_ray_layers(*job_.scene.camera, job_.W, job_.H, *buffer);
     if (t.plan)
       r.resolved = resolve(t.index, *buffer, *t.plan);
     else

@@ -283,14 +283,26 @@ std::string Editor::Render::file_name(const std::string& stem, std::optional<int
 
 namespace {
 
+// The sink kinds the editor's final render (the beauty, no AOV layers) can write: not those
+// that hold only some AOV (a .flo file, flow).
+std::vector<const SinkKind*> editor_sink_kinds() {
+  const std::vector<LayerSpec> beauty{{"", {"R", "G", "B", "A"}}};
+  std::vector<const SinkKind*> kinds;
+  for (const SinkKind* k : sink_kinds())
+    if (!k->takes(beauty).empty()) kinds.push_back(k);
+  return kinds;
+}
+
 // The sink kinds named, or the first one when none is (std::invalid_argument for an unknown name).
 std::vector<const SinkKind*> sink_kinds_named(const std::vector<std::string>& names) {
+  const std::vector<const SinkKind*> editor = editor_sink_kinds();
   std::string known;
-  for (const SinkKind* k : sink_kinds()) known += (known.empty() ? "" : ", ") + k->name;
-  if (names.empty()) return {sink_kinds().front()};
+  for (const SinkKind* k : editor) known += (known.empty() ? "" : ", ") + k->name;
+  if (names.empty()) return {editor.front()};
   std::vector<const SinkKind*> kinds;
   for (const std::string& n : names) {
     const SinkKind* k = find_sink_kind_named(n);
+    if (std::find(editor.begin(), editor.end(), k) == editor.end()) k = nullptr;
     if (!k) throw std::invalid_argument("no file format is named '" + n + "' (" + known + ")");
     if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
   }
@@ -393,7 +405,7 @@ Json Editor::render_status() const {
   // The formats of this render (each also as NAME: true), and every one the editor can write.
   j["formats"] = Json::array();
   j["available"] = Json::array();
-  for (const SinkKind* k : sink_kinds()) {
+  for (const SinkKind* k : editor_sink_kinds()) {
     const bool asked = std::find(r.kinds.begin(), r.kinds.end(), k) != r.kinds.end();
     j[k->name] = asked;
     if (asked) j["formats"].push_back(k->name);

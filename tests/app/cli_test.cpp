@@ -118,7 +118,7 @@ TEST(Cli, BadSceneExitCode2WithLocationAndNoOutput) {
   // An output no sink writes: the one message, naming the extension and every supported one.
   const Result jpg = run("render " + write(d / "s.toml", kSmall) + " -o " + (d / "x.jpg").string());
   EXPECT_EQ(jpg.code, 2) << jpg.out;
-  EXPECT_CONTAINS(jpg.out, "unsupported extension '.jpg' (supported: .png, .exr)");
+  EXPECT_CONTAINS(jpg.out, "unsupported extension '.jpg' (supported: .png, .exr, .flo)");
   fs::remove_all(d);
 }
 

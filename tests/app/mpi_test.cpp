@@ -134,6 +134,19 @@ TEST(Mpi, AnimationOfFourFramesEqualsOneProcess) {
                               "0:3"});
 }
 
+TEST(Mpi, FlowLayersOfASequenceEqualOneProcess) {
+  REQUIRE_MPI();
+  // Frames + 1 and - 1 are loaded on every rank: the flow (occlusion traced in the other frame),
+  // motion and per-pixel ray layers of a moving fisheye with a rolling shutter and a moving ball.
+  expect_same_as_one_process(
+      {{example("examples/vision/sequence.toml"), "--width", "48", "--height", "48", "--aov",
+        "flow_forward,flow_backward,motion,ray_origin,ray_direction"},
+       ".exr",
+       true,
+       "1:2"},
+      2);
+}
+
 TEST(Mpi, OneRankAloneRendersByItself) {
   REQUIRE_MPI();
   expect_same_as_one_process(

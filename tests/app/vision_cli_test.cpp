@@ -97,6 +97,119 @@ TEST(VisionCli, FlowOfASequenceIsTheOtherFramesProjection) {
   }
 }
 
+// `render --aov ray_origin,ray_direction` holds, at every pixel, the ray `anamorph rays` writes
+// for it (the same floats), misses included, NaN where `rays` says there is none (valid 0), and
+// states the layers' definitions in the header.
+TEST(VisionCli, RayLayersAreWhatRaysWrites) {
+  for (const std::string preset : {"perspective", "fisheye"}) {
+    test::ScratchDir dir{"rays"};
+    const std::string file =
+        dir.write("s.toml",
+                  "[image]\nwidth = 10\nheight = 8\n[render]\nintegrator = \"albedo\"\n"
+                  "spp = 2\n[camera]\npreset = \"" +
+                      preset +
+                      "\"\nfov = 120\nlook_from = [1, 2, 3]\nlook_at = [0, 0, 0]\n"
+                      "[[object]]\ntype = \"sphere\"\nradius = 1\n");
+    const fs::path exr = dir.dir / "a.exr", rays = dir.dir / "r.exr";
+    const test::CliResult r = test::run_cli("render " + file + " -o " + exr.string() +
+                                            " --aov ray_origin,ray_direction,id -q");
+    ASSERT_EQ(r.code, 0) << r.out;
+    ASSERT_EQ(test::run_cli("rays " + file + " -o " + rays.string()).code, 0);
+    int W = 0, H = 0, rw = 0, rh = 0;
+    const auto a = read_exr_channels(exr, &W, &H), t = read_exr_channels(rays, &rw, &rh);
+    ASSERT_EQ(W, rw);
+    int no_ray = 0, misses = 0;
+    for (size_t i = 0; i < size_t(W) * size_t(H); ++i) {
+      no_ray += t.at("valid.V")[i] == 0;
+      misses += a.at("id.id")[i] < 0;
+      for (const char* c : {"X", "Y", "Z"}) {
+        const float o = a.at(std::string("ray_origin.") + c)[i],
+                    d = a.at(std::string("ray_direction.") + c)[i];
+        if (t.at("valid.V")[i] == 0) {
+          EXPECT_TRUE(std::isnan(o) && std::isnan(d)) << preset << " pixel " << i << ": " << o;
+        } else {
+          EXPECT_EQ(o, t.at(std::string("org.") + c)[i]) << preset << " pixel " << i << " " << c;
+          EXPECT_EQ(d, t.at(std::string("dir.") + c)[i]) << preset << " pixel " << i << " " << c;
+        }
+      }
+    }
+    EXPECT_EQ(no_ray > 0, preset == "fisheye") << no_ray;
+    EXPECT_GT(misses, 10) << preset;
+    const auto meta = read_metadata(exr);
+    EXPECT_TRUE(meta.count("anamorph.layer.ray_origin") &&
+                meta.count("anamorph.layer.ray_direction"));
+    std::printf("%s: %d misses, %d pixels without a ray\n", preset.c_str(), misses, no_ray);
+  }
+}
+
+// A .flo file's (u, v) floats (Middlebury: the tag 202021.25, width, height, then u, v row by
+// row); empty when its header is not that.
+std::vector<float> read_flo(const fs::path& file, int W, int H) {
+  std::FILE* f = std::fopen(file.c_str(), "rb");
+  if (!f) return {};
+  float tag = 0;
+  int32_t size[2] = {0, 0};
+  std::vector<float> uv(size_t(W) * size_t(H) * 2);
+  const bool ok = std::fread(&tag, 4, 1, f) == 1 && std::fread(size, 4, 2, f) == 2 &&
+                  tag == 202021.25f && size[0] == W && size[1] == H &&
+                  std::fread(uv.data(), 4, uv.size(), f) == uv.size() && std::fgetc(f) == EOF;
+  std::fclose(f);
+  return ok ? uv : std::vector<float>{};
+}
+
+// `-o f.flo --aov flow_forward` writes the .flo and, beside it, the EXR with the beauty and the
+// flow: the .flo's u, v are the EXR's flow_forward.X, .Y bit for bit, 1e10 (the format's unknown
+// flow) where the EXR has NaN; OpenCV's reader (cv2.readOpticalFlow) reads the same numbers.
+// With only flow_backward, that is the .flo's.
+TEST(VisionCli, FloFilesHoldTheFlowLayer) {
+  test::ScratchDir dir{"flo"};
+  const std::string file = dir.write("s.toml", turning_scene(true));
+  for (const std::string layer : {"flow_forward", "flow_backward"}) {
+    const std::string aovs = layer == "flow_forward" ? "flow_forward,flow_backward" : layer;
+    const test::CliResult r = test::run_cli("render " + file + " --frames 1:1 -o " +
+                                            (dir.dir / "f_%04d.flo").string() + " --aov " + aovs);
+    ASSERT_EQ(r.code, 0) << r.out;
+    int W = 0, H = 0;
+    const auto ch = read_exr_channels(dir.dir / "f_0001.exr", &W, &H);
+    const std::vector<float> uv = read_flo(dir.dir / "f_0001.flo", W, H);
+    ASSERT_FALSE(uv.empty()) << "not a " << W << " x " << H << " .flo file";
+    int unknown = 0;
+    for (size_t i = 0; i < size_t(W) * size_t(H); ++i)
+      for (const int c : {0, 1}) {
+        const float e = ch.at(layer + (c ? ".Y" : ".X"))[i];
+        unknown += std::isnan(e) && c == 0;
+        EXPECT_EQ(uv[2 * i + size_t(c)], std::isnan(e) ? 1e10f : e) << layer << " value " << i;
+      }
+    EXPECT_GT(unknown, 0) << "pixels outside the fisheye's circle have no flow";
+    std::printf("%s: %d x %d .flo equal to the EXR, %d pixels unknown\n", layer.c_str(), W, H,
+                unknown);
+    if (layer != "flow_forward") continue;  // (OpenCV's reader once)
+    if (test::run_shell("/usr/bin/python3 -c 'import cv2, numpy'").code != 0) {
+      std::printf("/usr/bin/python3 without cv2: the OpenCV cross-check is skipped\n");
+      continue;
+    }
+    const fs::path raw = dir.dir / "cv2.raw";
+    const test::CliResult py = test::run_shell(
+        "/usr/bin/python3 -c 'import cv2, sys; "
+        "cv2.readOpticalFlow(sys.argv[1]).tofile(sys.argv[2])' " +
+        (dir.dir / "f_0001.flo").string() + " " + raw.string());
+    ASSERT_EQ(py.code, 0) << py.out;
+    std::FILE* f = std::fopen(raw.c_str(), "rb");
+    ASSERT_NE(f, nullptr);
+    std::vector<float> cv(uv.size() + 1);
+    const size_t n = std::fread(cv.data(), 4, cv.size(), f);
+    std::fclose(f);
+    ASSERT_EQ(n, uv.size()) << "cv2's array is not H x W x 2";
+    cv.pop_back();
+    EXPECT_EQ(cv, uv) << "cv2.readOpticalFlow reads other numbers";
+  }
+  const test::CliResult bad =
+      test::run_cli("render " + file + " -o " + (dir.dir / "g.flo").string() + " --aov distance");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("g.flo"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(dir.dir / "g.flo"));
+}
+
 // The same scene for Blender (a script building it: camera and a unit cube keyed at frames 0, 1,
 // 2, a 40 x 40 plane behind) and for anamorph; Blender's world is z up, as the TOML says with
 // `up`. Camera 50 degrees wide, looking along +y.

@@ -202,6 +202,9 @@ TEST_F(PreviewTest, FinalRenderGivesAPng) {
   const Reply tiff = post("/api/render", json{{"formats", {"exr", "tiff"}}});
   EXPECT_EQ(tiff.status, 400) << tiff.body;
   EXPECT_CONTAINS(tiff.body, "'tiff' (png, exr)");
+  // (A .flo file holds flow only: not a format of the editor's final render.)
+  const Reply flo = post("/api/render", json{{"formats", {"flo"}}});
+  EXPECT_EQ(flo.status, 400) << flo.body;
   EXPECT_EQ(post("/api/render", json{{"formats", json::array()}}).status, 400);
   EXPECT_EQ(post("/api/render", json{{"formats", "exr"}}).status, 400);
 }
