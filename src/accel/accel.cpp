@@ -186,15 +186,18 @@ struct Accel::MaskStore {
 };
 
 // Which instances are flattened into the top level: single-use prototypes (a level of traversal
-// saved for the common one-model scene) that the animation does not move (a moving one stays an
-// instance, moved between frames without rebuilding its meshes: repose()), and instances Embree
-// cannot carry (instanceable()).
+// saved for the common one-model scene) and instances Embree cannot carry (instanceable()). When
+// the animation moves instances or deforms meshes, none is flattened for being single-use: the
+// top level holds instances only, so that a frame moves them and rebuilds only it and the
+// deformed meshes (repose()), not a BVH over every still triangle.
 std::vector<bool> Accel::plan_flattening(const Scene& scene) {
   const std::vector<bool> moving = moving_instances(scene);
+  const bool animated = std::find(moving.begin(), moving.end(), true) != moving.end() ||
+                        std::find(deforming_.begin(), deforming_.end(), true) != deforming_.end();
   std::vector<int>& uses = uses_;
   uses.assign(scene.prototypes.size(), 0);
-  for (size_t i = 0; i < scene.instances.size(); ++i)
-    uses[scene.instances[i].prototype] += moving[i] ? 2 : 1;  // (a moving one: as if shared)
+  for (const Instance& inst : scene.instances)
+    uses[inst.prototype] += animated ? 2 : 1;  // (animated: each as if shared)
   std::vector<bool> flatten(scene.instances.size());
   in_world_.assign(scene.prototypes.size(), false);
   for (size_t p = 0; p < scene.prototypes.size(); ++p)
@@ -216,7 +219,7 @@ bool Accel::same_plan(const Scene& scene) const {
     const Instance& inst = scene.instances[i];
     const uint32_t p = inst.prototype;
     if (inst.world_from_object.matrix() == placed_[i].matrix() && !deforming_[p]) continue;
-    if (uses_[p] == 1) continue;  // (single-use and still: flattened, as before)
+    if (uses_[p] == 1) continue;  // (never instanced: flattened, as before)
     const bool in_world = deforming_[p] ? within_world(scene.prototypes[p]) : in_world_[p];
     if (flatten_[i] != !instanceable(inst, in_world)) return false;
   }
@@ -235,8 +238,8 @@ Accel::Accel(const Scene& scene) {
   masks_ = std::make_unique<MaskStore>();
   prototype_scenes_.assign(scene.prototypes.size(), nullptr);
 
+  deforming_ = deforming_prototypes(scene);  // (before the plan, which asks it)
   flatten_ = plan_flattening(scene);
-  deforming_ = deforming_prototypes(scene);
   placed_.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) placed_.push_back(inst.world_from_object);
   for (size_t i = 0; i < scene.instances.size(); ++i) {
