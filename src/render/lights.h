@@ -1,6 +1,9 @@
 // All emitters of a scene behind one sampling interface: point, spot and directional lights
 // (delta), emissive triangles (quad lights become two of them), emissive spheres, and the
-// environment (importance-sampled by luminance when it is an image).
+// environment (importance-sampled by luminance when it is an image). The path tracer picks the
+// light of a shading point in two steps, each by what a light can give that point: among the
+// lights at infinity (directional, environment) and the finite ones as a group, then within the
+// group by the light tree (render/light_tree.h).
 #pragma once
 
 #include <unordered_map>
@@ -8,6 +11,7 @@
 
 #include "accel/accel.h"
 #include "math/distribution.h"
+#include "render/light_tree.h"
 #include "scene/scene.h"
 
 namespace anamorph {
@@ -25,8 +29,11 @@ class Lights {
   Lights(const Scene& scene, const Accel& accel);
 
   size_t count() const { return emitters_.size(); }
-  // Chooses a light proportionally to its estimated power.
-  size_t pick(double u, double* pmf) const { return pick_.sample_discrete(u, pmf); }
+  // Chooses the light *index to sample from point p with shading normal n, with probability
+  // *pmf; false when no light can reach p.
+  bool pick(double u, const Vec3& p, const Vec3& n, size_t* index, double* pmf) const;
+  // The probability that pick() at (p, n) chooses light i.
+  double pick_pmf(size_t i, const Vec3& p, const Vec3& n) const;
   // A direction toward light i from p, whose shading normal is n: a constant environment is
   // sampled cosine-weighted about n (no sample below the shading hemisphere; directions there
   // are left to BSDF sampling, whose MIS weight becomes 1).
@@ -47,14 +54,14 @@ class Lights {
 
   // Radiance leaving an emissive surface at a hit toward wo (zero if not emissive).
   Color emitted(const Hit& h, const Vec3& wo) const;
-  // Density (solid angle, pick pmf included) with which light sampling at `from` would have
-  // produced direction wi reaching the emitter at `h` (for MIS).
-  double pdf_emitter(const Hit& h, const Vec3& from, const Vec3& wi) const;
+  // Density (solid angle, pick pmf included) with which light sampling at `from` (shading
+  // normal from_n) would have produced direction wi reaching the emitter at `h` (for MIS).
+  double pdf_emitter(const Hit& h, const Vec3& from, const Vec3& from_n, const Vec3& wi) const;
 
   Color environment(const Vec3& dir) const;
   bool has_environment() const { return env_index_ >= 0; }
-  // Pick pmf included; n: the shading normal of the point the ray left (as for sample()).
-  double pdf_environment(const Vec3& dir, const Vec3& n) const;
+  // Pick pmf included; p, n: the point the ray left and its shading normal (as for sample()).
+  double pdf_environment(const Vec3& dir, const Vec3& p, const Vec3& n) const;
   // Mean radiance of the environment over the sphere (Whitted's ambient term).
   Color environment_average() const { return env_average_; }
 
@@ -90,6 +97,14 @@ class Lights {
                          uint32_t mesh_index, std::vector<double>& power);
   void add_emissive_sphere(uint32_t id, const Accel::Record& rec, std::vector<double>& power);
   void add_environment(std::vector<double>& power);
+  // The two-step choice of pick(): the groups and the tree.
+  void build_pick(const std::vector<double>& power);
+  // What group g can give p (the tree's root importance; 4 pi E |cos| for a directional light
+  // of irradiance E, as the tree weighs a point light; 4 pi pi L for an environment image of
+  // mean radiance L, a quarter of it for a constant one), and all groups' sum.
+  double group_weight(size_t g, const Vec3& p, const Vec3& n) const;
+  double group_total(const Vec3& p, const Vec3& n) const;
+  LightBounds bounds_of(const Emitter& e, double power) const;
   // sample()'s cases.
   static bool sample_punctual(const Emitter& e, const Vec3& p, LightSample* out);
   bool sample_triangle(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out) const;
@@ -107,10 +122,16 @@ class Lights {
   const Scene& scene_;
   std::vector<Emitter> emitters_;
   std::unordered_map<Key, uint32_t, KeyHash> by_surface_;
-  Distribution1D pick_, area_pick_;
+  static constexpr uint32_t kInTree = ~0u;
+  std::vector<uint32_t> group_emitter_;  // each group's emitter, kInTree for the tree's
+  std::vector<uint32_t> group_of_;       // each emitter's group
+  LightTree tree_;
+  std::vector<uint32_t> tree_emitter_, tree_slot_;  // tree index -> emitter, and back
+  Distribution1D area_pick_;
   std::vector<uint32_t> delta_, area_;
   int env_index_ = -1;
   Color env_average_;
+  double env_luminance_ = 0;  // the environment's mean luminance over the sphere (group weight)
   Distribution2D env_dist_;
   double scene_radius_ = 1;
   Vec3 scene_center_;

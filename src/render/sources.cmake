@@ -3,6 +3,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint.cpp
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint_records.cpp
   ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/denoise_film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/form_factors.cpp
   ${CMAKE_CURRENT_LIST_DIR}/radiosity.cpp
@@ -14,6 +15,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/path_integrator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/whitted_integrator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lights.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/light_pick.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/light_tree.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/local_threads.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_run.cpp
