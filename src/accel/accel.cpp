@@ -12,6 +12,7 @@
 #include "math/frame.h"
 #include "math/input_limits.h"
 #include "math/simd.h"
+#include "scene/scene_pose.h"
 
 namespace anamorph {
 
@@ -126,22 +127,28 @@ bool within_world(const Prototype& proto) {
   return true;
 }
 
-RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform* xf,
-                           const Material& mat, std::vector<std::unique_ptr<MaskData>>& masks) {
+// The mesh's vertices and triangles into the geometry's buffers (made by make_triangles, of the
+// mesh's sizes).
+void fill_triangles(RTCGeometry g, const TriangleMesh& m) {
+  auto* v = static_cast<float*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0));
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    v[3 * i] = m.positions[i].x;
+    v[3 * i + 1] = m.positions[i].y;
+    v[3 * i + 2] = m.positions[i].z;
+  }
+  auto* ix = static_cast<uint32_t*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_INDEX, 0));
+  std::copy(m.indices.begin(), m.indices.end(), ix);
+}
+
+RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Material& mat,
+                           std::vector<std::unique_ptr<MaskData>>& masks) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryMask(g, mask_of(mat));
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
-  for (size_t i = 0; i < m.positions.size(); ++i) {
-    Vec3 p(m.positions[i]);
-    if (xf) p = xf->point(p);
-    v[3 * i] = float(p.x);
-    v[3 * i + 1] = float(p.y);
-    v[3 * i + 2] = float(p.z);
-  }
-  auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), m.triangle_count()));
-  std::copy(m.indices.begin(), m.indices.end(), ix);
+  rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                          m.positions.size());
+  rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
+                          m.triangle_count());
+  fill_triangles(g, m);
   if (mat.alpha_masked()) {
     masks.push_back(std::make_unique<MaskData>(MaskData{&m, &mat}));
     rtcSetGeometryUserData(g, masks.back().get());
@@ -152,6 +159,26 @@ RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Transform
   return g;
 }
 
+// A mesh moved to world space (normals by the inverse transpose; triangles turned around when
+// the transform mirrors).
+TriangleMesh flattened(const TriangleMesh& m, const Transform& world_from_object) {
+  TriangleMesh w = m;
+  for (auto& p : w.positions) p = Vec3f(world_from_object.point(Vec3(p)));
+  for (auto& nn : w.normals) nn = Vec3f(normalize(world_from_object.normal(Vec3(nn))));
+  if (world_from_object.swaps_handedness())
+    for (size_t t = 0; t < w.indices.size(); t += 3) std::swap(w.indices[t + 1], w.indices[t + 2]);
+  return w;
+}
+
+// An instance's transform as Embree takes it (3x4, column-major).
+void set_transform(RTCGeometry g, const Transform& world_from_object) {
+  float xfm[12];
+  const auto& a = world_from_object.matrix().m;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
+  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+}
+
 }  // namespace
 
 struct Accel::MaskStore {
@@ -159,21 +186,44 @@ struct Accel::MaskStore {
 };
 
 // Which instances are flattened into the top level: single-use prototypes (a level of traversal
-// saved for the common one-model scene) and instances Embree cannot carry (instanceable()).
+// saved for the common one-model scene) and instances Embree cannot carry (instanceable()). When
+// the animation moves instances or deforms meshes, none is flattened for being single-use: the
+// top level holds instances only, so that a frame moves them and rebuilds only it and the
+// deformed meshes (repose()), not a BVH over every still triangle.
 std::vector<bool> Accel::plan_flattening(const Scene& scene) {
-  std::vector<int> uses(scene.prototypes.size(), 0);
-  for (const auto& inst : scene.instances) uses[inst.prototype]++;
-  std::vector<bool> flatten(scene.instances.size()), in_world(scene.prototypes.size());
+  const std::vector<bool> moving = moving_instances(scene);
+  const bool animated = std::find(moving.begin(), moving.end(), true) != moving.end() ||
+                        std::find(deforming_.begin(), deforming_.end(), true) != deforming_.end();
+  std::vector<int>& uses = uses_;
+  uses.assign(scene.prototypes.size(), 0);
+  for (const Instance& inst : scene.instances)
+    uses[inst.prototype] += animated ? 2 : 1;  // (animated: each as if shared)
+  std::vector<bool> flatten(scene.instances.size());
+  in_world_.assign(scene.prototypes.size(), false);
   for (size_t p = 0; p < scene.prototypes.size(); ++p)
-    in_world[p] = uses[p] > 1 && within_world(scene.prototypes[p]);
+    in_world_[p] = uses[p] > 1 && within_world(scene.prototypes[p]);
   size_t flat_count = 0;
   for (size_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
-    flatten[i] = uses[inst.prototype] == 1 || !instanceable(inst, in_world[inst.prototype]);
+    flatten[i] = uses[inst.prototype] == 1 || !instanceable(inst, in_world_[inst.prototype]);
     if (flatten[i]) flat_count += scene.prototypes[inst.prototype].meshes.size();
   }
   flat_meshes_.reserve(flat_count);  // (records point into it: no reallocation later)
   return flatten;
+}
+
+// Whether plan_flattening would plan the posed scene as it planned the scene built: an instance
+// moved or deformed may have become one Embree cannot carry (or one it can).
+bool Accel::same_plan(const Scene& scene) const {
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const uint32_t p = inst.prototype;
+    if (inst.world_from_object.matrix() == placed_[i].matrix() && !deforming_[p]) continue;
+    if (uses_[p] == 1) continue;  // (never instanced: flattened, as before)
+    const bool in_world = deforming_[p] ? within_world(scene.prototypes[p]) : in_world_[p];
+    if (flatten_[i] != !instanceable(inst, in_world)) return false;
+  }
+  return true;
 }
 
 Accel::Accel(const Scene& scene) {
@@ -188,9 +238,12 @@ Accel::Accel(const Scene& scene) {
   masks_ = std::make_unique<MaskStore>();
   prototype_scenes_.assign(scene.prototypes.size(), nullptr);
 
-  const std::vector<bool> flatten = plan_flattening(scene);
+  deforming_ = deforming_prototypes(scene);  // (before the plan, which asks it)
+  flatten_ = plan_flattening(scene);
+  placed_.reserve(scene.instances.size());
+  for (const Instance& inst : scene.instances) placed_.push_back(inst.world_from_object);
   for (size_t i = 0; i < scene.instances.size(); ++i) {
-    if (flatten[i])
+    if (flatten_[i])
       add_flat_meshes(scene, scene.instances[i]);
     else
       add_instance(scene, scene.instances[i]);
@@ -212,24 +265,20 @@ void Accel::attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
   records_.push_back(std::move(rec));
 }
 
-// Each mesh of the instance's prototype moved to world space once (normals by the inverse
-// transpose), as a top-level geometry of its own.
+// Each mesh of the instance's prototype moved to world space once, as a top-level geometry of
+// its own.
 void Accel::add_flat_meshes(const Scene& scene, const Instance& inst) {
-  for (const auto& m : scene.prototypes[inst.prototype].meshes) {
-    TriangleMesh w = m;
-    for (auto& p : w.positions) p = Vec3f(inst.world_from_object.point(Vec3(p)));
-    for (auto& nn : w.normals) nn = Vec3f(normalize(inst.world_from_object.normal(Vec3(nn))));
-    if (inst.world_from_object.swaps_handedness())
-      for (size_t t = 0; t < w.indices.size(); t += 3)
-        std::swap(w.indices[t + 1], w.indices[t + 2]);
-    flat_meshes_.push_back(std::move(w));
+  const auto& meshes = scene.prototypes[inst.prototype].meshes;
+  for (size_t k = 0; k < meshes.size(); ++k) {
+    flat_meshes_.push_back(flattened(meshes[k], inst.world_from_object));
     const TriangleMesh& fm = flat_meshes_.back();
     const Material& mat = *scene.materials[fm.material];
-    RTCGeometry g = make_triangles(device_, fm, nullptr, mat, masks_->list);
+    RTCGeometry g = make_triangles(device_, fm, mat, masks_->list);
     auto rec = std::make_unique<Record>();
     rec->kind = Record::Kind::FlatMesh;
     rec->mesh = &fm;
     rec->source = uint32_t(&inst - scene.instances.data());
+    rec->part = uint32_t(k);
     attach(g, std::move(rec), mask_of(mat));
     stats_.unique_triangles += fm.triangle_count();
     stats_.instanced_triangles += fm.triangle_count();
@@ -244,8 +293,7 @@ void Accel::add_instance(const Scene& scene, const Instance& inst) {
     ps = rtcNewScene(device_);
     rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
     for (const auto& m : proto.meshes) {
-      RTCGeometry g =
-          make_triangles(device_, m, nullptr, *scene.materials[m.material], masks_->list);
+      RTCGeometry g = make_triangles(device_, m, *scene.materials[m.material], masks_->list);
       rtcAttachGeometry(ps, g);
       rtcReleaseGeometry(g);
       stats_.unique_triangles += m.triangle_count();
@@ -257,11 +305,7 @@ void Accel::add_instance(const Scene& scene, const Instance& inst) {
   unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
   for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
   rtcSetGeometryMask(g, mask);
-  float xfm[12];  // 3x4 column-major
-  const auto& a = inst.world_from_object.matrix().m;
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
-  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  set_transform(g, inst.world_from_object);
   rtcCommitGeometry(g);
   auto rec = std::make_unique<Record>();
   rec->kind = Record::Kind::Instance;
@@ -327,6 +371,53 @@ void Accel::commit_and_bound() {
     bounds_.extend(unbounded_box_.lo);
     bounds_.extend(unbounded_box_.hi);
   }
+}
+
+bool Accel::repose(const Scene& scene) {
+  if (scene.instances.size() != placed_.size() || scene.prototypes.size() != deforming_.size())
+    throw std::logic_error("Accel::repose: not the scene it was built from");
+  if (!same_plan(scene)) return false;
+  for (size_t p = 0; p < prototype_scenes_.size(); ++p) {
+    if (!deforming_[p] || !prototype_scenes_[p]) continue;
+    const auto& meshes = scene.prototypes[p].meshes;
+    for (size_t k = 0; k < meshes.size(); ++k) {
+      RTCGeometry g = rtcGetGeometry(prototype_scenes_[p], unsigned(k));
+      fill_triangles(g, meshes[k]);
+      rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0);
+      rtcCommitGeometry(g);
+    }
+    rtcCommitScene(prototype_scenes_[p]);
+  }
+  for (uint32_t id = 0; id < records_.size(); ++id) repose_record(scene, id);
+  for (size_t i = 0; i < placed_.size(); ++i) placed_[i] = scene.instances[i].world_from_object;
+  bounds_ = {};
+  see_through_bounds_ = {};
+  commit_and_bound();
+  return true;
+}
+
+// One top-level geometry after repose() changed its instance or prototype: a flattened mesh moved
+// to world space again, an instance given its transform (and committed again when its prototype
+// deformed, so that the top level takes its new bounds).
+void Accel::repose_record(const Scene& scene, uint32_t id) {
+  Record& rec = *records_[id];
+  if (rec.kind == Record::Kind::Shape) return;
+  const Instance& inst = scene.instances[rec.source];
+  const bool moved = !(inst.world_from_object.matrix() == placed_[rec.source].matrix());
+  if (!moved && !deforming_[inst.prototype]) return;
+  RTCGeometry g = rtcGetGeometry(top_, id);
+  if (rec.kind == Record::Kind::FlatMesh) {
+    auto& fm = flat_meshes_[size_t(rec.mesh - flat_meshes_.data())];
+    fm = flattened(scene.prototypes[inst.prototype].meshes[rec.part], inst.world_from_object);
+    fill_triangles(g, fm);
+    rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcUpdateGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0);
+  } else {
+    set_transform(g, inst.world_from_object);
+    rec.world_from_object = inst.world_from_object;
+    rec.object_from_world = inst.world_from_object.inverse();
+  }
+  rtcCommitGeometry(g);
 }
 
 Accel::~Accel() {

@@ -48,6 +48,15 @@ class Accel {
   Accel(const Accel&) = delete;
   Accel& operator=(const Accel&) = delete;
 
+  // `scene`, the one this was built from, posed at another frame (scene/scene_pose.h: the same
+  // instances, prototypes and shapes; the animation's moving instances have new transforms, its
+  // deforming prototypes new vertices): the moved instances take their transforms, the deformed
+  // meshes are rebuilt alone, and the top level is built again over the rest. The queries then
+  // answer as an Accel built anew from the posed scene would, bit for bit. False (nothing
+  // changed): the posed scene would be built otherwise (an instance moved to where Embree cannot
+  // carry it, or back), so build a new Accel.
+  bool repose(const Scene& scene);
+
   bool intersect(const Ray& r, Hit* hit) const;
   bool occluded(const Ray& r) const;
   // Shadow rays that pass through see-through surfaces (materials with transmission, as the
@@ -84,6 +93,7 @@ class Accel {
     Transform world_from_object, object_from_world;
     // What it came from: an index into the scene's instances (FlatMesh, Instance) or shapes.
     uint32_t source = 0;
+    uint32_t part = 0;  // FlatMesh: which mesh of the instance's prototype it is
   };
   const Record& record(uint32_t object_id) const { return *records_[object_id]; }
 
@@ -99,11 +109,13 @@ class Accel {
   struct MaskStore;
   // The constructor's steps.
   std::vector<bool> plan_flattening(const Scene& scene);
+  bool same_plan(const Scene& scene) const;
   void attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask);
   void add_flat_meshes(const Scene& scene, const Instance& inst);
   void add_instance(const Scene& scene, const Instance& inst);
   void add_shape(const Scene& scene, const AnalyticShape& sh);
   void commit_and_bound();
+  void repose_record(const Scene& scene, uint32_t id);
 
   RTCDevice device_ = nullptr;
   RTCScene top_ = nullptr;
@@ -122,6 +134,11 @@ class Accel {
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
   std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space
   std::unique_ptr<MaskStore> masks_;              // alpha-mask filter data, referenced by Embree
+  // For repose(): the instances' transforms as built, and the prototypes the animation deforms.
+  // Also the plan: which instances are flattened, and which prototypes could be instanced.
+  std::vector<Transform> placed_;
+  std::vector<bool> deforming_, flatten_, in_world_;
+  std::vector<int> uses_;
   Bounds3 bounds_;
   AccelStats stats_;
 };

@@ -106,8 +106,10 @@ int render_sequence(const RenderSetup& s);
 
 // render_worker.cpp. The scene of a sequence's current frame and its renderer. When the keys
 // change only camera, image or render settings, the frames share the first one's geometry,
-// lights and acceleration structure: only the view is read again. The head and the workers of an
-// MPI job load frames through this alike.
+// lights and acceleration structure: only the view is read again. When a glTF animation moves
+// the world as well, the first frame's scene is posed at each frame and its renderer reposed
+// (Renderer::repose: instances moved, deformed meshes and the top level rebuilt). The head and the
+// workers of an MPI job load frames through this alike.
 struct FrameScene {
   std::unique_ptr<Scene> scene;
   std::unique_ptr<Renderer> renderer;

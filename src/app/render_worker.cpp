@@ -3,6 +3,7 @@
 #include "app/render_command.h"
 #include "dist/worker.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_pose.h"
 
 namespace anamorph::app {
 
@@ -11,6 +12,13 @@ bool FrameScene::load_frame(const SceneOptions& o, const std::vector<std::string
   if (scene && animates_view_only(*scene)) {
     load_view_into(o, extra, frame, *scene);
     attach_next_frame(o, extra, aovs, *scene);
+    return false;
+  }
+  if (scene && animates_view_and_pose(*scene)) {
+    load_view_into(o, extra, frame, *scene);
+    pose_scene(*scene, frame);
+    attach_next_frame(o, extra, aovs, *scene);
+    if (renderer) renderer->repose();
     return false;
   }
   renderer.reset();  // (it refers to the scene)

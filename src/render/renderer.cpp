@@ -177,6 +177,16 @@ Renderer::Renderer(const Scene& scene)
 
 Renderer::Renderer(const Scene& scene, FarmOnly) : scene_(scene) {}
 
+void Renderer::repose() {
+  if (!accel_) return;
+  lights_.reset();  // (it refers to the acceleration structure)
+  if (!accel_->repose(scene_)) {
+    accel_.reset();
+    accel_ = std::make_unique<Accel>(scene_);
+  }
+  lights_ = std::make_unique<Lights>(scene_, *accel_);
+}
+
 Renderer::~Renderer() = default;
 
 bool Renderer::streams(const RenderSettings& rs) {

@@ -124,6 +124,11 @@ class Renderer {
   // (render/tile_session.h), summing `aovs`; a FarmOnly renderer has none (std::logic_error).
   std::unique_ptr<TileSession> session(std::vector<Aov> aovs, int width, int height,
                                        const std::atomic<bool>* cancel = nullptr) const;
+  // The scene it renders was posed at another frame (scene/scene_pose.h): the acceleration
+  // structure moves its instances and rebuilds only deformed meshes and the top level
+  // (Accel::repose; anew when that cannot), and the lights are gathered again. The same pixels
+  // as a renderer made anew for the posed scene. A FarmOnly renderer has nothing to change.
+  void repose();
   const Accel& accel() const { return *accel_; }
 
  private:

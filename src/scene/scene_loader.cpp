@@ -821,11 +821,22 @@ Scene load_scene(const fs::path& file, const std::vector<std::string>& overrides
       [&] { return build_scene(load_with_includes(file), file, overrides, frame); });
 }
 
-bool animates_view_only(const Scene& s) {
-  if (gltf_moves_world(s)) return false;
+namespace {
+
+bool keys_animate_view_only(const Scene& s) {
   return std::all_of(s.animated.begin(), s.animated.end(), [](const std::string& k) {
     return k.rfind("camera.", 0) == 0 || k.rfind("image.", 0) == 0 || k.rfind("render.", 0) == 0;
   });
+}
+
+}  // namespace
+
+bool animates_view_only(const Scene& s) {
+  return !gltf_moves_world(s) && keys_animate_view_only(s);
+}
+
+bool animates_view_and_pose(const Scene& s) {
+  return gltf_moves_world(s) && keys_animate_view_only(s);
 }
 
 Scene load_view(const fs::path& file, const std::vector<std::string>& overrides, double frame,

@@ -24,6 +24,10 @@ Scene load_scene_from_string(const std::string& text, const std::filesystem::pat
 // differ only in what load_view reads, and one renderer (geometry, lights, acceleration
 // structure) serves them all.
 bool animates_view_only(const Scene& s);
+// Whether the glTF animation moves the world (scene_pose.h) while every [[animate]] key lies
+// under camera, image or render: then a frame is the loaded scene posed again (pose_scene) with
+// its view read by load_view, the same scene a load of that frame gives.
+bool animates_view_and_pose(const Scene& s);
 
 // The frame `frame` of `file` for such an animation: only [image], [render] and [camera] are read
 // (the other tables are neither loaded nor validated again), a model camera (`gltf_camera`) comes

@@ -60,6 +60,30 @@ bool gltf_moves_world(const Scene& s) {
   });
 }
 
+std::vector<bool> moving_instances(const Scene& s) {
+  std::vector<bool> moving(s.instances.size(), false);
+  for (const SceneRig& r : s.rigs) {
+    if (!animates(r)) continue;
+    const GltfRig& rig = *r.rig;
+    for (size_t i = 0; i < rig.instance_nodes.size(); ++i)
+      if (!rig.instance_skinned[i] && rig.moving[size_t(rig.instance_nodes[i])] &&
+          r.first_instance + i < moving.size())
+        moving[r.first_instance + i] = true;
+  }
+  return moving;
+}
+
+std::vector<bool> deforming_prototypes(const Scene& s) {
+  std::vector<bool> deforming(s.prototypes.size(), false);
+  for (const SceneRig& r : s.rigs) {
+    if (!animates(r)) continue;
+    for (const Deformer& d : r.rig->deformers)
+      if (r.first_prototype + d.prototype < deforming.size())
+        deforming[r.first_prototype + d.prototype] = true;
+  }
+  return deforming;
+}
+
 std::pair<double, double> gltf_frame_range(const Scene& s) {
   bool any = false;
   double a = 0, b = 0;

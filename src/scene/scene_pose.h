@@ -21,6 +21,12 @@ std::pair<double, double> gltf_frame_range(const Scene& s);
 // needs the whole scene posed again, not only its view.
 bool gltf_moves_world(const Scene& s);
 
+// Which of the scene's instances the animation moves (their transforms change between frames:
+// an acceleration structure keeps them as instances of their own, to move them without
+// rebuilding their meshes), and which prototypes it deforms (skins, morph weights).
+std::vector<bool> moving_instances(const Scene& s);
+std::vector<bool> deforming_prototypes(const Scene& s);
+
 // Poses every animating rig at `frame`: its instances' transforms, its lights' positions and
 // directions, its deforming meshes' vertices (no object motion blur: the pose at the frame's
 // time). Model cameras are left alone (pose_model_cameras).
