@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 // A 160-degree fisheye at the origin turning between frames 0 and 2, inside a still sphere of
 // radius 20, before a sphere of radius 1 that moves by (0.6, 0, 0) over the two frames when
 // `moving`.
-std::string turning_scene(bool moving) {
+std::string turning_scene(bool moving, bool coin = false) {
   std::string s =
       "[image]\nwidth = 40\nheight = 32\n[render]\nintegrator = \"albedo\"\n"
       "sampler = \"center\"\n[camera]\npreset = \"fisheye\"\nfov = 160\n"
@@ -36,6 +36,9 @@ std::string turning_scene(bool moving) {
       "[[animate]]\nkey = \"camera.look_at\"\nkeys = [[0, [0, 0, -1]], [2, [0.1, 0.04, -1]]]\n";
   if (moving)
     s += "[[animate]]\nkey = \"object.1.center\"\nkeys = [[0, [0, 0, -3]], [2, [0.6, 0, -3]]]\n";
+  if (coin)  // a coin on the small sphere, growing: the flow goes through the coin's inverse map
+    s += "[[camera.coin]]\nposition = [0, 0, -3]\nstrength = 0.2\nradius = 0.3\n"
+         "[[animate]]\nkey = \"camera.coin.0.strength\"\nkeys = [[0, 0.2], [2, 0.6]]\n";
   return s;
 }
 
@@ -71,9 +74,10 @@ void check_flow(const std::map<std::string, std::vector<float>>& ch, int W, int 
 }
 
 TEST(VisionCli, FlowOfASequenceIsTheOtherFramesProjection) {
-  for (const bool moving : {true, false}) {
+  for (const int variant : {0, 1, 2}) {  // the sphere moving; the camera only; with a coin
+    const bool moving = variant == 0;
     test::ScratchDir dir{"flow"};
-    const std::string file = dir.write("s.toml", turning_scene(moving));
+    const std::string file = dir.write("s.toml", turning_scene(moving, variant == 2));
     const std::string out = (dir.dir / "f_%04d.exr").string();
     const test::CliResult r =
         test::run_cli("render " + file + " -o " + out +
@@ -86,8 +90,9 @@ TEST(VisionCli, FlowOfASequenceIsTheOtherFramesProjection) {
       for (const int step : {1, -1}) {
         const int other = frame + step;  // the keys hold their values before frame 0
         const double moved = moving ? 0.3 * (std::max(other, 0) - frame) : 0;
-        const std::string what =
-            fmt::format("{}, frame {} to {}", moving ? "moving" : "camera only", frame, other);
+        const std::string what = fmt::format(
+            "{}, frame {} to {}",
+            moving ? "moving" : (variant == 2 ? "growing coin" : "camera only"), frame, other);
         check_flow(ch, W, H, step > 0 ? "flow_forward" : "flow_backward",
                    load_scene(file, {}, other), {moved, 0, 0}, what);
       }
