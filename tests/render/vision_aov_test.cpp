@@ -215,6 +215,59 @@ TEST(VisionAov, PanFlowEqualsTheClosedFormProjection) {
   check_pan("fisheye", 180, true);  // pixels turned past 90 degrees have no flow
 }
 
+// The dome master of a dome centred on the eye: zenith (up) at the centre, theta from the zenith
+// linear in the radius (fov / 2 at the inscribed circle), the front (look_at) toward the bottom
+// and the audience's right to the right. Checked against the camera's own rays at frame 0 first.
+bool dome_uv(const Vec3& d, const Vec3& front, const Vec3& right, double fov, Vec2* uv) {
+  const Vec3 up{0, 1, 0};
+  const double r = std::acos(std::clamp(dot(d, up) / length(d), -1.0, 1.0)) / (fov / 2);
+  if (r > 1) return false;
+  const double xr = dot(d, right), zf = dot(d, front), rho = std::hypot(xr, zf);
+  *uv = {0.5 + (rho > 0 ? r / 2 * xr / rho : 0), 0.5 + (rho > 0 ? r / 2 * zf / rho : 0)};
+  return true;
+}
+
+// A dome turning by yaw about the zenith (the audience turning right): the dome master turns
+// about its centre; every pixel's flow is where its direction falls in the turned dome.
+TEST(VisionAov, DomePanFlowEqualsTheClosedFormProjection) {
+  const int W = 32, H = 32;
+  const double fov = kPi, yaw = 4 * kPi / 180;
+  const std::string scene =
+      image(W, H) +
+      "[camera]\npreset = \"dome\"\n"
+      "look_from = [0, 0, 0]\nlook_at = [0, 0, -1]\n"
+      "[[object]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 10\n"
+      "[[animate]]\nkey = \"camera.look_at\"\nkeys = [[0, [0, 0, -1]], [1, [" +
+      fmt_exact(std::sin(yaw)) + ", 0, " + fmt_exact(-std::cos(yaw)) + "]]]\n";
+  const VisionFrame f = render_frame(scene, {Aov::FlowForward});
+  const Vec3 front0{0, 0, -1}, right0{1, 0, 0};
+  const Vec3 front1{std::sin(yaw), 0, -std::cos(yaw)}, right1{std::cos(yaw), 0, std::sin(yaw)};
+  double worst = 0, worst_self = 0;
+  int valid = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const Vec2 uv{(x + 0.5) / W, (y + 0.5) / H};
+      const auto ray = f.scene.camera->generate({uv});
+      if (!ray) continue;
+      Vec2 self, next;
+      ASSERT_TRUE(dome_uv(ray->dir, front0, right0, fov, &self)) << x << "," << y;
+      worst_self = std::max({worst_self, std::abs(self.x - uv.x), std::abs(self.y - uv.y)});
+      const bool has = dome_uv(ray->dir, front1, right1, fov, &next);
+      ASSERT_EQ(f.at("flow_forward", x, y, 2), has ? 1 : 0) << "valid at " << x << "," << y;
+      if (!has) continue;
+      ++valid;
+      const double ex = (next.x - uv.x) * W, ey = (next.y - uv.y) * H;
+      const double fx = f.at("flow_forward", x, y, 0), fy = f.at("flow_forward", x, y, 1);
+      EXPECT_NEAR(fx, ex, 1e-6) << "pixel " << x << "," << y;
+      EXPECT_NEAR(fy, ey, 1e-6) << "pixel " << x << "," << y;
+      worst = std::max({worst, std::abs(fx - ex), std::abs(fy - ey)});
+    }
+  EXPECT_LT(worst_self, 1e-9) << "the closed form is not the dome's layout";
+  EXPECT_GT(valid, W * H / 2);
+  std::printf("dome: worst flow error %.3g px over %d pixels (layout %.3g)\n", worst, valid,
+              worst_self);
+}
+
 // A full equirectangular panorama turning by yaw toward +x about the up axis: every direction's
 // longitude falls by yaw, so every pixel moves left by yaw / 2 pi of the width (wrapping around
 // the seam) and not at all vertically.
