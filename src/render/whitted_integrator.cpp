@@ -92,37 +92,11 @@ class Whitted final : public Integrator {
   // The light reaching h from ls through transparent surfaces, as Whitted's paper and POV-Ray
   // shade them: each surface the shadow ray crosses scales it by its material's transmission,
   // without bending it (no caustics); an opaque surface blocks it. (The path tracer's shadow
-  // rays stop at glass: its paths through glass find the light themselves.) The product does
-  // not depend on the order of the crossings, so an any-hit query over the opaque surfaces
-  // answers most rays at once, and only those it lets through walk the see-through surfaces,
-  // in a structure that holds only them.
+  // rays stop at glass: its paths through glass find the light themselves.)
   double transmittance(const Hit& h, const LightSample& ls, uint64_t& rays) const {
-    const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
-    Vec3 o = h.p + n * ray_offset(h.p);
-    // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
-    const auto to_light = [&] {
-      return std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
-    };
-    ++rays;
-    if (!(to_light() > 0)) return 1;
-    if (ctx_.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light()})) return 0;
-    double T = 1;
-    for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
-      const double d = to_light();
-      if (!(d > 0)) return T;
-      const Ray segment{o, ls.wi, 0, d};
-      if (!ctx_.accel.near_see_through(segment)) return T;
-      Hit x;
-      if (!ctx_.accel.intersect_see_through(segment, &x)) return T;
-      ++rays;  // (the segment beyond this surface)
-      T *= shadow_transmission_[x.material];
-      if (!(T > 0)) return 0;
-      const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
-      o = x.p + nx * ray_offset(x.p);
-    }
-    return 0;  // (more surfaces than that: taken as opaque)
+    return shadow_transmittance(ctx_, h, ls, Accel::ShadowSet::Transmitting, rays,
+                                [&](const Hit& x) { return shadow_transmission_[x.material]; });
   }
-  static constexpr int kMaxCrossings = 32;
 
   Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth, double weight,
                uint64_t& rays) const {

@@ -21,7 +21,7 @@
 //                 roughness factors (which scale the metallicRoughness texture's B and G;
 //                 the texture itself is kept unscaled, value white), normal texture + scale,
 //                 emissive factor x texture (sRGB) x KHR_materials_emissive_strength, alphaMode
-//                 (BLEND: the BSDF's opacity), doubleSided, KHR_materials_ior,
+//                 (BLEND: the BSDF's opacity, shadow rays too), doubleSided, KHR_materials_ior,
 //                 KHR_materials_specular (its factors: the dielectric F0; textures not read),
 //                 KHR_materials_transmission (factor) and _volume (thin or solid, absorption),
 //                 KHR_materials_unlit (the `unlit` kind, the base colour as emission),
