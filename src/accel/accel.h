@@ -51,10 +51,10 @@ class Accel {
   bool intersect(const Ray& r, Hit* hit) const;
   bool occluded(const Ray& r) const;
   // Shadow rays that pass through a set of surfaces: the see-through surfaces of the Whitted
-  // integrator (materials with transmission, Material::shadow_transmission) or the path tracer's
-  // alpha-blended ones (Material::blends). Whether a surface outside the set lies on the ray, the
-  // set ignored (an any-hit query); and the nearest surface of the set on it, found in a
-  // structure of its own that holds only them (cheap: usually a few objects, or none).
+  // integrator (materials with transmission, Material::shadow_transmission, or alpha blend) or
+  // the path tracer's alpha-blended ones (Material::blends). Whether a surface outside the set lies
+  // on the ray, the set ignored (an any-hit query); and the nearest surface of the set on it, found
+  // in a structure of its own that holds only them (cheap: usually a few objects, or none).
   enum class ShadowSet { Transmitting = 0, Blended = 1 };
   bool occluded_by_opaque(const Ray& r, ShadowSet set = ShadowSet::Transmitting) const;
   // Whether the ray (tmin to tmax) passes the set's bounding box: when it does not,

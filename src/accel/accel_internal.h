@@ -12,8 +12,10 @@ namespace anamorph::accel_detail {
 // all.
 constexpr unsigned kOpaque = 1, kSeeThrough = 2, kBlend = 4, kBlendSeeThrough = 8;
 constexpr unsigned kAll = 0xFFFFFFFF;
-// The members of each set, by ShadowSet's value (Transmitting, Blended).
-constexpr unsigned kSetMembers[2] = {kSeeThrough | kBlendSeeThrough, kBlend | kBlendSeeThrough};
+// The members of each set, by ShadowSet's value: Whitted's see-through surfaces (transmitting
+// or blended), the path tracer's (blended; its paths find the light through glass themselves).
+constexpr unsigned kSetMembers[2] = {kSeeThrough | kBlend | kBlendSeeThrough,
+                                     kBlend | kBlendSeeThrough};
 // What stops a set's shadow rays: every class outside the set.
 constexpr unsigned set_blockers(int set) {
   return (kOpaque | kSeeThrough | kBlend | kBlendSeeThrough) & ~kSetMembers[set];
