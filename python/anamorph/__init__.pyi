@@ -83,7 +83,8 @@ class Scene:
                spp: int | None = None, aovs: Sequence[str] = (), threads: int = 0,
                progress: Callable[[dict[str, Any]], Any] | None = None, *,
                seed: int | None = None, integrator: Literal['whitted', 'path', 'albedo', 'normal', 'depth', 'position', 'id', 'uv'] | None = None,
-               sampler: Literal['center', 'stratified', 'random'] | None = None) -> dict[str, np.ndarray]: ...
+               sampler: Literal['center', 'stratified', 'random'] | None = None,
+               denoise: bool = False) -> dict[str, np.ndarray]: ...
 
 def load(path: str | os.PathLike[str], set: Mapping[str, Any] | None = None,
          frame: float = 0) -> Scene: ...

@@ -62,7 +62,7 @@ class Scene:
                aovs: Sequence[str] = (), threads: int = 0,
                progress: Callable[[dict[str, Any]], Any] | None = None, *,
                seed: int | None = None, integrator: str | None = None,
-               sampler: str | None = None) -> dict[str, np.ndarray]:
+               sampler: str | None = None, denoise: bool = False) -> dict[str, np.ndarray]:
         """Renders the scene as ``anamorph render`` does, with the same options (``spp`` implies
         uniform sampling). Returns float32 arrays of shape (H, W, C): ``rgba`` (linear colour,
         straight alpha) and one per AOV (albedo, normal, depth, position, id, uv, spp, distance,
@@ -70,7 +70,8 @@ class Scene:
         layers load the scene at frame + 1 and - 1 for the render).
         ``progress`` is called on this thread with a dict (fraction, seconds, rays, pass,
         passes); an exception from it, or Ctrl-C, cancels the render and is raised. The GIL is
-        released while rendering."""
+        released while rendering. ``denoise`` is the CLI's ``--denoise`` (docs/denoise.md: uniform
+        sampling, at least 2 samples; ValueError otherwise)."""
         over = []
         for key, v in (("image.width", width), ("image.height", height), ("render.spp", spp),
                        ("render.seed", seed), ("render.integrator", integrator),
@@ -79,7 +80,7 @@ class Scene:
                 over.append(f"{key}={_toml.value(v)}")
         if isinstance(aovs, str):
             aovs = [a for a in aovs.split(",") if a]
-        return self._impl.render(over, list(aovs), threads, progress)
+        return self._impl.render(over, list(aovs), threads, progress, bool(denoise))
 
     def __repr__(self) -> str:
         i = self._impl.info()

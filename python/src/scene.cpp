@@ -16,6 +16,7 @@
 #include "camera_handle.h"
 #include "math/parallel.h"
 #include "render/coin_layer.h"
+#include "render/denoise_film.h"
 #include "render/form_factors.h"
 #include "render/memory_estimate.h"
 #include "render/radiosity.h"
@@ -32,7 +33,8 @@ struct RenderRequest {
   std::vector<std::string> overrides;  // image size, spp, seed, integrator, sampler
   std::vector<std::string> aovs;       // names; "coins" is drawn, not sampled
   int threads = 0;
-  pb::object progress;  // callable(dict) or None
+  pb::object progress;   // callable(dict) or None
+  bool denoise = false;  // the CLI's --denoise (render/denoise_film.h)
 };
 
 pb::dict progress_dict(const Progress& p) {
@@ -67,7 +69,7 @@ pb::dict layers_dict(OutputImage&& img) {
 // The CLI's memory check (render/memory_estimate.h) before a render allocates anything: a frame
 // the machine cannot hold raises MemoryError saying what it needs (was: 7.8 GB allocated before
 // Python's MemoryError, for 65536 x 65536).
-void check_render_memory(const Scene& s, const std::vector<Aov>& aovs, int threads) {
+void check_render_memory(const Scene& s, const std::vector<Aov>& aovs, int threads, bool denoise) {
   RenderShape shape;
   shape.width = s.render.width;
   shape.height = s.render.height;
@@ -77,6 +79,7 @@ void check_render_memory(const Scene& s, const std::vector<Aov>& aovs, int threa
   shape.whole_film = true;  // (the frame comes back whole, as arrays)
   shape.active_mask = !Renderer::streams(s.render);
   shape.output_image = true;
+  shape.denoise = denoise;
   if (const auto shortfall = memory_shortfall(estimate_render_memory(s, shape)))
     raise_memory_error(*shortfall + "; lower the width and height or the AOVs");
 }
@@ -98,7 +101,8 @@ class SceneHandle {
   std::shared_ptr<const Scene> view(const std::vector<std::string>& extra) const {
     return std::make_shared<const Scene>(source_.load_view(extra, *scene_));
   }
-  RenderStats run(Film& film, const RenderOptions& opt, const pb::object& progress);
+  RenderStats run(Film& film, const RenderOptions& opt, const pb::object& progress,
+                  bool denoise = false);
   // Frames + 1 / - 1 attached to scene_ for one render (flow, motion), and taken off after.
   struct OtherFrames {
     Scene& scene;
@@ -171,18 +175,24 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
   Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;
   if (!req.overrides.empty()) swap.emplace(*scene_, view);
-  check_render_memory(*scene_, aovs, req.threads);
-  Film film(scene_->render.width, scene_->render.height, aovs);
+  if (req.denoise)
+    if (const auto why = denoise_unsupported(scene_->render))
+      throw pb::value_error("denoise: " + *why);
+  const std::vector<Aov> film_aovs = req.denoise ? with_denoise_aovs(aovs) : aovs;
+  check_render_memory(*scene_, film_aovs, req.threads, req.denoise);
+  Film film(scene_->render.width, scene_->render.height, film_aovs);
   RenderOptions opt;
   opt.threads = req.threads;
-  opt.aovs = aovs;
-  stats_ = run(film, opt, req.progress);
+  opt.aovs = film_aovs;
+  stats_ = run(film, opt, req.progress, req.denoise);
   OutputImage img = film.output();
+  img.layers.resize(1 + aovs.size());  // (the denoiser's own layers come after the asked ones)
   if (coins) img.layers.push_back(coins_layer(*scene_));
   return layers_dict(std::move(img));
 }
 
-RenderStats SceneHandle::run(Film& film, const RenderOptions& options, const pb::object& progress) {
+RenderStats SceneHandle::run(Film& film, const RenderOptions& options, const pb::object& progress,
+                             bool denoise) {
   std::atomic<bool> cancel{false};
   std::mutex progress_mutex;
   std::optional<Progress> latest;
@@ -198,7 +208,9 @@ RenderStats SceneHandle::run(Film& film, const RenderOptions& options, const pb:
     explicit Inside(std::atomic<std::thread::id>& i) : id(i) { id = std::this_thread::get_id(); }
     ~Inside() { id = std::thread::id(); }
   } inside(render_thread_);
-  auto done = std::async(std::launch::async, [&] { return r.render(film, opt); });
+  auto done = std::async(std::launch::async, [&] {
+    return denoise ? render_denoised(r, scene_->render, film, opt).stats : r.render(film, opt);
+  });
   // Progress and Ctrl-C are handled here, on the calling thread, every 50 ms.
   const auto report = [&] {
     std::optional<Progress> p;
@@ -368,10 +380,12 @@ void bind_scene(pb::module_& m) {
       .def(
           "render",
           [](SceneHandle& s, std::vector<std::string> overrides, std::vector<std::string> aovs,
-             int threads, pb::object progress) {
-            return s.render({std::move(overrides), std::move(aovs), threads, std::move(progress)});
+             int threads, pb::object progress, bool denoise) {
+            return s.render(
+                {std::move(overrides), std::move(aovs), threads, std::move(progress), denoise});
           },
-          pb::arg("overrides"), pb::arg("aovs"), pb::arg("threads"), pb::arg("progress"));
+          pb::arg("overrides"), pb::arg("aovs"), pb::arg("threads"), pb::arg("progress"),
+          pb::arg("denoise") = false);
 }
 
 }  // namespace anamorph::py

@@ -237,3 +237,16 @@ def test_flow_and_motion_layers_equal_the_cli(tmp_path, set_):
     valid = img["flow_forward"][..., 2]
     assert (valid == 1).sum() > valid.size // 2 and (valid == 0).sum() > 0  # some hidden
     assert np.isnan(img["flow_forward"][..., 0][valid == 0]).all()
+
+
+def test_denoise_equals_the_clis_bit_for_bit(tmp_path):
+    out = tmp_path / "cli.exr"
+    cli("render", DEMO, "--width", 40, "--height", 30, "-q", "--spp", 4, "--integrator", "path",
+        "--denoise", "--aov", "depth", "-o", out)
+    img = anamorph.load(DEMO).render(width=40, height=30, spp=4, integrator="path", aovs=["depth"],
+                                     denoise=True)
+    assert_layers_equal(img, anamorph.read_exr(out))
+    noisy = anamorph.load(DEMO).render(width=40, height=30, spp=4, integrator="path")
+    assert not np.array_equal(img["rgba"][..., :3], noisy["rgba"][..., :3])
+    with pytest.raises(ValueError, match="at least 2 samples"):
+        anamorph.load(DEMO).render(width=40, height=30, spp=1, denoise=True)

@@ -7,6 +7,7 @@
 
 #include "app/build_id.h"
 #include "app/common.h"
+#include "render/denoise_film.h"
 #include "render/frame_output.h"
 
 namespace anamorph::app {
@@ -207,6 +208,23 @@ FrameResult render_passes(const FrameJob& job, const CheckpointIdentity& id) {
   return r;
 }
 
+// Denoised: the two halves in a film (with the denoiser's layers; the outputs take the job's),
+// the beauty denoised, then the files. No checkpoint (setup_render refuses one).
+FrameResult render_denoised_frame(const FrameJob& job) {
+  FrameResult r;
+  const RenderSettings& rs = job.scene.render;
+  Film film(rs.width, rs.height, with_denoise_aovs(job.aovs), rs.tile_size);
+  const DenoisedRender d = render_denoised(job.renderer, rs, film, render_options(job));
+  r.stats = d.stats;
+  r.denoise_seconds = d.denoise_seconds;
+  FrameOutput out(output_spec(job));
+  out.add_tiles(film);
+  // (Cancelled while denoising: the image so far is the undenoised frame.)
+  if (d.denoise.cancelled) r.stats.cancelled = true;
+  conclude(job, out, nullptr, r, [] { return std::string("the first half of the samples"); });
+  return r;
+}
+
 }  // namespace
 
 bool renders_in_passes(const RenderSettings& rs) {
@@ -230,6 +248,7 @@ CheckpointIdentity frame_identity(const FrameJob& job) {
 }
 
 FrameResult render_to_files(const FrameJob& job) {
+  if (job.denoise) return render_denoised_frame(job);
   const CheckpointIdentity id = frame_identity(job);
   return renders_in_passes(job.scene.render) ? render_passes(job, id) : render_streamed(job, id);
 }

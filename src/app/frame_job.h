@@ -33,6 +33,9 @@ struct FrameJob {
   TileFarm* farm = nullptr;                       // under MPI: the workers render the tiles
   // Stops the render as SIGINT does (the image so far as NAME.partial.EXT); null: SIGINT's flag.
   const std::atomic<bool>* cancel = nullptr;
+  // Denoised (render/denoise_film.h): rendered in two halves into a film kept whole (no
+  // checkpoint: setup_render refuses one), the beauty denoised before the files are written.
+  bool denoise = false;
 };
 
 struct FrameResult {
@@ -44,6 +47,7 @@ struct FrameResult {
   std::string reached;
   bool resumed = false;
   size_t resumed_tiles = 0;
+  double denoise_seconds = 0;  // > 0: denoised, in this long
 };
 
 // The files' metadata: version, command line, scene, camera, frame, and the definition of each

@@ -45,6 +45,7 @@ struct RenderArgs {
   std::string resume;         // --resume FILE
   ResumeOptions with_resume;  // the other options given with --resume
   bool skip_existing = false;
+  bool denoise = false;  // --denoise (render/denoise_film.h)
 };
 
 // What the options come to, worked out once for every frame.
@@ -86,6 +87,9 @@ struct FrameFiles {
 // Renders one frame; returns an exit code.
 int render_frame(const RenderSetup& s, const Scene& scene, const Renderer& renderer, double frame,
                  const FrameFiles& files, const std::string& prefix, const JobPlace& place = {});
+// Whether --denoise (if given) can denoise this scene's render; if not, says why (the caller exits
+// 2 before any allocation or output file).
+bool denoise_applies(const RenderSetup& s, const Scene& scene, const std::string& out);
 // Whether the machine can hold the render; if not, says why (the caller exits 2 before any
 // allocation or output file).
 bool fits_in_memory(const RenderSetup& s, const Scene& scene, const std::string& out);

@@ -13,6 +13,7 @@
 #include "app/tile_stats.h"
 #include "dist/head.h"
 #include "io/image_sink.h"
+#include "render/denoise_film.h"
 #include "render/frame_output.h"
 #include "render/memory_estimate.h"
 
@@ -52,6 +53,7 @@ int render_to_outputs(const RenderSetup& s, const Scene& scene, const Renderer& 
                on_progress,
                tile_times,
                s.farm};
+  job.denoise = s.args.denoise;
   FrameResult r;
   {
     const RenderPhase phase;
@@ -67,6 +69,8 @@ int render_to_outputs(const RenderSetup& s, const Scene& scene, const Renderer& 
   // (AOVs a PNG cannot hold go beside it, with the beauty, into an EXR of the same name.)
   if (job.files.size() > 1 && !quiet)
     fmt::print(messages(), "AOVs written to {}\n", job.files[1].string());
+  if (r.denoise_seconds > 0 && !quiet)
+    fmt::print(messages(), "denoised in {:.2f} s\n", r.denoise_seconds);
   if (r.time_limited && !quiet)
     fmt::print(messages(), "{}: time limit of {} s reached after {}; {}\n", files.out,
                scene.render.time_limit, r.reached,
@@ -118,6 +122,13 @@ int render_frame(const RenderSetup& s, const Scene& scene, const Renderer& rende
   return kOk;
 }
 
+bool denoise_applies(const RenderSetup& s, const Scene& scene, const std::string& out) {
+  if (!s.args.denoise) return true;
+  const auto why = denoise_unsupported(scene.render);
+  if (why) print_error(fmt::format("{}: --denoise: {}", out, *why));
+  return !why;
+}
+
 bool fits_in_memory(const RenderSetup& s, const Scene& scene, const std::string& out) {
   const RenderSettings& rs = scene.render;
   const RenderArgs& a = s.args;
@@ -126,7 +137,8 @@ bool fits_in_memory(const RenderSetup& s, const Scene& scene, const std::string&
   shape.height = rs.height;
   shape.tile_size = rs.tile_size;
   shape.threads = a.threads.value_or(0) > 0 ? *a.threads : int(std::thread::hardware_concurrency());
-  shape.aov_floats = aov_floats(s.aovs);
+  shape.denoise = a.denoise;
+  shape.aov_floats = aov_floats(a.denoise ? with_denoise_aovs(s.aovs) : s.aovs);
   shape.whole_film = a.coins_overlay || renders_in_passes(rs);
   shape.active_mask = !Renderer::streams(rs);
   const std::vector<LayerSpec> layers = render_layers(s.aovs);

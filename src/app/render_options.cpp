@@ -65,6 +65,14 @@ int check_options(RenderSetup& s) {
     fmt::print(stderr, "error: render needs a scene file (or --resume CHECKPOINT)\n");
     return kBadInput;
   }
+  if (s.args.denoise && (!s.args.checkpoint.empty() || s.args.coins_overlay)) {
+    print_error(
+        fmt::format("--denoise cannot be combined with {}: the denoiser needs the two "
+                    "half buffers of the whole frame, which {} does not keep",
+                    s.args.coins_overlay ? "--aov coins" : "--checkpoint",
+                    s.args.coins_overlay ? "the coin overlay" : "a checkpoint"));
+    return kBadInput;
+  }
   if (!find_sink_kind(s.out)) {
     print_error(fmt::format("-o {}: {}", s.out, unsupported_extension(s.out)));
     return kBadInput;
@@ -138,6 +146,9 @@ void add_render(CLI::App& app, std::function<int()>& runner) {
                   std::string("Continue the render a checkpoint belongs to (the same command, "
                               "resumed); only ") +
                       kWithResume + " may be given with it");
+  cmd->add_flag("--denoise", a->denoise,
+                "Denoise the beauty (NFOR on two half buffers, guided by albedo, normal and "
+                "depth, rendered for it; docs/denoise.md); needs uniform sampling");
   cmd->add_flag("--skip-existing", a->skip_existing,
                 "Skip frames whose output file is already there (complete: files appear only "
                 "when done)");

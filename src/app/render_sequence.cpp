@@ -95,6 +95,7 @@ int sequence_frame(const RenderSetup& s, FrameScene& current, int f, int first, 
   const bool fresh = current.load_frame(s.args.scene, s.extra, f, s.aovs);
   check_render_outputs(frame_outputs(s, f), current.scene->inputs);
   if (place.index == 0) check_frames(s.args.scene, s.extra, f, last, *current.scene);
+  if (!denoise_applies(s, *current.scene, files.out)) return kBadInput;
   if (!fits_in_memory(s, *current.scene, files.out)) return kBadInput;
   if (fresh) current.renderer = make_renderer(*current.scene, s.farm);
   if (s.farm) s.farm->begin_frame(f);
@@ -125,6 +126,7 @@ int render_single(const RenderSetup& s) {
   Scene scene = load(a.scene, s.extra, 0);
   attach_next_frame(a.scene, s.extra, s.aovs, scene);
   check_render_outputs(s.outs, scene.inputs);
+  if (!denoise_applies(s, scene, s.out)) return kBadInput;
   if (!fits_in_memory(s, scene, s.out)) return kBadInput;
   const std::unique_ptr<Renderer> renderer = make_renderer(scene, s.farm);
   if (s.farm) s.farm->begin_frame(0);

@@ -27,6 +27,8 @@ class Film {
   const TileBuffer* tile_if_any(size_t index) const { return tiles_[index].get(); }
   // Puts a finished tile in place (a streamed render into a film).
   void put(size_t index, std::unique_ptr<TileBuffer> tile) { tiles_[index] = std::move(tile); }
+  // Takes a tile's buffer out (null if none): the film has no samples there any more.
+  std::unique_ptr<TileBuffer> take(size_t index) { return std::move(tiles_[index]); }
   // Back to no samples: every tile's memory is released.
   void clear();
 

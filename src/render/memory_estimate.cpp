@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "render/denoise_film.h"
 #include "render/tile_buffer.h"
 #include "scene/scene.h"
 
@@ -64,7 +65,7 @@ MemoryNeed estimate_render_memory(const Scene& scene, const RenderShape& r) {
   const uint64_t pixels = uint64_t(r.width) * uint64_t(r.height);
   const uint64_t per_pixel = sizeof(PixelSum) + 4 * r.aov_floats;
   const TileGrid grid(r.width, r.height, r.tile_size);
-  if (r.whole_film) {
+  if (r.whole_film || r.denoise) {
     need.parts.emplace_back(
         fmt::format("film ({} x {} pixels x {} B)", r.width, r.height, per_pixel),
         pixels * per_pixel);
@@ -77,6 +78,9 @@ MemoryNeed estimate_render_memory(const Scene& scene, const RenderShape& r) {
   const uint64_t strip_pixels = uint64_t(r.width) * uint64_t(r.tile_size);
   const uint64_t strip = strip_pixels * r.strip_bytes_per_pixel;
   need.parts.emplace_back("output strips", strip * strips_in_flight(r.threads));
+  if (r.denoise)
+    need.parts.emplace_back("the denoiser (other half's film, its planes and its peak)",
+                            denoise_film_bytes(r.width, r.height, r.aov_floats, r.threads));
   if (r.output_image)
     need.parts.emplace_back("the whole output image", pixels * (16 + 4 * r.aov_floats + 4));
   need.parts.emplace_back("tile table", uint64_t(grid.count()) * (sizeof(void*) + 8));

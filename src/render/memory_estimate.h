@@ -23,6 +23,9 @@ struct RenderShape {
   // (io/image_sink.h: strip_bytes_per_pixel): 8 for a PNG, 16 + 4 * aov_floats for an EXR.
   size_t strip_bytes_per_pixel = 0;
   bool output_image = false;  // a whole output image as well (the coin overlay)
+  // Denoised (render/denoise_film.h): the film is whole, with the denoiser's layers in
+  // aov_floats, and the other half's film and the denoiser's planes come on top.
+  bool denoise = false;
 };
 
 struct MemoryNeed {

@@ -121,8 +121,10 @@ class PassSchedule {
   PassSchedule(const RenderSettings& rs, const RenderOptions& opt, const Film& film)
       : per_pixel_(!Renderer::streams(rs)),
         spp_(uint32_t(per_pixel_ ? rs.max_spp : rs.spp)),
-        ends_(
-            pass_ends(spp_, per_pixel_ ? uint32_t(rs.min_spp) : 1, opt.progressive || per_pixel_)),
+        ends_(opt.split_at > 0 && !per_pixel_ && opt.split_at < spp_
+                  ? std::vector<uint32_t>{opt.split_at, spp_}
+                  : pass_ends(spp_, per_pixel_ ? uint32_t(rs.min_spp) : 1,
+                              opt.progressive || per_pixel_)),
         uniform_spp_(uint32_t(rs.spp)),
         // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
         // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
@@ -231,7 +233,8 @@ RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt
 RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
   const RenderSettings& rs = scene_.render;
   const bool per_pixel = !streams(rs);
-  if (!per_pixel && (!opt.progressive || rs.adaptive())) {
+  const bool split = opt.split_at > 0 && !rs.adaptive() && opt.split_at < uint32_t(rs.spp);
+  if (!per_pixel && !split && (!opt.progressive || rs.adaptive())) {
     // One pass: each tile complete, straight into the film.
     film.clear();
     RenderStats st = render_tiles(

@@ -62,6 +62,10 @@ struct RenderOptions {
   std::function<void(const Film&, int pass)> on_pass;  // after each progressive pass
   const std::atomic<bool>* cancel = nullptr;  // stop within a packet; tiles in flight are lost
   bool progressive = true;                    // passes of 1, 1, 2, 4, ... samples
+  // > 0 (uniform sampling, below render.spp): two passes instead, samples [0, split_at) and
+  // [split_at, spp), on_pass called after each (the denoiser's half buffers:
+  // render/denoise_film.h).
+  uint32_t split_at = 0;
   // Pass renders, for checkpoints: a tile finished pass `pass` (called from its worker thread),
   // and pass `pass` is about to run over the pixels `active` leaves on. `resume` continues.
   std::function<void(size_t tile, int pass, const TileBuffer&)> on_tile_pass;

@@ -3,6 +3,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint.cpp
   ${CMAKE_CURRENT_LIST_DIR}/checkpoint_records.cpp
   ${CMAKE_CURRENT_LIST_DIR}/coin_layer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/denoise_film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/film.cpp
   ${CMAKE_CURRENT_LIST_DIR}/form_factors.cpp
   ${CMAKE_CURRENT_LIST_DIR}/radiosity.cpp

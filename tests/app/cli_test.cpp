@@ -178,7 +178,7 @@ TEST(Cli, InfoRaysProject) {
   EXPECT_CONTAINS(pr.out, "px 12.000000 py 8.000000");
   const Result json = run("project " + scene + " --point 0,0,0 --json");
   ASSERT_EQ(json.code, 0) << json.out;
-  EXPECT_CONTAINS(json.out, "\"width\": 24, \"height\": 16, \"pixels\": [[12.000000, 8.000000]]");
+  EXPECT_CONTAINS(json.out, "\"width\": 24, \"height\": 16, \"pixels\": [[12, 8]]");  // every digit
   EXPECT_EQ(run("project " + scene + " --point 1,2").code, 2);
   fs::remove_all(d);
 }
@@ -380,6 +380,39 @@ TEST(Cli, BenchWarmUpAndMeasure) {
   const Result range = run("bench " + scene + " --frames 0:5");
   EXPECT_EQ(range.code, 2) << range.out;
   EXPECT_CONTAINS(range.out, "--frames A:B picks animation frames in `render` only");
+  fs::remove_all(d);
+}
+
+}  // namespace anamorph
+
+namespace anamorph {
+
+// --denoise writes the image and says how long the denoiser took; what it cannot denoise (a
+// checkpoint, adaptive sampling, one sample a pixel) is refused with exit 2, the reason and no
+// file.
+TEST(Cli, DenoiseWritesTheImageAndRefusesWhatItCannot) {
+  const fs::path d = temp_dir("denoise");
+  const std::string scene = write(d / "s.toml", kSmall);
+  const std::string png = (d / "s.png").string();
+  const Result ok = run("render '" + scene + "' --spp 4 --denoise -o '" + png + "'");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  EXPECT_CONTAINS(ok.out, "denoised in");
+  EXPECT_TRUE(fs::exists(png));
+  fs::remove(png);
+  const Result ck = run("render '" + scene + "' --spp 4 --denoise --checkpoint '" +
+                        (d / "c.ckpt").string() + "' -o '" + png + "'");
+  EXPECT_EQ(ck.code, 2) << ck.out;
+  EXPECT_CONTAINS(ck.out, "--denoise cannot be combined with --checkpoint");
+  const std::string pixel =
+      write(d / "p.toml", std::string(kSmall) + "[render]\nantialias = \"adaptive\"\n");
+  const Result adaptive =
+      run("render '" + pixel + "' --integrator path --denoise -o '" + png + "'");
+  EXPECT_EQ(adaptive.code, 2) << adaptive.out;
+  EXPECT_CONTAINS(adaptive.out, "needs uniform sampling");
+  const Result one = run("render '" + scene + "' --spp 1 --denoise -o '" + png + "'");
+  EXPECT_EQ(one.code, 2) << one.out;
+  EXPECT_CONTAINS(one.out, "at least 2 samples");
+  EXPECT_FALSE(fs::exists(png));
   fs::remove_all(d);
 }
 

@@ -1,0 +1,220 @@
+#include "render/denoise_film.h"
+
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "math/parallel.h"
+
+namespace anamorph {
+
+namespace {
+
+// The features: albedo (3), normal (3), depth (1) and the fraction of the covered samples that
+// hit a surface (1: a pixel on a silhouette against the sky mixes the two in that proportion, so
+// its colour is affine in it).
+constexpr int kAlbedo = 0, kNormal = 3, kDepth = 6, kHit = 7, kFeatureChannels = 8;
+
+struct Layers {
+  size_t albedo = 0, normal = 0, depth = 0;
+};
+
+Layers find_layers(const std::vector<Aov>& aovs) {
+  const auto at = [&](Aov a) {
+    const auto it = std::find(aovs.begin(), aovs.end(), a);
+    if (it == aovs.end())
+      throw std::invalid_argument(std::string("denoise: the film has no ") + aov_info(a).name +
+                                  " layer (with_denoise_aovs gives the layers it needs)");
+    return size_t(it - aovs.begin());
+  };
+  return {at(Aov::Albedo), at(Aov::Normal), at(Aov::Depth)};
+}
+
+// One half's planes: straight colour (3 a pixel) and features (kFeatureChannels a pixel), and
+// the sums of coverage and samples per pixel (for the merged coverage).
+struct Half {
+  explicit Half(size_t pixels)
+      : color(pixels * 3), features(pixels * kFeatureChannels), alpha(pixels), n(pixels) {}
+  std::vector<float> color, features, alpha, n;
+  std::vector<uint8_t> has_color, has_hits;
+};
+
+// Pixel (x, y) of a half's tile (null: no samples) into its planes at index i.
+void gather_pixel(const TileBuffer* t, const Layers& l, int x, int y, size_t i, Half& h) {
+  float* c = &h.color[i * 3];
+  float* f = &h.features[i * kFeatureChannels];
+  const PixelSum* p = t ? &t->at(x, y) : nullptr;
+  h.alpha[i] = p ? p->alpha : 0;
+  h.n[i] = p ? float(p->n) : 0;
+  h.has_color[i] = p && p->alpha > 0;
+  h.has_hits[i] = p && p->hits > 0;
+  if (h.has_color[i])
+    for (int k = 0; k < 3; ++k) c[k] = p->rgb[k] / p->alpha;
+  if (!h.has_hits[i]) return;  // features 0 (filled from the other half where it has them)
+  t->aov_layer_values(x, y, l.albedo, f + kAlbedo);
+  t->aov_layer_values(x, y, l.normal, f + kNormal);
+  t->aov_layer_values(x, y, l.depth, f + kDepth);
+  f[kHit] = float(p->hits) / p->alpha;
+}
+
+// Both halves' planes over the frame.
+void gather(const Film& a, const Film& b, Half& ha, Half& hb) {
+  const Layers la = find_layers(a.aovs()), lb = find_layers(b.aovs());
+  const size_t pixels = size_t(a.width()) * size_t(a.height());
+  for (Half* h : {&ha, &hb}) h->has_color.assign(pixels, 0), h->has_hits.assign(pixels, 0);
+  const TileGrid& g = a.grid();
+  for (size_t ti = 0; ti < g.count(); ++ti) {
+    const TileRect r = g.rect(ti);
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) {
+        const size_t i = size_t(y) * size_t(a.width()) + size_t(x);
+        gather_pixel(a.tile_if_any(ti), la, x, y, i, ha);
+        gather_pixel(b.tile_if_any(ti), lb, x, y, i, hb);
+      }
+  }
+}
+
+// Where one half has no covered sample (or no hit) at a pixel the other has, it takes the other's
+// colour (features): both halves then estimate the pixel alike. Returns the merged coverage.
+std::vector<float> complete_halves(Half& a, Half& b) {
+  std::vector<float> coverage(a.alpha.size());
+  const auto color = [](const Half& from, Half& to, size_t i) {
+    std::copy_n(&from.color[i * 3], 3, &to.color[i * 3]);
+  };
+  const auto features = [](const Half& from, Half& to, size_t i) {
+    std::copy_n(&from.features[i * kFeatureChannels], kFeatureChannels,
+                &to.features[i * kFeatureChannels]);
+  };
+  for (size_t i = 0; i < coverage.size(); ++i) {
+    const float n = a.n[i] + b.n[i];
+    coverage[i] = n > 0 ? std::min(1.0f, (a.alpha[i] + b.alpha[i]) / n) : 0.0f;
+    if (coverage[i] <= 0) continue;
+    if (!a.has_color[i]) color(b, a, i);
+    if (!b.has_color[i]) color(a, b, i);
+    if (!a.has_hits[i] && b.has_hits[i]) features(b, a, i);
+    if (!b.has_hits[i] && a.has_hits[i]) features(a, b, i);
+  }
+  return coverage;
+}
+
+// Half a's sums added into `film`'s (half b's), tile by tile.
+void merge(Film& a, Film& film) {
+  for (size_t ti = 0; ti < film.grid().count(); ++ti) {
+    std::unique_ptr<TileBuffer> ta = a.take(ti);
+    if (!ta) continue;
+    if (!film.tile_if_any(ti)) {
+      film.put(ti, std::move(ta));
+      continue;
+    }
+    TileBuffer& tb = film.tile(ti);
+    for (size_t i = 0; i < tb.sums().size(); ++i) {
+      PixelSum& p = tb.sums()[i];
+      const PixelSum& q = ta->sums()[i];
+      for (int k = 0; k < 3; ++k) p.rgb[k] += q.rgb[k];
+      p.alpha += q.alpha;
+      p.lum2 += q.lum2;
+      p.n += q.n;
+      p.hits += q.hits;
+      p.spp += q.spp;
+    }
+    for (size_t i = 0; i < tb.aov_sums().size(); ++i) tb.aov_sums()[i] += ta->aov_sums()[i];
+  }
+}
+
+// The denoised straight colour written as the film's beauty: rgb sums = colour x coverage sum.
+void write_beauty(Film& film, const std::vector<float>& rgb, const std::vector<float>& coverage) {
+  const TileGrid& g = film.grid();
+  for (size_t ti = 0; ti < g.count(); ++ti) {
+    if (!film.tile_if_any(ti)) continue;
+    TileBuffer& t = film.tile(ti);
+    const TileRect r = g.rect(ti);
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) {
+        const size_t i = size_t(y) * size_t(film.width()) + size_t(x);
+        PixelSum& p = t.at(x, y);
+        if (coverage[i] <= 0 || p.alpha <= 0) continue;
+        for (int k = 0; k < 3; ++k) p.rgb[k] = rgb[i * 3 + size_t(k)] * p.alpha;
+      }
+  }
+}
+
+}  // namespace
+
+std::vector<Aov> with_denoise_aovs(std::vector<Aov> aovs) {
+  for (Aov a : {Aov::Albedo, Aov::Normal, Aov::Depth})
+    if (std::find(aovs.begin(), aovs.end(), a) == aovs.end()) aovs.push_back(a);
+  return aovs;
+}
+
+std::optional<std::string> denoise_unsupported(const RenderSettings& rs) {
+  if (rs.adaptive())
+    return "it needs uniform sampling (render.antialias = \"uniform\", or --spp N): its two half "
+           "buffers split every pixel's samples in two equal halves";
+  if (rs.spp < 2) return "it needs at least 2 samples per pixel (two half buffers)";
+  if (rs.time_limit > 0)
+    return "it cannot be combined with render.time_limit (the second half might be cut short)";
+  return std::nullopt;
+}
+
+uint64_t denoise_film_bytes(int width, int height, size_t film_aov_floats, int threads) {
+  const uint64_t pixels = uint64_t(width) * uint64_t(height);
+  const uint64_t half = sizeof(PixelSum) + 4 * film_aov_floats;
+  // Inputs: two halves of colour and features, their coverage sums and counts, the merged
+  // coverage, the output colour; flags.
+  const uint64_t planes = 4 * (2 * (3 + kFeatureChannels + 2) + 1 + 3) + 4;
+  return pixels * (half + planes) + denoise_bytes(width, height, kFeatureChannels, {}, threads);
+}
+
+DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options) {
+  const size_t pixels = size_t(film.width()) * size_t(film.height());
+  Half ha(pixels), hb(pixels);
+  gather(a, film, ha, hb);
+  const std::vector<float> coverage = complete_halves(ha, hb);
+  DenoiseInput in;
+  in.width = film.width();
+  in.height = film.height();
+  in.color_a = ha.color.data();
+  in.color_b = hb.color.data();
+  in.coverage = coverage.data();
+  in.features = {{ha.features.data(), hb.features.data(), kFeatureChannels}};
+  std::vector<float> out(pixels * 3);
+  const DenoiseStats st = denoise(in, options, out.data());
+  merge(a, film);
+  if (!st.cancelled) write_beauty(film, out, coverage);
+  return st;
+}
+
+DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& rs, Film& film,
+                               RenderOptions opt, const DenoiseOptions& options) {
+  if (const auto why = denoise_unsupported(rs)) throw std::invalid_argument("denoise: " + *why);
+  find_layers(film.aovs());
+  Film a(film.width(), film.height(), film.aovs(), film.grid().size);
+  opt.aovs = film.aovs();
+  opt.progressive = false;
+  opt.split_at = uint32_t(rs.spp) / 2;
+  bool halved = false;
+  opt.on_pass = [&](const Film&, int pass) {
+    if (pass != 0) return;
+    for (size_t i = 0; i < film.grid().count(); ++i) a.put(i, film.take(i));
+    halved = true;
+  };
+  DenoisedRender r;
+  r.stats = renderer.render(film, opt);
+  if (!halved || r.stats.cancelled || r.stats.time_limited) {
+    merge(a, film);
+    return r;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  tbb::task_arena arena(arena_concurrency(opt.threads));
+  DenoiseOptions o = options;
+  if (!o.cancel) o.cancel = opt.cancel;
+  arena.execute([&] { r.denoise = denoise_halves(a, film, o); });
+  r.denoise_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.denoised = !r.denoise.cancelled;
+  return r;
+}
+
+}  // namespace anamorph

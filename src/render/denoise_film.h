@@ -1,0 +1,48 @@
+// A render denoised (`render --denoise`, docs/denoise.md): the frame rendered in two halves of
+// its samples, [0, spp/2) and [spp/2, spp), each kept in a film of its own with the features the
+// denoiser regresses on (albedo, normal, depth and the fraction of the covered samples that hit
+// a surface), NFOR (denoise/denoise.h) run over the whole frame, and the halves merged into one
+// film whose beauty is the denoised colour: the outputs then resolve it as any film (alpha, AOV
+// layers and sample counts are those of the undenoised render).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "denoise/denoise.h"
+#include "render/renderer.h"
+
+namespace anamorph {
+
+// `aovs` with the layers the denoiser needs (albedo, normal, depth) added at the end when absent.
+std::vector<Aov> with_denoise_aovs(std::vector<Aov> aovs);
+
+// Why these settings cannot be denoised ("needs uniform sampling ..."), or none.
+std::optional<std::string> denoise_unsupported(const RenderSettings& rs);
+
+// What denoising a width x height frame holds besides the film it renders into: the other
+// half's film, the denoiser's input planes and its peak (denoise_bytes), with `threads` threads.
+uint64_t denoise_film_bytes(int width, int height, size_t film_aov_floats, int threads);
+
+struct DenoisedRender {
+  RenderStats stats;
+  DenoiseStats denoise;
+  double denoise_seconds = 0;
+  bool denoised = false;  // false when the render was cancelled or stopped by its time limit
+};
+
+// Renders into `film` (whose AOVs must include with_denoise_aovs' layers: std::invalid_argument
+// otherwise) in two halves and denoises its beauty. `rs` are the renderer's scene's settings
+// (denoise_unsupported must accept them). Cancelled or out of time: the film holds every sample
+// taken, not denoised.
+DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& rs, Film& film,
+                               RenderOptions opt, const DenoiseOptions& options = {});
+
+// The denoising step alone: half `a`'s samples merged into `film` (which holds half b), and the
+// merged film's beauty replaced by NFOR's estimate from the two halves. Every pixel without a
+// ray in either half keeps its (transparent) value.
+DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options = {});
+
+}  // namespace anamorph
