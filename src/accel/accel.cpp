@@ -16,13 +16,20 @@
 
 namespace anamorph {
 
+using accel_detail::kBlend;
+using accel_detail::kBlendSeeThrough;
 using accel_detail::kOpaque;
 using accel_detail::kSeeThrough;
+using accel_detail::kSetMembers;
 using accel_detail::shape_t;
 
 namespace {
 
-unsigned mask_of(const Material& m) { return m.shadow_transmission() > 0 ? kSeeThrough : kOpaque; }
+unsigned mask_of(const Material& m) {
+  const bool transmits = m.shadow_transmission() > 0;
+  if (m.blends()) return transmits ? kBlendSeeThrough : kBlend;
+  return transmits ? kSeeThrough : kOpaque;
+}
 
 void embree_error(void*, RTCError code, const char* msg) {
   // Embree reports through this callback; failures here are programming or memory errors.
@@ -256,9 +263,11 @@ Accel::Accel(const Scene& scene) {
 // that a hit there names the same record.)
 void Accel::attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
   const unsigned id = rtcAttachGeometry(top_, g);
-  if (mask & kSeeThrough) {
-    if (!see_through_) see_through_ = rtcNewScene(device_);
-    rtcAttachGeometryByID(see_through_, g, id);
+  for (int set = 0; set < 2; ++set) {
+    if (!(mask & kSetMembers[set])) continue;
+    RTCScene& s = see_through_[set].scene;
+    if (!s) s = rtcNewScene(device_);
+    rtcAttachGeometryByID(s, g, id);
   }
   rtcReleaseGeometry(g);
   if (id != records_.size()) throw std::logic_error("Embree geometry ids are not sequential");
@@ -344,7 +353,8 @@ void Accel::add_shape(const Scene& scene, const AnalyticShape& sh) {
   unbounded_.push_back({id, mask, rec->world_from_object.point({0, 0, 0}),
                         normalize(rec->world_from_object.normal({0, 1, 0}))});
   unbounded_box_.extend(rec->world_from_object.bounds(shape_object_bounds(sh)));
-  if (mask & kSeeThrough) see_through_unbounded_ = true;
+  for (int set = 0; set < 2; ++set)
+    if (mask & kSetMembers[set]) see_through_[set].unbounded = true;
   rtcDisableGeometry(g);
   const unsigned got = rtcAttachGeometry(top_, g);  // (for its id and record only)
   rtcReleaseGeometry(g);
@@ -354,12 +364,12 @@ void Accel::add_shape(const Scene& scene, const AnalyticShape& sh) {
 
 void Accel::commit_and_bound() {
   rtcCommitScene(top_);
-  if (see_through_) {
-    rtcCommitScene(see_through_);
+  for (SeeThrough& st : see_through_) {
+    if (!st.scene) continue;
+    rtcCommitScene(st.scene);
     RTCBounds sb;
-    rtcGetSceneBounds(see_through_, &sb);
-    see_through_bounds_ = {{sb.lower_x, sb.lower_y, sb.lower_z},
-                           {sb.upper_x, sb.upper_y, sb.upper_z}};
+    rtcGetSceneBounds(st.scene, &sb);
+    st.bounds = {{sb.lower_x, sb.lower_y, sb.lower_z}, {sb.upper_x, sb.upper_y, sb.upper_z}};
   }
   RTCBounds b;
   rtcGetSceneBounds(top_, &b);
@@ -391,8 +401,7 @@ bool Accel::repose(const Scene& scene) {
   for (uint32_t id = 0; id < records_.size(); ++id) repose_record(scene, id);
   for (size_t i = 0; i < placed_.size(); ++i) placed_[i] = scene.instances[i].world_from_object;
   bounds_ = {};
-  see_through_bounds_ = {};
-  commit_and_bound();
+  commit_and_bound();  // (the see-through structures share the moved geometries: committed too)
   return true;
 }
 
@@ -421,7 +430,8 @@ void Accel::repose_record(const Scene& scene, uint32_t id) {
 }
 
 Accel::~Accel() {
-  if (see_through_) rtcReleaseScene(see_through_);
+  for (SeeThrough& st : see_through_)
+    if (st.scene) rtcReleaseScene(st.scene);
   if (top_) rtcReleaseScene(top_);
   for (RTCScene s : prototype_scenes_)
     if (s) rtcReleaseScene(s);

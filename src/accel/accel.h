@@ -59,18 +59,23 @@ class Accel {
 
   bool intersect(const Ray& r, Hit* hit) const;
   bool occluded(const Ray& r) const;
-  // Shadow rays that pass through see-through surfaces (materials with transmission, as the
-  // Whitted integrator shades them): whether an opaque surface lies on the ray, the see-through
-  // ones ignored (an any-hit query); and the nearest see-through surface on it, found in a
-  // structure of its own that holds only them (cheap: usually a few objects, or none).
-  bool occluded_by_opaque(const Ray& r) const;
-  // Whether the ray (tmin to tmax) passes the see-through objects' bounding box: when it does
-  // not, intersect_see_through would find nothing. Ask this first in a loop: a few
-  // multiplications, where a Hit alone takes longer to set up, and a BVH of one object is a
-  // leaf that Embree enters without testing its box.
-  bool near_see_through(const Ray& r) const;
-  bool intersect_see_through(const Ray& r, Hit* hit) const;
-  bool has_see_through() const { return see_through_ || see_through_unbounded_; }
+  // Shadow rays that pass through a set of surfaces: the see-through surfaces of the Whitted
+  // integrator (materials with transmission, Material::shadow_transmission, or alpha blend) or
+  // the path tracer's alpha-blended ones (Material::blends). Whether a surface outside the set lies
+  // on the ray, the set ignored (an any-hit query); and the nearest surface of the set on it, found
+  // in a structure of its own that holds only them (cheap: usually a few objects, or none).
+  enum class ShadowSet { Transmitting = 0, Blended = 1 };
+  bool occluded_by_opaque(const Ray& r, ShadowSet set = ShadowSet::Transmitting) const;
+  // Whether the ray (tmin to tmax) passes the set's bounding box: when it does not,
+  // intersect_see_through would find nothing. Ask this first in a loop: a few multiplications,
+  // where a Hit alone takes longer to set up, and a BVH of one object is a leaf that Embree
+  // enters without testing its box.
+  bool near_see_through(const Ray& r, ShadowSet set = ShadowSet::Transmitting) const;
+  bool intersect_see_through(const Ray& r, Hit* hit, ShadowSet set = ShadowSet::Transmitting) const;
+  bool has_see_through(ShadowSet set = ShadowSet::Transmitting) const {
+    const SeeThrough& s = see_through_[int(set)];
+    return s.scene || s.unbounded;
+  }
   // Intersects 16 rays at once (packet API) for coherent primary rays; `valid[i]` masks lanes.
   void intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* found) const;
   // The same for rays from t = 0 to infinity given as structure of arrays (org[c][i] is
@@ -119,8 +124,14 @@ class Accel {
 
   RTCDevice device_ = nullptr;
   RTCScene top_ = nullptr;
-  RTCScene see_through_ = nullptr;  // the top level's see-through geometries, by the same ids
-  Bounds3 see_through_bounds_;
+  // Each shadow set's geometries of the top level, by the same ids, and their bounds; whether an
+  // unbounded shape belongs to it.
+  struct SeeThrough {
+    RTCScene scene = nullptr;
+    Bounds3 bounds;
+    bool unbounded = false;
+  };
+  SeeThrough see_through_[2];
   // Shapes without bounds (infinite planes): in top_ only for their ids, disabled there, and
   // tested beside it by every query.
   struct Unbounded {
@@ -129,7 +140,6 @@ class Accel {
   };
   std::vector<Unbounded> unbounded_;
   Bounds3 unbounded_box_;  // (a finite square standing for them in bounds())
-  bool see_through_unbounded_ = false;
   std::vector<RTCScene> prototype_scenes_;
   std::vector<std::unique_ptr<Record>> records_;  // by top-level geomID
   std::vector<TriangleMesh> flat_meshes_;         // single-use meshes, moved to world space

@@ -11,8 +11,8 @@
 namespace anamorph {
 
 using accel_detail::kAll;
-using accel_detail::kOpaque;
-using accel_detail::kSeeThrough;
+using accel_detail::kSetMembers;
+using accel_detail::set_blockers;
 using accel_detail::shape_t;
 
 // Embree's far distance for ours: beyond float's range is infinity, not float's overflow.
@@ -111,7 +111,9 @@ bool Accel::any(const Ray& r, unsigned mask) const {
 
 bool Accel::intersect(const Ray& r, Hit* hit) const { return nearest(top_, r, kAll, hit); }
 bool Accel::occluded(const Ray& r) const { return any(r, kAll); }
-bool Accel::occluded_by_opaque(const Ray& r) const { return any(r, kOpaque); }
+bool Accel::occluded_by_opaque(const Ray& r, ShadowSet set) const {
+  return any(r, set_blockers(int(set)));
+}
 // Whether the segment of `r` from tmin to tmax meets box `b` (the slab test).
 static bool meets(const Bounds3& b, const Ray& r) {
   double t0 = r.tmin, t1 = r.tmax;
@@ -126,12 +128,13 @@ static bool meets(const Bounds3& b, const Ray& r) {
   return true;
 }
 
-bool Accel::near_see_through(const Ray& r) const {
-  return see_through_unbounded_ || (see_through_ && meets(see_through_bounds_, r));
+bool Accel::near_see_through(const Ray& r, ShadowSet set) const {
+  const SeeThrough& st = see_through_[int(set)];
+  return st.unbounded || (st.scene && meets(st.bounds, r));
 }
 
-bool Accel::intersect_see_through(const Ray& r, Hit* hit) const {
-  return nearest(see_through_, r, kSeeThrough, hit);
+bool Accel::intersect_see_through(const Ray& r, Hit* hit, ShadowSet set) const {
+  return nearest(see_through_[int(set)].scene, r, kSetMembers[int(set)], hit);
 }
 
 // One packet: `load(rh)` writes the lanes' origins and directions, `bound(o, d, tmin, &tfar)`

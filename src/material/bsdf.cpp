@@ -127,6 +127,7 @@ namespace {
 void sample_pass_through(const Bsdf& b, const Vec3& wo_w, BsdfSample* out) {
   out->wi = -wo_w;
   out->delta = true;
+  out->pass_through = true;
   out->pdf = 1 - b.opacity;
   out->f = Color(1 - b.opacity);
   out->weight = Color(1);

@@ -18,6 +18,7 @@ struct BsdfSample {
   Color weight;  // f * |cos theta_i| / pdf
   double pdf = 0;
   bool delta = false;
+  bool pass_through = false;  // alpha blend's share going straight on (wi = -wo)
 };
 
 struct Bsdf {

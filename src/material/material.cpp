@@ -34,12 +34,14 @@ Bsdf Material::bsdf_frame(const ShadingPoint& sp, const Vec3& wo) const {
   b.ng = ng;
   b.entering = front;
   b.eta = ior;
-  if (alpha_mode == AlphaMode::Blend) {
-    double alpha = 1;
-    base_color.eval(sp.tex, &alpha);
-    b.opacity = std::clamp(alpha, 0.0, 1.0);
-  }
+  if (blends()) b.opacity = opacity_at(sp.tex);
   return b;
+}
+
+double Material::opacity_at(const TexCoord& tc) const {
+  double alpha = 1;
+  base_color.eval(tc, &alpha);
+  return std::clamp(alpha, 0.0, 1.0);
 }
 
 }  // namespace anamorph

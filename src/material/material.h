@@ -82,6 +82,11 @@ class Material {
   bool alpha_masked() const {
     return alpha_mode == AlphaMode::Mask && base_color.kind == Texture::Kind::Image;
   }
+  // Alpha blend: a share of the light goes straight on (the BSDF's opacity); the path tracer's
+  // shadow rays pass such surfaces too, keeping 1 - opacity_at() of the light.
+  bool blends() const { return alpha_mode == AlphaMode::Blend; }
+  // The blended surface's opacity at tc: its alpha (the base colour's factor x texture), in [0, 1].
+  double opacity_at(const TexCoord& tc) const;
   bool opaque_at(const TexCoord& tc) const {
     double alpha = 1;
     base_color.eval(tc, &alpha);

@@ -13,10 +13,11 @@ Bsdf MetallicRoughnessMaterial::bsdf(const ShadingPoint& sp, const Vec3& wo) con
   const Color mr = metallic_roughness.eval(sp.tex);
   const double metal = std::clamp(metallic * mr.z, 0.0, 1.0);
   const double rough = std::clamp(roughness * mr.y, 0.0, 1.0);
-  b.diffuse = base * ((1 - metal) * (1 - transmission));
-  const Color f0 = lerp(metal, dielectric_f0, base);
+  const double trans = transmission * std::clamp(transmission_texture.eval(sp.tex).x, 0.0, 1.0);
+  b.diffuse = base * ((1 - metal) * (1 - trans));
+  const Color f0 = lerp(metal, dielectric_f0(sp), base);
   const double a = rough * rough;
-  b.transmission = transmission * (1 - metal);
+  b.transmission = trans * (1 - metal);
   if (a < 0.02) {
     // Too sharp for a microfacet lobe: a mirror with the same tint (for the opaque share only: the
     // transmitting share reflects by the dielectric's own Fresnel).
@@ -27,11 +28,22 @@ Bsdf MetallicRoughnessMaterial::bsdf(const ShadingPoint& sp, const Vec3& wo) con
   }
   if (b.transmission > 0) {
     b.transmission_tint = base;
-    b.thin = thin;
+    b.thin = thin || !(thickness_texture.eval(sp.tex).y > 0);
     b.sigma_a = absorption;
   }
   if (clearcoat > 0 || max_component(sheen_color) > 0) add_layers(sp, wo, &b);
   return b;
+}
+
+Color MetallicRoughnessMaterial::dielectric_f0(const ShadingPoint& sp) const {
+  double alpha = 1;
+  specular_texture.eval(sp.tex, &alpha);
+  const Color tint = specular_color_texture.eval(sp.tex);
+  const double weight = specular * std::clamp(alpha, 0.0, 1.0);
+  Color f0;
+  for (int k = 0; k < 3; ++k)
+    f0[k] = std::min(specular_color[k] * std::max(tint[k], 0.0), 1.0) * weight;
+  return f0;
 }
 
 void MetallicRoughnessMaterial::add_layers(const ShadingPoint& sp, const Vec3& wo, Bsdf* b) const {

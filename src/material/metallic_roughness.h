@@ -19,12 +19,20 @@ class MetallicRoughnessMaterial final : public Material {
   static constexpr std::string_view kType = "metallic_roughness";
 
   double metallic = 1, roughness = 1;
-  // A dielectric's reflectance at normal incidence (KHR_materials_specular: F0(ior) x
-  // specularColorFactor, at most 1, x specularFactor; 0.04 without the extension).
-  Color dielectric_f0{0.04, 0.04, 0.04};
-  Texture metallic_roughness = Texture::constant({1, 1, 1});  // G = roughness, B = metallic
-  double transmission = 0;                                    // smooth dielectric weight
-  bool thin = false;          // transmission through a thin wall (no refraction)
+  // A dielectric's reflectance at normal incidence (KHR_materials_specular):
+  // min(specular_color x colour texture's RGB, 1) x specular x the specular texture's alpha, with
+  // specular_color = F0(ior) x specularColorFactor; 0.04 without the extension.
+  Color specular_color{0.04, 0.04, 0.04};
+  double specular = 1;
+  Texture specular_texture = Texture::constant({1, 1, 1});        // its alpha
+  Texture specular_color_texture = Texture::constant({1, 1, 1});  // sRGB RGB
+  Texture metallic_roughness = Texture::constant({1, 1, 1});      // G = roughness, B = metallic
+  double transmission = 0;  // smooth dielectric weight, x the texture's R
+  Texture transmission_texture = Texture::constant({1, 1, 1});
+  bool thin = false;  // transmission through a thin wall (no refraction)
+  // KHR_materials_volume's thickness factor (> 0 unless thin) x this texture's G: a point where
+  // it is 0 is a thin wall (the thickness itself is the geometry's: rays cross the real solid).
+  Texture thickness_texture = Texture::constant({1, 1, 1});
   Color absorption{0, 0, 0};  // inside the solid, per unit length (glTF: -ln(c) / distance)
   // Clear coat: weight x texture's R, roughness x texture's G; its own normal map (none: the
   // surface's interpolated normal, not the base's normal map).
@@ -50,9 +58,13 @@ class MetallicRoughnessMaterial final : public Material {
     const auto image = [](const Texture& t) { return t.kind != Texture::Kind::Constant; };
     return Material::textured() || image(metallic_roughness) || image(clearcoat_texture) ||
            image(clearcoat_roughness_texture) || has_clearcoat_normal ||
-           image(sheen_color_texture) || image(sheen_roughness_texture);
+           image(sheen_color_texture) || image(sheen_roughness_texture) ||
+           image(specular_texture) || image(specular_color_texture) ||
+           image(transmission_texture) || image(thickness_texture);
   }
   std::string describe() const override;
+  // The dielectric's F0 at sp (KHR_materials_specular, above).
+  Color dielectric_f0(const ShadingPoint& sp) const;
 
  private:
   void add_layers(const ShadingPoint& sp, const Vec3& wo, Bsdf* b) const;

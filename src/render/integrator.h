@@ -61,6 +61,42 @@ class Integrator {
 // relative margin).
 bool light_visible(const RenderContext& ctx, const Hit& h, const LightSample& ls, uint64_t& rays);
 
+// The light reaching h from ls through the surfaces of one shadow set (Accel::ShadowSet): each
+// surface of the set the shadow ray crosses scales it by keep(hit) (in [0, 1]), without bending
+// it; any other surface blocks it. The product does not depend on the order of the crossings, so
+// an any-hit query over the surfaces outside the set answers most rays at once, and only those
+// it lets through walk the set's surfaces, in a structure that holds only them. More than
+// kMaxShadowCrossings of them: taken as opaque.
+constexpr int kMaxShadowCrossings = 32;
+template <class Keep>
+double shadow_transmittance(const RenderContext& ctx, const Hit& h, const LightSample& ls,
+                            Accel::ShadowSet set, uint64_t& rays, Keep keep) {
+  const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
+  Vec3 o = h.p + n * ray_offset(h.p);
+  // (The light's margin as in light_visible(): stop short of it by a relative 1e-3.)
+  const auto to_light = [&] {
+    return std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
+  };
+  ++rays;
+  if (!(to_light() > 0)) return 1;
+  if (ctx.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light()}, set)) return 0;
+  double T = 1;
+  for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
+    const double d = to_light();
+    if (!(d > 0)) return T;
+    const Ray segment{o, ls.wi, 0, d};
+    if (!ctx.accel.near_see_through(segment, set)) return T;
+    Hit x;
+    if (!ctx.accel.intersect_see_through(segment, &x, set)) return T;
+    ++rays;  // (the segment beyond this surface)
+    T *= keep(x);
+    if (!(T > 0)) return 0;
+    const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
+    o = x.p + nx * ray_offset(x.p);
+  }
+  return 0;
+}
+
 // The integrators by name (render.integrator): each one's file defines its class and its entry,
 // the one list is in integrators.cpp. (The AOV views are not integrators: the renderer shows
 // them, RenderSettings::view.) The scene reader declares the same names (scene_schema.cpp,

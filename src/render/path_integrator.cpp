@@ -1,6 +1,8 @@
 // `path`: unidirectional path tracing with next-event estimation, multiple importance sampling
 // and Russian roulette. Absorption inside solids (Bsdf::sigma_a) along the segments between
-// entering and leaving them.
+// entering and leaving them. Alpha-blended surfaces are transparent to shadow rays too (each
+// crossing keeps 1 - opacity of the light); a path going straight through one keeps the MIS
+// state of the vertex before it, whose light the shadow ray through it also estimates.
 #include <cmath>
 
 #include "math/sampling.h"
@@ -12,7 +14,8 @@ namespace {
 
 class PathTracer final : public Integrator {
  public:
-  using Integrator::Integrator;
+  explicit PathTracer(const RenderContext& ctx)
+      : Integrator(ctx), blended_(ctx.accel.has_see_through(Accel::ShadowSet::Blended)) {}
 
   Color radiance(const Ray& ray0, const Hit* first, const Footprint& fp0, Rng& rng,
                  uint64_t& rays) const override {
@@ -62,10 +65,12 @@ class PathTracer final : public Integrator {
       BsdfSample s;
       if (!b.sample(wo, u_bsdf, u_lobe, &s)) break;
       beta *= s.weight;
-      prev_pdf = s.pdf;
-      prev_delta = s.delta;
-      prev_p = hit.p;
-      prev_n = b.frame.n;
+      if (!s.pass_through) {
+        prev_pdf = s.pdf;
+        prev_delta = s.delta;
+        prev_p = hit.p;
+        prev_n = b.frame.n;
+      }
       if (!survives_roulette(depth, rng, beta)) break;
       ray = spawn(hit, s.wi);
       ++rays;
@@ -102,10 +107,20 @@ class PathTracer final : public Integrator {
           lights.sample(li, hit.p, b.frame.n, u_light, &ls) && ls.pdf > 0))
       return Color();
     const Color f = b.eval(wo, ls.wi);
-    if (!(max_component(f) > 0 && light_visible(ctx_, hit, ls, rays))) return Color();
+    if (!(max_component(f) > 0)) return Color();
+    const double T = blended_ ? transmittance(hit, ls, rays) : light_visible(ctx_, hit, ls, rays);
+    if (!(T > 0)) return Color();
     const double lpdf = ls.pdf * pmf;
     const double w = ls.delta ? 1 : power_heuristic(lpdf, b.pdf(wo, ls.wi));
-    return beta * f * ls.L * (std::abs(dot(ls.wi, b.frame.n)) * w / lpdf);
+    return beta * f * ls.L * (T * std::abs(dot(ls.wi, b.frame.n)) * w / lpdf);
+  }
+
+  // The light reaching hit from ls through alpha-blended surfaces: each keeps 1 - its opacity at
+  // the crossing (texture read unfiltered); any other surface blocks it.
+  double transmittance(const Hit& hit, const LightSample& ls, uint64_t& rays) const {
+    return shadow_transmittance(ctx_, hit, ls, Accel::ShadowSet::Blended, rays, [&](const Hit& x) {
+      return 1 - ctx_.scene.materials[x.material]->opacity_at(texcoord_at(x, Footprint{}));
+    });
   }
 
   // Leaving an absorbing solid at `hit`: the segment inside is attenuated (Beer-Lambert).
@@ -114,6 +129,8 @@ class PathTracer final : public Integrator {
     const double d = hit.t * length(ray.d);
     for (int c = 0; c < 3; ++c) beta[c] *= std::exp(-b.sigma_a[c] * d);
   }
+
+  bool blended_;  // the scene has alpha-blended surfaces: shadow rays pass them
 };
 
 std::unique_ptr<Integrator> create(const RenderContext& ctx) {

@@ -1,6 +1,7 @@
 // `whitted`: the paper's ray tracer. Hard shadows (a shadow ray crossing see-through surfaces
-// scaled by their transmission, as in Whitted's paper and POV-Ray), the classic ambient term,
-// mirror reflection and refraction with Fresnel, one sample of the area lights per hit.
+// scaled by their transmission, as in Whitted's paper and POV-Ray, and alpha-blended ones by
+// 1 - opacity), the classic ambient term, mirror reflection and refraction with Fresnel (thin
+// walls crossed straight), alpha blend's straight-on share, one sample of the area lights per hit.
 #include <cmath>
 
 #include "render/integrator.h"
@@ -16,6 +17,7 @@ class Whitted final : public Integrator {
     for (const auto& m : ctx.scene.materials) {
       textured_.push_back(m->textured());
       shadow_transmission_.push_back(m->shadow_transmission());
+      blends_.push_back(m->blends());
     }
   }
 
@@ -24,7 +26,9 @@ class Whitted final : public Integrator {
     return trace(ray, first, fp, rng, 0, 1.0, rays);
   }
   bool draws_random_numbers() const override { return ctx_.lights.has_area(); }
-  bool continues_from(const Material& m) const override { return m.spawns_specular_rays(); }
+  bool continues_from(const Material& m) const override {
+    return m.spawns_specular_rays() || m.blends();
+  }
 
  private:
   // `weight`: the largest component of the product of the coefficients that lead to this ray.
@@ -38,9 +42,10 @@ class Whitted final : public Integrator {
     // (Constant textures never read their coordinates: not worth computing for them.)
     const Bsdf b = m.bsdf(textured_[h->material] ? shading_point(*h, fp) : shading_point(*h), wo);
     Color L = lights.emitted(*h, wo);
-    // The classic ambient term: the environment's mean radiance on the diffuse part, unshadowed.
-    // (Sampling it with one shadow ray per hit would only add noise to the Whitted image.)
-    L += b.diffuse * lights.environment_average();
+    // The classic ambient term: the environment's mean radiance on the diffuse part (its opaque
+    // share), unshadowed. (Sampling it with one shadow ray per hit would only add noise to the
+    // Whitted image.)
+    L += b.diffuse * lights.environment_average() * b.opacity;
 
     if (b.has_smooth()) {
       // (A delta light's sample needs no random numbers: none are drawn for it.)
@@ -66,63 +71,64 @@ class Whitted final : public Integrator {
     // mirrors and glass at depth 1000 would otherwise take minutes a pixel), or on cancel.
     if (depth >= ctx_.max_depth || ctx_.cancelled()) return L;
 
+    add_specular(*h, b, wo, fp, rng, depth, weight, rays, L);
+    return L;
+  }
+
+  // What the delta rays bring, each weighed as the path tracer's sampling weighs it: the mirror
+  // and the dielectric's reflection and refraction (a thin wall: straight through, unrefracted),
+  // all scaled by what the layers above leave (Bsdf::under_layers: the coat's and the sheen's
+  // reflection is not traced, only their highlights from lights) and by the opacity, the
+  // refracted light tinted (Bsdf::transmission_tint); and alpha blend's 1 - opacity straight on.
+  // Added to L.
+  void add_specular(const Hit& h, const Bsdf& b, const Vec3& wo, const Footprint& fp, Rng& rng,
+                    int depth, double weight, uint64_t& rays, Color& L) const {
+    const double keep = b.opacity * (b.has_layers() ? b.under_layers(wo) : 1.0);
     const Vec3 wr = b.frame.to_world(reflect(b.frame.to_local(wo), {0, 0, 1}));
-    const double mirror = max_component(b.mirror);
+    const double mirror = max_component(b.mirror) * keep;
     if (mirror > 0 && weight * mirror >= ctx_.bailout)
-      L += b.mirror * follow(*h, wr, fp, rng, depth, weight * mirror, rays);
+      L += b.mirror * follow(h, wr, fp, rng, depth, weight * mirror, rays) * keep;
     if (b.transmission > 0) {
       const double e = b.entering ? b.eta : 1 / b.eta;
       const double cos_i = dot(wo, b.frame.n);
       const double F = fresnel_dielectric(cos_i, e);
-      const double w = weight * b.transmission;
+      const double w = weight * b.transmission * keep;
       Color t;
-      if (w * F >= ctx_.bailout) t = follow(*h, wr, fp, rng, depth, w * F, rays) * F;
+      if (w * F >= ctx_.bailout) t = follow(h, wr, fp, rng, depth, w * F, rays) * F;
       if (F < 1 && w * (1 - F) >= ctx_.bailout) {
-        const double sin2_t = (1 - cos_i * cos_i) / (e * e);
-        const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
-        const Vec3 wt = normalize(-wo / e + b.frame.n * (cos_i / e - cos_t));
-        // (The 1 / e^2 radiance scaling cancels on leaving the medium: not part of the weight.)
-        t += follow(*h, wt, fp, rng, depth, w * (1 - F), rays) * ((1 - F) / (e * e));
+        if (b.thin) {
+          t += follow(h, -wo, fp, rng, depth, w * (1 - F), rays) * (1 - F) * b.transmission_tint;
+        } else {
+          const double sin2_t = (1 - cos_i * cos_i) / (e * e);
+          const double cos_t = std::sqrt(std::max(0.0, 1 - sin2_t));
+          const Vec3 wt = normalize(-wo / e + b.frame.n * (cos_i / e - cos_t));
+          // (The 1 / e^2 radiance scaling cancels on leaving the medium: not part of the weight.)
+          t += follow(h, wt, fp, rng, depth, w * (1 - F), rays) * ((1 - F) / (e * e)) *
+               b.transmission_tint;
+        }
       }
-      L += t * b.transmission;
+      L += t * (b.transmission * keep);
     }
-    return L;
+    const double pass = 1 - b.opacity;
+    if (pass > 0 && weight * pass >= ctx_.bailout)
+      L += follow(h, -wo, fp, rng, depth, weight * pass, rays) * pass;
   }
 
   // The light reaching h from ls through transparent surfaces, as Whitted's paper and POV-Ray
   // shade them: each surface the shadow ray crosses scales it by its material's transmission,
   // without bending it (no caustics); an opaque surface blocks it. (The path tracer's shadow
-  // rays stop at glass: its paths through glass find the light themselves.) The product does
-  // not depend on the order of the crossings, so an any-hit query over the opaque surfaces
-  // answers most rays at once, and only those it lets through walk the see-through surfaces,
-  // in a structure that holds only them.
+  // rays stop at glass: its paths through glass find the light themselves.)
+  // An alpha-blended one keeps 1 - opacity, and of the opaque share its transmission.
   double transmittance(const Hit& h, const LightSample& ls, uint64_t& rays) const {
-    const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
-    Vec3 o = h.p + n * ray_offset(h.p);
-    // (The light's margin as in visible(): stop short of it by a relative 1e-3.)
-    const auto to_light = [&] {
-      return std::isinf(ls.dist) ? kInf : (ls.dist - dot(o - h.p, ls.wi)) * (1 - 1e-3);
-    };
-    ++rays;
-    if (!(to_light() > 0)) return 1;
-    if (ctx_.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light()})) return 0;
-    double T = 1;
-    for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
-      const double d = to_light();
-      if (!(d > 0)) return T;
-      const Ray segment{o, ls.wi, 0, d};
-      if (!ctx_.accel.near_see_through(segment)) return T;
-      Hit x;
-      if (!ctx_.accel.intersect_see_through(segment, &x)) return T;
-      ++rays;  // (the segment beyond this surface)
-      T *= shadow_transmission_[x.material];
-      if (!(T > 0)) return 0;
-      const Vec3 nx = dot(ls.wi, x.ng) >= 0 ? x.ng : -x.ng;
-      o = x.p + nx * ray_offset(x.p);
-    }
-    return 0;  // (more surfaces than that: taken as opaque)
+    return shadow_transmittance(
+        ctx_, h, ls, Accel::ShadowSet::Transmitting, rays, [&](const Hit& x) {
+          const double t = shadow_transmission_[x.material];
+          if (!blends_[x.material]) return t;
+          const double o =
+              ctx_.scene.materials[x.material]->opacity_at(texcoord_at(x, Footprint{}));
+          return 1 - o + o * t;
+        });
   }
-  static constexpr int kMaxCrossings = 32;
 
   Color follow(const Hit& h, const Vec3& d, const Footprint& fp, Rng& rng, int depth, double weight,
                uint64_t& rays) const {
@@ -137,6 +143,7 @@ class Whitted final : public Integrator {
   bool see_through_ = false;                 // some object transmits: shadow rays may pass surfaces
   std::vector<uint8_t> textured_;            // per material: Material::textured()
   std::vector<double> shadow_transmission_;  // per material: Material::shadow_transmission()
+  std::vector<uint8_t> blends_;              // per material: Material::blends()
 };
 
 std::unique_ptr<Integrator> create(const RenderContext& ctx) {

@@ -21,9 +21,10 @@
 //                 roughness factors (which scale the metallicRoughness texture's B and G;
 //                 the texture itself is kept unscaled, value white), normal texture + scale,
 //                 emissive factor x texture (sRGB) x KHR_materials_emissive_strength, alphaMode
-//                 (BLEND: the BSDF's opacity), doubleSided, KHR_materials_ior,
-//                 KHR_materials_specular (its factors: the dielectric F0; textures not read),
-//                 KHR_materials_transmission (factor) and _volume (thin or solid, absorption),
+//                 (BLEND: the BSDF's opacity, shadow rays too), doubleSided, KHR_materials_ior,
+//                 KHR_materials_specular (factors and textures: the dielectric F0),
+//                 KHR_materials_transmission (factor, texture) and _volume (thin or solid,
+//                 thickness texture, absorption),
 //                 KHR_materials_unlit (the `unlit` kind, the base colour as emission),
 //                 KHR_materials_clearcoat and KHR_materials_sheen (factors, textures, the
 //                 clear coat's normal texture: the BSDF's layers),
@@ -122,10 +123,10 @@ double number(const tinygltf::Value& obj, const char* key, double fallback) {
   return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
 }
 
-// KHR_materials_specular's factors (its textures are not read): a dielectric's F0 =
-// min(F0(ior) x specularColorFactor, 1) x specularFactor, F0(ior) = ((ior - 1) / (ior + 1))^2.
-Color specular_f0(const tinygltf::Value& ext, double ior) {
-  const double f = std::clamp(number(ext, "specularFactor", 1.0), 0.0, 1.0);
+// KHR_materials_specular's factors: a dielectric's F0 = min(F0(ior) x specularColorFactor x
+// colour texture, 1) x specularFactor x texture's alpha, F0(ior) = ((ior - 1) / (ior + 1))^2.
+void read_specular_factors(const tinygltf::Value& ext, MetallicRoughnessMaterial& mat) {
+  mat.specular = std::clamp(number(ext, "specularFactor", 1.0), 0.0, 1.0);
   Color c{1, 1, 1};
   if (ext.IsObject() && ext.Has("specularColorFactor")) {
     const tinygltf::Value& v = ext.Get("specularColorFactor");
@@ -133,10 +134,8 @@ Color specular_f0(const tinygltf::Value& ext, double ior) {
       for (int k = 0; k < 3; ++k)
         if (v.Get(k).IsNumber()) c[k] = std::max(0.0, v.Get(k).GetNumberAsDouble());
   }
-  const double r = (ior - 1) / (ior + 1), f0 = std::isfinite(r) ? r * r : 0.04;
-  Color out;
-  for (int k = 0; k < 3; ++k) out[k] = std::min(f0 * c[k], 1.0) * f;
-  return out;
+  const double r = (mat.ior - 1) / (mat.ior + 1), f0 = std::isfinite(r) ? r * r : 0.04;
+  for (int k = 0; k < 3; ++k) mat.specular_color[k] = f0 * c[k];
 }
 
 Vec2 vec2(const tinygltf::Value& obj, const char* key, Vec2 fallback) {
@@ -616,9 +615,8 @@ class GltfBuilder {
     read_emission(gm, mat, texture);
     if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end())
       mat.ior = number(it->second, "ior", 1.5);
-    if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end())
-      mat.dielectric_f0 = specular_f0(it->second, mat.ior);
-    read_transmission(gm, mat);
+    read_specular(gm, mat, texture);
+    read_transmission(gm, mat, texture);
     read_layers(gm, mat, texture);
     material_uv_set_[size_t(index)] = std::max(uv_set, 0);
     material_textured_[size_t(index)] = uv_set >= 0;
@@ -665,17 +663,37 @@ class GltfBuilder {
     }
   }
 
-  // KHR_materials_transmission's factor (its texture is not read) and KHR_materials_volume:
-  // with a thickness a refracting solid absorbing sigma = -ln(attenuationColor) /
-  // attenuationDistance per channel, without one a thin wall.
-  void read_transmission(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat) {
+  // KHR_materials_specular: its factors and textures (specularTexture's alpha, linear;
+  // specularColorTexture, sRGB).
+  template <class TextureFn>
+  void read_specular(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                     TextureFn&& texture) {
+    const auto it = gm.extensions.find("KHR_materials_specular");
+    if (it == gm.extensions.end()) return;
+    read_specular_factors(it->second, mat);
+    if (const auto r = ext_tex_ref(it->second, "specularTexture"))
+      mat.specular_texture = texture(*r, false, {1, 1, 1}, 1);
+    if (const auto r = ext_tex_ref(it->second, "specularColorTexture"))
+      mat.specular_color_texture = texture(*r, true, {1, 1, 1}, 1);
+  }
+
+  // KHR_materials_transmission's factor and texture (R) and KHR_materials_volume: with a
+  // thickness a refracting solid absorbing sigma = -ln(attenuationColor) / attenuationDistance
+  // per channel (thin where the thickness texture's G is 0), without one a thin wall.
+  template <class TextureFn>
+  void read_transmission(const tinygltf::Material& gm, MetallicRoughnessMaterial& mat,
+                         TextureFn&& texture) {
     const auto t = gm.extensions.find("KHR_materials_transmission");
     if (t == gm.extensions.end()) return;
     mat.transmission = std::clamp(number(t->second, "transmissionFactor", 0.0), 0.0, 1.0);
     if (!(mat.transmission > 0)) mat.transmission = 0;
+    if (const auto r = ext_tex_ref(t->second, "transmissionTexture"))
+      mat.transmission_texture = texture(*r, false, {1, 1, 1}, 1);
     const auto v = gm.extensions.find("KHR_materials_volume");
     mat.thin = v == gm.extensions.end() || !(number(v->second, "thicknessFactor", 0.0) > 0);
     if (mat.thin) return;
+    if (const auto r = ext_tex_ref(v->second, "thicknessTexture"))
+      mat.thickness_texture = texture(*r, false, {1, 1, 1}, 1);
     const double distance = number(v->second, "attenuationDistance", kInf);
     Color c{1, 1, 1};
     if (v->second.Has("attenuationColor")) {

@@ -400,6 +400,21 @@ def point_only(assets):
     return {"frames": [1], "notes": _LIGHT_NOTE}
 
 
+def alpha_shadow(assets):
+    """point_only's stage and light with a grey alpha-blended square (alpha 0.4, specular 0) held
+    2 m over the floor between the light and the blue sphere: Cycles' transparent shadows (the
+    Principled Alpha) are the reference for the shadow rays crossing a glTF alphaMode BLEND."""
+    reset()
+    _stage()
+    _diffuse_objects()
+    veil = principled("veil", (0.3, 0.3, 0.3), Alpha=0.4)
+    veil.blend_method = "BLEND"
+    add_plane("veil", veil, (0.8, -1.0, 2.0), 2.0, 2.0)
+    add_light("POINT", "point", (1.6, -1.6, 3.2), 600.0, color=(1.0, 0.95, 0.85))
+    return {"frames": [1], "notes": _LIGHT_NOTE + " An alpha 0.4 blended square (exported as "
+            "alphaMode BLEND) between the light and the floor: its shadow keeps 0.6 of the light."}
+
+
 def spot_only(assets):
     reset()
     _stage()
@@ -660,6 +675,6 @@ def vector_motion(assets):
             "line); glTF clamps before its first key."}
 
 
-SCENES = {f.__name__: f for f in (point_only, spot_only, sun_only, studio, transmission,
-                                   clearcoat, sheen, emissive, animated, skinned_morph,
-                                   vector_motion)}
+SCENES = {f.__name__: f for f in (point_only, spot_only, sun_only, alpha_shadow, studio,
+                                   transmission, clearcoat, sheen, emissive, animated,
+                                   skinned_morph, vector_motion)}

@@ -344,6 +344,78 @@ TEST_F(GltfMaterials, SheenAndClearcoatFactorsAndTexturesAreRead) {
   EXPECT_FALSE(test::has_warning(m, "KHR_materials")) << test::all_warnings(m);
 }
 
+// The shading point at uv on the test quad (z = 0, facing +z).
+ShadingPoint point_at(Vec2 uv) {
+  ShadingPoint sp{{uv.x, 1 - uv.y, 0}, {0, 0, 1}, {0, 0, 1}, {1, 0, 0}, {0, -1, 0}, {}};
+  sp.tex.uv = uv;
+  return sp;
+}
+
+// KHR_materials_specular's textures: F0 = min(F0(ior) x colour factor x colour texture (sRGB),
+// 1) x factor x the specular texture's alpha. Red at the top left, green at the top right
+// (quadrants.png); grey128.png's alpha is 128/255.
+TEST_F(GltfMaterials, SpecularTexturesScaleTheDielectricF0) {
+  const json transform = {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}};
+  {
+    const LoadedModel m =
+        load({{"extensions",
+               {{"KHR_materials_specular",
+                 {{"specularColorFactor", {2, 1, 1}},
+                  {"specularColorTexture", {{"index", 0}, {"extensions", transform}}}}}}}},
+             "quadrants.png");
+    const auto& mat = test::material_as<MetallicRoughnessMaterial>(*m.materials.at(0));
+    EXPECT_TRUE(mat.textured());
+    const double f0 = 0.2 * 0.2;  // ior 1.5
+    // The top left reads the top right's green through the offset, the bottom left the bottom
+    // right's white.
+    const Color tl = mat.dielectric_f0(point_at({0.25, 0.25}));
+    EXPECT_NEAR(tl.x, 0, 1e-12) << str(tl);
+    EXPECT_NEAR(tl.y, f0, 1e-12) << str(tl);
+    EXPECT_NEAR(tl.z, 0, 1e-12) << str(tl);
+    const Color bl = mat.dielectric_f0(point_at({0.25, 0.75}));  // the factor alone
+    EXPECT_NEAR(bl.x, 2 * f0, 1e-12) << str(bl);
+    EXPECT_NEAR(bl.y, f0, 1e-12) << str(bl);
+  }
+  {
+    const LoadedModel m =
+        load({{"extensions",
+               {{"KHR_materials_specular",
+                 {{"specularFactor", 0.5}, {"specularTexture", {{"index", 0}}}}}}}},
+             "grey128.png");
+    const auto& mat = test::material_as<MetallicRoughnessMaterial>(*m.materials.at(0));
+    const Color c = mat.dielectric_f0(point_at({0.5, 0.5}));
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], 0.04 * 0.5 * 128.0 / 255.0, 1e-7) << str(c);
+  }
+}
+
+// transmissionTexture's R scales the factor; thicknessTexture's G = 0 makes the point a thin
+// wall, elsewhere the solid refracts.
+TEST_F(GltfMaterials, TransmissionAndThicknessTexturesAreRead) {
+  const LoadedModel m =
+      load({{"pbrMetallicRoughness", {{"metallicFactor", 0}}},
+            {"extensions",
+             {{"KHR_materials_transmission",
+               {{"transmissionFactor", 0.75}, {"transmissionTexture", {{"index", 0}}}}},
+              {"KHR_materials_volume",
+               {{"thicknessFactor", 2}, {"thicknessTexture", {{"index", 0}}}}}}}},
+           "quadrants.png");
+  const auto& mat = test::material_as<MetallicRoughnessMaterial>(*m.materials.at(0));
+  EXPECT_TRUE(mat.textured());
+  EXPECT_FALSE(mat.thin);
+  const Vec3 wo{0, 0, 1};
+  const Bsdf red = mat.bsdf(point_at({0.25, 0.25}), wo);  // R 1, G 0
+  EXPECT_DOUBLE_EQ(red.transmission, 0.75);
+  EXPECT_TRUE(red.thin) << "thickness 2 x G 0";
+  EXPECT_EQ(red.diffuse, Color(0.25, 0.25, 0.25)) << str(red.diffuse);
+  const Bsdf green = mat.bsdf(point_at({0.75, 0.25}), wo);  // R 0, G 1
+  EXPECT_DOUBLE_EQ(green.transmission, 0);
+  EXPECT_EQ(green.diffuse, Color(1, 1, 1)) << "all opaque: the (white) base is diffuse";
+  const Bsdf white = mat.bsdf(point_at({0.75, 0.75}), wo);  // R 1, G 1
+  EXPECT_DOUBLE_EQ(white.transmission, 0.75);
+  EXPECT_FALSE(white.thin);
+  EXPECT_FALSE(test::has_warning(m, "KHR_materials")) << test::all_warnings(m);
+}
+
 TEST_F(GltfMaterials, BaseColorTextureTimesFactorWithSamplerAndTopLeftOrigin) {
   const LoadedModel m = load({{"name", "tex"},
                               {"pbrMetallicRoughness",

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes the glTF fuzz seeds of the material extensions anamorph reads (issue 34): one small
 quad per material (KHR_materials_transmission, _volume, _unlit, alphaMode BLEND, _clearcoat with
-its textures, _sheen with its textures, _specular, _ior, _emissive_strength, KHR_texture_transform
-inside an extension's textureInfo), as .gltf (data URIs) and .glb. Standard library only.
+its textures, _sheen with its textures, _specular with its textures, _ior, _emissive_strength,
+KHR_texture_transform inside an extension's textureInfo), as .gltf (data URIs) and .glb. Standard library only.
 Usage: python3 fuzz/seeds/gltf/make_seeds.py   (writes next to itself)"""
 import base64
 import json
@@ -46,8 +46,8 @@ def tex(i, **kw):
 MATERIALS = [
     {"name": "glass", "extensions": {
         "KHR_materials_transmission": {"transmissionFactor": 1, "transmissionTexture": tex(0)},
-        "KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationDistance": 2,
-                                 "attenuationColor": [0.9, 0.5, 0.2]},
+        "KHR_materials_volume": {"thicknessFactor": 0.5, "thicknessTexture": tex(0),
+                                 "attenuationDistance": 2, "attenuationColor": [0.9, 0.5, 0.2]},
         "KHR_materials_ior": {"ior": 1.33}},
      "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}},
     {"name": "thin", "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.5}}},
@@ -65,7 +65,10 @@ MATERIALS = [
             "clearcoatRoughnessTexture": tex(0, extensions={
                 "KHR_texture_transform": {"offset": [0.5, 0], "scale": [2, 2], "rotation": 0.3}}),
             "clearcoatNormalTexture": tex(0, scale=0.5)},
-        "KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.9, 0.8]}}},
+        "KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1, 0.9, 0.8],
+                                   "specularTexture": tex(0),
+                                   "specularColorTexture": tex(0, extensions={
+                                       "KHR_texture_transform": {"offset": [0.5, 0.5]}})}}},
     {"name": "velvet", "extensions": {
         "KHR_materials_sheen": {"sheenColorFactor": [0.8, 0.6, 1.0], "sheenRoughnessFactor": 0.4,
                                 "sheenColorTexture": tex(0), "sheenRoughnessTexture": tex(0)},
