@@ -24,6 +24,12 @@ bool is_coin_key(const std::string& override_or_key) {
   return override_or_key.starts_with("camera.coin.") || override_or_key.starts_with("camera.coin=");
 }
 
+// The scene's top-level keys load_view reads (scene/scene_loader.h).
+bool is_view_table(std::string_view key) {
+  return key == "image" || key == "render" || key == "camera" || key == "animate" ||
+         key == "include";
+}
+
 // Cameras at given free values, built by the scene reader. The last few are kept: Ceres asks for
 // each residual block at the same points in turn (the point and its 2n central differences), so
 // each camera is built once per Jacobian, not once per block.
@@ -31,8 +37,14 @@ class CameraBuilder {
  public:
   CameraBuilder(const SolveInput& in, const FreeValues& free, bool plain)
       : in_(in), free_(free), plain_(plain), capacity_(2 * free.scalars.size() + 2) {
-    if (!plain) return;
+    // Only what load_view reads: each build parses less than the whole scene.
     toml::table t = parse_toml(in.text, in.file.string());
+    std::vector<std::string> other;
+    for (const auto& [key, node] : t)
+      if (!is_view_table(key.str())) other.emplace_back(key.str());
+    for (const std::string& k : other) t.erase(k);
+    text_ = to_toml_text(t);
+    if (!plain) return;
     remove_path(t, "camera.coin");
     plain_text_ = to_toml_text(t);
   }
@@ -63,8 +75,8 @@ class CameraBuilder {
     try {
       std::vector<std::string> o = in_.overrides;
       for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
-      b.camera = std::make_unique<Scene>(
-          load_view_from_string(in_.text, in_.file, o, in_.frame, models()));
+      b.camera =
+          std::make_unique<Scene>(load_view_from_string(text_, in_.file, o, in_.frame, models()));
       b.pair = {b.camera->camera.get(), nullptr};
       if (plain_) {
         std::erase_if(o, is_coin_key);
@@ -84,7 +96,7 @@ class CameraBuilder {
   const FreeValues& free_;
   bool plain_;
   size_t capacity_;
-  std::string plain_text_;
+  std::string text_, plain_text_;
   std::vector<Built> cache_;
   size_t next_ = 0;
 };
