@@ -134,6 +134,31 @@ TEST(SolveGoals, TheDomeHorizonExampleSolvesToItsKnownTilt) {
   EXPECT_NEAR(std::stod(m[1].str()), std::atan(0.5) * 180 / kPi, 1e-9) << r.out;
 }
 
+TEST(SolveGoals, TheFocusContextExampleHoldsItsLandmarksWhileTheCoinMagnifies) {
+  // examples/solve/focus_context.toml (docs/solve.md's images): the landmarks, checked by
+  // `anamorph project` of the solved scene, stay where the scene (coin strength 0) shows them.
+  const std::string scene = (test::source_dir() / "examples/solve/focus_context.toml").string();
+  const CliResult r = test::run_cli(fmt::format("solve '{}'", scene), 60);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(r.out, m, std::regex(R"(strength +\S+ -> (\S+)[^]*radius +\S+ -> (\S+))")))
+      << r.out;
+  const std::string set = fmt::format(
+      "--set camera.coin.0.strength={} --set camera.coin.0.radius={}", m[1].str(), m[2].str());
+  EXPECT_GT(std::stod(m[1].str()), 0.5) << r.out;
+  for (const std::vector<double>& p :
+       std::vector<std::vector<double>>{{0.3, -0.75, 1.9}, {2.2, -1, 1.2}}) {
+    const std::vector<double> want = projected(scene, p);
+    const CliResult got = test::run_cli(
+        fmt::format("project '{}' {} --point {},{},{}", scene, set, p[0], p[1], p[2]), 60);
+    double x = NAN, y = NAN;
+    ASSERT_EQ(std::sscanf(got.out.c_str(), "px %lf py %lf", &x, &y), 2) << got.out;
+    EXPECT_LT(std::hypot(x - want[0], y - want[1]), 1e-3)
+        << p[0] << "," << p[1] << ": " << x << "," << y << " vs " << want[0] << "," << want[1];
+  }
+}
+
 TEST(SolveGoals, StraightUndoesTheCoinThatBendsALine) {
   // A coin bends the image of a line that passes through its radius; only strength 0 (no coin)
   // leaves it straight on a perspective camera.
