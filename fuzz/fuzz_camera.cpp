@@ -16,9 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size > 16 * 1024) return 0;
   Scene scene;
   try {
-    scene = load_scene_from_string("[image]\nwidth = 16\nheight = 12\n[camera]\n" +
-                                       fuzz::text(data, size),
-                                   "fuzz.toml");
+    scene = load_scene_from_string(
+        "[image]\nwidth = 16\nheight = 12\n[camera]\n" + fuzz::text(data, size), "fuzz.toml");
   } catch (const SceneError&) {
     return 0;
   }

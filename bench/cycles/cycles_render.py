@@ -1,6 +1,7 @@
 # Renders an anamorph scene TOML of bench/cycles with Blender Cycles, as equal as the two
 # renderers allow: same meshes (Blender imports the same OBJ / glTF files), pure Lambertian
 # materials with the same albedo, the OBJ's `Ka > 1` light as an emission of the same radiance,
+# `sphere` and `box` objects as Blender primitives (a sphere as a smooth 96 x 48 UV sphere),
 # the same camera, image size, samples, bounces, box pixel filter, no denoising, no clamping.
 #
 #   blender -b --factory-startup --python cycles_render.py -- scene.toml out.exr \
@@ -155,6 +156,27 @@ def diffuse_from_gltf(mat):
 TO_BLENDER = Matrix.Rotation(math.radians(90), 4, "X")
 
 
+def add_primitive(obj, toml_mats):
+    """A `sphere` (center, radius) or `box` (min, max) object with its whitted material's albedo
+    and emission x emission_strength (radiance)."""
+    m = toml_mats[obj["material"]]
+    if m.get("type", "whitted") != "whitted":
+        raise SystemExit("cycles_render.py: only whitted (diffuse) materials on primitives")
+    k = float(m.get("emission_strength", 1.0))
+    mat, _, _ = lambert_material(m["name"] + "_lambert", color3(m.get("color"), 0.8),
+                                 tuple(k * c for c in color3(m.get("emission"), 0)))
+    if obj["type"] == "sphere":
+        bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=obj["radius"],
+                                             location=TO_BLENDER @ Vector(obj["center"]))
+        bpy.ops.object.shade_smooth()
+    else:
+        lo, hi = Vector(obj["min"]), Vector(obj["max"])
+        d = hi - lo
+        bpy.ops.mesh.primitive_cube_add(size=1.0, location=TO_BLENDER @ ((lo + hi) / 2))
+        bpy.context.active_object.scale = (d.x, d.z, d.y)  # (x, y, z) -> Blender (x, -z, y)
+    bpy.context.active_object.data.materials.append(mat)
+
+
 def look_at_matrix(eye, at, up):
     """anamorph's rig: f = normalize(at - eye), r = normalize(f x up), u = r x f; camera space
     x = r, y = u, -z = f. Blender's camera has the same local axes."""
@@ -205,6 +227,9 @@ def main():
 
     toml_mats = {m["name"]: m for m in scene_doc.get("material", [])}
     for obj in scene_doc.get("object", []):
+        if obj.get("type") in ("sphere", "box"):
+            add_primitive(obj, toml_mats)
+            continue
         if obj.get("type") != "mesh":
             raise SystemExit(f"cycles_render.py: object type {obj.get('type')} not supported")
         path = obj["file"]

@@ -120,10 +120,10 @@ int run_project(const ProjectArgs& a) {
   }
   const Scene s = load(a.scene, {}, a.frame);
   const std::vector<Vec2> seen = s.camera->project(p);
-  if (a.json) {
+  if (a.json) {  // every digit (a double round-trips), for tests and tools; the text form has 6
     std::string list;
     for (const Vec2& uv : seen)
-      list += fmt::format("{}[{:.6f}, {:.6f}]", list.empty() ? "" : ", ", uv.x * s.render.width,
+      list += fmt::format("{}[{:.17g}, {:.17g}]", list.empty() ? "" : ", ", uv.x * s.render.width,
                           uv.y * s.render.height);
     fmt::print(
         "{{\"point\": [{:.17g}, {:.17g}, {:.17g}], \"width\": {}, \"height\": {}, "

@@ -28,6 +28,8 @@ class Distribution1D {
     return i;
   }
   double pmf(size_t i) const { return cdf_[i + 1] - cdf_[i]; }
+  // The probability of the indices before i (where i's share of [0, 1) begins).
+  double cdf(size_t i) const { return cdf_[i]; }
   // Continuous on [0,1): position and density.
   double sample_continuous(double u, double* pdf, size_t* index = nullptr) const {
     const size_t i = find(u);

@@ -34,7 +34,7 @@ Lights::Lights(const Scene& scene, const Accel& accel) : scene_(scene) {
     }
   }
   if (scene.environment.present()) add_environment(power);
-  pick_ = Distribution1D(power);
+  build_pick(power);
   std::vector<double> area_power;
   for (uint32_t i = 0; i < emitters_.size(); ++i) {
     const auto k = emitters_[i].kind;
@@ -195,7 +195,7 @@ Color Lights::environment(const Vec3& d) const {
 
 double Lights::pdf_environment(const Vec3& d, const Vec3& n) const {
   if (env_index_ < 0) return 0;
-  const double pick = pick_.pmf(size_t(env_index_));
+  const double pick = groups_.pmf(group_of_[size_t(env_index_)]);
   if (!scene_.environment.image) {
     return pick * cosine_hemisphere_pdf(std::max(0.0, dot(d, n)));
   }
@@ -352,11 +352,13 @@ Color Lights::emitted(const Hit& h, const Vec3& wo) const {
   return m.emission.eval(tc) * m.emission_strength;
 }
 
-double Lights::pdf_emitter(const Hit& h, const Vec3& from, const Vec3& wi) const {
+double Lights::pdf_emitter(const Hit& h, const Vec3& from, const Vec3& from_n,
+                           const Vec3& wi) const {
   auto it = by_surface_.find({h.object_id, h.mesh, h.prim});
   if (it == by_surface_.end()) return 0;
   const Emitter& e = emitters_[it->second];
-  const double pick = pick_.pmf(it->second);
+  const double pick = pick_pmf(it->second, from, from_n);
+  if (!(pick > 0)) return 0;
   if (e.kind == Emitter::Kind::Triangle) {
     const double cos_l = std::abs(dot(wi, h.ng));
     if (cos_l < 1e-12) return 0;

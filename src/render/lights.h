@@ -1,6 +1,9 @@
 // All emitters of a scene behind one sampling interface: point, spot and directional lights
 // (delta), emissive triangles (quad lights become two of them), emissive spheres, and the
-// environment (importance-sampled by luminance when it is an image).
+// environment (importance-sampled by luminance when it is an image). The path tracer picks the
+// light of a shading point in two steps: by estimated power among the lights at infinity
+// (directional, environment) and the finite ones as a group, then within the group by the
+// light tree (render/light_tree.h): by what each light can give that point.
 #pragma once
 
 #include <unordered_map>
@@ -8,6 +11,7 @@
 
 #include "accel/accel.h"
 #include "math/distribution.h"
+#include "render/light_tree.h"
 #include "scene/scene.h"
 
 namespace anamorph {
@@ -25,8 +29,11 @@ class Lights {
   Lights(const Scene& scene, const Accel& accel);
 
   size_t count() const { return emitters_.size(); }
-  // Chooses a light proportionally to its estimated power.
-  size_t pick(double u, double* pmf) const { return pick_.sample_discrete(u, pmf); }
+  // Chooses the light *index to sample from point p with shading normal n, with probability
+  // *pmf; false when no light can reach p.
+  bool pick(double u, const Vec3& p, const Vec3& n, size_t* index, double* pmf) const;
+  // The probability that pick() at (p, n) chooses light i.
+  double pick_pmf(size_t i, const Vec3& p, const Vec3& n) const;
   // A direction toward light i from p, whose shading normal is n: a constant environment is
   // sampled cosine-weighted about n (no sample below the shading hemisphere; directions there
   // are left to BSDF sampling, whose MIS weight becomes 1).
@@ -47,9 +54,9 @@ class Lights {
 
   // Radiance leaving an emissive surface at a hit toward wo (zero if not emissive).
   Color emitted(const Hit& h, const Vec3& wo) const;
-  // Density (solid angle, pick pmf included) with which light sampling at `from` would have
-  // produced direction wi reaching the emitter at `h` (for MIS).
-  double pdf_emitter(const Hit& h, const Vec3& from, const Vec3& wi) const;
+  // Density (solid angle, pick pmf included) with which light sampling at `from` (shading
+  // normal from_n) would have produced direction wi reaching the emitter at `h` (for MIS).
+  double pdf_emitter(const Hit& h, const Vec3& from, const Vec3& from_n, const Vec3& wi) const;
 
   Color environment(const Vec3& dir) const;
   bool has_environment() const { return env_index_ >= 0; }
@@ -90,6 +97,9 @@ class Lights {
                          uint32_t mesh_index, std::vector<double>& power);
   void add_emissive_sphere(uint32_t id, const Accel::Record& rec, std::vector<double>& power);
   void add_environment(std::vector<double>& power);
+  // The two-step choice of pick(): groups_ and the tree.
+  void build_pick(const std::vector<double>& power);
+  LightBounds bounds_of(const Emitter& e, double power) const;
   // sample()'s cases.
   static bool sample_punctual(const Emitter& e, const Vec3& p, LightSample* out);
   bool sample_triangle(const Emitter& e, const Vec3& p, Vec2 u, LightSample* out) const;
@@ -107,7 +117,13 @@ class Lights {
   const Scene& scene_;
   std::vector<Emitter> emitters_;
   std::unordered_map<Key, uint32_t, KeyHash> by_surface_;
-  Distribution1D pick_, area_pick_;
+  static constexpr uint32_t kInTree = ~0u;
+  Distribution1D groups_;                // the finite lights' group and each light at infinity
+  std::vector<uint32_t> group_emitter_;  // each group's emitter, kInTree for the tree's
+  std::vector<uint32_t> group_of_;       // each emitter's group
+  LightTree tree_;
+  std::vector<uint32_t> tree_emitter_, tree_slot_;  // tree index -> emitter, and back
+  Distribution1D area_pick_;
   std::vector<uint32_t> delta_, area_;
   int env_index_ = -1;
   Color env_average_;

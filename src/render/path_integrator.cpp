@@ -40,7 +40,8 @@ class PathTracer final : public Integrator {
       const Color le = lights.emitted(hit, wo);
       if (max_component(le) > 0) {
         const double w =
-            prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, dir));
+            prev_delta ? 1
+                       : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, prev_n, dir));
         L += beta * le * w;
       }
       if (depth >= ctx_.max_depth || ctx_.cancelled()) break;
@@ -95,9 +96,10 @@ class PathTracer final : public Integrator {
     const Lights& lights = ctx_.lights;
     if (!b.has_smooth() || lights.count() == 0) return Color();
     double pmf;
-    const size_t li = lights.pick(u_pick, &pmf);
+    size_t li;
     LightSample ls;
-    if (!(pmf > 0 && lights.sample(li, hit.p, b.frame.n, u_light, &ls) && ls.pdf > 0))
+    if (!(lights.pick(u_pick, hit.p, b.frame.n, &li, &pmf) && pmf > 0 &&
+          lights.sample(li, hit.p, b.frame.n, u_light, &ls) && ls.pdf > 0))
       return Color();
     const Color f = b.eval(wo, ls.wi);
     if (!(max_component(f) > 0 && light_visible(ctx_, hit, ls, rays))) return Color();

@@ -14,6 +14,8 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/path_integrator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/whitted_integrator.cpp
   ${CMAKE_CURRENT_LIST_DIR}/lights.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/light_pick.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/light_tree.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_job.cpp
   ${CMAKE_CURRENT_LIST_DIR}/local_threads.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_run.cpp

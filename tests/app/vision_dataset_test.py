@@ -8,13 +8,14 @@ dataset checked:
   * the calibrations: world points in front of the camera are projected by cv2 from
     camera_opencv.yml, by cv2 after Kalibr's T_cam_imu from camchain.yaml and by COLMAP's model
     from colmap/ (tests/app/calib_check.py), and each agrees with `anamorph project` of the scene
-    with the shutter closed within 2e-6 px (`project` prints 6 decimals); `calib --import` of
+    with the shutter closed within 1e-9 px (`project --json` prints every digit); `calib --import` of
     the OpenCV and Kalibr files gives a camera that `anamorph project` agrees with as well;
   * the flow: for every pixel of frame 0 with valid forward flow, frame 1's backward flow at the
     pixel it flows to (bilinear over valid pixels) brings it back (forward-backward consistency)
     and frame 1 sees the same object there (id).
 Exit 77 (skipped) when numpy, cv2, yaml or OpenImageIO is missing.
 Usage: vision_dataset_test.py ANAMORPH SOURCE_DIR WORK_DIR"""
+import json
 import os
 import shutil
 import subprocess
@@ -84,9 +85,9 @@ def check_frame(out, f):
 
 
 def project(bin, scene, pt, extra):
-    words = run(bin, "project", scene, "--width", SIZE, "--height", SIZE, *extra,
-                "--point", ",".join(map(repr, pt))).split()
-    return [float(words[1]), float(words[3])]  # "px X py Y"
+    out = run(bin, "project", scene, "--width", SIZE, "--height", SIZE, *extra, "--json",
+              "--point", ",".join(map(repr, pt)))
+    return json.loads(out)["pixels"][0]  # every digit
 
 
 def check_calibration(bin, src, out):
@@ -109,14 +110,14 @@ def check_calibration(bin, src, out):
         got = np.array([[float(v) for v in line.split()] for line in lines])
         worst = np.abs(got - ref).max()
         print(f"{kind}: worst difference from anamorph project {worst:.3g} px, {len(pts)} points")
-        check(worst < 2e-6, f"{f}: projects {got.tolist()}, anamorph project {ref.tolist()}")
+        check(worst < 1e-9, f"{f}: projects {got.tolist()}, anamorph project {ref.tolist()}")
     for f in ("camera_opencv.yml", "camchain.yaml"):
         toml = os.path.join(out, f + ".toml")
         run(bin, "calib", "--import", os.path.join(out, f), "-o", toml)
         got = np.array([project(bin, toml, p, []) for p in pts])
         worst = np.abs(got - ref).max()
         print(f"calib --import {f}: worst difference {worst:.3g} px")
-        check(worst < 2e-6, f"import of {f}: projects {got.tolist()}, scene {ref.tolist()}")
+        check(worst < 1e-9, f"import of {f}: projects {got.tolist()}, scene {ref.tolist()}")
 
 
 def bilinear_valid(img, valid, x, y):

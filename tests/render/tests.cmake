@@ -14,6 +14,7 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/gltf_materials_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vision_aov_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bsdf_layers_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/light_tree_test.cpp
 )
 anamorph_add_test(test_form_factors
   ${CMAKE_CURRENT_LIST_DIR}/form_factors_test.cpp
