@@ -46,6 +46,10 @@ class LightTree {
   explicit LightTree(const std::vector<LightBounds>& lights);
 
   bool empty() const { return nodes_.empty(); }
+  // What all the lights together can give p (the root's bounds), in LightBounds' units.
+  double importance(const Vec3& p, const Vec3* n) const {
+    return nodes_.empty() ? 0.0 : nodes_[0].cone.importance(p, n);
+  }
   // Chooses light *light (an index into the constructor's list) with probability *pmf; false
   // when no light can reach p. A tree of one light always chooses it (pmf 1).
   bool sample(double u, const Vec3& p, const Vec3* n, uint32_t* light, double* pmf) const;

@@ -155,7 +155,8 @@ void Lights::add_environment(std::vector<double>& power) {
   }
   env_index_ = int(emitters_.size());
   emitters_.push_back(e);
-  power.push_back(kPi * scene_radius_ * scene_radius_ * kPi * std::max(1e-6, avg));
+  env_luminance_ = std::max(1e-6, avg);
+  power.push_back(kPi * scene_radius_ * scene_radius_ * kPi * env_luminance_);
 }
 
 Vec2 Lights::env_uv(const Vec3& d) const {
@@ -193,9 +194,9 @@ Color Lights::environment(const Vec3& d) const {
   return c * env.strength;
 }
 
-double Lights::pdf_environment(const Vec3& d, const Vec3& n) const {
+double Lights::pdf_environment(const Vec3& d, const Vec3& p, const Vec3& n) const {
   if (env_index_ < 0) return 0;
-  const double pick = groups_.pmf(group_of_[size_t(env_index_)]);
+  const double pick = pick_pmf(size_t(env_index_), p, n);
   if (!scene_.environment.image) {
     return pick * cosine_hemisphere_pdf(std::max(0.0, dot(d, n)));
   }

@@ -1,9 +1,9 @@
 // All emitters of a scene behind one sampling interface: point, spot and directional lights
 // (delta), emissive triangles (quad lights become two of them), emissive spheres, and the
 // environment (importance-sampled by luminance when it is an image). The path tracer picks the
-// light of a shading point in two steps: by estimated power among the lights at infinity
-// (directional, environment) and the finite ones as a group, then within the group by the
-// light tree (render/light_tree.h): by what each light can give that point.
+// light of a shading point in two steps, each by what a light can give that point: among the
+// lights at infinity (directional, environment) and the finite ones as a group, then within the
+// group by the light tree (render/light_tree.h).
 #pragma once
 
 #include <unordered_map>
@@ -60,8 +60,8 @@ class Lights {
 
   Color environment(const Vec3& dir) const;
   bool has_environment() const { return env_index_ >= 0; }
-  // Pick pmf included; n: the shading normal of the point the ray left (as for sample()).
-  double pdf_environment(const Vec3& dir, const Vec3& n) const;
+  // Pick pmf included; p, n: the point the ray left and its shading normal (as for sample()).
+  double pdf_environment(const Vec3& dir, const Vec3& p, const Vec3& n) const;
   // Mean radiance of the environment over the sphere (Whitted's ambient term).
   Color environment_average() const { return env_average_; }
 
@@ -97,8 +97,13 @@ class Lights {
                          uint32_t mesh_index, std::vector<double>& power);
   void add_emissive_sphere(uint32_t id, const Accel::Record& rec, std::vector<double>& power);
   void add_environment(std::vector<double>& power);
-  // The two-step choice of pick(): groups_ and the tree.
+  // The two-step choice of pick(): the groups and the tree.
   void build_pick(const std::vector<double>& power);
+  // What group g can give p (the tree's root importance; 4 pi E |cos| for a directional light
+  // of irradiance E, as the tree weighs a point light; 4 pi pi L for an environment image of
+  // mean radiance L, a quarter of it for a constant one), and all groups' sum.
+  double group_weight(size_t g, const Vec3& p, const Vec3& n) const;
+  double group_total(const Vec3& p, const Vec3& n) const;
   LightBounds bounds_of(const Emitter& e, double power) const;
   // sample()'s cases.
   static bool sample_punctual(const Emitter& e, const Vec3& p, LightSample* out);
@@ -118,7 +123,6 @@ class Lights {
   std::vector<Emitter> emitters_;
   std::unordered_map<Key, uint32_t, KeyHash> by_surface_;
   static constexpr uint32_t kInTree = ~0u;
-  Distribution1D groups_;                // the finite lights' group and each light at infinity
   std::vector<uint32_t> group_emitter_;  // each group's emitter, kInTree for the tree's
   std::vector<uint32_t> group_of_;       // each emitter's group
   LightTree tree_;
@@ -127,6 +131,7 @@ class Lights {
   std::vector<uint32_t> delta_, area_;
   int env_index_ = -1;
   Color env_average_;
+  double env_luminance_ = 0;  // the environment's mean luminance over the sphere (group weight)
   Distribution2D env_dist_;
   double scene_radius_ = 1;
   Vec3 scene_center_;

@@ -31,7 +31,7 @@ class PathTracer final : public Integrator {
       if (!found) {
         if (lights.has_environment()) {
           const double w =
-              prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_environment(dir, prev_n));
+              prev_delta ? 1 : power_heuristic(prev_pdf, lights.pdf_environment(dir, prev_p, prev_n));
           L += beta * lights.environment(dir) * w;
         }
         break;
