@@ -8,6 +8,7 @@ import { Panels } from './panels.js';
 import { Navigator } from './navigate.js';
 import { Timeline } from './timeline.js';
 import { Overview } from './overview.js';
+import { Pins } from './pins.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -30,7 +31,10 @@ async function main() {
   const waiting = [];  // [version, resolve] of frameShown()
   const timeline = new Timeline(doc, { time: $('time'), end: $('time-end'), play: $('play'), label: $('time-label'), keys: $('keys'), ticks: $('ticks') },
                                 { toast, frameShown: (v) => new Promise((r) => waiting.push([v, r])) });
+  const pins = new Pins(doc, { problem: (m) => toast(m, true), changed: () => overlay.draw() });
   const hooks = {
+    free: (k) => pins.isFree(k),
+    setFree: (k, on) => pins.setFree(k, on),
     keyframe: (k, v) => timeline.keyframe(k, v),
     animated: (k) => timeline.animated(k),
     animateFromZero: (k, v) => timeline.animateFromZero(k, v),
@@ -41,9 +45,10 @@ async function main() {
     dolly: (e) => nav.dolly(e),
   };
   const overlay = new Overlay($('overlay'), $('legend'), doc, preview, hooks);
+  overlay.pins = pins;
   const panels = new Panels($('panels'), decl, doc, hooks);
   const overview = new Overview($('overview'), doc, overlay.nets);
-  window.anamorphEditor = { doc, preview, overlay, panels, timeline, overview };
+  window.anamorphEditor = { doc, preview, overlay, panels, timeline, overview, pins };
 
   const refresh = () => {
     $('scene-name').textContent = `${doc.state.file} · v${doc.version}`;
@@ -92,6 +97,7 @@ async function main() {
       for (const o of document.querySelectorAll('#tools button')) o.classList.toggle('on', o === b);
       overlay.setTool(b.dataset.tool);
     };
+  $('pins-clear').onclick = () => { pins.list.length = 0; overlay.draw(); };
   $('ov-coins').onchange = (e) => { overlay.show.coins = e.target.checked; overlay.draw(); };
   $('ov-rays').onchange = (e) => { overlay.show.rays = e.target.checked; overlay.draw(); };
   $('ov-mag').onchange = async (e) => {

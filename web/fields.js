@@ -101,7 +101,8 @@ function vectorControl(spec, value, send) {
 }
 
 // A field: label (with the doc as tooltip), control, reset button (removes the key: its default
-// applies again). opts: {key, value, set, send(edit), keyframe(), animated, error}.
+// applies again). opts: {key, value, set, send(edit), keyframe(), animated, error, free: {on,
+// set(on)} (a tick: the pin tool may solve for it)}.
 export function field(spec, opts) {
   const set = opts.value !== undefined;
   const value = set ? opts.value : defaultOf(spec);
@@ -149,6 +150,12 @@ export function field(spec, opts) {
                              title: 'Keyframe this value at the current frame' });
     k.addEventListener('click', () => opts.keyframe(opts.key, value));
     c.append(k);
+  }
+  if (opts.free) {  // (the pin tool solves for the keys ticked here: pins.js)
+    const f = el('input', { type: 'checkbox', className: 'free', checked: opts.free.on,
+                            title: 'Free: the pin tool may change this value' });
+    f.addEventListener('change', () => opts.free.set(f.checked));
+    c.append(f);
   }
   row.append(label, c, reset);
   if (opts.error) row.append(el('div', { className: 'err', textContent: opts.error }));

@@ -21,6 +21,7 @@ export class Overlay {
     this.sites = [];
     this.show = { coins: true, rays: true, mag: false, net: true };
     this.nets = new SurfaceNets(doc);
+    this.pins = null;  // the pin tool's pins (pins.js), set by the page
     this.tool = 'navigate';
     this.selected = -1;
     this.mag = null;       // {w, h, data: Float32Array, version}
@@ -114,6 +115,7 @@ export class Overlay {
     }
     const s = W / canvas.getBoundingClientRect().width || 1;  // canvas pixels per CSS pixel
     if (this.show.net) this.nets.draw(ctx, W, H, s);
+    if (this.pins) this.pins.draw(ctx, W, H, s);
     if (!this.show.coins) return;
     for (const site of this.sites) {
       const x = site.uv[0] * W, y = site.uv[1] * H;
@@ -163,7 +165,7 @@ export class Overlay {
 
   setTool(tool) {
     this.tool = tool;
-    this.canvas.classList.toggle('coin-tool', tool === 'coin');
+    this.canvas.classList.toggle('coin-tool', tool === 'coin' || tool === 'pin');
   }
 
   bind() {
@@ -183,6 +185,7 @@ export class Overlay {
   }
 
   down(e) {
+    if (this.tool === 'pin') { this.pinDown(e); return; }
     if (this.show.net && e.button === 0) {
       const [u, v] = this.uv(e);
       const n = this.nets.hit(u, v, this.canvas.getBoundingClientRect());
@@ -195,6 +198,36 @@ export class Overlay {
       return;
     }
     this.hooks.navigate(e, this.canvas);
+  }
+
+  // The pin tool: a drag from a pin's target moves it; from anywhere else it pins the surface
+  // under the cursor there and drags it; a right click on a pin removes it. Every move asks for
+  // a solve (pins.js merges the moves made while one is on its way).
+  async pinDown(e) {
+    const r = this.canvas.getBoundingClientRect();
+    const [u, v] = this.uv(e);
+    let i = this.pins.near(u, v, r.width, r.height);
+    if (e.button === 2) {
+      if (i >= 0) { this.pins.remove(i); this.draw(); }
+      return;
+    }
+    if (e.button !== 0) return;
+    let moved = null, ended = null;
+    let handle = (m) => { moved = m; };
+    let end = (m) => { ended = m; };
+    drag(this.canvas, e, (m) => handle(m), (m) => end(m));
+    if (i < 0) {  // (the drag is captured before the pick answers: no move is lost meanwhile)
+      const p = await this.pick(u, v);
+      this.lastPick = { u, v, result: p };
+      if (!p || !p.hit) { handle = end = () => {}; this.hooks.problem('No surface under the cursor: a pin needs a point of the scene.'); return; }
+      i = this.pins.add(p.position, [u, v]);
+    }
+    const pin = this.pins.list[i];
+    handle = (m) => { pin.uv = this.uv(m); this.draw(); this.pins.request(m.timeStamp); };
+    end = (m) => { pin.uv = this.uv(m); this.draw(); this.pins.request(m.timeStamp, true); };
+    if (moved) handle(moved);
+    if (ended) end(ended);
+    this.draw();
   }
 
   // Drags a control point of a free-form image surface (surface.js says how it moves).

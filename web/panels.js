@@ -5,6 +5,8 @@ import { field, el, defaultOf } from './fields.js';
 import { scenePanels } from './scene_panels.js';
 
 const ANIMATABLE = new Set(['number', '[x, y, z]']);
+// Keys the pin tool may solve for (a tick beside each): the camera's numbers and vectors.
+const SOLVABLE = new Set(['number', '[a, b]', '[x, y, z]']);
 
 export class Panels {
   constructor(root, decl, doc, hooks) {
@@ -34,6 +36,8 @@ export class Panels {
       return field(s, {
         key, value: this.doc.value(key), send: (e, t) => this.send(e, t), error: this.errors.get(key),
         keyframe: ANIMATABLE.has(s.type) ? this.hooks.keyframe : null, animated: this.hooks.animated(key),
+        free: key.startsWith('camera.') && SOLVABLE.has(s.type) ?
+          { on: this.hooks.free(key), set: (on) => this.hooks.setFree(key, on) } : null,
       });
     });
   }

@@ -74,6 +74,13 @@ class Camera {
   virtual bool uses_lens_or_time() const { return true; }
   // The inverse map: every (u, v) whose ray passes through `p` (may be empty or several).
   virtual std::vector<Vec2> project(const Vec3& p) const = 0;
+  // The inverse map near `seed`: the image positions of `p` among which the one nearest `seed`
+  // is found (a camera whose inverse is a search may return only the one it reaches from `seed`,
+  // cheaper than project's search of the whole image). The camera solver's pins use it.
+  virtual std::vector<Vec2> project_near(const Vec3& p, Vec2 seed) const {
+    (void)seed;
+    return project(p);
+  }
   // Human-readable one-line description for `anamorph info` and file metadata.
   virtual std::string describe() const = 0;
 };

@@ -274,6 +274,12 @@ std::vector<Vec2> VirtualCamera::project(const Vec3& p) const {
   return inverse_->project(rig_identity_ ? p : world_from_camera_.inverse().point(p));
 }
 
+std::vector<Vec2> VirtualCamera::project_near(const Vec3& p, Vec2 seed) const {
+  if (inverse_ && coins_.empty()) return project(p);  // (closed form)
+  if (const std::optional<Vec2> uv = project_numeric_from(*this, p, seed)) return {*uv};
+  return project_numeric(*this, p);
+}
+
 std::vector<Vec2> VirtualCamera::project_rolling(const Vec3& p) const {
   const auto at_time = [&](Vec2 uv) {
     return inverse_->project(motion_.at(shutter_time({uv})).inverse().point(p));
@@ -400,6 +406,10 @@ std::optional<Vec2> refine(const Camera& cam, const Vec3& p, Vec2 uv) {
 }
 
 }  // namespace
+
+std::optional<Vec2> project_numeric_from(const Camera& cam, const Vec3& p, Vec2 seed) {
+  return refine(cam, p, {std::clamp(seed.x, 0.0, 1.0), std::clamp(seed.y, 0.0, 1.0)});
+}
 
 std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid) {
   // 1. Coarse grid of angular misses.

@@ -63,6 +63,9 @@ class VirtualCamera final : public Camera {
   // Under a rolling shutter with camera motion, each image position's ray is that of the rig at
   // its readout time (project_rolling).
   std::vector<Vec2> project(const Vec3& p) const override;
+  // Where project searches (coins, no closed form): Gauss-Newton from `seed` alone, and the whole
+  // search only when that does not converge.
+  std::vector<Vec2> project_near(const Vec3& p, Vec2 seed) const override;
   std::string describe() const override { return description_; }
 
   // The ray before depth of field and in camera space (for tests and the inverse map).
@@ -145,5 +148,8 @@ class VirtualCamera final : public Camera {
 // Numeric inverse map for any camera: a coarse grid over [0,1]^2, then Gauss-Newton on the
 // point-to-ray distance from each local minimum; distinct solutions within tolerance are kept.
 std::vector<Vec2> project_numeric(const Camera& cam, const Vec3& p, int grid = 48);
+// Gauss-Newton on the point-to-ray distance from `seed` alone: the image position it converges
+// to, or none.
+std::optional<Vec2> project_numeric_from(const Camera& cam, const Vec3& p, Vec2 seed);
 
 }  // namespace anamorph

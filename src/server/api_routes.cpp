@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "io/image_sink.h"
@@ -252,6 +253,68 @@ HttpResponse render_result(Editor& ed, const ApiCall& c) {
   return r;
 }
 
+// The goals' entries as TOML text of an array of tables ("free" may list bare keys).
+std::string goals_toml(const Json& list, const char* name, bool keys) {
+  if (!list.is_array() || list.empty())
+    throw std::invalid_argument(std::string("'") + name + "' is a non-empty list");
+  Json entries = Json::array();
+  for (const Json& e : list) {
+    if (keys && e.is_string())
+      entries.push_back({{"key", e}});
+    else if (e.is_object())
+      entries.push_back(e);
+    else
+      throw std::invalid_argument(std::string("each of '") + name + "' is a table" +
+                                  (keys ? " or a key" : ""));
+  }
+  return toml_text(entries);
+}
+
+Json solve_report_json(const solve::SolveReport& r) {
+  Json values = Json::array(), constraints = Json::array();
+  for (const solve::ValueReport& v : r.values)
+    values.push_back({{"name", v.name},
+                      {"start", v.start},
+                      {"value", v.value},
+                      {"lo", v.lo},
+                      {"hi", v.hi},
+                      {"at_bound", v.at_bound}});
+  for (const solve::ConstraintReport& c : r.constraints)  // (residual null: not seen)
+    constraints.push_back({{"where", c.where},
+                           {"kind", c.kind},
+                           {"unit", c.unit},
+                           {"residual", std::isfinite(c.residual) ? Json(c.residual) : Json()},
+                           {"tolerance", c.tolerance},
+                           {"met", c.met}});
+  return {{"values", values},
+          {"constraints", constraints},
+          {"iterations", r.iterations},
+          {"termination", r.termination},
+          {"met", r.all_met()}};
+}
+
+// The camera solved for the page's goals (Editor::solve): {"version", "constraints": [...],
+// "free": [...], "iterations"?, "apply"?} -> the report, the solve's time, and with "apply" the
+// new version and state.
+HttpResponse solve(Editor& ed, const ApiCall& c) {
+  if (!field(c.body, "version").is_number_integer())
+    throw std::invalid_argument("a solve names the document's \"version\"");
+  Editor::SolveRequest req;
+  req.version = field(c.body, "version").get<int64_t>();
+  req.constraints = goals_toml(field(c.body, "constraints"), "constraints", false);
+  req.free = goals_toml(field(c.body, "free"), "free", true);
+  if (c.body.contains("iterations"))
+    req.max_iterations = int(number_in(c.body, "iterations", 1, 1000));
+  req.apply = field(c.body, "apply").is_boolean() && field(c.body, "apply").get<bool>();
+  const Editor::SolveOutcome o = ed.solve(req);
+  if (o.edit.error) return outcome_response(o.edit, ed);
+  Json j = solve_report_json(o.report);
+  j["ms"] = o.seconds * 1e3;
+  j["version"] = o.edit.version;
+  if (req.apply) j["state"] = ed.state();
+  return json_response(200, j);
+}
+
 struct Route {
   const char* method;  // "GET", "POST", or "" for either
   const char* path;
@@ -272,6 +335,7 @@ constexpr Route kRoutes[] = {
     {"GET", "/api/coins", coins},
     {"GET", "/api/magnification", magnification},
     {"GET", "/api/rays", rays},
+    {"POST", "/api/solve", solve},
     {"POST", "/api/save", save},
     {"POST", "/api/render", start_render},
     {"GET", "/api/render", render_status},

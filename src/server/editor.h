@@ -22,6 +22,7 @@
 #include "params/param_schema.h"
 #include "server/document.h"
 #include "server/preview.h"
+#include "solve/camera_solve.h"
 
 namespace anamorph::server {
 
@@ -99,6 +100,25 @@ class Editor {
     std::vector<Bounds3> boxes;
   };
   std::optional<RayOverview> ray_overview(int nu, int nv, int64_t version);
+
+  // The camera solved for goals (the editor's pin tool, docs/solve.md "In the editor"): the
+  // document at `version` with `constraints` and `free` (TOML text of the arrays
+  // [[camera.constraint]] and [[camera.free]], which replace the scene's own), solved from the
+  // document's values with the library behind `anamorph solve`; with `apply`, the solved values
+  // become the document's next version (the goals are not written). Only the view is loaded:
+  // pins name points, not objects.
+  struct SolveRequest {
+    std::string constraints, free;
+    int64_t version = 0;
+    int max_iterations = 0;  // 0: the scene's [camera.solve]
+    bool apply = false;
+  };
+  struct SolveOutcome {
+    EditOutcome edit;  // its error: the goals or the document refused; else the applied version
+    solve::SolveReport report;
+    double seconds = 0;  // the solve's own time
+  };
+  SolveOutcome solve(const SolveRequest& req);
 
   // Writes the document to `name` (a file name in the scene's folder; "" = the scene file
   // itself), through the folder's descriptor (io/confined_folder.h). Errors (a path, a symbolic

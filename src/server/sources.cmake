@@ -4,7 +4,7 @@
 find_package(Boost 1.74 REQUIRED)
 find_package(Threads REQUIRED)
 set(ANAMORPH_WEB_FILES index.html style.css app.js api.js document.js preview.js fields.js
-    panels.js scene_panels.js overlay.js surface.js overview.js navigate.js timeline.js drag.js)
+    panels.js scene_panels.js overlay.js surface.js overview.js navigate.js timeline.js drag.js pins.js)
 set(web_dir ${PROJECT_SOURCE_DIR}/web)
 list(TRANSFORM ANAMORPH_WEB_FILES PREPEND ${web_dir}/ OUTPUT_VARIABLE web_paths)
 set(web_cpp ${CMAKE_CURRENT_BINARY_DIR}/web_assets.cpp)
@@ -22,11 +22,13 @@ add_library(anamorph_server STATIC
   ${CMAKE_CURRENT_LIST_DIR}/preview.cpp
   ${CMAKE_CURRENT_LIST_DIR}/editor.cpp
   ${CMAKE_CURRENT_LIST_DIR}/editor_views.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/editor_solve.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_json.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_routes.cpp
   ${web_cpp})
 # (its headers name toml++ and nlohmann::json types: their users compile them the same way)
-target_link_libraries(anamorph_server PUBLIC anamorph_core Boost::headers Threads::Threads
+# (the pin tool's live solve is src/solve's, the library behind `anamorph solve`)
+target_link_libraries(anamorph_server PUBLIC anamorph_core anamorph_solve Boost::headers Threads::Threads
                       nlohmann_json::nlohmann_json tomlplusplus::tomlplusplus
                       PRIVATE anamorph_warnings)

@@ -24,14 +24,27 @@ bool is_coin_key(const std::string& override_or_key) {
   return override_or_key.starts_with("camera.coin.") || override_or_key.starts_with("camera.coin=");
 }
 
-// Cameras at given free values, built by the scene reader; the last one is kept (Ceres asks for
-// each residual block at the same point in turn).
+// The scene's top-level keys load_view reads (scene/scene_loader.h).
+bool is_view_table(std::string_view key) {
+  return key == "image" || key == "render" || key == "camera" || key == "animate" ||
+         key == "include";
+}
+
+// Cameras at given free values, built by the scene reader. The last few are kept: Ceres asks for
+// each residual block at the same points in turn (the point and its 2n central differences), so
+// each camera is built once per Jacobian, not once per block.
 class CameraBuilder {
  public:
   CameraBuilder(const SolveInput& in, const FreeValues& free, bool plain)
-      : in_(in), free_(free), plain_(plain) {
-    if (!plain) return;
+      : in_(in), free_(free), plain_(plain), capacity_(2 * free.scalars.size() + 2) {
+    // Only what load_view reads: each build parses less than the whole scene.
     toml::table t = parse_toml(in.text, in.file.string());
+    std::vector<std::string> other;
+    for (const auto& [key, node] : t)
+      if (!is_view_table(key.str())) other.emplace_back(key.str());
+    for (const std::string& k : other) t.erase(k);
+    text_ = to_toml_text(t);
+    if (!plain) return;
     remove_path(t, "camera.coin");
     plain_text_ = to_toml_text(t);
   }
@@ -39,37 +52,53 @@ class CameraBuilder {
   // Null when the reader refuses the values (the solver then takes a shorter step).
   const CameraPair* at(const double* x) {
     const std::vector<double> xs(x, x + free_.scalars.size());
-    if (built_ && xs == x_) return &pair_;
-    built_ = false;
-    x_ = xs;
-    try {
-      std::vector<std::string> o = in_.overrides;
-      for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
-      camera_ = std::make_unique<Scene>(
-          load_view_from_string(in_.text, in_.file, o, in_.frame, *in_.loaded));
-      pair_ = {camera_->camera.get(), nullptr};
-      if (plain_) {
-        std::erase_if(o, is_coin_key);
-        plain_camera_ = std::make_unique<Scene>(
-            load_view_from_string(plain_text_, in_.file, o, in_.frame, *in_.loaded));
-        pair_.plain = plain_camera_->camera.get();
-      }
-    } catch (const std::exception&) {
-      return nullptr;
-    }
-    built_ = true;
-    return &pair_;
+    for (const Built& b : cache_)
+      if (b.x == xs) return b.ok ? &b.pair : nullptr;
+    if (cache_.size() < capacity_) cache_.emplace_back();
+    Built& b = cache_[next_];
+    next_ = (next_ + 1) % capacity_;
+    b = build(xs);
+    return b.ok ? &b.pair : nullptr;
   }
 
  private:
+  struct Built {
+    std::vector<double> x;
+    bool ok = false;
+    std::unique_ptr<Scene> camera, plain;
+    CameraPair pair;
+  };
+
+  Built build(const std::vector<double>& xs) const {
+    Built b;
+    b.x = xs;
+    try {
+      std::vector<std::string> o = in_.overrides;
+      for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
+      b.camera =
+          std::make_unique<Scene>(load_view_from_string(text_, in_.file, o, in_.frame, models()));
+      b.pair = {b.camera->camera.get(), nullptr};
+      if (plain_) {
+        std::erase_if(o, is_coin_key);
+        b.plain = std::make_unique<Scene>(
+            load_view_from_string(plain_text_, in_.file, o, in_.frame, models()));
+        b.pair.plain = b.plain->camera.get();
+      }
+      b.ok = true;
+    } catch (const std::exception&) {
+    }
+    return b;
+  }
+
+  const Scene& models() const { return in_.models ? *in_.models : *in_.loaded; }
+
   const SolveInput& in_;
   const FreeValues& free_;
   bool plain_;
-  std::string plain_text_;
-  std::vector<double> x_;
-  bool built_ = false;
-  std::unique_ptr<Scene> camera_, plain_camera_;
-  CameraPair pair_;
+  size_t capacity_;
+  std::string text_, plain_text_;
+  std::vector<Built> cache_;
+  size_t next_ = 0;
 };
 
 struct GoalCost {
@@ -199,7 +228,9 @@ SolveReport solve_camera(const SolveInput& in) {
   if (!builder.at(x0.data()))
     throw SceneError(at, "camera", "the camera cannot be built at the start values");
 
-  const Run best = run(all_of(goals.size()), x0, goals, free, g.options, builder);
+  SolveOptions opt = g.options;
+  if (in.max_iterations > 0) opt.max_iterations = std::min(opt.max_iterations, in.max_iterations);
+  const Run best = run(all_of(goals.size()), x0, goals, free, opt, builder);
   SolveReport rep;
   rep.iterations = best.iterations;
   rep.termination = best.termination;
@@ -212,7 +243,7 @@ SolveReport solve_camera(const SolveInput& in) {
   const CameraPair* cam = builder.at(best.x.data());
   if (!cam) throw SceneError(at, "camera", "the camera cannot be built at the solved values");
   for (size_t i = 0; i < goals.size(); ++i) rep.constraints.push_back(report(goals, i, *cam));
-  if (!rep.all_met()) explain_unmet(rep, goals, free, x0, g.options, builder);
+  if (!rep.all_met() && in.explain) explain_unmet(rep, goals, free, x0, opt, builder);
   return rep;
 }
 

@@ -50,9 +50,17 @@ struct SolveInput {
   std::vector<std::string> overrides;  // --set etc., as the scene was loaded with
   const Scene* loaded = nullptr;       // the scene loaded from them (objects, model cameras)
   double frame = 0;                    // the frame `loaded` was loaded at
+  // Where `gltf_camera`'s model cameras come from when not `loaded` (a scene of the view alone,
+  // as the editor loads it).
+  const Scene* models = nullptr;
   // Where the solve starts, one number per free scalar (`solve --frames`: the previous frame's
   // solution); empty: the scene's own values.
   std::vector<double> start;
+  // Whether constraints not met are solved again alone and in pairs to name conflicts (the
+  // editor's live pins skip it: a drag asks again at once).
+  bool explain = true;
+  // At most this many iterations when > 0 (else [camera.solve]'s).
+  int max_iterations = 0;
 };
 
 // Throws SceneError for goals that cannot be solved as given (no constraint or free key, a key

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "camera/coins.h"
 #include "camera/functions.h"
@@ -179,6 +180,11 @@ std::vector<std::pair<std::string, std::string>> FreeValues::texts(
     size_t at = 0;
     out.emplace_back(values[k].key, nested_text(v[k], values[k].dims, 0, at));
   }
+  for (const DerivedValue& d : derived) {  // fov = 2 theta(1), degrees
+    double theta1 = 0;
+    for (double k : v[d.value]) theta1 += k;
+    out.emplace_back(d.key, fmt::format("{}", 2 * theta1 * 180 / std::numbers::pi));
+  }
   return out;
 }
 
@@ -228,6 +234,21 @@ void add_scalars(FreeValues& out, size_t vi, size_t first, size_t count, const P
   }
 }
 
+// A free `camera.poly` of a polynomial fisheye decides its fov (DerivedValue), which may then not
+// be free itself.
+void add_derived(FreeValues& out, const toml::table& scene, const std::string& file) {
+  for (size_t vi = 0; vi < out.values.size(); ++vi) {
+    if (out.values[vi].key != "camera.poly") continue;
+    for (const FreeScalar& s : out.scalars)
+      if (out.values[s.value].key == "camera.fov")
+        throw SceneError({file, 0, 0}, s.where + ".key",
+                         "\"camera.fov\" follows the free camera.poly (fov = 2 theta(1) = 2 (k0 + "
+                         "k1 + ...)): free one or the other");
+    if (string_at(scene, "camera.mapping", "") == "polynomial")
+      out.derived.push_back({"camera.fov", vi});
+  }
+}
+
 }  // namespace
 
 FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& scene,
@@ -271,6 +292,7 @@ FreeValues resolve_free(const std::vector<FreeKey>& keys, const toml::table& sce
     }
     add_scalars(out, vi, first, count, *spec, k, fail);
   }
+  add_derived(out, scene, file);
   return out;
 }
 

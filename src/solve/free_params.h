@@ -29,14 +29,23 @@ struct FreeScalar {
   std::string where;  // the [[camera.free]] entry
 };
 
+// A key the free values decide: a polynomial fisheye's `camera.fov`, which the reader asks to be
+// 2 theta(1) = 2 (k0 + k1 + ...) in degrees, follows its free `camera.poly` (so that a step that
+// changes the coefficients is a camera, not a refused value).
+struct DerivedValue {
+  std::string key;  // "camera.fov"
+  size_t value;     // index into FreeValues::values of the coefficients
+};
+
 struct FreeValues {
   std::vector<FreeValue> values;
   std::vector<FreeScalar> scalars;
+  std::vector<DerivedValue> derived;
   std::vector<double> start() const;
   // "key=value" overrides setting every value with the scalars `x` (the shortest text that reads
   // back as the same double).
   std::vector<std::string> overrides(const std::vector<double>& x) const;
-  // Each value as TOML text, for the solved scene.
+  // Each value (and each derived one) as TOML text, for the solved scene.
   std::vector<std::pair<std::string, std::string>> texts(const std::vector<double>& x) const;
 };
 

@@ -46,9 +46,11 @@ Vec3 object_centre(const Scene& s, const std::string& name, const std::string& w
   return found[0].center();
 }
 
-// The image position of `p` nearest to `near` (false when the camera does not see p).
-bool seen_at(const Camera& cam, const Vec3& p, Vec2 near, Vec2* uv) {
-  const std::vector<Vec2> all = cam.project(p);
+// The image position of `p` nearest to `near` (false when the camera does not see p); `seeded`:
+// as found from `near` (Camera::project_near: a camera whose inverse is a search looks there
+// first, so that a solver step costs little; the report measures with the whole search).
+bool seen_at(const Camera& cam, const Vec3& p, Vec2 near, Vec2* uv, bool seeded = false) {
+  const std::vector<Vec2> all = seeded ? cam.project_near(p, near) : cam.project(p);
   if (all.empty()) return false;
   *uv = all[0];
   for (const Vec2& q : all)
@@ -151,7 +153,7 @@ const char* Goals::unit(size_t i) const {
   return k == "pin" || k == "keep" || k == "straight" ? "px" : "%";
 }
 
-void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
+void Goals::residuals(size_t i, const CameraPair& cp, double* r, bool exact) const {
   const Item& it = items_[i];
   const Camera& cam = *cp.camera;
   const double w = width_, h = height_;
@@ -159,7 +161,7 @@ void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
   const double unseen = 2 * std::max(w, h);
   if (it.c.kind == "pin") {
     Vec2 uv;
-    if (!seen_at(cam, it.point, it.uv, &uv)) {
+    if (!seen_at(cam, it.point, it.uv, &uv, !exact)) {
       r[0] = r[1] = unseen;
       return;
     }
@@ -190,7 +192,7 @@ void Goals::residuals(size_t i, const CameraPair& cp, double* r) const {
   } else {  // keep
     for (size_t k = 0; k < it.samples.size(); ++k) {
       Vec2 uv;
-      if (!seen_at(cam, it.samples[k], it.at[k], &uv)) {
+      if (!seen_at(cam, it.samples[k], it.at[k], &uv, !exact)) {
         r[2 * k] = r[2 * k + 1] = unseen;
         continue;
       }
@@ -219,7 +221,7 @@ void Goals::straight_residuals(const Item& it, const Camera& cam, double* r) con
 
 double Goals::measure(size_t i, const CameraPair& cam) const {
   std::vector<double> r(size_t(residual_count(i)));
-  residuals(i, cam, r.data());
+  residuals(i, cam, r.data(), true);
   const Item& it = items_[i];
   const double unseen = 2 * std::max(width_, height_);
   double m = 0;

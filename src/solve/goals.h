@@ -29,8 +29,10 @@ class Goals {
   size_t size() const { return items_.size(); }
   const CameraConstraint& constraint(size_t i) const { return items_[i].c; }
   int residual_count(size_t i) const;
-  // Residuals of constraint i (residual_count of them, unweighted).
-  void residuals(size_t i, const CameraPair& cam, double* r) const;
+  // Residuals of constraint i (residual_count of them, unweighted). Not `exact`: pins and keep
+  // find their points' image positions from their targets (Camera::project_near), the solver's
+  // fast path; measure() uses the whole inverse map.
+  void residuals(size_t i, const CameraPair& cam, double* r, bool exact = false) const;
   // The reported size of constraint i's residual (pixels or percent; +inf when the camera does
   // not see its point) and its unit.
   double measure(size_t i, const CameraPair& cam) const;

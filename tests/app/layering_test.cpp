@@ -1,7 +1,8 @@
 // The source folders form layers: a folder includes headers of its own and of the folders below
 // it, never of one above (math < params, model, io < camera, material < scene < accel < render <
-// dist, server, solve < app; the denoiser sits beside them: math < denoise < render; warp's
-// pixels and textures: io, camera, plugins < warp < app).
+// dist, solve < server < app: the editor's pin tool solves with src/solve; the denoiser sits
+// beside them: math < denoise < render; warp's pixels and textures: io, camera, plugins < warp <
+// app).
 // A lower folder that reached up would drag the loaders into the camera, or the scene into image
 // I/O, and every user of the lower one would need the higher one too.
 #include <gtest/gtest.h>
@@ -38,13 +39,13 @@ const std::map<std::string, std::set<std::string>> kMayInclude = {
     {"dist",
      {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
       "dist"}},
-    {"server",
-     {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
-      "server"}},
-    // The camera solver (`anamorph solve`): beside dist and server, linked into the program.
+    // The camera solver (`anamorph solve`, the editor's pins): beside dist, below the server.
     {"solve",
      {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
       "solve"}},
+    {"server",
+     {"math", "params", "model", "io", "denoise", "camera", "material", "scene", "accel", "render",
+      "solve", "server"}},
     // Plugins the program loads with dlopen (a C interface); they include only their own.
     {"plugins", {"plugins"}},
     {"app",

@@ -2,7 +2,8 @@
 // (not by the solver's own numbers): size (a perspective fov from a segment's projected length,
 // closed form), keep (a coin magnifies while the image elsewhere stays put), straight (a dome's
 // tilt from a level horizon; a coin's strength undone to straighten a line), list-valued free keys
-// (B-spline image-surface control points from pins made by the known surface).
+// (B-spline image-surface control points from pins made by the known surface; a polynomial
+// fisheye's coefficients, its fov following them).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -133,6 +134,31 @@ TEST(SolveGoals, TheDomeHorizonExampleSolvesToItsKnownTilt) {
   EXPECT_NEAR(std::stod(m[1].str()), std::atan(0.5) * 180 / kPi, 1e-9) << r.out;
 }
 
+TEST(SolveGoals, TheFocusContextExampleHoldsItsLandmarksWhileTheCoinMagnifies) {
+  // examples/solve/focus_context.toml (docs/solve.md's images): the landmarks, checked by
+  // `anamorph project` of the solved scene, stay where the scene (coin strength 0) shows them.
+  const std::string scene = (test::source_dir() / "examples/solve/focus_context.toml").string();
+  const CliResult r = test::run_cli(fmt::format("solve '{}'", scene), 60);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(r.out, m, std::regex(R"(strength +\S+ -> (\S+)[^]*radius +\S+ -> (\S+))")))
+      << r.out;
+  const std::string set = fmt::format(
+      "--set camera.coin.0.strength={} --set camera.coin.0.radius={}", m[1].str(), m[2].str());
+  EXPECT_GT(std::stod(m[1].str()), 0.5) << r.out;
+  for (const std::vector<double>& p :
+       std::vector<std::vector<double>>{{0.3, -0.75, 1.9}, {2.2, -1, 1.2}}) {
+    const std::vector<double> want = projected(scene, p);
+    const CliResult got = test::run_cli(
+        fmt::format("project '{}' {} --point {},{},{}", scene, set, p[0], p[1], p[2]), 60);
+    double x = NAN, y = NAN;
+    ASSERT_EQ(std::sscanf(got.out.c_str(), "px %lf py %lf", &x, &y), 2) << got.out;
+    EXPECT_LT(std::hypot(x - want[0], y - want[1]), 1e-3)
+        << p[0] << "," << p[1] << ": " << x << "," << y << " vs " << want[0] << "," << want[1];
+  }
+}
+
 TEST(SolveGoals, StraightUndoesTheCoinThatBendsALine) {
   // A coin bends the image of a line that passes through its radius; only strength 0 (no coin)
   // leaves it straight on a perspective camera.
@@ -228,6 +254,62 @@ TEST(SolveGoals, RecoversBSplineControlPointsFromPinsOfTheKnownSurface) {
   EXPECT_EQ(twice.code, 2) << twice.out;
   EXPECT_NE(twice.out.find("camera.free[1].key"), std::string::npos) << twice.out;
   EXPECT_NE(twice.out.find("is already free"), std::string::npos) << twice.out;
+}
+
+// A polynomial fisheye's camera (theta(r) = k0 + k1 r + ...; the reader asks fov = 2 theta(1)).
+std::string poly_fisheye(const std::string& poly, double theta1) {
+  return fmt::format(
+      "[camera]\npreset = \"fisheye\"\nlook_from = [0, 0, 0]\nlook_at = [0, 0, -1]\n"
+      "mapping = \"polynomial\"\npoly = {}\nfov = {}\n",
+      poly, 2 * theta1 * 180 / kPi);
+}
+
+TEST(SolveGoals, RecoversAPolynomialFisheyesCoefficientsWithItsFovFollowing) {
+  test::ScratchDir dir("solve_poly");
+  const std::string truth =
+      dir.write("truth.toml", kImage + poly_fisheye("[0, 1.0, 0.15, -0.05]", 1.1));
+  std::string goals =
+      "[[camera.free]]\nkey = \"camera.poly.1\"\n[[camera.free]]\nkey = \"camera.poly.2\"\n"
+      "[[camera.free]]\nkey = \"camera.poly.3\"\n";
+  // (within 55 degrees of the axis: seen by the start, whose circle ends at 57.3)
+  const std::vector<std::vector<double>> points = {
+      {0.2, 0, -1}, {0.8, 0.3, -1}, {-1.2, 0.5, -1}, {0.3, -1, -1}};
+  for (const std::vector<double>& p : points) {
+    const std::vector<double> px = projected(truth, p);
+    goals += fmt::format(
+        "[[camera.constraint]]\nkind = \"pin\"\npoint = [{}, {}, {}]\nuv = [{}, {}]\n"
+        "tolerance = 1e-4\n",
+        p[0], p[1], p[2], px[0] / 320, px[1] / 240);
+  }
+  const std::string scene =
+      dir.write("s.toml", kImage + poly_fisheye("[0, 1.0, 0, 0]", 1.0) + goals);
+  const CliResult r = solve(dir, scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string solved = (dir.dir / "solved.toml").string();
+  const std::vector<double> k = numbers_of(test::read_text(solved), "poly");
+  ASSERT_EQ(k.size(), 4u) << test::read_text(solved);
+  EXPECT_EQ(k[0], 0);  // not free
+  EXPECT_NEAR(k[1], 1.0, 1e-6);
+  EXPECT_NEAR(k[2], 0.15, 1e-6);
+  EXPECT_NEAR(k[3], -0.05, 1e-6);
+  const std::vector<double> fov = numbers_of(test::read_text(solved), "fov");
+  ASSERT_EQ(fov.size(), 1u);
+  EXPECT_NEAR(fov[0], 2 * (k[0] + k[1] + k[2] + k[3]) * 180 / kPi, 1e-9);
+  for (const std::vector<double>& p : points) {
+    const std::vector<double> want = projected(truth, p), got = projected(solved, p);
+    EXPECT_LT(std::hypot(got[0] - want[0], got[1] - want[1]), 1e-3)
+        << p[0] << "," << p[1] << ": " << got[0] << "," << got[1] << " vs " << want[0] << ","
+        << want[1];
+  }
+  // The fov follows the coefficients: freeing it too is refused by name.
+  const CliResult both = test::run_cli(
+      fmt::format("solve '{}'",
+                  dir.write("both.toml", kImage + poly_fisheye("[0, 1.0, 0, 0]", 1.0) + goals +
+                                             "[[camera.free]]\nkey = "
+                                             "\"camera.fov\"\n")),
+      60);
+  EXPECT_EQ(both.code, 2) << both.out;
+  EXPECT_NE(both.out.find("follows the free camera.poly"), std::string::npos) << both.out;
 }
 
 }  // namespace
