@@ -80,8 +80,10 @@ TEST(Adaptive, NoiseDrivenPathStopsFlatPixelsEarly) {
       "min_spp = 8\nmax_spp = 256\nnoise_threshold = 0.002\n"
       "[camera]\nlook_from = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov = 50\n"
       "[[object]]\ntype = \"box\"\ncenter = [1.5, 0, 0]\nsize = [2, 2, 2]\n"
-      "[[light]]\ntype = \"quad\"\ncorner = [0.5, 3, -1]\nedge_u = [0, 0, 2]\nedge_v = [2, 0, "
-      "0]\nradiance = 5\n"
+      // (facing down, in front of the box's front face: that face was not lit by the light
+      // above it; its flat sky light is sampled exactly since the light tree, at 8 spp)
+      "[[light]]\ntype = \"quad\"\ncorner = [0.5, 3, 1]\nedge_u = [2, 0, 0]\nedge_v = [0, 0, "
+      "2]\nradiance = 5\n"
       "[environment]\ncolor = 0.2\n";
   const auto r = test::render_text(scene, {}, 0, {Aov::Spp});
   // Left: only the constant sky (no variance) -> min_spp. Right: a box lit by an area light.
