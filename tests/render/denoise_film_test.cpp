@@ -72,7 +72,7 @@ std::vector<float> beauty(const Film& f) { return f.output().layers[0].data; }
 // the noisy frame 4.7x better). The test asks the denoised frame for 0.6 of the error of the
 // frame it came from.
 TEST(DenoiseFilm, CloserToTheReferenceThanTheNoisyRender) {
-  const int side = test::kSanitized ? 24 : 48;
+  const int side = 48;  // (at 24 x 24 the denoiser's windows cover the image: 0.87x, not 0.43x)
   const std::string scene = box(side, kPerspective);
   const std::string ref_spp = "render.spp=" + std::to_string(test::kSanitized ? 256 : 1024);
   const auto ref = test::render_text(scene, {ref_spp});
