@@ -7,6 +7,8 @@
 
 namespace anamorph {
 
+// Over 60 lines on purpose: a table, one row per layer (its name, channels and definition), read
+// as the one source of the layers' names and documentation.
 const std::vector<AovInfo>& aov_table() {
   static const std::vector<AovInfo> t = {
       {Aov::Albedo, "albedo", {"R", "G", "B"}, "base colour of the first surface hit"},
@@ -171,6 +173,8 @@ void TileBuffer::set_values(int x, int y, size_t layer, const float* values) {
   std::copy_n(values, n, aov_.begin() + ptrdiff_t(index(x, y) * aov_floats_ + aov_offsets_[layer]));
 }
 
+// Over 60 lines on purpose: a switch over the closed set of layers, each case the few values its
+// layer sums (cutting it would only scatter the cases).
 void TileBuffer::add_aovs(int x, int y, const AovSample& a) {
   PixelSum& p = at(x, y);
   p.hits++;
