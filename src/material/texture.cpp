@@ -128,66 +128,84 @@ double filtered_line(double x, double w, double lw) {
 
 }  // namespace
 
+namespace {
+
+// An image texture's value: its mip map looked up over the footprint, times the tint.
+Color image_value(const Texture& t, const TexCoord& tc, double* alpha) {
+  const Vec2 uv = t.uv_transform.apply(tc.uv);
+  const Vec2 dx = t.uv_transform.apply_vector(tc.duvdx), dy = t.uv_transform.apply_vector(tc.duvdy);
+  const double width = std::max({std::abs(dx.x), std::abs(dx.y), std::abs(dy.x), std::abs(dy.y)});
+  float rgba[4];
+  t.image->lookup(uv, width, t.wrap_s, t.wrap_t, t.nearest, rgba);
+  if (alpha) *alpha = rgba[3];
+  return Color{rgba[0], rgba[1], rgba[2]} * t.value;
+}
+
+// Where a procedural pattern is evaluated: coordinates, per-axis footprint half-widths, and the
+// axes to use.
+struct PatternPoint {
+  Vec3 p, w;
+  int axes[3] = {0, 1, 2};
+  int naxes = 3;
+};
+
+PatternPoint pattern_point(const Texture& t, const TexCoord& tc) {
+  PatternPoint q;
+  const double inv_scale = 1 / t.scale;  // (one division, not nine)
+  if (t.space == Texture::Space::Uv) {
+    q.p = t.pattern_from_space.point({tc.uv.x, tc.uv.y, 0}) * inv_scale;
+    const Vec3 dx = t.pattern_from_space.vector({tc.duvdx.x, tc.duvdx.y, 0}) * inv_scale;
+    const Vec3 dy = t.pattern_from_space.vector({tc.duvdy.x, tc.duvdy.y, 0}) * inv_scale;
+    for (int i = 0; i < 3; ++i) q.w[i] = 0.5 * (std::abs(dx[i]) + std::abs(dy[i]));
+    q.naxes = 2;
+    return q;
+  }
+  const bool obj = t.space == Texture::Space::Object;
+  const Transform* ofw = obj ? tc.object_from_world : nullptr;
+  const Vec3 ps = obj ? tc.p_object : tc.p_world;
+  Vec3 dx = tc.dpdx, dy = tc.dpdy, n = obj ? tc.n_object : tc.n_world;
+  if (ofw) dx = ofw->vector(dx), dy = ofw->vector(dy);
+  q.p = t.pattern_from_space.point(ps) * inv_scale;
+  dx = t.pattern_from_space.vector(dx) * inv_scale;
+  dy = t.pattern_from_space.vector(dy) * inv_scale;
+  n = t.pattern_from_space.normal(n);
+  for (int i = 0; i < 3; ++i) q.w[i] = 0.5 * (std::abs(dx[i]) + std::abs(dy[i]));
+  // Drop the axis along the normal: on a floor y = 0 the pattern must not depend on y,
+  // whose value sits exactly on a cell boundary.
+  int drop = 0;
+  const Vec3 an{std::abs(n.x), std::abs(n.y), std::abs(n.z)};
+  if (an.y > an[drop]) drop = 1;
+  if (an.z > an[drop]) drop = 2;
+  if (an.x > 0 || an.y > 0 || an.z > 0) {
+    q.naxes = 0;
+    for (int i = 0; i < 3; ++i)
+      if (i != drop) q.axes[q.naxes++] = i;
+  }
+  return q;
+}
+
+}  // namespace
+
 Color Texture::eval(const TexCoord& tc, double* alpha) const {
   if (alpha) *alpha = 1;
   switch (kind) {
     case Kind::Constant:
       return value;
-    case Kind::Image: {
-      const Vec2 uv = uv_transform.apply(tc.uv);
-      const Vec2 dx = uv_transform.apply_vector(tc.duvdx), dy = uv_transform.apply_vector(tc.duvdy);
-      const double width =
-          std::max({std::abs(dx.x), std::abs(dx.y), std::abs(dy.x), std::abs(dy.y)});
-      float rgba[4];
-      image->lookup(uv, width, wrap_s, wrap_t, nearest, rgba);
-      if (alpha) *alpha = rgba[3];
-      return Color{rgba[0], rgba[1], rgba[2]} * value;
-    }
+    case Kind::Image:
+      return image_value(*this, tc, alpha);
     case Kind::Checker:
     case Kind::Grid:
       break;
   }
-  // Procedural patterns: coordinates, per-axis footprint half-widths, and the axes to use.
-  Vec3 p, w;
-  int axes[3] = {0, 1, 2};
-  int naxes = 3;
-  const double inv_scale = 1 / scale;  // (one division, not nine)
-  if (space == Space::Uv) {
-    p = pattern_from_space.point({tc.uv.x, tc.uv.y, 0}) * inv_scale;
-    const Vec3 dx = pattern_from_space.vector({tc.duvdx.x, tc.duvdx.y, 0}) * inv_scale;
-    const Vec3 dy = pattern_from_space.vector({tc.duvdy.x, tc.duvdy.y, 0}) * inv_scale;
-    for (int i = 0; i < 3; ++i) w[i] = 0.5 * (std::abs(dx[i]) + std::abs(dy[i]));
-    naxes = 2;
-  } else {
-    const bool obj = space == Space::Object;
-    const Transform* ofw = obj ? tc.object_from_world : nullptr;
-    const Vec3 ps = obj ? tc.p_object : tc.p_world;
-    Vec3 dx = tc.dpdx, dy = tc.dpdy, n = obj ? tc.n_object : tc.n_world;
-    if (ofw) dx = ofw->vector(dx), dy = ofw->vector(dy);
-    p = pattern_from_space.point(ps) * inv_scale;
-    dx = pattern_from_space.vector(dx) * inv_scale;
-    dy = pattern_from_space.vector(dy) * inv_scale;
-    n = pattern_from_space.normal(n);
-    for (int i = 0; i < 3; ++i) w[i] = 0.5 * (std::abs(dx[i]) + std::abs(dy[i]));
-    // Drop the axis along the normal: on a floor y = 0 the pattern must not depend on y,
-    // whose value sits exactly on a cell boundary.
-    int drop = 0;
-    const Vec3 an{std::abs(n.x), std::abs(n.y), std::abs(n.z)};
-    if (an.y > an[drop]) drop = 1;
-    if (an.z > an[drop]) drop = 2;
-    if (an.x > 0 || an.y > 0 || an.z > 0) {
-      naxes = 0;
-      for (int i = 0; i < 3; ++i)
-        if (i != drop) axes[naxes++] = i;
-    }
-  }
+  const PatternPoint q = pattern_point(*this, tc);
   if (kind == Kind::Checker) {
     double f = 1;
-    for (int k = 0; k < naxes; ++k) f *= filtered_square(p[axes[k]], w[axes[k]]);
+    for (int k = 0; k < q.naxes; ++k) f *= filtered_square(q.p[q.axes[k]], q.w[q.axes[k]]);
     return color_a * (0.5 * (1 + f)) + color_b * (0.5 * (1 - f));
   }
   double none = 1;  // probability of being off every line
-  for (int k = 0; k < naxes; ++k) none *= 1 - filtered_line(p[axes[k]], w[axes[k]], line_width);
+  for (int k = 0; k < q.naxes; ++k)
+    none *= 1 - filtered_line(q.p[q.axes[k]], q.w[q.axes[k]], line_width);
   return color_a * none + color_b * (1 - none);
 }
 
