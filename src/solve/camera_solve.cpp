@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "params/toml_parse.h"
 #include "scene/camera_goals.h"
 #include "scene/scene_loader.h"
-#include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
 #include "solve/free_params.h"
 #include "solve/goals.h"
@@ -24,29 +24,19 @@ bool is_coin_key(const std::string& override_or_key) {
   return override_or_key.starts_with("camera.coin.") || override_or_key.starts_with("camera.coin=");
 }
 
-// The scene's top-level keys load_view reads (scene/scene_loader.h).
-bool is_view_table(std::string_view key) {
-  return key == "image" || key == "render" || key == "camera" || key == "animate" ||
-         key == "include";
-}
-
-// Cameras at given free values, built by the scene reader. The last few are kept: Ceres asks for
-// each residual block at the same points in turn (the point and its 2n central differences), so
-// each camera is built once per Jacobian, not once per block.
+// Cameras at given free values, built by the scene reader from the text parsed once
+// (ViewTemplate). The last few are kept: Ceres asks for each residual block at the same points in
+// turn (the point and its 2n central differences), so each camera is built once per Jacobian, not
+// once per block.
 class CameraBuilder {
  public:
   CameraBuilder(const SolveInput& in, const FreeValues& free, bool plain)
-      : in_(in), free_(free), plain_(plain), capacity_(2 * free.scalars.size() + 2) {
-    // Only what load_view reads: each build parses less than the whole scene.
-    toml::table t = parse_toml(in.text, in.file.string());
-    std::vector<std::string> other;
-    for (const auto& [key, node] : t)
-      if (!is_view_table(key.str())) other.emplace_back(key.str());
-    for (const std::string& k : other) t.erase(k);
-    text_ = to_toml_text(t);
-    if (!plain) return;
-    remove_path(t, "camera.coin");
-    plain_text_ = to_toml_text(t);
+      : in_(in),
+        free_(free),
+        plain_(plain),
+        capacity_(2 * free.scalars.size() + 2),
+        view_(in.text, in.file) {
+    if (plain) plain_view_.emplace(in.text, in.file, std::vector<std::string>{"camera.coin"});
   }
 
   // Null when the reader refuses the values (the solver then takes a shorter step).
@@ -75,13 +65,11 @@ class CameraBuilder {
     try {
       std::vector<std::string> o = in_.overrides;
       for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
-      b.camera =
-          std::make_unique<Scene>(load_view_from_string(text_, in_.file, o, in_.frame, models()));
+      b.camera = std::make_unique<Scene>(view_.build(o, in_.frame, models()));
       b.pair = {b.camera->camera.get(), nullptr};
       if (plain_) {
         std::erase_if(o, is_coin_key);
-        b.plain = std::make_unique<Scene>(
-            load_view_from_string(plain_text_, in_.file, o, in_.frame, models()));
+        b.plain = std::make_unique<Scene>(plain_view_->build(o, in_.frame, models()));
         b.pair.plain = b.plain->camera.get();
       }
       b.ok = true;
@@ -96,7 +84,8 @@ class CameraBuilder {
   const FreeValues& free_;
   bool plain_;
   size_t capacity_;
-  std::string text_, plain_text_;
+  ViewTemplate view_;
+  std::optional<ViewTemplate> plain_view_;
   std::vector<Built> cache_;
   size_t next_ = 0;
 };
