@@ -916,6 +916,21 @@ ViewTemplate::ViewTemplate(const std::string& text, const fs::path& name,
       other.emplace_back(key.str());
   for (const std::string& k : other) parsed_->root.erase(k);
   for (const std::string& k : without) remove_path(parsed_->root, k);
+  // [[animate]] entries of the tables taken out go with them.
+  toml::array* animate = parsed_->root.get_as<toml::array>("animate");
+  if (!animate || without.empty()) return;
+  const auto under_removed = [&](const toml::node& e) {
+    const toml::table* t = e.as_table();
+    const toml::value<std::string>* k = t ? t->get_as<std::string>("key") : nullptr;
+    if (!k) return false;
+    const std::string& key = k->get();
+    return std::any_of(without.begin(), without.end(), [&](const std::string& w) {
+      return key == w || key.starts_with(w + ".") || key.starts_with(w + "[");
+    });
+  };
+  for (size_t i = animate->size(); i-- > 0;)
+    if (under_removed(*animate->get(i))) animate->erase(animate->begin() + std::ptrdiff_t(i));
+  if (animate->empty()) parsed_->root.erase("animate");
 }
 
 ViewTemplate::~ViewTemplate() = default;

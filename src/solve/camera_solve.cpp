@@ -28,6 +28,10 @@ bool is_coin_key(const std::string& override_or_key) {
 // (ViewTemplate). The last few are kept: Ceres asks for each residual block at the same points in
 // turn (the point and its 2n central differences), so each camera is built once per Jacobian, not
 // once per block.
+// The goals' tables, which the camera does not read (read again at every build, they would cost a
+// tenth of it).
+const std::vector<std::string> kGoalTables = {"camera.constraint", "camera.free", "camera.solve"};
+
 class CameraBuilder {
  public:
   CameraBuilder(const SolveInput& in, const FreeValues& free, bool plain)
@@ -35,8 +39,10 @@ class CameraBuilder {
         free_(free),
         plain_(plain),
         capacity_(2 * free.scalars.size() + 2),
-        view_(in.text, in.file) {
-    if (plain) plain_view_.emplace(in.text, in.file, std::vector<std::string>{"camera.coin"});
+        view_(in.text, in.file, kGoalTables) {
+    std::vector<std::string> without = kGoalTables;
+    without.emplace_back("camera.coin");
+    if (plain) plain_view_.emplace(in.text, in.file, without);
   }
 
   // Null when the reader refuses the values (the solver then takes a shorter step).
