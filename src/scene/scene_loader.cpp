@@ -903,12 +903,25 @@ Scene load_view_from_string(const std::string& text, const fs::path& name,
 
 struct ViewTemplate::Parsed {
   toml::table root;
+  std::vector<std::string> without;
 };
+
+namespace {
+
+// Whether the dotted `key` ("camera.constraint.0.uv") lies in one of the tables `without`.
+bool under_any(const std::string& key, const std::vector<std::string>& without) {
+  return std::any_of(without.begin(), without.end(), [&](const std::string& w) {
+    return key == w || key.starts_with(w + ".") || key.starts_with(w + "[");
+  });
+}
+
+}  // namespace
 
 ViewTemplate::ViewTemplate(const std::string& text, const fs::path& name,
                            const std::vector<std::string>& without)
     : parsed_(std::make_unique<Parsed>()), name_(name) {
   parsed_->root = parse_scene_text(text, name);
+  parsed_->without = without;
   std::vector<std::string> other;
   for (const auto& [key, node] : parsed_->root)
     if (key != "image" && key != "render" && key != "camera" && key != "animate" &&
@@ -922,11 +935,7 @@ ViewTemplate::ViewTemplate(const std::string& text, const fs::path& name,
   const auto under_removed = [&](const toml::node& e) {
     const toml::table* t = e.as_table();
     const toml::value<std::string>* k = t ? t->get_as<std::string>("key") : nullptr;
-    if (!k) return false;
-    const std::string& key = k->get();
-    return std::any_of(without.begin(), without.end(), [&](const std::string& w) {
-      return key == w || key.starts_with(w + ".") || key.starts_with(w + "[");
-    });
+    return k && under_any(k->get(), without);
   };
   for (size_t i = animate->size(); i-- > 0;)
     if (under_removed(*animate->get(i))) animate->erase(animate->begin() + std::ptrdiff_t(i));
@@ -937,7 +946,11 @@ ViewTemplate::~ViewTemplate() = default;
 
 Scene ViewTemplate::build(const std::vector<std::string>& overrides, double frame,
                           const Scene& loaded) const {
-  return build_scene(parsed_->root, name_, overrides, frame, Build::View, &loaded, Texts::Skip);
+  // (Overrides of the tables taken out go with them.)
+  std::vector<std::string> kept;
+  for (const std::string& o : overrides)
+    if (!under_any(o.substr(0, o.find('=')), parsed_->without)) kept.push_back(o);
+  return build_scene(parsed_->root, name_, kept, frame, Build::View, &loaded, Texts::Skip);
 }
 
 }  // namespace anamorph
