@@ -97,7 +97,7 @@ async function main() {
       for (const o of document.querySelectorAll('#tools button')) o.classList.toggle('on', o === b);
       overlay.setTool(b.dataset.tool);
     };
-  $('pins-clear').onclick = () => { pins.list.length = 0; overlay.draw(); };
+  $('pins-clear').onclick = () => { pins.list.length = 0; pins.sizes.length = 0; overlay.draw(); };
   $('ov-coins').onchange = (e) => { overlay.show.coins = e.target.checked; overlay.draw(); };
   $('ov-rays').onchange = (e) => { overlay.show.rays = e.target.checked; overlay.draw(); };
   $('ov-mag').onchange = async (e) => {

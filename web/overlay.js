@@ -165,7 +165,7 @@ export class Overlay {
 
   setTool(tool) {
     this.tool = tool;
-    this.canvas.classList.toggle('coin-tool', tool === 'coin' || tool === 'pin');
+    this.canvas.classList.toggle('coin-tool', tool === 'coin' || tool === 'pin' || tool === 'size');
   }
 
   bind() {
@@ -186,6 +186,7 @@ export class Overlay {
 
   down(e) {
     if (this.tool === 'pin') { this.pinDown(e); return; }
+    if (this.tool === 'size') { this.sizeDown(e); return; }
     if (this.show.net && e.button === 0) {
       const [u, v] = this.uv(e);
       const n = this.nets.hit(u, v, this.canvas.getBoundingClientRect());
@@ -228,6 +229,61 @@ export class Overlay {
     if (moved) handle(moved);
     if (ended) end(ended);
     this.draw();
+  }
+
+  // The size tool: a press on an object puts size handles across it (a segment through its
+  // bounding box's centre, along the horizontal box axis that looks longest); dragging a handle
+  // (or, at once, the new one's right end) sets the segment's image length as a `size` goal, solved
+  // with the pins as they are dragged. A right click on a handle removes it.
+  async sizeDown(e) {
+    const r = this.canvas.getBoundingClientRect();
+    const aspect = r.width / r.height;
+    const [u, v] = this.uv(e);
+    let h = this.pins.nearSize(u, v, r.width, r.height);
+    if (e.button === 2) {
+      if (h) { this.pins.removeSize(h.size); this.draw(); }
+      return;
+    }
+    if (e.button !== 0) return;
+    let moved = null, ended = null;
+    let handle = (m) => { moved = m; };
+    let end = (m) => { ended = m; };
+    drag(this.canvas, e, (m) => handle(m), (m) => end(m));
+    if (!h) {
+      const p = await this.pick(u, v);
+      const span = p && p.hit && p.box ? await this.objectSpan(p.box) : null;
+      if (!span) { handle = end = () => {}; this.hooks.problem('No object under the cursor: size handles go across an object the camera sees.'); return; }
+      h = { size: this.pins.addSize(span.from, span.to, span.ends, aspect), end: 1 };
+    }
+    const z = h.size, k = h.end, start = z.ends[k];
+    const to = (m) => { const [mu, mv] = this.uv(m); return [start[0] + mu - u, start[1] + mv - v]; };
+    handle = (m) => { this.pins.setEnd(z, k, to(m), aspect); this.draw(); this.pins.request(m.timeStamp); };
+    end = (m) => { this.pins.setEnd(z, k, to(m), aspect); this.draw(); this.pins.request(m.timeStamp, true); };
+    if (moved) handle(moved);
+    if (ended) end(ended);
+    this.draw();
+  }
+
+  // The segment across a world box that the camera shows longest, of the box's x and z axes
+  // through its centre: {from, to, ends (image positions, left end first)} or null (not seen).
+  async objectSpan(box) {
+    const [lo, hi] = box;
+    const c = lo.map((x, i) => (x + hi[i]) / 2);
+    let best = null;
+    for (const axis of [0, 2]) {
+      const from = c.slice(), to = c.slice();
+      from[axis] = lo[axis];
+      to[axis] = hi[axis];
+      const seen = await Promise.all([from, to].map((position) =>
+        post('/api/project', { position, version: this.doc.version }).then((a) => a.uv[0] || null, () => null)));
+      if (!seen[0] || !seen[1]) continue;
+      const len = Math.hypot(seen[0][0] - seen[1][0], seen[0][1] - seen[1][1]);
+      if (len > 0 && (!best || len > best.len)) {
+        const flip = seen[0][0] > seen[1][0];
+        best = { len, from: flip ? to : from, to: flip ? from : to, ends: flip ? [seen[1], seen[0]] : seen };
+      }
+    }
+    return best;
   }
 
   // Drags a control point of a free-form image surface (surface.js says how it moves).

@@ -137,7 +137,8 @@ Coin coin_from_params(const ParamValues& v) {
   c.falloff = f == "quadratic"  ? CoinFalloff::Quadratic
               : f == "gaussian" ? CoinFalloff::Gaussian
                                 : CoinFalloff::Smooth;
-  const double lo = coin_min_strength(c.stiffness, c.falloff);
+  // (The limit is negative: a strength >= 0 needs no search for it; the solver builds coins often.)
+  const double lo = c.strength < 0 ? coin_min_strength(c.stiffness, c.falloff) : -1;
   if (c.strength < lo)
     throw ParamError("strength",
                      fmt::format("strength {} would fold the image over around the coin (with "

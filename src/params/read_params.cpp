@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace anamorph {
@@ -15,6 +16,23 @@ const ParamSpec* find_param(std::initializer_list<std::span<const ParamSpec>> gr
       if (s.name == name) return &s;
   return nullptr;
 }
+
+namespace {
+
+// A default's TOML text parsed, once per text and thread (the solver builds a camera, and so reads
+// its defaults, hundreds of times a second).
+const toml::node& parsed_default(const ParamSpec& spec) {
+  thread_local std::unordered_map<std::string, toml::table> cache;
+  const std::string text(spec.default_value);
+  auto it = cache.find(text);
+  if (it == cache.end()) {
+    if (cache.size() > 4096) cache.clear();  // (defaults of generated specs could be many)
+    it = cache.emplace(text, toml::parse("v = " + text)).first;
+  }
+  return *it->second.get("v");
+}
+
+}  // namespace
 
 ParamValues read_params(const toml::table& t,
                         std::initializer_list<std::span<const ParamSpec>> groups,
@@ -29,8 +47,7 @@ ParamValues read_params(const toml::table& t,
         h.fail(t, spec.name, "is required");
         std::abort();  // (fail hooks throw)
       } else if (spec.default_value != "none") {
-        const toml::table d = toml::parse("v = " + std::string(spec.default_value));
-        out.set(std::string(spec.name), param_from_toml(spec, *d.get("v"), h));
+        out.set(std::string(spec.name), param_from_toml(spec, parsed_default(spec), h));
       }
     }
   for (const auto& [k, v] : t) {

@@ -644,15 +644,20 @@ void read_render(const TableReader& r, RenderSettings& rs) {
 // cameras of `loaded`, a scene loaded from the same file.
 enum class Build { Full, View, Check };
 
+// Whether the scene keeps its text (effective_toml, camera_toml): not for the solver's cameras,
+// built many times from one parsed text (ViewTemplate), whose texts nobody reads.
+enum class Texts { Keep, Skip };
+
 // The frame's keys applied to `root` (animated values, then the command line's overrides), and
 // what the scene records of them.
 void apply_frame_keys(toml::table& root, const std::vector<AnimatedKey>& animation,
-                      const std::vector<std::string>& overrides, double frame, Scene& s) {
+                      const std::vector<std::string>& overrides, double frame, Scene& s,
+                      Texts texts) {
   for (const AnimatedKey& a : animation)
     set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
   s.frame = frame;
-  s.effective_toml = to_toml_text(root);
+  if (texts == Texts::Keep) s.effective_toml = to_toml_text(root);
   for (const AnimatedKey& a : animation) {
     s.first_key = s.animated.empty() ? a.frames.front() : std::min(s.first_key, a.frames.front());
     s.last_key = s.animated.empty() ? a.frames.back() : std::max(s.last_key, a.frames.back());
@@ -713,7 +718,7 @@ ModelCameraRigs read_world_and_model_cameras(Context& c, const TableReader& top,
 // [camera]; with a shutter, the camera at shutter open and its rig at close (from the animation).
 CameraSpec read_scene_camera(const TableReader& top, const toml::table& original,
                              const std::vector<std::string>& overrides, const ModelCameraRigs& rigs,
-                             Scene& s) {
+                             Scene& s, Texts texts) {
   const toml::table empty;
   const auto camera_table = [&](const toml::table& root) -> const toml::table& {
     const toml::node* n = root.get("camera");
@@ -727,7 +732,7 @@ CameraSpec read_scene_camera(const TableReader& top, const toml::table& original
   const toml::table& ct = cn ? *cn : empty;
   CameraSpec cam =
       read_camera(TableReader(ct, "camera"), size, s.model_cameras, preset_overridden, &s.warnings);
-  s.camera_toml = to_toml_text(ct);
+  if (texts == Texts::Keep) s.camera_toml = to_toml_text(ct);
   if (cam.shutter_close <= cam.shutter_open && cam.shutter_open == 0) return cam;
   const auto camera_at = [&](double t) {
     const toml::table r2 = at_frame(original, overrides, s.frame + t);
@@ -750,10 +755,10 @@ CameraSpec read_scene_camera(const TableReader& top, const toml::table& original
 Scene build_frame(toml::table& root, const toml::table& original,
                   const std::vector<AnimatedKey>& animation, const fs::path& file,
                   const std::vector<std::string>& overrides, double frame, Build build,
-                  const Scene* loaded) {
+                  const Scene* loaded, Texts texts) {
   const Scene* view_from = build == Build::View ? loaded : nullptr;
   Scene s;
-  apply_frame_keys(root, animation, overrides, frame, s);
+  apply_frame_keys(root, animation, overrides, frame, s, texts);
   s.path = file.string();
   Context c;
   c.dir = file.parent_path();
@@ -767,7 +772,7 @@ Scene build_frame(toml::table& root, const toml::table& original,
     complete_gltf_view(root, lender ? *lender : s, s.model_cameras, s.render);
     s.effective_toml = to_toml_text(root);
   }
-  CameraSpec cam = read_scene_camera(top, original, overrides, rigs, s);
+  CameraSpec cam = read_scene_camera(top, original, overrides, rigs, s, texts);
   if (build == Build::Full) pose_scene(s, frame);
   s.camera = std::make_unique<VirtualCamera>(std::move(cam.parts), cam.dof);
   for (const std::string& w : s.camera->coin_warnings()) s.warnings.push_back("camera." + w);
@@ -776,13 +781,14 @@ Scene build_frame(toml::table& root, const toml::table& original,
 }
 
 Scene build_scene(toml::table root, const fs::path& file, const std::vector<std::string>& overrides,
-                  double frame, Build build = Build::Full, const Scene* loaded = nullptr) {
+                  double frame, Build build = Build::Full, const Scene* loaded = nullptr,
+                  Texts texts = Texts::Keep) {
   // Copies lose their source positions, so the main build works on `root` itself, whose errors
   // point into the files.
   const toml::table original = root;
   const std::vector<AnimatedKey> animation = take_animation(root);
   try {
-    return build_frame(root, original, animation, file, overrides, frame, build, loaded);
+    return build_frame(root, original, animation, file, overrides, frame, build, loaded, texts);
   } catch (const SceneError& e) {
     throw at_animate_entry(e, animation, overrides, frame);
   }
@@ -893,6 +899,58 @@ Scene load_view_from_string(const std::string& text, const fs::path& name,
     }
     return build_scene(parse_scene_text(text, name), name, overrides, frame, Build::View, &loaded);
   });
+}
+
+struct ViewTemplate::Parsed {
+  toml::table root;
+  std::vector<std::string> without;
+};
+
+namespace {
+
+// Whether the dotted `key` ("camera.constraint.0.uv") lies in one of the tables `without`.
+bool under_any(const std::string& key, const std::vector<std::string>& without) {
+  return std::any_of(without.begin(), without.end(), [&](const std::string& w) {
+    return key == w || key.starts_with(w + ".") || key.starts_with(w + "[");
+  });
+}
+
+}  // namespace
+
+ViewTemplate::ViewTemplate(const std::string& text, const fs::path& name,
+                           const std::vector<std::string>& without)
+    : parsed_(std::make_unique<Parsed>()), name_(name) {
+  parsed_->root = parse_scene_text(text, name);
+  parsed_->without = without;
+  std::vector<std::string> other;
+  for (const auto& [key, node] : parsed_->root)
+    if (key != "image" && key != "render" && key != "camera" && key != "animate" &&
+        key != "animation")
+      other.emplace_back(key.str());
+  for (const std::string& k : other) parsed_->root.erase(k);
+  for (const std::string& k : without) remove_path(parsed_->root, k);
+  // [[animate]] entries of the tables taken out go with them.
+  toml::array* animate = parsed_->root.get_as<toml::array>("animate");
+  if (!animate || without.empty()) return;
+  const auto under_removed = [&](const toml::node& e) {
+    const toml::table* t = e.as_table();
+    const toml::value<std::string>* k = t ? t->get_as<std::string>("key") : nullptr;
+    return k && under_any(k->get(), without);
+  };
+  for (size_t i = animate->size(); i-- > 0;)
+    if (under_removed(*animate->get(i))) animate->erase(animate->begin() + std::ptrdiff_t(i));
+  if (animate->empty()) parsed_->root.erase("animate");
+}
+
+ViewTemplate::~ViewTemplate() = default;
+
+Scene ViewTemplate::build(const std::vector<std::string>& overrides, double frame,
+                          const Scene& loaded) const {
+  // (Overrides of the tables taken out go with them.)
+  std::vector<std::string> kept;
+  for (const std::string& o : overrides)
+    if (!under_any(o.substr(0, o.find('=')), parsed_->without)) kept.push_back(o);
+  return build_scene(parsed_->root, name_, kept, frame, Build::View, &loaded, Texts::Skip);
 }
 
 }  // namespace anamorph

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -48,5 +49,24 @@ void check_scene_frame(const std::filesystem::path& file, const std::vector<std:
 Scene load_view_from_string(const std::string& text, const std::filesystem::path& name,
                             const std::vector<std::string>& overrides, double frame,
                             const Scene& loaded);
+
+// A scene's view (image, render, camera, animate) parsed once and built many times with different
+// overrides: the solver's cameras (src/solve). `build` is load_view_from_string of the text
+// without the tables `without` (dotted keys, e.g. "camera.coin") and without the scene's texts
+// (effective_toml, camera_toml) or its read files (inputs). Throws SceneError as it does.
+class ViewTemplate {
+ public:
+  ViewTemplate(const std::string& text, const std::filesystem::path& name,
+               const std::vector<std::string>& without = {});
+  ~ViewTemplate();
+  ViewTemplate(const ViewTemplate&) = delete;
+  ViewTemplate& operator=(const ViewTemplate&) = delete;
+  Scene build(const std::vector<std::string>& overrides, double frame, const Scene& loaded) const;
+
+ private:
+  struct Parsed;
+  std::unique_ptr<Parsed> parsed_;
+  std::filesystem::path name_;
+};
 
 }  // namespace anamorph

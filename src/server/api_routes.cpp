@@ -123,6 +123,7 @@ HttpResponse pick(Editor& ed, const ApiCall& c) {
     j["normal"] = vec3_json(r->normal);
     j["distance"] = r->distance;
     j["object"] = r->object;
+    if (!r->box.empty()) j["box"] = {vec3_json(r->box.lo), vec3_json(r->box.hi)};
   }
   return json_response(200, j);
 }

@@ -57,6 +57,7 @@ struct PickResult {
   Vec3 position, normal;
   double distance = 0;
   uint32_t object = 0;
+  Bounds3 box;  // the hit object's world bounding box (empty: unbounded, an infinite plane)
 };
 
 class Editor {

@@ -12,6 +12,10 @@
 
 namespace anamorph::server {
 
+namespace {
+Bounds3 record_box(const Accel::Record& rec);
+}  // namespace
+
 std::optional<PickResult> Editor::pick(Vec2 uv, int64_t version) {
   PickResult r;
   const bool ok = preview_.with_state(version, 10, [&](const Scene& s, const Renderer& renderer) {
@@ -27,6 +31,7 @@ std::optional<PickResult> Editor::pick(Vec2 uv, int64_t version) {
     r.normal = h.ns;
     r.distance = h.t;
     r.object = h.object_id;
+    r.box = record_box(renderer.accel().record(h.object_id));
   });
   if (!ok) return std::nullopt;
   return r;
@@ -145,6 +150,26 @@ std::optional<Bounds3> shape_box(const AnalyticShape& s) {
       break;
   }
   return std::nullopt;
+}
+
+// The world bounding box of a top-level geometry (empty for an infinite plane).
+Bounds3 record_box(const Accel::Record& rec) {
+  using K = Accel::Record::Kind;
+  Bounds3 b;
+  if (rec.kind == K::Shape && rec.shape) {
+    if (auto sb = shape_box(*rec.shape)) b = world_box(*sb, rec.world_from_object);
+    return b;
+  }
+  const auto add = [&](const TriangleMesh& m, const Transform* xf) {
+    for (const Vec3f& p : m.positions) {
+      const Vec3 q{p.x, p.y, p.z};
+      b.extend(xf ? xf->point(q) : q);
+    }
+  };
+  if (rec.kind == K::FlatMesh && rec.mesh) add(*rec.mesh, nullptr);
+  if (rec.kind == K::Instance && rec.proto)
+    for (const TriangleMesh& m : rec.proto->meshes) add(m, &rec.world_from_object);
+  return b;
 }
 
 std::vector<Bounds3> object_boxes(const Scene& s) {

@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "params/toml_parse.h"
 #include "scene/camera_goals.h"
 #include "scene/scene_loader.h"
-#include "scene/toml_edit.h"
 #include "scene/toml_reader.h"
 #include "solve/free_params.h"
 #include "solve/goals.h"
@@ -24,41 +24,40 @@ bool is_coin_key(const std::string& override_or_key) {
   return override_or_key.starts_with("camera.coin.") || override_or_key.starts_with("camera.coin=");
 }
 
-// The scene's top-level keys load_view reads (scene/scene_loader.h).
-bool is_view_table(std::string_view key) {
-  return key == "image" || key == "render" || key == "camera" || key == "animate" ||
-         key == "include";
-}
+// Cameras at given free values, built by the scene reader from the text parsed once
+// (ViewTemplate). The last few are kept: Ceres asks for each residual block at the same points in
+// turn (the point and its 2n central differences), so each camera is built once per Jacobian, not
+// once per block.
+// The goals' tables, which the camera does not read (read again at every build, they would cost a
+// tenth of it).
+const std::vector<std::string> kGoalTables = {"camera.constraint", "camera.free", "camera.solve"};
 
-// Cameras at given free values, built by the scene reader. The last few are kept: Ceres asks for
-// each residual block at the same points in turn (the point and its 2n central differences), so
-// each camera is built once per Jacobian, not once per block.
 class CameraBuilder {
  public:
   CameraBuilder(const SolveInput& in, const FreeValues& free, bool plain)
-      : in_(in), free_(free), plain_(plain), capacity_(2 * free.scalars.size() + 2) {
-    // Only what load_view reads: each build parses less than the whole scene.
-    toml::table t = parse_toml(in.text, in.file.string());
-    std::vector<std::string> other;
-    for (const auto& [key, node] : t)
-      if (!is_view_table(key.str())) other.emplace_back(key.str());
-    for (const std::string& k : other) t.erase(k);
-    text_ = to_toml_text(t);
-    if (!plain) return;
-    remove_path(t, "camera.coin");
-    plain_text_ = to_toml_text(t);
+      : in_(in),
+        free_(free),
+        plain_(plain),
+        capacity_(2 * free.scalars.size() + 2),
+        view_(in.text, in.file, kGoalTables) {
+    std::vector<std::string> without = kGoalTables;
+    without.emplace_back("camera.coin");
+    if (plain) plain_view_.emplace(in.text, in.file, without);
   }
 
-  // Null when the reader refuses the values (the solver then takes a shorter step).
-  const CameraPair* at(const double* x) {
+  // Null when the reader refuses the values (the solver then takes a shorter step). Valid until
+  // 2n + 2 other values were asked for.
+  const CameraPair* at(const double* x) { return hold(x).get(); }
+  // The same, kept alive as long as the caller holds it.
+  std::shared_ptr<const CameraPair> hold(const double* x) {
     const std::vector<double> xs(x, x + free_.scalars.size());
-    for (const Built& b : cache_)
-      if (b.x == xs) return b.ok ? &b.pair : nullptr;
+    for (const std::shared_ptr<Built>& b : cache_)
+      if (b->x == xs) return pair_of(b);
     if (cache_.size() < capacity_) cache_.emplace_back();
-    Built& b = cache_[next_];
+    std::shared_ptr<Built>& b = cache_[next_];
     next_ = (next_ + 1) % capacity_;
-    b = build(xs);
-    return b.ok ? &b.pair : nullptr;
+    b = std::make_shared<Built>(build(xs));
+    return pair_of(b);
   }
 
  private:
@@ -69,19 +68,21 @@ class CameraBuilder {
     CameraPair pair;
   };
 
+  static std::shared_ptr<const CameraPair> pair_of(const std::shared_ptr<Built>& b) {
+    return b->ok ? std::shared_ptr<const CameraPair>(b, &b->pair) : nullptr;
+  }
+
   Built build(const std::vector<double>& xs) const {
     Built b;
     b.x = xs;
     try {
       std::vector<std::string> o = in_.overrides;
       for (std::string& s : free_.overrides(xs)) o.push_back(std::move(s));
-      b.camera =
-          std::make_unique<Scene>(load_view_from_string(text_, in_.file, o, in_.frame, models()));
+      b.camera = std::make_unique<Scene>(view_.build(o, in_.frame, models()));
       b.pair = {b.camera->camera.get(), nullptr};
       if (plain_) {
         std::erase_if(o, is_coin_key);
-        b.plain = std::make_unique<Scene>(
-            load_view_from_string(plain_text_, in_.file, o, in_.frame, models()));
+        b.plain = std::make_unique<Scene>(plain_view_->build(o, in_.frame, models()));
         b.pair.plain = b.plain->camera.get();
       }
       b.ok = true;
@@ -96,8 +97,9 @@ class CameraBuilder {
   const FreeValues& free_;
   bool plain_;
   size_t capacity_;
-  std::string text_, plain_text_;
-  std::vector<Built> cache_;
+  ViewTemplate view_;
+  std::optional<ViewTemplate> plain_view_;
+  std::vector<std::shared_ptr<Built>> cache_;
   size_t next_ = 0;
 };
 
@@ -115,6 +117,59 @@ struct GoalCost {
   }
 };
 
+// Pins and keep: the residuals of GoalCost, their Jacobian by image_position_derivative (one
+// search for each point's image position, at x; then the rays at that position through the
+// cameras at x -+ h, analytic in the image position) instead of differences of the inverse map.
+class PointCost : public ceres::CostFunction {
+ public:
+  PointCost(const Goals& goals, size_t index, CameraBuilder& builder, int n)
+      : goals_(goals), index_(index), builder_(builder), goal_(goals.point_goal(index)) {
+    set_num_residuals(goals.residual_count(index));
+    mutable_parameter_block_sizes()->push_back(n);
+  }
+
+  bool Evaluate(double const* const* p, double* r, double** jac) const override {
+    const std::shared_ptr<const CameraPair> c0 = builder_.hold(p[0]);
+    if (!c0) return false;
+    goals_.residuals(index_, *c0, r);
+    for (int k = 0; k < num_residuals(); ++k)
+      if (!std::isfinite(r[k])) return false;
+    if (!jac || !jac[0]) return true;
+    const double w = goals_.width(), h = goals_.height(), unseen = 2 * std::max(w, h);
+    const int n = parameter_block_sizes()[0];
+    std::vector<double> x(p[0], p[0] + n);
+    for (int j = 0; j < n; ++j) {
+      const double x0 = x[size_t(j)], step = 1e-6 * (x0 == 0 ? 1 : std::abs(x0));  // (as Ceres')
+      x[size_t(j)] = x0 + step;
+      std::shared_ptr<const CameraPair> hi = builder_.hold(x.data());
+      x[size_t(j)] = x0 - step;
+      std::shared_ptr<const CameraPair> lo = builder_.hold(x.data());
+      x[size_t(j)] = x0;
+      const double span = (hi ? step : 0) + (lo ? step : 0);  // one-sided where one is refused
+      if (!hi) hi = c0;
+      if (!lo) lo = c0;
+      for (size_t k = 0; k < goal_.points.size(); ++k) {
+        double* row = jac[0] + 2 * k * size_t(n) + size_t(j);
+        Vec2 d{0, 0};
+        if (r[2 * k] != unseen || r[2 * k + 1] != unseen) {
+          const Vec2 uv{goal_.targets[k].x + r[2 * k] / w, goal_.targets[k].y + r[2 * k + 1] / h};
+          if (!image_position_derivative(*c0->camera, *lo->camera, *hi->camera, span,
+                                         goal_.points[k], uv, &d))
+            return false;
+        }
+        row[0] = d.x * w, row[size_t(n)] = d.y * h;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Goals& goals_;
+  size_t index_;
+  CameraBuilder& builder_;
+  Goals::PointGoal goal_;
+};
+
 struct Run {
   std::vector<double> x;
   int iterations = 0;
@@ -129,10 +184,16 @@ Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const 
   const int n = int(x0.size());
   ceres::Problem problem;
   for (size_t i : subset) {
-    auto* cost = new ceres::DynamicNumericDiffCostFunction<GoalCost, ceres::CENTRAL>(
-        new GoalCost{&goals, i, &builder});
-    cost->AddParameterBlock(n);
-    cost->SetNumResiduals(goals.residual_count(i));
+    ceres::CostFunction* cost = nullptr;
+    if (!goals.point_goal(i).points.empty()) {
+      cost = new PointCost(goals, i, builder, n);
+    } else {
+      auto* numeric = new ceres::DynamicNumericDiffCostFunction<GoalCost, ceres::CENTRAL>(
+          new GoalCost{&goals, i, &builder});
+      numeric->AddParameterBlock(n);
+      numeric->SetNumResiduals(goals.residual_count(i));
+      cost = numeric;
+    }
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
     if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);

@@ -100,7 +100,32 @@ void circle_distances(const std::vector<Vec2>& p, Vec2 centre, double* r) {
   for (size_t i = 0; i < p.size(); ++i) r[i] = length(p[i] - centre) - mean;
 }
 
+// F = (p - org) x dir of a ray and its derivative along (dorg, ddir).
+Vec3 off_ray(const Vec3& p, const CameraRay& r) { return cross(p - r.org, r.dir); }
+Vec3 off_ray_d(const Vec3& p, const CameraRay& r, const Vec3& dorg, const Vec3& ddir) {
+  return cross(-dorg, r.dir) + cross(p - r.org, ddir);
+}
+
 }  // namespace
+
+bool image_position_derivative(const Camera& cam, const Camera& minus, const Camera& plus,
+                               double step, const Vec3& p, Vec2 uv, Vec2* duv_dk) {
+  CameraSample cs;
+  cs.uv = uv;
+  const std::optional<CameraRay> r = cam.generate(cs), lo = minus.generate(cs),
+                                 hi = plus.generate(cs);
+  if (!r || !lo || !hi || !(step > 0)) return false;
+  const Vec3 fu = off_ray_d(p, *r, r->dorg_du, r->ddir_du);
+  const Vec3 fv = off_ray_d(p, *r, r->dorg_dv, r->ddir_dv);
+  const Vec3 fk = (off_ray(p, *hi) - off_ray(p, *lo)) * (1 / step);
+  // The normal equations of [fu fv] duv = -fk.
+  const double a = dot(fu, fu), b = dot(fu, fv), c = dot(fv, fv);
+  const double det = a * c - b * b;
+  if (!(det > 1e-24 * a * c) || !std::isfinite(det)) return false;
+  const double gu = -dot(fu, fk), gv = -dot(fv, fk);
+  *duv_dk = {(c * gu - b * gv) / det, (a * gv - b * gu) / det};
+  return std::isfinite(duv_dk->x) && std::isfinite(duv_dk->y);
+}
 
 Goals::Goals(const CameraGoals& goals, const Scene& loaded, const Camera& start, int width,
              int height)
@@ -146,6 +171,13 @@ bool Goals::needs_plain() const {
   for (const Item& it : items_)
     if (it.c.kind == "magnification") return true;
   return false;
+}
+
+Goals::PointGoal Goals::point_goal(size_t i) const {
+  const Item& it = items_[i];
+  if (it.c.kind == "pin") return {{it.point}, {it.uv}};
+  if (it.c.kind == "keep") return {it.samples, it.at};
+  return {};
 }
 
 const char* Goals::unit(size_t i) const {

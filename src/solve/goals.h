@@ -20,6 +20,15 @@ struct CameraPair {
   const Camera* plain = nullptr;
 };
 
+// How the image position `uv` of the world point `p` (where `cam` shows it) moves with a camera
+// key k, by the implicit function theorem: p stays on the ray at uv, F(uv, k) = (p - org) x dir =
+// 0, so dF/duv duv/dk = -dF/dk, solved in least squares (F has 3 components of rank 2). dF/duv is
+// analytic: the camera's ray differentials at uv. dF/dk is the difference of the rays at the same
+// uv through `minus` and `plus` (the camera with the key at k - h1 and k + h2) over `step` (h1 +
+// h2). False when a camera has no ray at uv or the rays do not decide duv (dF/duv singular).
+bool image_position_derivative(const Camera& cam, const Camera& minus, const Camera& plus,
+                               double step, const Vec3& p, Vec2 uv, Vec2* duv_dk);
+
 class Goals {
  public:
   // Points named by objects are their bounding boxes' centres in `loaded`; keep's samples are
@@ -37,6 +46,15 @@ class Goals {
   // not see its point) and its unit.
   double measure(size_t i, const CameraPair& cam) const;
   const char* unit(size_t i) const;
+  // Pins and keep: the world points whose image positions are the residuals (pixels from
+  // `targets`, u then v, in order); empty for the other kinds.
+  struct PointGoal {
+    std::vector<Vec3> points;
+    std::vector<Vec2> targets;
+  };
+  PointGoal point_goal(size_t i) const;
+  int width() const { return width_; }
+  int height() const { return height_; }
   bool needs_plain() const;
 
  private:

@@ -13,6 +13,7 @@ anamorph_add_test(test_server
   ${CMAKE_CURRENT_LIST_DIR}/api_preview_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_camera_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_solve_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/solve_jacobian_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_declarations_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/api_fuzz_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/document_test.cpp
