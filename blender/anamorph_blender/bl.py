@@ -582,6 +582,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
         if renderlayer.use_pass_normal:
             self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+        if renderlayer.use_pass_object_index:
+            self.register_pass(scene, renderlayer, "IndexOB", 1, "X", "VALUE")
+        if getattr(renderlayer, "anamorph_albedo", False):
+            self.register_pass(scene, renderlayer, "Albedo", 3, "RGB", "COLOR")
 
     def render(self, depsgraph):
         global last_error
@@ -610,14 +614,17 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
                 self.report({"WARNING"}, "anamorph: " + w)
             self.update_stats("anamorph", "loading")
             loaded = am.load(path)
-            self._render_loaded(loaded, depsgraph.view_layer_eval)
+            self._render_loaded(loaded, depsgraph)
         finally:
             if not keep:
                 shutil.rmtree(folder, ignore_errors=True)
 
-    def _render_loaded(self, loaded, view_layer):
+    def _render_loaded(self, loaded, depsgraph):
+        view_layer = depsgraph.view_layer_eval
         aovs = [a for a, on in (("depth", view_layer.use_pass_z),
-                                ("normal", view_layer.use_pass_normal)) if on]
+                                ("normal", view_layer.use_pass_normal),
+                                ("albedo", getattr(view_layer, "anamorph_albedo", False)),
+                                ("id", view_layer.use_pass_object_index)) if on]
         start = time.monotonic()
 
         def progress(p):
@@ -628,6 +635,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
                 p["pass"], p["passes"], time.monotonic() - start))
 
         img = loaded.render(aovs=aovs, progress=progress)
+        if "id" in img:
+            img["id"] = _pass_indices(img["id"], loaded.info()["objects"], depsgraph)
         self._write_result(img, view_layer)
 
     def _write_result(self, img, view_layer):
@@ -647,6 +656,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             n = np.flipud(img["normal"]).reshape(-1, 3)
             # anamorph's world is glTF's (+Y up): back to Blender's axes.
             layer.passes["Normal"].rect = np.stack([n[:, 0], -n[:, 2], n[:, 1]], axis=1)
+        if "albedo" in img:
+            layer.passes["Albedo"].rect = np.flipud(img["albedo"]).reshape(-1, 3)
+        if "id" in img:
+            layer.passes["IndexOB"].rect = np.flipud(img["id"]).reshape(-1, 1)
         self.end_result(result)
 
     # The viewport (Rendered shading).
@@ -779,6 +792,23 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         gpu.state.blend_set("NONE")
         if log.get("first_drawn") is None:
             log["first_drawn"] = time.monotonic()
+
+
+def _pass_indices(ids, names, depsgraph):
+    """The IndexOB pass of anamorph's `id` layer (H, W, 1): each pixel's object id becomes the
+    Pass Index of the Blender object it came from (the exported glTF node carries the object's
+    name; `names` are the scene's objects by id), 0 where nothing is hit, as Cycles."""
+    index = {ob.name: ob.pass_index for ob in depsgraph.objects}
+    prefix = scene_toml.MESH_OBJECT + "/"
+
+    def pass_index(name):
+        name = name[len(prefix):] if name.startswith(prefix) else name
+        ob = bpy.data.objects.get(name)  # an instanced object's own (not in depsgraph.objects)
+        return float(index.get(name, ob.pass_index if ob is not None else 0))
+
+    table = np.array([0.0] + [pass_index(n) for n in names], dtype=np.float32)
+    ids = np.asarray(ids)
+    return table[np.where(ids >= 0, ids + 1, 0).astype(np.int64)]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1028,6 +1058,34 @@ class ANAMORPH_PT_render(bpy.types.Panel):
         _draw_group(self.layout.column(), context.scene.anamorph)
 
 
+class ANAMORPH_PT_passes(bpy.types.Panel):
+    """The passes anamorph writes into the render result (View Layer Properties > Passes)."""
+
+    bl_label = "anamorph"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "view_layer"
+    bl_parent_id = "VIEWLAYER_PT_layer_passes"
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine == "ANAMORPH"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        vl = context.view_layer
+        col = layout.column()
+        col.prop(vl, "use_pass_z", text="Depth (distance)")
+        col.prop(vl, "use_pass_normal")
+        col.prop(vl, "anamorph_albedo")
+        col.prop(vl, "use_pass_object_index")
+
+
+def _passes_changed(view_layer, _context):
+    view_layer.update_render_passes()  # the compositor's Render Layers node gets its sockets
+
+
 class ANAMORPH_OT_add_coin(bpy.types.Operator):
     """Add an empty as a center of interest of this camera (at the camera's view axis, 2 m out)"""
 
@@ -1060,7 +1118,7 @@ def add_coin(cam_ob, local_position, name="coin"):
 
 
 _STATIC = [AnamorphPreferences, AnamorphRenderEngine, ANAMORPH_PT_camera, ANAMORPH_PT_coin,
-           ANAMORPH_PT_render, ANAMORPH_OT_add_coin]
+           ANAMORPH_PT_render, ANAMORPH_PT_passes, ANAMORPH_OT_add_coin]
 
 
 def _panels_for_engine(add):
@@ -1082,6 +1140,10 @@ def register():
     for cls in _STATIC:
         bpy.utils.register_class(cls)
     _panels_for_engine(True)
+    bpy.types.ViewLayer.anamorph_albedo = bpy.props.BoolProperty(
+        name="Albedo", default=False, update=_passes_changed,
+        description="anamorph's albedo layer as the pass 'Albedo': the base colour of the first "
+        "surface hit (mean over the pixel's samples that hit one), 0 where nothing is hit")
     if not bpy.app.timers.is_registered(_serve_main_queue):
         bpy.app.timers.register(_serve_main_queue, first_interval=0.02, persistent=True)
     try:
@@ -1097,7 +1159,7 @@ def unregister():
         bpy.app.timers.unregister(_serve_main_queue)
     _panels_for_engine(False)
     for attr, owner in (("anamorph", bpy.types.Camera), ("anamorph_coin", bpy.types.Object),
-                        ("anamorph", bpy.types.Scene)):
+                        ("anamorph", bpy.types.Scene), ("anamorph_albedo", bpy.types.ViewLayer)):
         if hasattr(owner, attr):
             delattr(owner, attr)
     while _classes:

@@ -68,6 +68,11 @@ def _table(lines, header, values, fmt):
     lines.append("")
 
 
+# The [[object]] of the exported meshes: anamorph names its glTF nodes "blender/<node>", the
+# node being the Blender object's name (the object index pass looks them up).
+MESH_OBJECT = "blender"
+
+
 def write(scene, fmt):
     """TOML text of `scene`: {image, render, camera, coins, environment, mesh_file, lights}.
     `fmt` is anamorph's TOML formatter (anamorph._toml: key(), value()), the one the Python
@@ -87,7 +92,7 @@ def write(scene, fmt):
     if scene.get("environment"):
         _table(lines, "[environment]", scene["environment"], fmt)
     if scene.get("mesh_file"):
-        _table(lines, "[[object]]", {"type": "mesh", "file": scene["mesh_file"],
+        _table(lines, "[[object]]", {"type": "mesh", "name": MESH_OBJECT, "file": scene["mesh_file"],
                                      "lights": False, "cameras": False, "animation": False},
                fmt)
     for light in scene["lights"]:
