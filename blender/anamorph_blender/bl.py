@@ -3,6 +3,7 @@
 A new Blender API is one place to change: this module. Tested with Debian 12's Blender 3.4.1.
 """
 
+import hashlib
 import math
 import os
 import queue
@@ -515,7 +516,8 @@ def _z_only_mapping(m):
         scale[0] > 0 and abs(scale[1] - scale[0]) < 1e-6 and abs(scale[2] - scale[0]) < 1e-6
 
 
-def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, folder=None):
+def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, folder=None,
+               meshes=None):
     """The scene as scene_toml.write takes it (the meshes exported to stem.glb unless `export`
     is False: the viewport exports later, outside its update) and warnings. Images anamorph
     reads from files (a packed or generated HDRI) are written into `folder` (default: stem's).
@@ -524,7 +526,8 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, f
     animated values. The viewport (export False) reads them from the original data: its
     depsgraph's copies kept the values they had when the viewport began (seen: a preset and a
     coin's strength set afterwards did not reach them), and Blender writes the current frame's
-    animated values into the originals anyway."""
+    animated values into the originals anyway. `meshes`, when given, replaces the export: it
+    returns the mesh file's name (or None)."""
     src = (lambda x: x) if export else (lambda x: x.original)
     scene = depsgraph.scene_eval
     if scene.camera is None:
@@ -539,7 +542,8 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, f
         "camera": _camera_table(scene.camera, width, height, src),
         "coins": _coins(depsgraph, scene.camera, src),
         "environment": _environment(scene.world, warnings, folder or os.path.dirname(stem)),
-        "mesh_file": os.path.basename(stem + ".glb") if export and main_thread_call(
+        "mesh_file": meshes() if meshes is not None else os.path.basename(stem + ".glb")
+        if export and main_thread_call(
             lambda: _export_glb(stem + ".glb", scene.original.name, frame,
                                 scene.frame_subframe), should_stop) else None,
         "lights": _lights(depsgraph, warnings),
@@ -554,11 +558,150 @@ def write_toml(data, path):
     return path
 
 
-def build_scene(depsgraph, folder, frame, should_stop=lambda: False):
-    """Writes frame_NNNN.toml (and .glb) into `folder`; returns (toml path, warnings)."""
+# The final render's last export: {"fingerprint", "path"} (the .glb), reused by the next frame
+# (or render) whose meshes export the same; and the frames exported, for scripts and tests.
+_last_export = {}
+render_exports = []
+
+
+def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=None):
+    """Writes frame_NNNN.toml into `folder` and, unless the meshes export as the last frame's
+    did (mesh_fingerprint), frame_NNNN.glb into `glb_folder` (default `folder`; another one is
+    the add-on's own, where the previous .glb is removed); returns (toml path, warnings). A
+    frame that reuses a .glb names the earlier one (relative to `folder`)."""
     stem = os.path.join(folder, "frame_%04d" % frame)
-    data, warnings = scene_data(depsgraph, stem, frame, should_stop)
+    prune = glb_folder is not None
+    glb_folder = os.path.normpath(os.path.abspath(glb_folder or folder))
+
+    def meshes():
+        fingerprint = mesh_fingerprint(depsgraph)
+        last = _last_export.get("path")
+        if not (_last_export.get("fingerprint") == fingerprint and last
+                and os.path.dirname(last) == glb_folder and os.path.isfile(last)):
+            if prune and last and os.path.dirname(last) == glb_folder:
+                os.remove(last)
+            _last_export.clear()
+            last = os.path.join(glb_folder, "frame_%04d.glb" % frame)
+            scene = depsgraph.scene_eval
+            has = main_thread_call(lambda: _export_glb(
+                last, scene.original.name, frame, scene.frame_subframe), should_stop)
+            del render_exports[:-100]
+            render_exports.append(frame)
+            if not has:
+                return None
+            _last_export.update(fingerprint=fingerprint, path=last)
+        return os.path.relpath(last, folder)
+
+    data, warnings = scene_data(depsgraph, stem, frame, should_stop, meshes=meshes)
     return write_toml(data, stem + ".toml"), warnings
+
+
+_EXPORTED_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+
+
+def mesh_fingerprint(depsgraph):
+    """A digest of everything the glTF export of the render's meshes holds: each renderable
+    instance's name, placement and evaluated mesh (vertices, faces, smoothing, UVs, colour
+    attributes, material slots) and its materials' settings and node trees. Equal digests:
+    the export would be the same file, so an animation frame where only the camera, coins,
+    lights, empties or the world move reuses the last one. Image sequences and movies on a
+    material change with the frame: they add the frame."""
+    h = hashlib.sha1()
+    materials = {}
+    for inst in depsgraph.object_instances:
+        ob = inst.object
+        if ob.type not in _EXPORTED_TYPES:
+            continue
+        h.update(repr((ob.name, inst.is_instance, [tuple(r) for r in inst.matrix_world])).encode())
+        _hash_mesh(h, ob)
+        for slot in ob.material_slots:
+            h.update(repr((slot.link, slot.name)).encode())
+            if slot.material is not None:
+                materials[slot.material.name] = slot.material
+    for name in sorted(materials):
+        _hash_rna(h, materials[name], depth=0)
+        tree = materials[name].node_tree
+        if tree is not None and _hash_tree(h, tree):
+            h.update(repr(depsgraph.scene_eval.frame_current).encode())
+    return h.hexdigest()
+
+
+def _hash_mesh(h, ob):
+    mesh = ob.data if ob.type == "MESH" else None
+    owned = mesh is None
+    if owned:
+        try:
+            mesh = ob.to_mesh()
+        except RuntimeError:
+            return
+    try:
+        if mesh is None:
+            return
+        for seq, attr, width, dtype in (
+                (mesh.vertices, "co", 3, np.float32), (mesh.loops, "vertex_index", 1, np.int32),
+                (mesh.polygons, "loop_start", 1, np.int32),
+                (mesh.polygons, "material_index", 1, np.int32),
+                (mesh.polygons, "use_smooth", 1, bool), (mesh.edges, "use_edge_sharp", 1, bool)):
+            a = np.empty(len(seq) * width, dtype=dtype)
+            seq.foreach_get(attr, a)
+            h.update(a.tobytes())
+        for layer in mesh.uv_layers:
+            a = np.empty(len(layer.data) * 2, dtype=np.float32)
+            layer.data.foreach_get("uv", a)
+            h.update(layer.name.encode() + a.tobytes())
+        for attr in mesh.attributes:
+            if attr.data_type in {"FLOAT_COLOR", "BYTE_COLOR"}:
+                a = np.empty(len(attr.data) * 4, dtype=np.float32)
+                attr.data.foreach_get("color", a)
+                h.update(attr.name.encode() + a.tobytes())
+        h.update(repr((mesh.use_auto_smooth, mesh.auto_smooth_angle,
+                       mesh.has_custom_normals)).encode())
+        if mesh.has_custom_normals:
+            mesh.calc_normals_split()
+            a = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+            mesh.loops.foreach_get("normal", a)
+            h.update(a.tobytes())
+    finally:
+        if owned:
+            ob.to_mesh_clear()
+
+
+_SIMPLE = {"BOOLEAN", "INT", "FLOAT", "STRING", "ENUM"}
+
+
+def _hash_rna(h, struct, depth):
+    """Every plain property of `struct` (and an image's file and state)."""
+    for p in struct.bl_rna.properties:
+        if p.type in _SIMPLE and p.identifier != "rna_type":
+            v = getattr(struct, p.identifier, None)
+            h.update(repr((p.identifier, tuple(v) if hasattr(v, "__len__") and not
+                           isinstance(v, str) else v)).encode())
+        elif p.type == "POINTER" and depth == 0 and p.identifier != "rna_type":
+            v = getattr(struct, p.identifier, None)
+            if isinstance(v, bpy.types.Image):
+                h.update(repr((v.name, v.filepath, v.source, v.is_dirty,
+                               v.packed_file is not None)).encode())
+
+
+def _hash_tree(h, tree):
+    """A node tree's nodes, their inputs and links; True when it shows an image sequence or a
+    movie (which change with the frame)."""
+    moving = False
+    for node in sorted(tree.nodes, key=lambda n: n.name):
+        h.update(repr((node.name, node.bl_idname)).encode())
+        _hash_rna(h, node, depth=0)
+        for sock in node.inputs:
+            v = getattr(sock, "default_value", None)
+            h.update(repr((sock.identifier, tuple(v) if hasattr(v, "__len__") and not
+                           isinstance(v, str) else v)).encode())
+        image = getattr(node, "image", None)
+        moving |= image is not None and image.source in {"SEQUENCE", "MOVIE"}
+        if getattr(node, "node_tree", None) is not None:  # a group
+            moving |= _hash_tree(h, node.node_tree)
+    for link in tree.links:
+        h.update(repr((link.from_node.name, link.from_socket.identifier, link.to_node.name,
+                       link.to_socket.identifier, link.is_muted)).encode())
+    return moving
 
 
 # ---------------------------------------------------------------------------------------------
@@ -609,7 +752,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         try:
             self.update_stats("anamorph", "exporting the scene")
             path, warnings = build_scene(depsgraph, folder, scene.frame_current,
-                                         lambda: break_requested(self))
+                                         lambda: break_requested(self),
+                                         None if keep else _glb_cache())
             for w in warnings:
                 self.report({"WARNING"}, "anamorph: " + w)
             self.update_stats("anamorph", "loading")
@@ -792,6 +936,17 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         gpu.state.blend_set("NONE")
         if log.get("first_drawn") is None:
             log["first_drawn"] = time.monotonic()
+
+
+_glb_cache_folder = []
+
+
+def _glb_cache():
+    """The add-on's folder for the final render's last .glb when no scene folder is kept (a
+    frame's own folder is removed after it): removed when the add-on is disabled."""
+    if not _glb_cache_folder or not os.path.isdir(_glb_cache_folder[0]):
+        _glb_cache_folder[:] = [tempfile.mkdtemp(prefix="anamorph-blender-meshes-")]
+    return _glb_cache_folder[0]
 
 
 def _pass_indices(ids, names, depsgraph):
@@ -1155,6 +1310,10 @@ def register():
 
 
 def unregister():
+    for folder in _glb_cache_folder:
+        shutil.rmtree(folder, ignore_errors=True)
+    _glb_cache_folder.clear()
+    _last_export.clear()
     if bpy.app.timers.is_registered(_serve_main_queue):
         bpy.app.timers.unregister(_serve_main_queue)
     _panels_for_engine(False)
