@@ -12,6 +12,7 @@ import tempfile
 import threading
 import time
 import traceback
+import weakref
 
 import bpy
 import mathutils
@@ -825,9 +826,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         """The scene changed. Camera, coins, lights, world and settings are read again at once
         and the preview restarts here (not at the next draw: under Xvfb's software OpenGL a
         window's frame took 0.5 s, bench/blender/run); the meshes are exported again only when
-        geometry, shading or a mesh's placement changed, on the add-on's timer (an operator
-        cannot run inside a depsgraph update: the exporter's view layer update would wait for
-        it forever), which restarts the preview with the view last drawn."""
+        geometry, shading or a mesh's placement changed: by _export_after_update, which Blender
+        runs just before this (an operator cannot run inside view_update: the exporter's view
+        layer update would wait for it forever), or, for the first export, on the add-on's
+        timer; either restarts the preview with the view last drawn."""
         preview = self._preview()
         try:
             data, _ = scene_data(depsgraph, "", 0, export=False, folder=preview.folder)
@@ -837,28 +839,26 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             return
         data["mesh_file"] = (preview.latest or {}).get("mesh_file")
         preview.latest = data
-        if preview.exports and not _meshes_changed(depsgraph):
+        preview.scene_name = depsgraph.scene_eval.original.name
+        preview.engine = self
+        # Exported by _export_after_update (which restarts the preview) for this update, or
+        # being exported there (the exporter's own update calls this again meanwhile).
+        handled = _exporting or preview.exported_now
+        preview.exported_now = preview.exported_now and bool(_exporting)
+        if preview.exports and (handled or not _meshes_changed(depsgraph)):
             if data != preview.data:
                 preview.data, preview.key = data, None
                 self._restart_last_view(preview, data)
                 self.tag_redraw()
             return
         preview.exports += 1
-        token, scene_name = preview.exports, depsgraph.scene_eval.original.name
+        token, scene_name = preview.exports, preview.scene_name
 
         def export():
             if token != preview.exports:  # a newer update superseded this one
                 return
-            preview.stop()
-            stem = os.path.join(preview.folder, "view_%d" % token)
-            for name in os.listdir(preview.folder):
-                if name.endswith(".glb"):
-                    os.remove(os.path.join(preview.folder, name))
-            del viewport_exports[:-20]
-            viewport_exports.append(time.monotonic())
-            has_meshes = _export_glb(stem + ".glb", scene_name, 0, 0.0, set_frame=False)
             latest = dict(preview.latest)
-            latest["mesh_file"] = os.path.basename(stem + ".glb") if has_meshes else None
+            latest["mesh_file"] = preview.export(scene_name)
             preview.data = preview.latest = latest
             preview.key = None
             self._restart_last_view(preview, latest)
@@ -979,6 +979,38 @@ viewport_log = []
 viewport_exports = []
 
 
+# The open viewports' previews (for _export_after_update).
+_live_previews = weakref.WeakSet()
+_exporting = []
+
+
+@bpy.app.handlers.persistent
+def _export_after_update(scene, depsgraph):
+    """Exports the meshes of each open preview of `scene` when this depsgraph update changed
+    them, right after the update and before the engine's view_update (which then restarts the
+    preview with the file): not through the add-on's timer, which Blender runs only after it
+    has drawn the window (0.2-0.7 s under Xvfb, bench/blender/run). Blender runs these handlers
+    after evaluating the depsgraph and before telling the editors, and evaluates once more when
+    a handler changed something; an operator inside view_update itself deadlocked (seen)."""
+    previews = [p for p in list(_live_previews) if p.exports and p.scene_name == scene.name
+                and p.latest is not None and p.engine is not None]
+    if not previews or _exporting or not _meshes_changed(depsgraph):
+        return
+    _exporting.append(True)
+    try:
+        for p in previews:
+            p.exports += 1
+            p.data = p.latest = dict(p.latest, mesh_file=p.export(scene.name))
+            p.exported_now, p.key = True, None
+            try:
+                p.engine._restart_last_view(p, p.data)
+                p.engine.tag_redraw()
+            except ReferenceError:  # the engine was freed (the viewport closed)
+                pass
+    finally:
+        _exporting.clear()
+
+
 class _Preview:
     """One viewport's progressive preview: a thread renders VIEWPORT_PASSES of a scene file,
     the newest image is drawn; a restart cancels the thread at its next progress report."""
@@ -996,6 +1028,25 @@ class _Preview:
         self.exports = 0
         self.latest = None  # the newest scene_data, its mesh_file the last export's
         self.view = None  # (width, height, camera or None: data's own) of the running preview
+        self.scene_name = None  # the scene it shows
+        self.glb = None  # the last export's file
+        # Whether _export_after_update exported for the view_update that follows it.
+        self.exported_now = False
+        self.engine = None  # the engine of the last view_update
+        _live_previews.add(self)
+
+    def export(self, scene_name):
+        """Exports the scene's meshes into a new view_N.glb; its name (None: no meshes). Older
+        files go, but the last one: a preview thread just started may still be loading it."""
+        self.glbs = getattr(self, "glbs", 0) + 1
+        path = os.path.join(self.folder, "view_%d.glb" % self.glbs)
+        for name in os.listdir(self.folder):
+            if name.endswith(".glb") and os.path.join(self.folder, name) != self.glb:
+                os.remove(os.path.join(self.folder, name))
+        del viewport_exports[:-20]
+        viewport_exports.append(time.monotonic())
+        self.glb = path if _export_glb(path, scene_name, 0, 0.0, set_frame=False) else None
+        return os.path.basename(path) if self.glb else None
 
     def stop(self):
         """Cancels the running preview and waits for its thread (before its files go)."""
@@ -1053,6 +1104,8 @@ class _Preview:
                 pass
 
     def close(self):
+        _live_previews.discard(self)
+        self.engine = None
         self.stop()
         shutil.rmtree(self.folder, ignore_errors=True)
 
@@ -1299,6 +1352,8 @@ def register():
         name="Albedo", default=False, update=_passes_changed,
         description="anamorph's albedo layer as the pass 'Albedo': the base colour of the first "
         "surface hit (mean over the pixel's samples that hit one), 0 where nothing is hit")
+    if _export_after_update not in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.append(_export_after_update)
     if not bpy.app.timers.is_registered(_serve_main_queue):
         bpy.app.timers.register(_serve_main_queue, first_interval=0.02, persistent=True)
     try:
@@ -1310,6 +1365,8 @@ def register():
 
 
 def unregister():
+    if _export_after_update in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.remove(_export_after_update)
     for folder in _glb_cache_folder:
         shutil.rmtree(folder, ignore_errors=True)
     _glb_cache_folder.clear()
