@@ -76,13 +76,13 @@ def show_panel():
     bpy.context.view_layer.objects.active = cam
 
 
-def panel_picture():
+def panel_picture(name="panel.png"):
     """A picture of the camera's data tab, with the anamorph section."""
     win = bpy.context.window_manager.windows[0]
     area = max(win.screen.areas, key=lambda a: a.width * a.height)
     area.spaces[0].context = "DATA"  # the space exists once the area has been redrawn
     area.tag_redraw()
-    path = os.path.join(common.OUT, "panel.png")
+    path = os.path.join(common.OUT, name)
     with bpy.context.temp_override(window=win, screen=win.screen, area=area):
         bpy.ops.screen.screenshot_area(filepath=path)
     return path
@@ -213,6 +213,15 @@ def step():
     if state["phase"] == "picture":
         path = panel_picture()
         common.check(os.path.getsize(path) > 0, "the panel's picture: %s" % path)
+        # The org/dir functions' section: a cylinder's surface, rays along its normal.
+        settings = cam.data.anamorph
+        settings.preset, settings.org_type, settings.dir_type = "FUNCTIONS", "cylinder", "normal"
+        state["phase"] = "functions_picture"
+        return 1.0
+    if state["phase"] == "functions_picture":
+        path = panel_picture("panel_functions.png")
+        common.check(os.path.getsize(path) > 0, "the org/dir panel's picture: %s" % path)
+        cam.data.anamorph.preset = "fisheye"
         viewport_area().type = "VIEW_3D"
         state["phase"] = "viewport"
         return 0.5
