@@ -157,7 +157,7 @@ def _register_declared(am):
 # Scene transfer
 
 
-def _export_glb(path, scene_name, frame, subframe, set_frame=True):
+def _export_glb(path, scene_name, frame, subframe, set_frame=True, only=None):
     """The scene's renderable meshes and materials at `frame`, modifiers applied, by Blender's
     own glTF exporter. False when there is no mesh to export.
 
@@ -166,22 +166,32 @@ def _export_glb(path, scene_name, frame, subframe, set_frame=True):
     to the frame: its objects then hold that frame's animated values, also in an animation
     rendered from Blender's window and after a script edited them since the last frame change.
     The viewport exports the scene as it is (set_frame False: setting the frame would update the
-    depsgraph, and so the viewport again)."""
+    depsgraph, and so the viewport again). `only`: the names of the objects to export (through
+    the exporter's selection; the user's selection is restored)."""
     scene = bpy.data.scenes[scene_name]
     if set_frame:
         scene.frame_set(frame, subframe=subframe)
     if not any(o.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"} and not o.hide_render
-               for o in scene.objects):
+               and (only is None or o.name in only) for o in scene.objects):
         return False
     override = {"scene": scene}
     window = next((w for w in bpy.context.window_manager.windows if w.scene == scene), None)
     if window is not None:  # the exporter asks for the active object: a window's context has it
         override["window"] = window
     with bpy.context.temp_override(**override):
-        bpy.ops.export_scene.gltf(
-            filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
-            export_lights=False, export_animations=False, export_current_frame=True,
-            export_extras=False, use_renderable=True, export_yup=True, check_existing=False)
+        objects = bpy.context.view_layer.objects
+        selected = {o.name for o in objects if o.select_get()} if only is not None else None
+        try:
+            for o in objects if only is not None else ():
+                o.select_set(o.name in only)
+            bpy.ops.export_scene.gltf(
+                filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
+                export_lights=False, export_animations=False, export_current_frame=True,
+                export_extras=False, use_renderable=True, use_selection=only is not None,
+                export_yup=True, check_existing=False)
+        finally:
+            for o in objects if only is not None else ():
+                o.select_set(o.name in selected)
     glb_default.patch(path)
     return True
 
@@ -528,7 +538,7 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, f
     depsgraph's copies kept the values they had when the viewport began (seen: a preset and a
     coin's strength set afterwards did not reach them), and Blender writes the current frame's
     animated values into the originals anyway. `meshes`, when given, replaces the export: it
-    returns the mesh file's name (or None)."""
+    returns the mesh files with their transforms (scene_toml.write's mesh_objects)."""
     src = (lambda x: x) if export else (lambda x: x.original)
     scene = depsgraph.scene_eval
     if scene.camera is None:
@@ -543,7 +553,8 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, f
         "camera": _camera_table(scene.camera, width, height, src),
         "coins": _coins(depsgraph, scene.camera, src),
         "environment": _environment(scene.world, warnings, folder or os.path.dirname(stem)),
-        "mesh_file": meshes() if meshes is not None else os.path.basename(stem + ".glb")
+        "mesh_objects": meshes() if meshes is not None else None,
+        "mesh_file": None if meshes is not None else os.path.basename(stem + ".glb")
         if export and main_thread_call(
             lambda: _export_glb(stem + ".glb", scene.original.name, frame,
                                 scene.frame_subframe), should_stop) else None,
@@ -566,35 +577,72 @@ render_exports = []
 
 
 def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=None):
-    """Writes frame_NNNN.toml into `folder` and, unless the meshes export as the last frame's
-    did (mesh_fingerprint), frame_NNNN.glb into `glb_folder` (default `folder`; another one is
-    the add-on's own, where the previous .glb is removed); returns (toml path, warnings). A
-    frame that reuses a .glb names the earlier one (relative to `folder`)."""
+    """Writes frame_NNNN.toml into `folder` and the meshes' .glb files into `glb_folder`
+    (default `folder`; another one is the add-on's own, where files no longer named are
+    removed); returns (toml path, warnings).
+
+    The meshes are exported again only as far as what the export holds changed since the last
+    frame (mesh_fingerprint). Nothing changed: the frame names the last files. Only placements
+    of objects changed (a transform-only frame): each object that moved is exported alone, once
+    (frame_NNNN_K.glb, at its placement then), the others again together without them; from then
+    on, the frame names those files, each moved object's file with its `transform` from where
+    it was exported to where it is now. Anything else: one export of everything
+    (frame_NNNN.glb)."""
     stem = os.path.join(folder, "frame_%04d" % frame)
     prune = glb_folder is not None
     glb_folder = os.path.normpath(os.path.abspath(glb_folder or folder))
+    scene = depsgraph.scene_eval
+
+    def export(path, only=None):
+        del render_exports[:-100]
+        render_exports.append(frame)
+        return main_thread_call(lambda: _export_glb(
+            path, scene.original.name, frame, scene.frame_subframe, only=only), should_stop)
 
     def meshes():
-        fingerprint = mesh_fingerprint(depsgraph)
-        last = _last_export.get("path")
-        if not (_last_export.get("fingerprint") == fingerprint and last
-                and os.path.dirname(last) == glb_folder and os.path.isfile(last)):
-            if prune and last and os.path.dirname(last) == glb_folder:
-                os.remove(last)
-            _last_export.clear()
-            last = os.path.join(glb_folder, "frame_%04d.glb" % frame)
-            scene = depsgraph.scene_eval
-            has = main_thread_call(lambda: _export_glb(
-                last, scene.original.name, frame, scene.frame_subframe), should_stop)
-            del render_exports[:-100]
-            render_exports.append(frame)
-            if not has:
-                return None
-            _last_export.update(fingerprint=fingerprint, path=last)
-        return os.path.relpath(last, folder)
+        digest, matrices = mesh_fingerprint(depsgraph)
+        last = _last_export
+        if not (last.get("digest") == digest and last["names"] == set(matrices)
+                and all(os.path.dirname(f[0]) == glb_folder and os.path.isfile(f[0])
+                        for f in last["files"])):
+            path = os.path.join(glb_folder, "frame_%04d.glb" % frame)
+            files = [(path, None, None)] if export(path) else []
+            last.clear()
+            last.update(digest=digest, names=set(matrices), static=dict(matrices), files=files)
+        else:
+            moved = sorted(n for n, m in last["static"].items() if matrices[n] != m)
+            if moved:
+                rest = {n: m for n, m in last["static"].items() if n not in moved}
+                files = [f for f in last["files"] if f[1] is not None]
+                path = os.path.join(glb_folder, "frame_%04d.glb" % frame)
+                if rest and export(path, set(rest)):
+                    files.insert(0, (path, None, None))
+                for k, name in enumerate(moved):
+                    path = os.path.join(glb_folder, "frame_%04d_%d.glb" % (frame, k + 1))
+                    if export(path, {name}):
+                        files.append((path, name, matrices[name]))
+                last.update(static=rest, files=files)
+        if prune:
+            keep = {f[0] for f in last["files"]}
+            for name in os.listdir(glb_folder):
+                if os.path.join(glb_folder, name) not in keep:
+                    os.remove(os.path.join(glb_folder, name))
+        return [(os.path.relpath(path, folder), None if name is None else
+                 _moved_by(matrices[name], at_export)) for path, name, at_export in last["files"]]
 
     data, warnings = scene_data(depsgraph, stem, frame, should_stop, meshes=meshes)
     return write_toml(data, stem + ".toml"), warnings
+
+
+def _moved_by(now, then):
+    """The `transform.matrix` (16 numbers, row-major, anamorph's axes) that takes an object
+    exported at Blender's world matrix `then` to `now` (rows): C now then^-1 C^-1, C the glTF
+    axes (scene_toml.GLTF_FROM_BLENDER), in double precision."""
+    c = np.eye(4)
+    c[:3, :3] = scene_toml.GLTF_FROM_BLENDER
+    m = c @ np.array(now, dtype=np.float64) @ np.linalg.inv(np.array(then, dtype=np.float64)) \
+        @ c.T
+    return [float(v) for v in m.ravel()]
 
 
 _EXPORTED_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
@@ -606,14 +654,22 @@ def mesh_fingerprint(depsgraph):
     attributes, material slots) and its materials' settings and node trees. Equal digests:
     the export would be the same file, so an animation frame where only the camera, coins,
     lights, empties or the world move reuses the last one. Image sequences and movies on a
-    material change with the frame: they add the frame."""
+    material change with the frame: they add the frame. Returns (the digest, {name: world
+    matrix rows} of the objects that can be exported alone (no instances in the scene, no
+    parent or children): their placements are not in the digest (build_scene compares them),
+    every other placement is."""
     h = hashlib.sha1()
-    materials = {}
+    materials, matrices = {}, {}
+    alone = not any(inst.is_instance for inst in depsgraph.object_instances)
     for inst in depsgraph.object_instances:
         ob = inst.object
         if ob.type not in _EXPORTED_TYPES:
             continue
-        h.update(repr((ob.name, inst.is_instance, [tuple(r) for r in inst.matrix_world])).encode())
+        rows = tuple(tuple(r) for r in inst.matrix_world)
+        single = alone and ob.parent is None and not ob.children
+        h.update(repr((ob.name, inst.is_instance, None if single else rows)).encode())
+        if single:
+            matrices[ob.name] = rows
         _hash_mesh(h, ob)
         for slot in ob.material_slots:
             h.update(repr((slot.link, slot.name)).encode())
@@ -624,7 +680,7 @@ def mesh_fingerprint(depsgraph):
         tree = materials[name].node_tree
         if tree is not None and _hash_tree(h, tree):
             h.update(repr(depsgraph.scene_eval.frame_current).encode())
-    return h.hexdigest()
+    return h.hexdigest(), matrices
 
 
 def _hash_mesh(h, ob):

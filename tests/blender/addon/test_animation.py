@@ -2,7 +2,8 @@
 Blender shows equals, bit for bit, `anamorph render` of the scene file the add-on kept for that
 frame; the coin's position and keyframed strength follow the empty, the exported sphere is
 where Blender has it at that frame, and the frames differ. Frames where only the coin moves
-reuse the last frame's meshes (no export), a keyframed material colour exports them again."""
+reuse the last frame's meshes (no export), a keyframed material colour exports them again; a
+frame where only the sphere moves exports nothing more once the sphere has a file of its own."""
 
 import os
 import subprocess
@@ -61,12 +62,11 @@ for frame in (1, 2, 3):
                                 % (diff[0], mine[tuple(diff[0])], ref[tuple(diff[0])])))
     images.append(mine)
     scene.frame_set(frame)
-    doc, _ = gltf_inspect.read_glb(os.path.join(keep, "frame_%04d.glb" % frame))
-    node = next(n for n in doc["nodes"] if n["name"] == "Sphere")
     want = [sphere.location.x, sphere.location.z, -sphere.location.y]
-    got = node.get("translation", [0, 0, 0])
-    common.check(max(abs(a - b) for a, b in zip(got, want)) < 1e-6,
-                 "frame %d: the exported sphere at %s, Blender's %s" % (frame, got, want))
+    got, file = common.exported_translation(toml, "Sphere")
+    common.check(got is not None and max(abs(a - b) for a, b in zip(got, want)) < 1e-6,
+                 "frame %d: the scene file places the sphere (%s) at %s, Blender's %s"
+                 % (frame, file, got, want))
     strength = coins[0]["strength"]
     expect = {1: 0.6, 2: 0.5, 3: 0.4}[frame]
     common.check(abs(strength - expect) < 1e-6,
@@ -78,8 +78,16 @@ common.check(abs(xs[1] - xs[0] - 1.5) < 1e-5 and abs(xs[2] - xs[1] - 1.5) < 1e-5
 common.check(not np.array_equal(images[0], images[1]) and not np.array_equal(images[1],
                                                                             images[2]),
              "the frames differ")
-common.check(bl.render_exports[-3:] == [1, 2, 3], "the moving sphere: frames 1, 2 and 3 "
-             "exported (%s)" % bl.render_exports)
+# Transform-only frames: frame 2 exports the floor and the moved sphere apart (two exports),
+# frame 3 exports nothing: its scene file moves frame 2's sphere by a transform.
+common.check(bl.render_exports == [1, 2, 2], "the moving sphere: exports at frames %s (frame "
+             "1 everything, frame 2 the floor and the sphere apart, frame 3 none)"
+             % bl.render_exports)
+with open(os.path.join(keep, "frame_0003.toml"), "rb") as f:
+    objects = tomllib.load(f)["object"]
+common.check([o["file"] for o in objects] == ["frame_0002.glb", "frame_0002_1.glb"]
+             and "transform" not in objects[0] and "transform" in objects[1],
+             "frame 3 names frame 2's files, the sphere's with a transform: %s" % objects)
 
 # Frames 4-7: the sphere stays at frame 3's place and the coin moves on; the sphere gets a
 # material at frame 4 whose base colour is keyframed to change at frame 7. Only frames 4 (the
