@@ -600,38 +600,49 @@ def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=
             path, scene.original.name, frame, scene.frame_subframe, only=only), should_stop)
 
     def meshes():
-        digest, matrices = mesh_fingerprint(depsgraph)
-        last = _last_export
-        if not (last.get("digest") == digest and last["names"] == set(matrices)
-                and all(os.path.dirname(f[0]) == glb_folder and os.path.isfile(f[0])
-                        for f in last["files"])):
-            path = os.path.join(glb_folder, "frame_%04d.glb" % frame)
-            files = [(path, None, None)] if export(path) else []
-            last.clear()
-            last.update(digest=digest, names=set(matrices), static=dict(matrices), files=files)
-        else:
-            moved = sorted(n for n, m in last["static"].items() if matrices[n] != m)
-            if moved:
-                rest = {n: m for n, m in last["static"].items() if n not in moved}
-                files = [f for f in last["files"] if f[1] is not None]
-                path = os.path.join(glb_folder, "frame_%04d.glb" % frame)
-                if rest and export(path, set(rest)):
-                    files.insert(0, (path, None, None))
-                for k, name in enumerate(moved):
-                    path = os.path.join(glb_folder, "frame_%04d_%d.glb" % (frame, k + 1))
-                    if export(path, {name}):
-                        files.append((path, name, matrices[name]))
-                last.update(static=rest, files=files)
-        if prune:
-            keep = {f[0] for f in last["files"]}
-            for name in os.listdir(glb_folder):
-                if os.path.join(glb_folder, name) not in keep:
-                    os.remove(os.path.join(glb_folder, name))
-        return [(os.path.relpath(path, folder), None if name is None else
-                 _moved_by(matrices[name], at_export)) for path, name, at_export in last["files"]]
+        return mesh_files(_last_export, depsgraph, glb_folder, folder, "frame_%04d" % frame,
+                          export, prune)
 
     data, warnings = scene_data(depsgraph, stem, frame, should_stop, meshes=meshes)
     return write_toml(data, stem + ".toml"), warnings
+
+
+def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune):
+    """The .glb files holding the meshes of `depsgraph`, with the transform of each (None, or
+    the `transform.matrix` taking an object from where it was exported to where it is now):
+    [(path relative to `folder`, matrix)]. Exports (`export(path, only)`: True when it wrote
+    meshes) only what changed since `last` (this state, updated; build_scene says how) into
+    `glb_folder` as STEM.glb and STEM_K.glb; `prune` removes the .glb files there named
+    neither now nor the time before."""
+    digest, matrices = mesh_fingerprint(depsgraph)
+    if not (last.get("digest") == digest and last["names"] == set(matrices)
+            and all(os.path.dirname(f[0]) == glb_folder and os.path.isfile(f[0])
+                    for f in last["files"])):
+        path = os.path.join(glb_folder, stem + ".glb")
+        files = [(path, None, None)] if export(path, None) else []
+        last.clear()
+        last.update(digest=digest, names=set(matrices), static=dict(matrices), files=files)
+    else:
+        moved = sorted(n for n, m in last["static"].items() if matrices[n] != m)
+        if moved:
+            rest = {n: m for n, m in last["static"].items() if n not in moved}
+            files = [f for f in last["files"] if f[1] is not None]
+            path = os.path.join(glb_folder, stem + ".glb")
+            if rest and export(path, set(rest)):
+                files.insert(0, (path, None, None))
+            for k, name in enumerate(moved):
+                path = os.path.join(glb_folder, "%s_%d.glb" % (stem, k + 1))
+                if export(path, {name}):
+                    files.append((path, name, matrices[name]))
+            last.update(static=rest, files=files)
+    if prune:  # (the files named before too: a viewport's thread may just be loading them)
+        now = {f[0] for f in last["files"]}
+        keep, last["named"] = now | last.get("named", set()), now
+        for name in os.listdir(glb_folder):
+            if name.endswith(".glb") and os.path.join(glb_folder, name) not in keep:
+                os.remove(os.path.join(glb_folder, name))
+    return [(os.path.relpath(path, folder), None if name is None else
+             _moved_by(matrices[name], at_export)) for path, name, at_export in last["files"]]
 
 
 def _moved_by(now, then):
@@ -893,7 +904,7 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             preview.data = preview.latest = None
             self.report({"ERROR"}, str(e))
             return
-        data["mesh_file"] = (preview.latest or {}).get("mesh_file")
+        data["mesh_objects"] = (preview.latest or {}).get("mesh_objects")
         preview.latest = data
         preview.scene_name = depsgraph.scene_eval.original.name
         preview.engine = self
@@ -914,7 +925,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             if token != preview.exports:  # a newer update superseded this one
                 return
             latest = dict(preview.latest)
-            latest["mesh_file"] = preview.export(scene_name)
+            latest["mesh_objects"] = preview.mesh_objects(
+                bpy.context.evaluated_depsgraph_get(), scene_name)
             preview.data = preview.latest = latest
             preview.key = None
             self._restart_last_view(preview, latest)
@@ -1056,8 +1068,11 @@ def _export_after_update(scene, depsgraph):
     try:
         for p in previews:
             p.exports += 1
-            p.data = p.latest = dict(p.latest, mesh_file=p.export(scene.name))
-            p.exported_now, p.key = True, None
+            p.latest = dict(p.latest, mesh_objects=p.mesh_objects(depsgraph, scene.name))
+            p.exported_now = True
+            if p.latest == p.data:  # nothing the preview shows changed (e.g. a selection)
+                continue
+            p.data, p.key = p.latest, None
             try:
                 p.engine._restart_last_view(p, p.data)
                 p.engine.tag_redraw()
@@ -1082,27 +1097,27 @@ class _Preview:
         self.threads = []  # the running preview's thread last, cancelled ones before it
         self.count = 0
         self.exports = 0
-        self.latest = None  # the newest scene_data, its mesh_file the last export's
+        self.latest = None  # the newest scene_data, its mesh_objects the last export's
         self.view = None  # (width, height, camera or None: data's own) of the running preview
         self.scene_name = None  # the scene it shows
-        self.glb = None  # the last export's file
+        self.meshes = {}  # mesh_files' state
+        self.glbs = 0
         # Whether _export_after_update exported for the view_update that follows it.
         self.exported_now = False
         self.engine = None  # the engine of the last view_update
         _live_previews.add(self)
 
-    def export(self, scene_name):
-        """Exports the scene's meshes into a new view_N.glb; its name (None: no meshes). Older
-        files go, but the last one: a preview thread just started may still be loading it."""
-        self.glbs = getattr(self, "glbs", 0) + 1
-        path = os.path.join(self.folder, "view_%d.glb" % self.glbs)
-        for name in os.listdir(self.folder):
-            if name.endswith(".glb") and os.path.join(self.folder, name) != self.glb:
-                os.remove(os.path.join(self.folder, name))
-        del viewport_exports[:-20]
-        viewport_exports.append(time.monotonic())
-        self.glb = path if _export_glb(path, scene_name, 0, 0.0, set_frame=False) else None
-        return os.path.basename(path) if self.glb else None
+    def mesh_objects(self, depsgraph, scene_name):
+        """The meshes' files (mesh_files) for `depsgraph`, exported as far as they changed:
+        a moved object is exported alone once, then placed by a transform."""
+        def export(path, only):
+            del viewport_exports[:-20]
+            viewport_exports.append(time.monotonic())
+            return _export_glb(path, scene_name, 0, 0.0, set_frame=False, only=only)
+
+        self.glbs += 1
+        return mesh_files(self.meshes, depsgraph, self.folder, self.folder,
+                          "view_glb_%d" % self.glbs, export, True)
 
     def stop(self):
         """Cancels the running preview and waits for its thread (before its files go)."""

@@ -165,8 +165,32 @@ def viewport_step():
         common.check(len(bl.viewport_exports) == state["exports"] + 1,
                      "moving the cube exported the meshes once (%d exports)"
                      % (len(bl.viewport_exports) - state["exports"]))
-        common.check(not np.array_equal(area_picture("viewport_move.png"), state["before"]),
+        after = area_picture("viewport_move.png")
+        common.check(not np.array_equal(after, state["before"]),
                      "the viewport shows the moved cube (the picture changed)")
+        state.update(exports=len(bl.viewport_exports), before=after)
+        bpy.data.objects["Cube"].location.x += 0.5
+        state.update(phase="move_again", t_move=time.monotonic())
+    elif phase == "move_again" and preview_done(state["t_move"]):
+        # The cube has a file of its own now: moved again, the preview places it by a transform.
+        common.check(len(bl.viewport_exports) == state["exports"],
+                     "moving the cube again exported nothing (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        after = area_picture("viewport_move_again.png")
+        common.check(not np.array_equal(after, state["before"]),
+                     "the viewport shows the cube moved again (the picture changed)")
+        state["before"] = after
+        mesh = bpy.data.objects["Cube"].data
+        for v in mesh.vertices:
+            v.co.z *= 1.5
+        mesh.update()
+        state.update(phase="reshape", t_move=time.monotonic())
+    elif phase == "reshape" and preview_done(state["t_move"]):
+        common.check(len(bl.viewport_exports) == state["exports"] + 1,
+                     "editing the cube's vertices exported the meshes once (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        common.check(not np.array_equal(area_picture("viewport_reshape.png"), state["before"]),
+                     "the viewport shows the reshaped cube (the picture changed)")
         state["exports"] = len(bl.viewport_exports)
         viewport_area().spaces.active.region_3d.view_perspective = "PERSP"
         state.update(phase="orbit", t_orbit=time.monotonic())
@@ -224,7 +248,8 @@ def step():
         viewport_area().type = "VIEW_3D"
         state["phase"] = "viewport"
         return 0.5
-    if state["phase"].startswith("viewport") or state["phase"] in {"edit", "move", "orbit"}:
+    if state["phase"].startswith("viewport") or state["phase"] in {
+            "edit", "move", "move_again", "reshape", "orbit"}:
         return viewport_step()
     if time.monotonic() - state["t0"] > 120:
         common.fail("the render from the window did not finish in 120 s")
