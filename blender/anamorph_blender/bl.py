@@ -614,26 +614,31 @@ def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune):
     meshes) only what changed since `last` (this state, updated; build_scene says how) into
     `glb_folder` as STEM.glb and STEM_K.glb; `prune` removes the .glb files there named
     neither now nor the time before."""
-    digest, matrices = mesh_fingerprint(depsgraph)
-    if not (last.get("digest") == digest and last["names"] == set(matrices)
+    digest, objects = mesh_fingerprint(depsgraph)
+    if not (last.get("digest") == digest and last["names"] == set(objects)
             and all(os.path.dirname(f[0]) == glb_folder and os.path.isfile(f[0])
                     for f in last["files"])):
         path = os.path.join(glb_folder, stem + ".glb")
-        files = [(path, None, None)] if export(path, None) else []
+        files = [(path, None, None, None)] if export(path, None) else []
         last.clear()
-        last.update(digest=digest, names=set(matrices), static=dict(matrices), files=files)
+        last.update(digest=digest, names=set(objects), static=dict(objects), files=files)
     else:
-        moved = sorted(n for n, m in last["static"].items() if matrices[n] != m)
-        if moved:
-            rest = {n: m for n, m in last["static"].items() if n not in moved}
-            files = [f for f in last["files"] if f[1] is not None]
+        # Objects exported with the rest that moved or changed: apart from now on. Objects
+        # apart whose mesh changed: exported again (alone). Those that only moved: transforms.
+        changed = sorted(n for n, o in last["static"].items() if objects[n] != o)
+        redo = {f[1] for f in last["files"] if f[1] is not None and objects[f[1]][1] != f[3]}
+        if changed or redo:
+            rest = {n: o for n, o in last["static"].items() if n not in changed}
+            files = [f for f in last["files"] if f[1] is not None and f[1] not in redo]
             path = os.path.join(glb_folder, stem + ".glb")
-            if rest and export(path, set(rest)):
-                files.insert(0, (path, None, None))
-            for k, name in enumerate(moved):
+            if not changed:
+                files = [f for f in last["files"] if f[1] is None] + files
+            elif rest and export(path, set(rest)):
+                files.insert(0, (path, None, None, None))
+            for k, name in enumerate(changed + sorted(redo)):
                 path = os.path.join(glb_folder, "%s_%d.glb" % (stem, k + 1))
                 if export(path, {name}):
-                    files.append((path, name, matrices[name]))
+                    files.append((path, name) + objects[name])
             last.update(static=rest, files=files)
     if prune:  # (the files named before too: a viewport's thread may just be loading them)
         now = {f[0] for f in last["files"]}
@@ -642,7 +647,7 @@ def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune):
             if name.endswith(".glb") and os.path.join(glb_folder, name) not in keep:
                 os.remove(os.path.join(glb_folder, name))
     return [(os.path.relpath(path, folder), None if name is None else
-             _moved_by(matrices[name], at_export)) for path, name, at_export in last["files"]]
+             _moved_by(objects[name][0], at_export)) for path, name, at_export, _ in last["files"]]
 
 
 def _moved_by(now, then):
@@ -665,10 +670,10 @@ def mesh_fingerprint(depsgraph):
     attributes, material slots) and its materials' settings and node trees. Equal digests:
     the export would be the same file, so an animation frame where only the camera, coins,
     lights, empties or the world move reuses the last one. Image sequences and movies on a
-    material change with the frame: they add the frame. Returns (the digest, {name: world
-    matrix rows} of the objects that can be exported alone (no instances in the scene, no
-    parent or children): their placements are not in the digest (build_scene compares them),
-    every other placement is."""
+    material change with the frame: they add the frame. Returns (the digest, {name: (world
+    matrix rows, digest of its mesh and material slots)} of the objects that can be exported
+    alone (no instances in the scene, no parent or children): their placements and meshes are
+    not in the digest (mesh_files compares them), every other one's are."""
     h = hashlib.sha1()
     materials, matrices = {}, {}
     alone = not any(inst.is_instance for inst in depsgraph.object_instances)
@@ -679,13 +684,14 @@ def mesh_fingerprint(depsgraph):
         rows = tuple(tuple(r) for r in inst.matrix_world)
         single = alone and ob.parent is None and not ob.children
         h.update(repr((ob.name, inst.is_instance, None if single else rows)).encode())
-        if single:
-            matrices[ob.name] = rows
-        _hash_mesh(h, ob)
+        own = hashlib.sha1() if single else h
+        _hash_mesh(own, ob)
         for slot in ob.material_slots:
-            h.update(repr((slot.link, slot.name)).encode())
+            own.update(repr((slot.link, slot.name)).encode())
             if slot.material is not None:
                 materials[slot.material.name] = slot.material
+        if single:
+            matrices[ob.name] = (rows, own.hexdigest())
     for name in sorted(materials):
         _hash_rna(h, materials[name], depth=0)
         tree = materials[name].node_tree
