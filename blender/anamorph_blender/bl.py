@@ -570,8 +570,9 @@ def write_toml(data, path):
     return path
 
 
-# The final render's last export: {"fingerprint", "path"} (the .glb), reused by the next frame
-# (or render) whose meshes export the same; and the frames exported, for scripts and tests.
+# The final render's mesh_files state (the last export's digests and files, reused by the next
+# frame or render as far as its meshes export the same); and the frames that exported, one entry
+# per export (for scripts and tests).
 _last_export = {}
 render_exports = []
 
