@@ -77,6 +77,7 @@ def build(repo):
     box = add(bpy.ops.mesh.primitive_cube_add, mats["column"], size=1,
               location=blender_xyz((0, 3.15, -4)))
     box.scale = (10, 0.8, 0.3)
+    box.name = "box"
     for name, pos, intensity in (("key", (4.0, 6.0, 5.0), (90, 86, 80)),
                                  ("fill", (-5.0, 4.0, 2.0), (18, 20, 26))):
         light = bpy.data.lights.new(name, "POINT")

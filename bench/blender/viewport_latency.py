@@ -11,7 +11,9 @@ has no 3D view to draw, so this runs under xvfb-run. The demo scene is built in 
   drawn of the restarted preview; each edit made after the last preview finished all its
   passes (*idle*) and, again, while the preview renders its 4-spp pass (*busy*: the running
   pass is cancelled first);
-- *mesh edit*: the torus knot moved (the meshes exported again), to the first image drawn.
+- *mesh edit*: the torus knot moved (the first move exports it alone, later ones place it by a
+  transform), to the first image drawn;
+- *vertex edit*: the box's vertices scaled (its geometry changed: the meshes exported again).
 
 Times are time.monotonic() from just before the edit in this script to view_draw's first draw
 of the new preview's image (bl.viewport_log's first_drawn), and where it went: the export, the
@@ -147,9 +149,18 @@ def edit_mesh(i):
     knot.location.x = 0.05 if i % 2 else -0.05
 
 
+def edit_vertices(i):
+    """The cube's vertices scaled up and down (its geometry: exported again)."""
+    mesh = bpy.data.objects["box"].data
+    for v in mesh.vertices:
+        v.co *= 1.02 if i % 2 else 1 / 1.02
+    mesh.update()
+
+
 PLAN = [("camera edit, idle", edit_fov, "idle")] * REPS + \
     [("camera edit, busy", edit_fov, "busy")] * REPS + \
-    [("mesh edit, idle", edit_mesh, "idle")] * REPS
+    [("mesh edit, idle", edit_mesh, "idle")] * REPS + \
+    [("vertex edit, idle", edit_vertices, "idle")] * REPS
 
 
 _last_step = [0.0]

@@ -3,6 +3,7 @@
 A new Blender API is one place to change: this module. Tested with Debian 12's Blender 3.4.1.
 """
 
+import hashlib
 import math
 import os
 import queue
@@ -11,6 +12,7 @@ import tempfile
 import threading
 import time
 import traceback
+import weakref
 
 import bpy
 import mathutils
@@ -155,7 +157,7 @@ def _register_declared(am):
 # Scene transfer
 
 
-def _export_glb(path, scene_name, frame, subframe, set_frame=True):
+def _export_glb(path, scene_name, frame, subframe, set_frame=True, only=None):
     """The scene's renderable meshes and materials at `frame`, modifiers applied, by Blender's
     own glTF exporter. False when there is no mesh to export.
 
@@ -164,22 +166,32 @@ def _export_glb(path, scene_name, frame, subframe, set_frame=True):
     to the frame: its objects then hold that frame's animated values, also in an animation
     rendered from Blender's window and after a script edited them since the last frame change.
     The viewport exports the scene as it is (set_frame False: setting the frame would update the
-    depsgraph, and so the viewport again)."""
+    depsgraph, and so the viewport again). `only`: the names of the objects to export (through
+    the exporter's selection; the user's selection is restored)."""
     scene = bpy.data.scenes[scene_name]
     if set_frame:
         scene.frame_set(frame, subframe=subframe)
     if not any(o.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"} and not o.hide_render
-               for o in scene.objects):
+               and (only is None or o.name in only) for o in scene.objects):
         return False
     override = {"scene": scene}
     window = next((w for w in bpy.context.window_manager.windows if w.scene == scene), None)
     if window is not None:  # the exporter asks for the active object: a window's context has it
         override["window"] = window
     with bpy.context.temp_override(**override):
-        bpy.ops.export_scene.gltf(
-            filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
-            export_lights=False, export_animations=False, export_current_frame=True,
-            export_extras=False, use_renderable=True, export_yup=True, check_existing=False)
+        objects = bpy.context.view_layer.objects
+        selected = {o.name for o in objects if o.select_get()} if only is not None else None
+        try:
+            for o in objects if only is not None else ():
+                o.select_set(o.name in only)
+            bpy.ops.export_scene.gltf(
+                filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
+                export_lights=False, export_animations=False, export_current_frame=True,
+                export_extras=False, use_renderable=True, use_selection=only is not None,
+                export_yup=True, check_existing=False)
+        finally:
+            for o in objects if only is not None else ():
+                o.select_set(o.name in selected)
     glb_default.patch(path)
     return True
 
@@ -515,7 +527,8 @@ def _z_only_mapping(m):
         scale[0] > 0 and abs(scale[1] - scale[0]) < 1e-6 and abs(scale[2] - scale[0]) < 1e-6
 
 
-def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, folder=None):
+def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, folder=None,
+               meshes=None):
     """The scene as scene_toml.write takes it (the meshes exported to stem.glb unless `export`
     is False: the viewport exports later, outside its update) and warnings. Images anamorph
     reads from files (a packed or generated HDRI) are written into `folder` (default: stem's).
@@ -524,7 +537,8 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, f
     animated values. The viewport (export False) reads them from the original data: its
     depsgraph's copies kept the values they had when the viewport began (seen: a preset and a
     coin's strength set afterwards did not reach them), and Blender writes the current frame's
-    animated values into the originals anyway."""
+    animated values into the originals anyway. `meshes`, when given, replaces the export: it
+    returns the mesh files with their transforms (scene_toml.write's mesh_objects)."""
     src = (lambda x: x) if export else (lambda x: x.original)
     scene = depsgraph.scene_eval
     if scene.camera is None:
@@ -539,7 +553,9 @@ def scene_data(depsgraph, stem, frame, should_stop=lambda: False, export=True, f
         "camera": _camera_table(scene.camera, width, height, src),
         "coins": _coins(depsgraph, scene.camera, src),
         "environment": _environment(scene.world, warnings, folder or os.path.dirname(stem)),
-        "mesh_file": os.path.basename(stem + ".glb") if export and main_thread_call(
+        "mesh_objects": meshes() if meshes is not None else None,
+        "mesh_file": None if meshes is not None else os.path.basename(stem + ".glb")
+        if export and main_thread_call(
             lambda: _export_glb(stem + ".glb", scene.original.name, frame,
                                 scene.frame_subframe), should_stop) else None,
         "lights": _lights(depsgraph, warnings),
@@ -554,11 +570,213 @@ def write_toml(data, path):
     return path
 
 
-def build_scene(depsgraph, folder, frame, should_stop=lambda: False):
-    """Writes frame_NNNN.toml (and .glb) into `folder`; returns (toml path, warnings)."""
+# The final render's mesh_files state (the last export's digests and files, reused by the next
+# frame or render as far as its meshes export the same); and the frames that exported, one entry
+# per export (for scripts and tests).
+_last_export = {}
+render_exports = []
+
+
+def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=None):
+    """Writes frame_NNNN.toml into `folder` and the meshes' .glb files into `glb_folder`
+    (default `folder`; another one is the add-on's own, where files no longer named are
+    removed); returns (toml path, warnings).
+
+    The meshes are exported again only as far as what the export holds changed since the last
+    frame (mesh_fingerprint). Nothing changed: the frame names the last files. Only placements
+    of objects changed (a transform-only frame): each object that moved is exported alone, once
+    (frame_NNNN_K.glb, at its placement then), the others again together without them; from then
+    on, the frame names those files, each moved object's file with its `transform` from where
+    it was exported to where it is now. Anything else: one export of everything
+    (frame_NNNN.glb)."""
     stem = os.path.join(folder, "frame_%04d" % frame)
-    data, warnings = scene_data(depsgraph, stem, frame, should_stop)
+    prune = glb_folder is not None
+    glb_folder = os.path.normpath(os.path.abspath(glb_folder or folder))
+    scene = depsgraph.scene_eval
+
+    def export(path, only=None):
+        del render_exports[:-100]
+        render_exports.append(frame)
+        return main_thread_call(lambda: _export_glb(
+            path, scene.original.name, frame, scene.frame_subframe, only=only), should_stop)
+
+    def meshes():
+        return mesh_files(_last_export, depsgraph, glb_folder, folder, "frame_%04d" % frame,
+                          export, prune)
+
+    data, warnings = scene_data(depsgraph, stem, frame, should_stop, meshes=meshes)
     return write_toml(data, stem + ".toml"), warnings
+
+
+def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune):
+    """The .glb files holding the meshes of `depsgraph`, with the transform of each (None, or
+    the `transform.matrix` taking an object from where it was exported to where it is now):
+    [(path relative to `folder`, matrix)]. Exports (`export(path, only)`: True when it wrote
+    meshes) only what changed since `last` (this state, updated; build_scene says how) into
+    `glb_folder` as STEM.glb and STEM_K.glb; `prune` removes the .glb files there named
+    neither now nor the time before."""
+    digest, objects = mesh_fingerprint(depsgraph)
+    if not (last.get("digest") == digest and last["names"] == set(objects)
+            and all(os.path.dirname(f[0]) == glb_folder and os.path.isfile(f[0])
+                    for f in last["files"])):
+        path = os.path.join(glb_folder, stem + ".glb")
+        files = [(path, None, None, None)] if export(path, None) else []
+        last.clear()
+        last.update(digest=digest, names=set(objects), static=dict(objects), files=files)
+    else:
+        # Objects exported with the rest that moved or changed: apart from now on. Objects
+        # apart whose mesh changed: exported again (alone). Those that only moved: transforms.
+        changed = sorted(n for n, o in last["static"].items() if objects[n] != o)
+        redo = {f[1] for f in last["files"] if f[1] is not None and objects[f[1]][1] != f[3]}
+        if changed or redo:
+            rest = {n: o for n, o in last["static"].items() if n not in changed}
+            files = [f for f in last["files"] if f[1] is not None and f[1] not in redo]
+            path = os.path.join(glb_folder, stem + ".glb")
+            if not changed:
+                files = [f for f in last["files"] if f[1] is None] + files
+            elif rest and export(path, set(rest)):
+                files.insert(0, (path, None, None, None))
+            for k, name in enumerate(changed + sorted(redo)):
+                path = os.path.join(glb_folder, "%s_%d.glb" % (stem, k + 1))
+                if export(path, {name}):
+                    files.append((path, name) + objects[name])
+            last.update(static=rest, files=files)
+    if prune:  # (the files named before too: a viewport's thread may just be loading them)
+        now = {f[0] for f in last["files"]}
+        keep, last["named"] = now | last.get("named", set()), now
+        for name in os.listdir(glb_folder):
+            if name.endswith(".glb") and os.path.join(glb_folder, name) not in keep:
+                os.remove(os.path.join(glb_folder, name))
+    return [(os.path.relpath(path, folder), None if name is None else
+             _moved_by(objects[name][0], at_export)) for path, name, at_export, _ in last["files"]]
+
+
+def _moved_by(now, then):
+    """The `transform.matrix` (16 numbers, row-major, anamorph's axes) that takes an object
+    exported at Blender's world matrix `then` to `now` (rows): C now then^-1 C^-1, C the glTF
+    axes (scene_toml.GLTF_FROM_BLENDER), in double precision."""
+    c = np.eye(4)
+    c[:3, :3] = scene_toml.GLTF_FROM_BLENDER
+    m = c @ np.array(now, dtype=np.float64) @ np.linalg.inv(np.array(then, dtype=np.float64)) \
+        @ c.T
+    return [float(v) for v in m.ravel()]
+
+
+_EXPORTED_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+
+
+def mesh_fingerprint(depsgraph):
+    """A digest of everything the glTF export of the render's meshes holds: each renderable
+    instance's name, placement and evaluated mesh (vertices, faces, smoothing, UVs, colour
+    attributes, material slots) and its materials' settings and node trees. Equal digests:
+    the export would be the same file, so an animation frame where only the camera, coins,
+    lights, empties or the world move reuses the last one. Image sequences and movies on a
+    material change with the frame: they add the frame. Returns (the digest, {name: (world
+    matrix rows, digest of its mesh and material slots)} of the objects that can be exported
+    alone (no instances in the scene, no parent or children): their placements and meshes are
+    not in the digest (mesh_files compares them), every other one's are."""
+    h = hashlib.sha1()
+    materials, matrices = {}, {}
+    alone = not any(inst.is_instance for inst in depsgraph.object_instances)
+    for inst in depsgraph.object_instances:
+        ob = inst.object
+        if ob.type not in _EXPORTED_TYPES:
+            continue
+        rows = tuple(tuple(r) for r in inst.matrix_world)
+        single = alone and ob.parent is None and not ob.children
+        h.update(repr((ob.name, inst.is_instance, None if single else rows)).encode())
+        own = hashlib.sha1() if single else h
+        _hash_mesh(own, ob)
+        for slot in ob.material_slots:
+            own.update(repr((slot.link, slot.name)).encode())
+            if slot.material is not None:
+                materials[slot.material.name] = slot.material
+        if single:
+            matrices[ob.name] = (rows, own.hexdigest())
+    for name in sorted(materials):
+        _hash_rna(h, materials[name], depth=0)
+        tree = materials[name].node_tree
+        if tree is not None and _hash_tree(h, tree):
+            h.update(repr(depsgraph.scene_eval.frame_current).encode())
+    return h.hexdigest(), matrices
+
+
+def _hash_mesh(h, ob):
+    mesh = ob.data if ob.type == "MESH" else None
+    owned = mesh is None
+    if owned:
+        try:
+            mesh = ob.to_mesh()
+        except RuntimeError:
+            return
+    try:
+        if mesh is None:
+            return
+        for seq, attr, width, dtype in (
+                (mesh.vertices, "co", 3, np.float32), (mesh.loops, "vertex_index", 1, np.int32),
+                (mesh.polygons, "loop_start", 1, np.int32),
+                (mesh.polygons, "material_index", 1, np.int32),
+                (mesh.polygons, "use_smooth", 1, bool), (mesh.edges, "use_edge_sharp", 1, bool)):
+            a = np.empty(len(seq) * width, dtype=dtype)
+            seq.foreach_get(attr, a)
+            h.update(a.tobytes())
+        for layer in mesh.uv_layers:
+            a = np.empty(len(layer.data) * 2, dtype=np.float32)
+            layer.data.foreach_get("uv", a)
+            h.update(layer.name.encode() + a.tobytes())
+        for attr in mesh.attributes:
+            if attr.data_type in {"FLOAT_COLOR", "BYTE_COLOR"}:
+                a = np.empty(len(attr.data) * 4, dtype=np.float32)
+                attr.data.foreach_get("color", a)
+                h.update(attr.name.encode() + a.tobytes())
+        h.update(repr((mesh.use_auto_smooth, mesh.auto_smooth_angle,
+                       mesh.has_custom_normals)).encode())
+        if mesh.has_custom_normals:
+            mesh.calc_normals_split()
+            a = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+            mesh.loops.foreach_get("normal", a)
+            h.update(a.tobytes())
+    finally:
+        if owned:
+            ob.to_mesh_clear()
+
+
+_SIMPLE = {"BOOLEAN", "INT", "FLOAT", "STRING", "ENUM"}
+
+
+def _hash_rna(h, struct, depth):
+    """Every plain property of `struct` (and an image's file and state)."""
+    for p in struct.bl_rna.properties:
+        if p.type in _SIMPLE and p.identifier != "rna_type":
+            v = getattr(struct, p.identifier, None)
+            h.update(repr((p.identifier, tuple(v) if hasattr(v, "__len__") and not
+                           isinstance(v, str) else v)).encode())
+        elif p.type == "POINTER" and depth == 0 and p.identifier != "rna_type":
+            v = getattr(struct, p.identifier, None)
+            if isinstance(v, bpy.types.Image):
+                h.update(repr((v.name, v.filepath, v.source, v.is_dirty,
+                               v.packed_file is not None)).encode())
+
+
+def _hash_tree(h, tree):
+    """A node tree's nodes, their inputs and links; True when it shows an image sequence or a
+    movie (which change with the frame)."""
+    moving = False
+    for node in sorted(tree.nodes, key=lambda n: n.name):
+        h.update(repr((node.name, node.bl_idname)).encode())
+        _hash_rna(h, node, depth=0)
+        for sock in node.inputs:
+            v = getattr(sock, "default_value", None)
+            h.update(repr((sock.identifier, tuple(v) if hasattr(v, "__len__") and not
+                           isinstance(v, str) else v)).encode())
+        image = getattr(node, "image", None)
+        moving |= image is not None and image.source in {"SEQUENCE", "MOVIE"}
+        if getattr(node, "node_tree", None) is not None:  # a group
+            moving |= _hash_tree(h, node.node_tree)
+    for link in tree.links:
+        h.update(repr((link.from_node.name, link.from_socket.identifier, link.to_node.name,
+                       link.to_socket.identifier, link.is_muted)).encode())
+    return moving
 
 
 # ---------------------------------------------------------------------------------------------
@@ -582,6 +800,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
         if renderlayer.use_pass_normal:
             self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+        if renderlayer.use_pass_object_index:
+            self.register_pass(scene, renderlayer, "IndexOB", 1, "X", "VALUE")
+        if getattr(renderlayer, "anamorph_albedo", False):
+            self.register_pass(scene, renderlayer, "Albedo", 3, "RGB", "COLOR")
 
     def render(self, depsgraph):
         global last_error
@@ -605,19 +827,23 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         try:
             self.update_stats("anamorph", "exporting the scene")
             path, warnings = build_scene(depsgraph, folder, scene.frame_current,
-                                         lambda: break_requested(self))
+                                         lambda: break_requested(self),
+                                         None if keep else _glb_cache())
             for w in warnings:
                 self.report({"WARNING"}, "anamorph: " + w)
             self.update_stats("anamorph", "loading")
             loaded = am.load(path)
-            self._render_loaded(loaded, depsgraph.view_layer_eval)
+            self._render_loaded(loaded, depsgraph)
         finally:
             if not keep:
                 shutil.rmtree(folder, ignore_errors=True)
 
-    def _render_loaded(self, loaded, view_layer):
+    def _render_loaded(self, loaded, depsgraph):
+        view_layer = depsgraph.view_layer_eval
         aovs = [a for a, on in (("depth", view_layer.use_pass_z),
-                                ("normal", view_layer.use_pass_normal)) if on]
+                                ("normal", view_layer.use_pass_normal),
+                                ("albedo", getattr(view_layer, "anamorph_albedo", False)),
+                                ("id", view_layer.use_pass_object_index)) if on]
         start = time.monotonic()
 
         def progress(p):
@@ -628,6 +854,8 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
                 p["pass"], p["passes"], time.monotonic() - start))
 
         img = loaded.render(aovs=aovs, progress=progress)
+        if "id" in img:
+            img["id"] = _pass_indices(img["id"], loaded.info()["objects"], depsgraph)
         self._write_result(img, view_layer)
 
     def _write_result(self, img, view_layer):
@@ -647,6 +875,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             n = np.flipud(img["normal"]).reshape(-1, 3)
             # anamorph's world is glTF's (+Y up): back to Blender's axes.
             layer.passes["Normal"].rect = np.stack([n[:, 0], -n[:, 2], n[:, 1]], axis=1)
+        if "albedo" in img:
+            layer.passes["Albedo"].rect = np.flipud(img["albedo"]).reshape(-1, 3)
+        if "id" in img:
+            layer.passes["IndexOB"].rect = np.flipud(img["id"]).reshape(-1, 1)
         self.end_result(result)
 
     # The viewport (Rendered shading).
@@ -668,9 +900,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         """The scene changed. Camera, coins, lights, world and settings are read again at once
         and the preview restarts here (not at the next draw: under Xvfb's software OpenGL a
         window's frame took 0.5 s, bench/blender/run); the meshes are exported again only when
-        geometry, shading or a mesh's placement changed, on the add-on's timer (an operator
-        cannot run inside a depsgraph update: the exporter's view layer update would wait for
-        it forever), which restarts the preview with the view last drawn."""
+        geometry, shading or a mesh's placement changed: by _export_after_update, which Blender
+        runs just before this (an operator cannot run inside view_update: the exporter's view
+        layer update would wait for it forever), or, for the first export, on the add-on's
+        timer; either restarts the preview with the view last drawn."""
         preview = self._preview()
         try:
             data, _ = scene_data(depsgraph, "", 0, export=False, folder=preview.folder)
@@ -678,30 +911,29 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             preview.data = preview.latest = None
             self.report({"ERROR"}, str(e))
             return
-        data["mesh_file"] = (preview.latest or {}).get("mesh_file")
+        data["mesh_objects"] = (preview.latest or {}).get("mesh_objects")
         preview.latest = data
-        if preview.exports and not _meshes_changed(depsgraph):
+        preview.scene_name = depsgraph.scene_eval.original.name
+        preview.engine = self
+        # Exported by _export_after_update (which restarts the preview) for this update, or
+        # being exported there (the exporter's own update calls this again meanwhile).
+        handled = _exporting or preview.exported_now
+        preview.exported_now = preview.exported_now and bool(_exporting)
+        if preview.exports and (handled or not _meshes_changed(depsgraph)):
             if data != preview.data:
                 preview.data, preview.key = data, None
                 self._restart_last_view(preview, data)
                 self.tag_redraw()
             return
         preview.exports += 1
-        token, scene_name = preview.exports, depsgraph.scene_eval.original.name
+        token, scene_name = preview.exports, preview.scene_name
 
         def export():
             if token != preview.exports:  # a newer update superseded this one
                 return
-            preview.stop()
-            stem = os.path.join(preview.folder, "view_%d" % token)
-            for name in os.listdir(preview.folder):
-                if name.endswith(".glb"):
-                    os.remove(os.path.join(preview.folder, name))
-            del viewport_exports[:-20]
-            viewport_exports.append(time.monotonic())
-            has_meshes = _export_glb(stem + ".glb", scene_name, 0, 0.0, set_frame=False)
             latest = dict(preview.latest)
-            latest["mesh_file"] = os.path.basename(stem + ".glb") if has_meshes else None
+            latest["mesh_objects"] = preview.mesh_objects(
+                bpy.context.evaluated_depsgraph_get(), scene_name)
             preview.data = preview.latest = latest
             preview.key = None
             self._restart_last_view(preview, latest)
@@ -781,6 +1013,34 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             log["first_drawn"] = time.monotonic()
 
 
+_glb_cache_folder = []
+
+
+def _glb_cache():
+    """The add-on's folder for the final render's last .glb when no scene folder is kept (a
+    frame's own folder is removed after it): removed when the add-on is disabled."""
+    if not _glb_cache_folder or not os.path.isdir(_glb_cache_folder[0]):
+        _glb_cache_folder[:] = [tempfile.mkdtemp(prefix="anamorph-blender-meshes-")]
+    return _glb_cache_folder[0]
+
+
+def _pass_indices(ids, names, depsgraph):
+    """The IndexOB pass of anamorph's `id` layer (H, W, 1): each pixel's object id becomes the
+    Pass Index of the Blender object it came from (the exported glTF node carries the object's
+    name; `names` are the scene's objects by id), 0 where nothing is hit, as Cycles."""
+    index = {ob.name: ob.pass_index for ob in depsgraph.objects}
+    prefix = scene_toml.MESH_OBJECT + "/"
+
+    def pass_index(name):
+        name = name[len(prefix):] if name.startswith(prefix) else name
+        ob = bpy.data.objects.get(name)  # an instanced object's own (not in depsgraph.objects)
+        return float(index.get(name, ob.pass_index if ob is not None else 0))
+
+    table = np.array([0.0] + [pass_index(n) for n in names], dtype=np.float32)
+    ids = np.asarray(ids)
+    return table[np.where(ids >= 0, ids + 1, 0).astype(np.int64)]
+
+
 # ---------------------------------------------------------------------------------------------
 # The viewport: Rendered shading, progressive
 
@@ -792,6 +1052,41 @@ VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4), (1.0, 16), (1.0, 64))
 # images), newest last; and the times of the viewport's exports.
 viewport_log = []
 viewport_exports = []
+
+
+# The open viewports' previews (for _export_after_update).
+_live_previews = weakref.WeakSet()
+_exporting = []
+
+
+@bpy.app.handlers.persistent
+def _export_after_update(scene, depsgraph):
+    """Exports the meshes of each open preview of `scene` when this depsgraph update changed
+    them, right after the update and before the engine's view_update (which then restarts the
+    preview with the file): not through the add-on's timer, which Blender runs only after it
+    has drawn the window (0.2-0.7 s under Xvfb, bench/blender/run). Blender runs these handlers
+    after evaluating the depsgraph and before telling the editors, and evaluates once more when
+    a handler changed something; an operator inside view_update itself deadlocked (seen)."""
+    previews = [p for p in list(_live_previews) if p.exports and p.scene_name == scene.name
+                and p.latest is not None and p.engine is not None]
+    if not previews or _exporting or not _meshes_changed(depsgraph):
+        return
+    _exporting.append(True)
+    try:
+        for p in previews:
+            p.exports += 1
+            p.latest = dict(p.latest, mesh_objects=p.mesh_objects(depsgraph, scene.name))
+            p.exported_now = True
+            if p.latest == p.data:  # nothing the preview shows changed (e.g. a selection)
+                continue
+            p.data, p.key = p.latest, None
+            try:
+                p.engine._restart_last_view(p, p.data)
+                p.engine.tag_redraw()
+            except ReferenceError:  # the engine was freed (the viewport closed)
+                pass
+    finally:
+        _exporting.clear()
 
 
 class _Preview:
@@ -809,8 +1104,27 @@ class _Preview:
         self.threads = []  # the running preview's thread last, cancelled ones before it
         self.count = 0
         self.exports = 0
-        self.latest = None  # the newest scene_data, its mesh_file the last export's
+        self.latest = None  # the newest scene_data, its mesh_objects the last export's
         self.view = None  # (width, height, camera or None: data's own) of the running preview
+        self.scene_name = None  # the scene it shows
+        self.meshes = {}  # mesh_files' state
+        self.glbs = 0
+        # Whether _export_after_update exported for the view_update that follows it.
+        self.exported_now = False
+        self.engine = None  # the engine of the last view_update
+        _live_previews.add(self)
+
+    def mesh_objects(self, depsgraph, scene_name):
+        """The meshes' files (mesh_files) for `depsgraph`, exported as far as they changed:
+        a moved object is exported alone once, then placed by a transform."""
+        def export(path, only):
+            del viewport_exports[:-20]
+            viewport_exports.append(time.monotonic())
+            return _export_glb(path, scene_name, 0, 0.0, set_frame=False, only=only)
+
+        self.glbs += 1
+        return mesh_files(self.meshes, depsgraph, self.folder, self.folder,
+                          "view_glb_%d" % self.glbs, export, True)
 
     def stop(self):
         """Cancels the running preview and waits for its thread (before its files go)."""
@@ -868,6 +1182,8 @@ class _Preview:
                 pass
 
     def close(self):
+        _live_previews.discard(self)
+        self.engine = None
         self.stop()
         shutil.rmtree(self.folder, ignore_errors=True)
 
@@ -1028,6 +1344,34 @@ class ANAMORPH_PT_render(bpy.types.Panel):
         _draw_group(self.layout.column(), context.scene.anamorph)
 
 
+class ANAMORPH_PT_passes(bpy.types.Panel):
+    """The passes anamorph writes into the render result (View Layer Properties > Passes)."""
+
+    bl_label = "anamorph"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "view_layer"
+    bl_parent_id = "VIEWLAYER_PT_layer_passes"
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine == "ANAMORPH"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        vl = context.view_layer
+        col = layout.column()
+        col.prop(vl, "use_pass_z", text="Depth (distance)")
+        col.prop(vl, "use_pass_normal")
+        col.prop(vl, "anamorph_albedo")
+        col.prop(vl, "use_pass_object_index")
+
+
+def _passes_changed(view_layer, _context):
+    view_layer.update_render_passes()  # the compositor's Render Layers node gets its sockets
+
+
 class ANAMORPH_OT_add_coin(bpy.types.Operator):
     """Add an empty as a center of interest of this camera (at the camera's view axis, 2 m out)"""
 
@@ -1060,7 +1404,7 @@ def add_coin(cam_ob, local_position, name="coin"):
 
 
 _STATIC = [AnamorphPreferences, AnamorphRenderEngine, ANAMORPH_PT_camera, ANAMORPH_PT_coin,
-           ANAMORPH_PT_render, ANAMORPH_OT_add_coin]
+           ANAMORPH_PT_render, ANAMORPH_PT_passes, ANAMORPH_OT_add_coin]
 
 
 def _panels_for_engine(add):
@@ -1082,6 +1426,12 @@ def register():
     for cls in _STATIC:
         bpy.utils.register_class(cls)
     _panels_for_engine(True)
+    bpy.types.ViewLayer.anamorph_albedo = bpy.props.BoolProperty(
+        name="Albedo", default=False, update=_passes_changed,
+        description="anamorph's albedo layer as the pass 'Albedo': the base colour of the first "
+        "surface hit (mean over the pixel's samples that hit one), 0 where nothing is hit")
+    if _export_after_update not in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.append(_export_after_update)
     if not bpy.app.timers.is_registered(_serve_main_queue):
         bpy.app.timers.register(_serve_main_queue, first_interval=0.02, persistent=True)
     try:
@@ -1093,11 +1443,17 @@ def register():
 
 
 def unregister():
+    if _export_after_update in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.remove(_export_after_update)
+    for folder in _glb_cache_folder:
+        shutil.rmtree(folder, ignore_errors=True)
+    _glb_cache_folder.clear()
+    _last_export.clear()
     if bpy.app.timers.is_registered(_serve_main_queue):
         bpy.app.timers.unregister(_serve_main_queue)
     _panels_for_engine(False)
     for attr, owner in (("anamorph", bpy.types.Camera), ("anamorph_coin", bpy.types.Object),
-                        ("anamorph", bpy.types.Scene)):
+                        ("anamorph", bpy.types.Scene), ("anamorph_albedo", bpy.types.ViewLayer)):
         if hasattr(owner, attr):
             delattr(owner, attr)
     while _classes:

@@ -68,8 +68,14 @@ def _table(lines, header, values, fmt):
     lines.append("")
 
 
+# The [[object]] of the exported meshes: anamorph names its glTF nodes "blender/<node>", the
+# node being the Blender object's name (the object index pass looks them up).
+MESH_OBJECT = "blender"
+
+
 def write(scene, fmt):
-    """TOML text of `scene`: {image, render, camera, coins, environment, mesh_file, lights}.
+    """TOML text of `scene`: {image, render, camera, coins, environment, mesh_file or
+    mesh_objects ([(file, transform matrix or None)]), lights}.
     `fmt` is anamorph's TOML formatter (anamorph._toml: key(), value()), the one the Python
     module's keyword arguments go through, so numbers reach the reader exactly."""
     lines = ["# Written by the anamorph Blender add-on (blender/anamorph_blender).", ""]
@@ -86,10 +92,14 @@ def write(scene, fmt):
         _table(lines, "[[camera.coin]]", coin, fmt)
     if scene.get("environment"):
         _table(lines, "[environment]", scene["environment"], fmt)
-    if scene.get("mesh_file"):
-        _table(lines, "[[object]]", {"type": "mesh", "file": scene["mesh_file"],
+    objects = scene.get("mesh_objects") or (
+        [(scene["mesh_file"], None)] if scene.get("mesh_file") else [])
+    for file, matrix in objects:
+        _table(lines, "[[object]]", {"type": "mesh", "name": MESH_OBJECT, "file": file,
                                      "lights": False, "cameras": False, "animation": False},
                fmt)
+        if matrix is not None:
+            lines.insert(-1, f"transform = {{ matrix = {fmt.value(matrix)} }}")
     for light in scene["lights"]:
         _table(lines, "[[light]]", light, fmt)
     return "\n".join(lines)

@@ -22,7 +22,8 @@ class Scene:
     def info(self) -> dict[str, Any]:
         """What the scene holds, as ``anamorph info`` prints it: path, width, height,
         integrator, antialias, spp, sampler, camera, triangles, shapes, materials, lights,
-        bounds, animated keys and warnings."""
+        bounds, animated keys and warnings; ``objects``: the name of each object id the
+        ``id`` layer holds (a glTF node's or a shape's name)."""
         return self._impl.info()
 
     @property

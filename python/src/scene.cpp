@@ -267,6 +267,15 @@ pb::dict SceneHandle::info() {
   d["materials"] = materials;
   d["lights"] = lights;
   d["meshes"] = s.instances.size();
+  // The name of each object id (what the `id` layer holds): a mesh part's instance (a glTF
+  // node's name) or a shape's name.
+  pb::list objects;
+  for (uint32_t id = 0; id < accel.object_count(); ++id) {
+    const Accel::Record& r = accel.record(id);
+    objects.append(r.kind == Accel::Record::Kind::Shape ? s.shapes[r.source].name
+                                                        : s.instances[r.source].name);
+  }
+  d["objects"] = objects;
   const Bounds3 b = accel.bounds();
   d["bounds"] = b.empty() ? pb::object(pb::none())
                           : pb::object(pb::make_tuple(pb::make_tuple(b.lo.x, b.lo.y, b.lo.z),

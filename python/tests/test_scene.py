@@ -83,6 +83,35 @@ def test_info_agrees_with_the_cli():
         line.split()[0] for line in text.split("shapes")[1].split("materials")[0].splitlines()[1:]]
 
 
+def test_info_names_each_object_id_of_the_id_layer():
+    scene = anamorph.loads("""
+[image]
+width = 40
+height = 20
+[camera]
+preset = "perspective"
+look_from = [0, 0, 5]
+look_at = [0, 0, 0]
+fov = 60
+[[object]]
+type = "sphere"
+name = "left"
+center = [-1.2, 0, 0]
+radius = 0.8
+[[object]]
+type = "sphere"
+name = "right"
+center = [1.2, 0, 0]
+radius = 0.8
+""")
+    ids = scene.render(aovs=["id"], spp=1, sampler="center")["id"][..., 0]
+    names = scene.info()["objects"]
+    assert sorted(names) == ["left", "right"], names
+    seen = {(x, y): names[int(ids[y, x])] if ids[y, x] >= 0 else None
+            for x, y in ((10, 10), (30, 10), (20, 1))}
+    assert seen == {(10, 10): "left", (30, 10): "right", (20, 1): None}, seen
+
+
 def test_progress_is_reported_on_the_calling_thread_and_reaches_one():
     seen = []
     caller = threading.get_ident()

@@ -163,3 +163,25 @@ def compare_blocks(name, mine, ref, block, tolerance, floor=0.02):
           "block %s, anamorph %s, Cycles %s" % (name, block, block, 100 * tolerance, floor,
                                                 worst.max(), at, blocks[0][at], blocks[1][at]))
     return worst.max()
+
+
+def exported_translation(toml_path, node):
+    """Where the kept scene file `toml_path` places the glTF node `node` (a Blender object's
+    name) of its meshes: the node's translation through its [[object]]'s transform (glTF axes),
+    and the file holding it; (None, None) when no file has it."""
+    import tomllib
+
+    import gltf_inspect
+
+    with open(toml_path, "rb") as f:
+        objects = tomllib.load(f).get("object", [])
+    for ob in objects:
+        doc, _ = gltf_inspect.read_glb(os.path.join(os.path.dirname(toml_path), ob["file"]))
+        found = next((n for n in doc["nodes"] if n.get("name") == node), None)
+        if found is None:
+            continue
+        m = np.array(ob.get("transform", {}).get("matrix", np.eye(4).ravel()),
+                     dtype=np.float64).reshape(4, 4)
+        p = m @ np.array(list(found.get("translation", [0, 0, 0])) + [1.0])
+        return [float(v) for v in p[:3]], ob["file"]
+    return None, None

@@ -164,6 +164,29 @@ coin.anamorph_coin.is_coin = False
 toml, _ = render()
 common.check("coin" not in toml["camera"], "an empty no longer marked as coin is not one")
 
+# Albedo and object index passes: the sphere gets a Principled base colour and Pass Index 7,
+# the floor (no material: Blender's grey 0.8) Pass Index 3; the sky pixel has neither.
+sphere, floor = bpy.data.objects["Sphere"], bpy.data.objects["Plane"]
+base = (0.7, 0.2, 0.1)
+mat = bpy.data.materials.new("red")
+mat.use_nodes = True
+mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*base, 1)
+sphere.data.materials.append(mat)
+sphere.pass_index, floor.pass_index = 7, 3
+vl = scene.view_layers[0]
+vl.anamorph_albedo = vl.use_pass_object_index = True
+# The compositor sees the passes: the Render Layers node gains their sockets.
+scene.use_nodes = True
+rl = scene.node_tree.nodes.new("CompositorNodeRLayers")
+vl.use_pass_z = vl.use_pass_normal = True
+for name in ("Depth", "Normal", "Albedo", "IndexOB"):
+    common.check(rl.outputs[name].enabled,
+                 "the compositor's Render Layers node has the socket %s" % name)
+vl.anamorph_albedo = False
+common.check(not rl.outputs["Albedo"].enabled, "the Albedo socket goes with the pass")
+vl.anamorph_albedo = True
+scene.use_nodes = False
+
 # Depth and Normal passes: the distance along the ray and the world normal in Blender's axes,
 # at a floor pixel and a sphere pixel, against the ray through the pixel centre intersected here
 # with the plane z = 0 and the sphere (radius 1 at (0, 0, 1); its 16 rings of faces lie up to
@@ -196,4 +219,11 @@ for (i, j), hit_sphere in (((24, 44), False), ((24, 26), True)):
     common.check(abs(depth - dist) < tol and max(abs(a - b) for a, b in zip(nrm, normal)) < 0.02,
                  "pixel (%d, %d): Depth %.5f (ray cast %.5f), Normal %s (%s)"
                  % (i, j, depth, dist, np.round(nrm, 4), np.round(list(normal), 4)))
+for (i, j), albedo, index in (((24, 44), (0.8,) * 3, 3), ((24, 26), base, 7),
+                              ((24, 0), (0.0,) * 3, 0)):
+    got = [ch["ViewLayer.Albedo." + c][j, i] for c in "RGB"]
+    got_index = ch["ViewLayer.IndexOB.X"][j, i]
+    common.check(max(abs(a - b) for a, b in zip(got, albedo)) < 1e-6 and got_index == index,
+                 "pixel (%d, %d): Albedo %s (base colour %s), IndexOB %g (Pass Index %d)"
+                 % (i, j, got, albedo, got_index, index))
 common.finish()

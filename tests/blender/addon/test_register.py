@@ -65,6 +65,10 @@ addon_utils.disable("anamorph_blender", default_set=True)
 bpy.context.scene.render.engine = "CYCLES"
 common.check(not hasattr(bpy.types.Camera, "anamorph") and not engine_available(),
              "disabling removes the engine and the camera properties")
+common.check(not hasattr(bpy.types.ViewLayer, "anamorph_albedo") and not any(
+    getattr(h, "__module__", "").startswith("anamorph_blender")
+    for h in bpy.app.handlers.depsgraph_update_post),
+             "disabling removes the Albedo pass's property and the depsgraph handler")
 
 # The packaged zip, installed into this test's own user folder (run.sh sets it).
 zip_path = os.path.join(common.OUT, "anamorph_blender.zip")

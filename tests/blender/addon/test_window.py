@@ -16,7 +16,6 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import common  # noqa: E402
-import gltf_inspect  # noqa: E402
 
 def setup():
     """The factory startup's scene (cube, light, camera) read again, which also closes the
@@ -76,13 +75,13 @@ def show_panel():
     bpy.context.view_layer.objects.active = cam
 
 
-def panel_picture():
+def panel_picture(name="panel.png"):
     """A picture of the camera's data tab, with the anamorph section."""
     win = bpy.context.window_manager.windows[0]
     area = max(win.screen.areas, key=lambda a: a.width * a.height)
     area.spaces[0].context = "DATA"  # the space exists once the area has been redrawn
     area.tag_redraw()
-    path = os.path.join(common.OUT, "panel.png")
+    path = os.path.join(common.OUT, name)
     with bpy.context.temp_override(window=win, screen=win.screen, area=area):
         bpy.ops.screen.screenshot_area(filepath=path)
     return path
@@ -102,11 +101,11 @@ def after_animation():
         ref[..., :3] *= ref[..., 3:4]
         common.check(np.array_equal(mine, ref), "frame %d from the window equals `anamorph "
                      "render` bit for bit (%d values differ)" % (frame, np.sum(mine != ref)))
-        doc, _ = gltf_inspect.read_glb(os.path.join(keep, "frame_%04d.glb" % frame))
-        got = next(n for n in doc["nodes"] if n["name"] == "Cube").get("translation", [0, 0, 0])
+        got, _ = common.exported_translation(toml, "Cube")
         want = {1: -1.0, 2: 0.0, 3: 1.0}[frame]
-        common.check(abs(got[0] - want) < 1e-6, "frame %d: the exported cube at x = %g (%g)"
-                     % (frame, got[0], want))
+        common.check(got is not None and abs(got[0] - want) < 1e-6,
+                     "frame %d: the scene file places the exported cube at x = %s (%g)"
+                     % (frame, got and got[0], want))
 
 
 def viewport_area():
@@ -166,8 +165,32 @@ def viewport_step():
         common.check(len(bl.viewport_exports) == state["exports"] + 1,
                      "moving the cube exported the meshes once (%d exports)"
                      % (len(bl.viewport_exports) - state["exports"]))
-        common.check(not np.array_equal(area_picture("viewport_move.png"), state["before"]),
+        after = area_picture("viewport_move.png")
+        common.check(not np.array_equal(after, state["before"]),
                      "the viewport shows the moved cube (the picture changed)")
+        state.update(exports=len(bl.viewport_exports), before=after)
+        bpy.data.objects["Cube"].location.x += 0.5
+        state.update(phase="move_again", t_move=time.monotonic())
+    elif phase == "move_again" and preview_done(state["t_move"]):
+        # The cube has a file of its own now: moved again, the preview places it by a transform.
+        common.check(len(bl.viewport_exports) == state["exports"],
+                     "moving the cube again exported nothing (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        after = area_picture("viewport_move_again.png")
+        common.check(not np.array_equal(after, state["before"]),
+                     "the viewport shows the cube moved again (the picture changed)")
+        state["before"] = after
+        mesh = bpy.data.objects["Cube"].data
+        for v in mesh.vertices:
+            v.co.z *= 1.5
+        mesh.update()
+        state.update(phase="reshape", t_move=time.monotonic())
+    elif phase == "reshape" and preview_done(state["t_move"]):
+        common.check(len(bl.viewport_exports) == state["exports"] + 1,
+                     "editing the cube's vertices exported the meshes once (%d exports)"
+                     % (len(bl.viewport_exports) - state["exports"]))
+        common.check(not np.array_equal(area_picture("viewport_reshape.png"), state["before"]),
+                     "the viewport shows the reshaped cube (the picture changed)")
         state["exports"] = len(bl.viewport_exports)
         viewport_area().spaces.active.region_3d.view_perspective = "PERSP"
         state.update(phase="orbit", t_orbit=time.monotonic())
@@ -213,10 +236,20 @@ def step():
     if state["phase"] == "picture":
         path = panel_picture()
         common.check(os.path.getsize(path) > 0, "the panel's picture: %s" % path)
+        # The org/dir functions' section: a cylinder's surface, rays along its normal.
+        settings = cam.data.anamorph
+        settings.preset, settings.org_type, settings.dir_type = "FUNCTIONS", "cylinder", "normal"
+        state["phase"] = "functions_picture"
+        return 1.0
+    if state["phase"] == "functions_picture":
+        path = panel_picture("panel_functions.png")
+        common.check(os.path.getsize(path) > 0, "the org/dir panel's picture: %s" % path)
+        cam.data.anamorph.preset = "fisheye"
         viewport_area().type = "VIEW_3D"
         state["phase"] = "viewport"
         return 0.5
-    if state["phase"].startswith("viewport") or state["phase"] in {"edit", "move", "orbit"}:
+    if state["phase"].startswith("viewport") or state["phase"] in {
+            "edit", "move", "move_again", "reshape", "orbit"}:
         return viewport_step()
     if time.monotonic() - state["t0"] > 120:
         common.fail("the render from the window did not finish in 120 s")
