@@ -108,6 +108,7 @@ async function main() {
   $('ov-net').onchange = (e) => { overlay.show.net = e.target.checked; overlay.draw(); };
   $('ov-3d').onchange = (e) => { $('overview').hidden = !e.target.checked; overview.refresh(doc.version); };
   $('preview-integrator').onchange = (e) => post('/api/preview', { integrator: e.target.value });
+  $('preview-denoise').onchange = (e) => post('/api/preview', { denoise: e.target.checked });
   $('save').onclick = async () => {
     const r = await doc.action('/api/save', {});
     if (r) toast(`Saved ${r.saved}` + (r.normalized ? ' (written whole: its comments and layout could not be kept, see docs/editor.md)' : ', its comments and layout kept'));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "math/parallel.h"
+#include "render/rim_coverage.h"
 
 namespace anamorph {
 
@@ -16,6 +17,8 @@ namespace {
 // The features: albedo (3), normal (3), depth (1) and the fraction of the covered samples that
 // hit a surface (1: a pixel on a silhouette against the sky mixes the two in that proportion, so
 // its colour is affine in it).
+// The positions a rim pixel's coverage is computed from: 32 x 32 (render/rim_coverage.h).
+constexpr int kRimGrid = 32;
 constexpr int kAlbedo = 0, kNormal = 3, kDepth = 6, kHit = 7, kFeatureChannels = 8;
 
 struct Layers {
@@ -124,7 +127,34 @@ void merge(Film& a, Film& film) {
   }
 }
 
-// The denoised straight colour written as the film's beauty: rgb sums = colour x coverage sum.
+// Pixels beside the no-ray boundary (one with coverage below 1 within one pixel of one with
+// coverage above 0) that have a ray take their coverage from the camera. A pixel none of whose
+// samples had a ray keeps 0: it has no colour to show.
+void exact_rim_coverage(const Scene& scene, int w, int h, std::vector<float>& coverage) {
+  if (!rim_coverage_applies(*scene.camera, scene.render)) return;
+  std::vector<uint8_t> rim(coverage.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      if (coverage[i] <= 0) continue;
+      bool partial = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if (u >= 0 && v >= 0 && u < w && v < h)
+            partial |= coverage[size_t(v) * size_t(w) + size_t(u)] < 1;
+        }
+      rim[i] = partial;
+    }
+  const std::vector<float> exact = rim_coverage(*scene.camera, scene.render, w, h, rim, kRimGrid);
+  // A pixel that had a ray where none of the grid's positions has one covers less than a cell.
+  const float least = 0.5f / float(kRimGrid * kRimGrid);
+  for (size_t i = 0; i < coverage.size(); ++i)
+    if (rim[i]) coverage[i] = std::max(exact[i], least);
+}
+
+// The denoised straight colour written as the film's beauty: rgb sums = colour x coverage sum,
+// and the coverage sum = coverage x samples (the camera's coverage at a rim).
 void write_beauty(Film& film, const std::vector<float>& rgb, const std::vector<float>& coverage) {
   const TileGrid& g = film.grid();
   for (size_t ti = 0; ti < g.count(); ++ti) {
@@ -136,6 +166,7 @@ void write_beauty(Film& film, const std::vector<float>& rgb, const std::vector<f
         const size_t i = size_t(y) * size_t(film.width()) + size_t(x);
         PixelSum& p = t.at(x, y);
         if (coverage[i] <= 0 || p.alpha <= 0) continue;
+        if (coverage[i] != std::min(1.0f, p.alpha / float(p.n))) p.alpha = coverage[i] * float(p.n);
         for (int k = 0; k < 3; ++k) p.rgb[k] = rgb[i * 3 + size_t(k)] * p.alpha;
       }
   }
@@ -168,11 +199,13 @@ uint64_t denoise_film_bytes(int width, int height, size_t film_aov_floats, int t
   return pixels * (half + planes) + denoise_bytes(width, height, kFeatureChannels, {}, threads);
 }
 
-DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options) {
+DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options,
+                            const Scene* scene) {
   const size_t pixels = size_t(film.width()) * size_t(film.height());
   Half ha(pixels), hb(pixels);
   gather(a, film, ha, hb);
-  const std::vector<float> coverage = complete_halves(ha, hb);
+  std::vector<float> coverage = complete_halves(ha, hb);
+  if (scene) exact_rim_coverage(*scene, film.width(), film.height(), coverage);
   DenoiseInput in;
   in.width = film.width();
   in.height = film.height();
@@ -195,6 +228,7 @@ DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& r
   opt.aovs = film.aovs();
   opt.progressive = false;
   opt.split_at = uint32_t(rs.spp) / 2;
+  opt.finest_footprint = true;
   bool halved = false;
   opt.on_pass = [&](const Film&, int pass) {
     if (pass != 0) return;
@@ -211,7 +245,7 @@ DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& r
   tbb::task_arena arena(arena_concurrency(opt.threads));
   DenoiseOptions o = options;
   if (!o.cancel) o.cancel = opt.cancel;
-  arena.execute([&] { r.denoise = denoise_halves(a, film, o); });
+  arena.execute([&] { r.denoise = denoise_halves(a, film, o, &renderer.scene()); });
   r.denoise_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.denoised = !r.denoise.cancelled;
   return r;

@@ -2,8 +2,9 @@
 // its samples, [0, spp/2) and [spp/2, spp), each kept in a film of its own with the features the
 // denoiser regresses on (albedo, normal, depth and the fraction of the covered samples that hit
 // a surface), NFOR (denoise/denoise.h) run over the whole frame, and the halves merged into one
-// film whose beauty is the denoised colour: the outputs then resolve it as any film (alpha, AOV
-// layers and sample counts are those of the undenoised render).
+// film whose beauty is the denoised colour: the outputs then resolve it as any film (the AOV
+// layers and sample counts are those of the undenoised render; alpha too, except at a rim,
+// where it is computed from the camera: denoise_halves).
 #pragma once
 
 #include <cstdint>
@@ -42,7 +43,10 @@ DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& r
 
 // The denoising step alone: half `a`'s samples merged into `film` (which holds half b), and the
 // merged film's beauty replaced by NFOR's estimate from the two halves. Every pixel without a
-// ray in either half keeps its (transparent) value.
-DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options = {});
+// ray in either half keeps its (transparent) value. With `scene` (whose camera and settings
+// rendered the film) and rim_coverage_applies: every pixel beside the no-ray boundary that has
+// a sample with a ray takes its coverage (alpha) from the camera (render/rim_coverage.h).
+DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options = {},
+                            const Scene* scene = nullptr);
 
 }  // namespace anamorph

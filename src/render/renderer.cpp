@@ -125,7 +125,7 @@ class PassSchedule {
                   ? std::vector<uint32_t>{opt.split_at, spp_}
                   : pass_ends(spp_, per_pixel_ ? uint32_t(rs.min_spp) : 1,
                               opt.progressive || per_pixel_)),
-        uniform_spp_(uint32_t(rs.spp)),
+        uniform_spp_(opt.finest_footprint ? ~0u : uint32_t(rs.spp)),
         // Whitted's samples of a pixel differ only by where they fall in it (a deterministic
         // integrand, whose scrambled-Sobol' estimate converges faster than noise): its own rule.
         stop_rule_(rs.deterministic() ? StopRule::deterministic(rs.noise_threshold)

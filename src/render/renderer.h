@@ -66,6 +66,11 @@ struct RenderOptions {
   // [split_at, spp), on_pass called after each (the denoiser's half buffers:
   // render/denoise_film.h).
   uint32_t split_at = 0;
+  // Textures filtered over the finest footprint (1/8 pixel, RenderJob::footprint_scale) whatever
+  // the sample count, instead of each sample's share of the pixel (1/sqrt(spp)): for the
+  // denoiser, which averages across pixels itself; a wider footprint at few samples blurs
+  // texture detail that both halves then agree on (a bias no filter removes).
+  bool finest_footprint = false;
   // Pass renders, for checkpoints: a tile finished pass `pass` (called from its worker thread),
   // and pass `pass` is about to run over the pixels `active` leaves on. `resume` continues.
   std::function<void(size_t tile, int pass, const TileBuffer&)> on_tile_pass;
@@ -105,6 +110,7 @@ class Renderer {
   struct FarmOnly {};
   Renderer(const Scene& scene, FarmOnly);
   ~Renderer();
+  const Scene& scene() const { return scene_; }
   // A whole frame into `film` (cleared first unless opt.resume), in progressive passes.
   RenderStats render(Film& film, const RenderOptions& opt) const;
   // Every tile of `grid` not marked in `skip` (finished before a checkpoint), each with all its

@@ -21,6 +21,7 @@ list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/local_threads.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_run.cpp
   ${CMAKE_CURRENT_LIST_DIR}/renderer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/rim_coverage.cpp
   ${CMAKE_CURRENT_LIST_DIR}/shading.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_buffer.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tile_sampler.cpp

@@ -82,6 +82,7 @@ HttpResponse frame(Editor& ed, const ApiCall& c) {
                {"X-Frame-Pass", std::to_string(f->pass)},
                {"X-Frame-Passes", std::to_string(f->passes)},
                {"X-Frame-Coarse", f->coarse ? "1" : "0"},
+               {"X-Frame-Denoised", f->denoised ? "1" : "0"},
                {"X-Frame-Seconds", fmt::format("{:.4f}", f->seconds)}};
   return r;
 }
@@ -102,6 +103,11 @@ HttpResponse preview(Editor& ed, const ApiCall& c) {
         s.integrator = std::string(*it);
       }
     }
+    if (body.contains("denoise")) {
+      const Json& v = field(body, "denoise");
+      if (!v.is_boolean()) throw std::invalid_argument("denoise: expected true or false");
+      s.denoise = v.get<bool>();
+    }
     if (body.contains("max_spp")) s.max_spp = int(number_in(body, "max_spp", 1, 4096));
     if (body.contains("max_width")) s.max_width = int(number_in(body, "max_width", 16, 4096));
     if (body.contains("max_height")) s.max_height = int(number_in(body, "max_height", 16, 4096));
@@ -109,6 +115,7 @@ HttpResponse preview(Editor& ed, const ApiCall& c) {
   }
   return json_response(200, {{"integrator", s.integrator ? *s.integrator : "scene"},
                              {"max_spp", s.max_spp},
+                             {"denoise", s.denoise},
                              {"max_width", s.max_width},
                              {"max_height", s.max_height}});
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "render/denoise_film.h"
 #include "render/film.h"
 #include "render/frame_output.h"
 #include "render/renderer.h"
@@ -274,32 +275,56 @@ bool Preview::render_frames(const Job& job) {
     std::atomic<int> passes{1};
     opt.on_progress = [&](const Progress& p) { passes = p.passes; };
     opt.on_pass = [&](const Film& f, int pass) {
-      if (cancel_) return;
-      auto frame = std::make_shared<PreviewFrame>();
-      frame->version = job.version;
-      frame->width = step.w;
-      frame->height = step.h;
-      frame->coarse = step.coarse;
-      frame->pass = step.coarse ? 0 : pass + 1;
-      frame->passes = step.coarse ? 0 : passes.load();
-      frame->seconds = seconds_since(job.arrived);
-      std::vector<std::unique_ptr<ImageSink>> sink;
-      sink.push_back(std::make_unique<PreviewSink>(
-          std::move(frame),
-          [this](std::shared_ptr<PreviewFrame> done) { publish(std::move(done)); }));
-      FrameOutput out({step.w, step.h, f.grid().size, {}, {}, {}}, std::move(sink));
-      out.add_tiles(f);
-      out.commit_incomplete();
+      if (!cancel_)
+        publish_film(job, f, step.coarse ? 0 : pass + 1, step.coarse ? 0 : passes.load(),
+                     step.coarse, false);
     };
     const RenderStats st = renderer_->render(film, opt);
     if (st.cancelled || cancel_) {
       ok = false;
       break;
     }
+    if (!step.coarse && ps.denoise)
+      ok = render_denoised_frame(job, step.w, step.h, step.spp, passes);
   }
   std::lock_guard state(state_mu_);
   scene_->render = own;
   return ok;
+}
+
+// The film as the newest frame.
+void Preview::publish_film(const Job& job, const Film& f, int pass, int passes, bool coarse,
+                           bool denoised) {
+  auto frame = std::make_shared<PreviewFrame>();
+  frame->version = job.version;
+  frame->width = f.width();
+  frame->height = f.height();
+  frame->coarse = coarse;
+  frame->denoised = denoised;
+  frame->pass = pass;
+  frame->passes = passes;
+  frame->seconds = seconds_since(job.arrived);
+  std::vector<std::unique_ptr<ImageSink>> sink;
+  sink.push_back(std::make_unique<PreviewSink>(
+      std::move(frame), [this](std::shared_ptr<PreviewFrame> done) { publish(std::move(done)); }));
+  FrameOutput out({f.width(), f.height(), f.grid().size, {}, {}, {}}, std::move(sink));
+  out.add_tiles(f);
+  out.commit_incomplete();
+}
+
+// The settled frame once more, rendered in two halves and denoised, shown as the last pass
+// again; nothing when the preview's settings cannot be denoised (1 sample a pixel). False when
+// cancelled. (scene_->render holds the settled step's settings.)
+bool Preview::render_denoised_frame(const Job& job, int w, int h, int spp, int passes) {
+  const RenderSettings rs = scene_->render;
+  if (spp < 2 || denoise_unsupported(rs)) return true;
+  Film film(w, h, with_denoise_aovs({}));
+  RenderOptions opt;
+  opt.cancel = &cancel_;
+  const DenoisedRender d = render_denoised(*renderer_, rs, film, opt);
+  if (!d.denoised || cancel_) return false;
+  publish_film(job, film, passes, passes, false, true);
+  return true;
 }
 
 }  // namespace anamorph::server

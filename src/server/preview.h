@@ -19,8 +19,9 @@
 #include "scene/scene.h"
 
 namespace anamorph {
+class Film;
 class Renderer;
-}
+}  // namespace anamorph
 
 namespace anamorph::server {
 
@@ -30,14 +31,19 @@ struct PreviewFrame {
   int width = 0, height = 0;
   int pass = 0, passes = 0;  // pass 0 is the coarse one; the last pass of passes is the final
   bool coarse = false;
-  double seconds = 0;  // from the state's arrival to this frame
-  std::string rgba;    // width * height * 4 bytes, 8-bit sRGB, straight alpha
+  bool denoised = false;  // the settled frame denoised (PreviewSettings::denoise)
+  double seconds = 0;     // from the state's arrival to this frame
+  std::string rgba;       // width * height * 4 bytes, 8-bit sRGB, straight alpha
 };
 
 struct PreviewSettings {
   int max_width = 960, max_height = 540;  // the preview fits in this box, keeping the aspect
   std::optional<std::string> integrator;  // an integrator or a view; none: the scene's own
   int max_spp = 16;
+  // Once the progressive passes have settled, the frame rendered again in two halves and
+  // denoised (render/denoise_film.h) and shown as one more frame, when the preview's settings
+  // allow it (at least 2 samples a pixel).
+  bool denoise = false;
 };
 
 // The preview size for an image of w x h in the settings' box (never larger than the image).
@@ -75,6 +81,9 @@ class Preview {
   void loop();
   void take_up(Job& job);
   bool render_frames(const Job& job);
+  bool render_denoised_frame(const Job& job, int w, int h, int spp, int passes);
+  void publish_film(const Job& job, const Film& f, int pass, int passes, bool coarse,
+                    bool denoised);
   void publish(std::shared_ptr<PreviewFrame> f);
 
   mutable std::mutex mu_;  // everything below but the render itself

@@ -222,6 +222,21 @@ TEST(Mpi, TimeLimitedPassRenderResumesToTheSameBits) {
   test::expect_same_exr(ref, out);
 }
 
+// --denoise is refused across ranks (exit 2, the reason named once, no file written) rather
+// than failing inside the farm.
+TEST(Mpi, DenoiseIsRefusedAcrossRanks) {
+  REQUIRE_MPI();
+  Scratch s;
+  const fs::path out = s.dir / "many.png";
+  const test::CliResult r = test::run_shell(
+      "timeout -s KILL 600 " + std::string(kMpirun) + "2 " + test::binary().string() + " render " +
+      example("examples/apps/fisheye_180.toml") +
+      " --width 32 --height 32 --integrator path --spp 4 --denoise -q -o " + out.string());
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("--denoise does not run across MPI ranks"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Mpi, VersionNamesTheMpiLibrary) {
   const test::CliResult r = test::run_cli("--version");
   ASSERT_EQ(r.code, 0) << r.out;

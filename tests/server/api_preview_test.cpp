@@ -174,6 +174,45 @@ TEST_F(PreviewTest, PreviewSettingsAreReflected) {
   EXPECT_EQ(body_of(scene)["integrator"], "scene") << scene.body;
 }
 
+// With denoise on, the settled path-traced preview (4 samples a pixel) is followed by a denoised
+// frame of the same version and size: other pixels (the noise filtered), the same mean colour
+// within 10 %.
+TEST_F(PreviewTest, DenoisedFrameFollowsTheSettledOne) {
+  EXPECT_EQ(post("/api/preview", json{{"denoise", 1}}).status, 400);
+  const Reply e = edit("render.spp", 4, version());  // (the scene's 1 sample cannot be halved)
+  ASSERT_EQ(e.status, 200) << e.body;
+  const Reply s =
+      post("/api/preview", json{{"integrator", "path"}, {"max_spp", 4}, {"denoise", true}});
+  ASSERT_EQ(s.status, 200) << s.body;
+  EXPECT_EQ(body_of(s)["denoise"], true) << s.body;
+  const auto mean = [](const std::string& rgba) {
+    double m = 0;
+    for (size_t i = 0; i < rgba.size(); ++i)
+      if (i % 4 != 3) m += uint8_t(rgba[i]);
+    return m / double(rgba.size());
+  };
+  Reply settled, denoised;
+  int64_t seq = 0;
+  for (int i = 0; i < 200 && denoised.status != 200; ++i) {
+    const Reply r = get("/api/frame?timeout=5&after=" + std::to_string(seq));
+    ASSERT_EQ(r.status, 200) << "no denoised frame came";
+    seq = header_int(r, "x-frame-seq");
+    if (r.header("x-frame-denoised") == "1") {
+      denoised = r;
+    } else if (header_int(r, "x-frame-pass") == header_int(r, "x-frame-passes") &&
+               header_int(r, "x-frame-pass") > 0) {
+      settled = r;
+    }
+  }
+  ASSERT_EQ(settled.status, 200) << "no settled frame before the denoised one";
+  EXPECT_EQ(denoised.header("x-frame-version"), settled.header("x-frame-version"));
+  EXPECT_EQ(denoised.header("x-frame-width"), settled.header("x-frame-width"));
+  EXPECT_EQ(denoised.header("x-frame-height"), settled.header("x-frame-height"));
+  ASSERT_EQ(denoised.body.size(), settled.body.size());
+  EXPECT_NE(denoised.body, settled.body) << "the denoiser changed nothing";
+  EXPECT_NEAR(mean(denoised.body) / mean(settled.body), 1.0, 0.1);
+}
+
 TEST_F(PreviewTest, FinalRenderGivesAPng) {
   EXPECT_EQ(get("/api/render/result.png").status, 404);
   const Reply start = post("/api/render", json{{"png", true}});
