@@ -134,6 +134,25 @@ def lambert_material(name, albedo, emission=(0, 0, 0)):
     return mat, nt, diff
 
 
+def glass_material(m):
+    """A whitted material with transmission 1 (anamorph's smooth dielectric: Fresnel reflection
+    and refraction, no diffuse part) as a sharp Glass BSDF of the same IOR, white."""
+    if float(m.get("diffuse", 1.0)) != 0 or float(m.get("reflectivity", 0)) != 0:
+        raise SystemExit("cycles_render.py: glass needs diffuse = 0 and reflectivity = 0")
+    mat = bpy.data.materials.new(m["name"] + "_glass")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    g = nt.nodes.new("ShaderNodeBsdfGlass")
+    g.distribution = "SHARP"
+    g.inputs["Color"].default_value = (*color3(m.get("color"), 1.0), 1.0)
+    g.inputs["IOR"].default_value = float(m.get("ior", 1.5))
+    nt.links.new(g.outputs["BSDF"], out.inputs["Surface"])
+    return mat
+
+
 def diffuse_from_gltf(mat):
     """Replace the importer's Principled BSDF by a Diffuse BSDF fed by the same base colour
     (texture chain or constant)."""
@@ -162,9 +181,12 @@ def add_primitive(obj, toml_mats):
     m = toml_mats[obj["material"]]
     if m.get("type", "whitted") != "whitted":
         raise SystemExit("cycles_render.py: only whitted (diffuse) materials on primitives")
-    k = float(m.get("emission_strength", 1.0))
-    mat, _, _ = lambert_material(m["name"] + "_lambert", color3(m.get("color"), 0.8),
-                                 tuple(k * c for c in color3(m.get("emission"), 0)))
+    if float(m.get("transmission", 0)) == 1.0:
+        mat = glass_material(m)
+    else:
+        k = float(m.get("emission_strength", 1.0))
+        mat, _, _ = lambert_material(m["name"] + "_lambert", color3(m.get("color"), 0.8),
+                                     tuple(k * c for c in color3(m.get("emission"), 0)))
     if obj["type"] == "sphere":
         bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48, radius=obj["radius"],
                                              location=TO_BLENDER @ Vector(obj["center"]))
@@ -300,6 +322,20 @@ def main():
         # anamorph: longitude grows to the right of look_at; Cycles' longitude grows to the left.
         cc.longitude_min, cc.longitude_max = math.radians(-lon[1]), math.radians(-lon[0])
         cc.latitude_min, cc.latitude_max = math.radians(lat[0]), math.radians(lat[1])
+    elif preset == "dome":
+        # anamorph's domemaster (untilted, eye at the centre): an equidistant fisheye whose centre
+        # is the rig's up, image up towards the back (-forward), right = right. Blender's camera
+        # looks along its -z with image up its +y: the same rig aimed at up with -forward as up.
+        if cam_doc.get("tilt", 0) or cam_doc.get("eye_offset"):
+            raise SystemExit("cycles_render.py: dome tilt / eye_offset not supported")
+        eye = Vector(cam_doc.get("look_from", [0, 0, 0]))
+        f = (Vector(cam_doc.get("look_at", [0, 0, -1])) - eye).normalized()
+        r = f.cross(Vector(cam_doc.get("up", [0, 1, 0]))).normalized()
+        u = r.cross(f)
+        cam.matrix_world = TO_BLENDER @ look_at_matrix(eye, eye + u, -f)
+        cam_data.type = "PANO"
+        cam_data.cycles.panorama_type = "FISHEYE_EQUIDISTANT"
+        cam_data.cycles.fisheye_fov = math.radians(cam_doc.get("fov", 180))
     else:
         raise SystemExit(f"cycles_render.py: camera preset {preset} not supported")
 
@@ -309,6 +345,22 @@ def main():
     world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (*color3(env.get("color"), 0), 1.0)
+    if "file" in env:
+        # anamorph: longitude 0 (the image centre) is -z, u grows towards +x, top row +y. Cycles'
+        # centre is Blender's +x, u growing towards -y; TO_BLENDER takes -z to +y and +x to +x,
+        # so the lookup direction is turned by -90 degrees (less anamorph's `rotation` about +y,
+        # Blender's +z) about z. Closest: the texels are looked up unfiltered, as ours.
+        nt = world.node_tree
+        tex = nt.nodes.new("ShaderNodeTexEnvironment")
+        tex.image = bpy.data.images.load(os.path.join(os.path.dirname(os.path.abspath(a.scene)),
+                                                      env["file"]))
+        tex.interpolation = "Closest"
+        mp = nt.nodes.new("ShaderNodeMapping")
+        mp.inputs["Rotation"].default_value = (0, 0, math.radians(-90 - env.get("rotation", 0)))
+        tc = nt.nodes.new("ShaderNodeTexCoord")
+        nt.links.new(tc.outputs["Generated"], mp.inputs["Vector"])
+        nt.links.new(mp.outputs["Vector"], tex.inputs["Vector"])
+        nt.links.new(tex.outputs["Color"], bg.inputs["Color"])
     bg.inputs["Strength"].default_value = float(env.get("strength", 1.0))
     sc.world = world
 

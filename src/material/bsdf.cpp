@@ -157,6 +157,7 @@ void sample_dielectric(const Bsdf& b, const Vec3& wo, const Vec3& wo_w, double v
     out->pdf = sel * (1 - fr);
     // Radiance is scaled by 1/eta^2 crossing into the denser medium (non-symmetric BTDF).
     out->weight = Color(b.transmission * below / sel / (e * e)) * b.transmission_tint;
+    out->eta_scale = e * e;
   }
   out->f = out->weight * b.opacity;
   out->pdf *= b.opacity;

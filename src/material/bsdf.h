@@ -19,6 +19,7 @@ struct BsdfSample {
   double pdf = 0;
   bool delta = false;
   bool pass_through = false;  // alpha blend's share going straight on (wi = -wo)
+  double eta_scale = 1;       // eta^2 of a refraction (weight holds 1/eta^2), else 1
 };
 
 struct Bsdf {
