@@ -157,7 +157,7 @@ def _register_declared(am):
 # Scene transfer
 
 
-def _export_glb(path, scene_name, frame, subframe, set_frame=True, only=None):
+def _export_glb(path, scene_name, frame, subframe, set_frame=True, only=None, skip=None):
     """The scene's renderable meshes and materials at `frame`, modifiers applied, by Blender's
     own glTF exporter. False when there is no mesh to export.
 
@@ -167,30 +167,36 @@ def _export_glb(path, scene_name, frame, subframe, set_frame=True, only=None):
     rendered from Blender's window and after a script edited them since the last frame change.
     The viewport exports the scene as it is (set_frame False: setting the frame would update the
     depsgraph, and so the viewport again). `only`: the names of the objects to export (through
-    the exporter's selection; the user's selection is restored)."""
+    the exporter's selection; the user's selection is restored), or `skip`: the names of those
+    to leave out."""
     scene = bpy.data.scenes[scene_name]
     if set_frame:
         scene.frame_set(frame, subframe=subframe)
-    if not any(o.type in {"MESH", "CURVE", "SURFACE", "META", "FONT"} and not o.hide_render
-               and (only is None or o.name in only) for o in scene.objects):
+
+    def chosen(o):
+        return (only is None or o.name in only) and (skip is None or o.name not in skip)
+
+    if not any(o.type in _EXPORTED_TYPES and not o.hide_render and chosen(o)
+               for o in scene.objects):
         return False
+    selecting = only is not None or skip is not None
     override = {"scene": scene}
     window = next((w for w in bpy.context.window_manager.windows if w.scene == scene), None)
     if window is not None:  # the exporter asks for the active object: a window's context has it
         override["window"] = window
     with bpy.context.temp_override(**override):
         objects = bpy.context.view_layer.objects
-        selected = {o.name for o in objects if o.select_get()} if only is not None else None
+        selected = {o.name for o in objects if o.select_get()} if selecting else None
         try:
-            for o in objects if only is not None else ():
-                o.select_set(o.name in only)
+            for o in objects if selecting else ():
+                o.select_set(chosen(o))
             bpy.ops.export_scene.gltf(
                 filepath=path, export_format="GLB", export_apply=True, export_cameras=False,
                 export_lights=False, export_animations=False, export_current_frame=True,
-                export_extras=False, use_renderable=True, use_selection=only is not None,
+                export_extras=False, use_renderable=True, use_selection=selecting,
                 export_yup=True, check_existing=False)
         finally:
-            for o in objects if only is not None else ():
+            for o in objects if selecting else ():
                 o.select_set(o.name in selected)
     glb_default.patch(path)
     return True
@@ -577,7 +583,8 @@ _last_export = {}
 render_exports = []
 
 
-def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=None):
+def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=None,
+                motion=False):
     """Writes frame_NNNN.toml into `folder` and the meshes' .glb files into `glb_folder`
     (default `folder`; another one is the add-on's own, where files no longer named are
     removed); returns (toml path, warnings).
@@ -588,59 +595,110 @@ def build_scene(depsgraph, folder, frame, should_stop=lambda: False, glb_folder=
     (frame_NNNN_K.glb, at its placement then), the others again together without them; from then
     on, the frame names those files, each moved object's file with its `transform` from where
     it was exported to where it is now. Anything else: one export of everything
-    (frame_NNNN.glb)."""
+    (frame_NNNN.glb). With `motion` (the Vector and flow passes) the file also holds the
+    camera, coins and objects at frames -1 and +1 of its own (Blender's frame - 1 and + 1) as
+    [[animate]] keys (motion_keys); objects that move then are exported apart."""
     stem = os.path.join(folder, "frame_%04d" % frame)
     prune = glb_folder is not None
     glb_folder = os.path.normpath(os.path.abspath(glb_folder or folder))
     scene = depsgraph.scene_eval
+    near = main_thread_call(lambda: _near_frames(
+        scene.original.name, depsgraph.view_layer.name, frame, scene.frame_subframe),
+        should_stop) if motion else None
 
-    def export(path, only=None):
+    def export(path, only=None, skip=None):
+        done = main_thread_call(lambda: _export_glb(
+            path, scene.original.name, frame, scene.frame_subframe, only=only, skip=skip),
+            should_stop)
         del render_exports[:-100]
-        render_exports.append(frame)
-        return main_thread_call(lambda: _export_glb(
-            path, scene.original.name, frame, scene.frame_subframe, only=only), should_stop)
+        render_exports.extend([frame] if done else [])
+        return done
 
     def meshes():
+        moving = {n for n, m in near[0]["objects"].items()
+                  if any(near[d]["objects"].get(n) != m for d in (-1, 1))} if near else ()
         return mesh_files(_last_export, depsgraph, glb_folder, folder, "frame_%04d" % frame,
-                          export, prune)
+                          export, prune, moving)
 
     data, warnings = scene_data(depsgraph, stem, frame, should_stop, meshes=meshes)
+    if near:
+        data["animate"] = motion_keys(data, near)
     return write_toml(data, stem + ".toml"), warnings
 
 
-def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune):
+def _near_frames(scene_name, layer_name, frame, subframe):
+    """For the Vector and flow passes: {d: {camera, coins, objects: {name: world matrix rows}}}
+    at Blender's frame + d for d = -1, 1 and 0 (the scene set to each, the last to `frame`)."""
+    scene = bpy.data.scenes[scene_name]
+    out = {}
+    for d in (-1, 1, 0):
+        scene.frame_set(frame + d, subframe=subframe)
+        dg = scene.view_layers[layer_name].depsgraph
+        r = dg.scene_eval.render
+        width = max(1, r.resolution_x * r.resolution_percentage // 100)
+        height = max(1, r.resolution_y * r.resolution_percentage // 100)
+        cam = dg.scene_eval.camera
+        out[d] = {"camera": _camera_table(cam, width, height), "coins": _coins(dg, cam),
+                  "objects": {i.object.name: tuple(tuple(r) for r in i.matrix_world)
+                              for i in dg.object_instances if not i.is_instance
+                              and i.object.type in _EXPORTED_TYPES}}
+    return out
+
+
+def motion_keys(data, near):
+    """[[animate]] tables putting the camera, the coins and the objects apart of `data` (the
+    scene at frame 0 of its file) where they are at Blender's frame - 1 and + 1 (`near`,
+    _near_frames): keys at frames -1, 0, 1 for every numeric key that changes."""
+    out = []
+
+    def add(key, values):
+        if values[-1] != values[0] or values[1] != values[0]:
+            out.append({"key": key, "keys": [[d, values[d]] for d in (-1, 0, 1)]})
+
+    def numeric(v):
+        return isinstance(v, (int, float)) and not isinstance(v, bool) or isinstance(
+            v, list) and all(isinstance(x, (int, float)) for x in v)
+
+    cams = {d: near[d]["camera"] for d in (-1, 1)}
+    cams[0] = data["camera"]
+    for k, v in data["camera"].items():
+        if numeric(v) and all(k in cams[d] for d in (-1, 1)):
+            add("camera.transform.matrix" if k == "matrix" else "camera." + k,
+                {d: cams[d][k] for d in (-1, 0, 1)})
+    if all(len(near[d]["coins"]) == len(data["coins"]) for d in (-1, 1)):
+        for i, coin in enumerate(data["coins"]):
+            for k, v in coin.items():
+                if numeric(v) and all(k in near[d]["coins"][i] for d in (-1, 1)):
+                    add("camera.coin.%d.%s" % (i, k),
+                        {d: near[d]["coins"][i][k] if d else v for d in (-1, 0, 1)})
+    for i, (_, matrix, name) in enumerate(data["mesh_objects"] or ()):
+        if name is not None and all(name in near[d]["objects"] for d in (-1, 0, 1)):
+            add("object.%d.transform.matrix" % i, {d: _moved_by(
+                near[d]["objects"][name], near[0]["objects"][name], matrix) if d else matrix
+                for d in (-1, 0, 1)})
+    return out
+
+
+def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune, apart=()):
     """The .glb files holding the meshes of `depsgraph`, with the transform of each (None, or
-    the `transform.matrix` taking an object from where it was exported to where it is now):
-    [(path relative to `folder`, matrix)]. Exports (`export(path, only)`: True when it wrote
-    meshes) only what changed since `last` (this state, updated; build_scene says how) into
-    `glb_folder` as STEM.glb and STEM_K.glb; `prune` removes the .glb files there named
-    neither now nor the time before."""
+    the `transform.matrix` taking an object from where it was exported to where it is now) and
+    the object a file holds alone (or None): [(path relative to `folder`, matrix, name)].
+    Exports (`export(path, only, skip)`: True when it wrote meshes) only what changed since
+    `last` (this state, updated; build_scene says how) into `glb_folder` as STEM.glb and
+    STEM_K.glb; the objects named in `apart` are exported alone (the Vector pass moves them).
+    `prune` removes the .glb files there named neither now nor the time before."""
     digest, objects = mesh_fingerprint(depsgraph)
+    apart = set(apart) & set(objects)
     if not (last.get("digest") == digest and last["names"] == set(objects)
             and all(os.path.dirname(f[0]) == glb_folder and os.path.isfile(f[0])
                     for f in last["files"])):
-        path = os.path.join(glb_folder, stem + ".glb")
-        files = [(path, None, None, None)] if export(path, None) else []
         last.clear()
-        last.update(digest=digest, names=set(objects), static=dict(objects), files=files)
-    else:
-        # Objects exported with the rest that moved or changed: apart from now on. Objects
-        # apart whose mesh changed: exported again (alone). Those that only moved: transforms.
-        changed = sorted(n for n, o in last["static"].items() if objects[n] != o)
-        redo = {f[1] for f in last["files"] if f[1] is not None and objects[f[1]][1] != f[3]}
-        if changed or redo:
-            rest = {n: o for n, o in last["static"].items() if n not in changed}
-            files = [f for f in last["files"] if f[1] is not None and f[1] not in redo]
+        last.update(digest=digest, names=set(objects), static=dict(objects), files=[])
+        if not apart:
             path = os.path.join(glb_folder, stem + ".glb")
-            if not changed:
-                files = [f for f in last["files"] if f[1] is None] + files
-            elif rest and export(path, set(rest)):
-                files.insert(0, (path, None, None, None))
-            for k, name in enumerate(changed + sorted(redo)):
-                path = os.path.join(glb_folder, "%s_%d.glb" % (stem, k + 1))
-                if export(path, {name}):
-                    files.append((path, name) + objects[name])
-            last.update(static=rest, files=files)
+            last["files"] = [(path, None, None, None)] if export(path, None, None) else []
+    if last["files"] or apart:
+        _split(last, objects, apart, export, os.path.join(glb_folder, stem))
     if prune:  # (the files named before too: a viewport's thread may just be loading them)
         now = {f[0] for f in last["files"]}
         keep, last["named"] = now | last.get("named", set()), now
@@ -648,17 +706,41 @@ def mesh_files(last, depsgraph, glb_folder, folder, stem, export, prune):
             if name.endswith(".glb") and os.path.join(glb_folder, name) not in keep:
                 os.remove(os.path.join(glb_folder, name))
     return [(os.path.relpath(path, folder), None if name is None else
-             _moved_by(objects[name][0], at_export)) for path, name, at_export, _ in last["files"]]
+             _moved_by(objects[name][0], at_export), name)
+            for path, name, at_export, _ in last["files"]]
 
 
-def _moved_by(now, then):
+def _split(last, objects, apart, export, stem):
+    """mesh_files' exports when the digest is the last one's: objects exported with the rest
+    that moved or changed (or are `apart`) go apart from now on; objects apart whose mesh
+    changed are exported again (alone); those that only moved keep their file (transforms)."""
+    changed = sorted(n for n, o in last["static"].items() if objects[n] != o or n in apart)
+    redo = {f[1] for f in last["files"] if f[1] is not None and objects[f[1]][1] != f[3]}
+    if not (changed or redo):
+        return
+    rest = {n: o for n, o in last["static"].items() if n not in changed}
+    files = [f for f in last["files"] if f[1] is not None and f[1] not in redo]
+    if not changed:
+        files = [f for f in last["files"] if f[1] is None] + files
+    elif export(stem + ".glb", None, set(objects) - set(rest)):
+        files.insert(0, (stem + ".glb", None, None, None))
+    for k, name in enumerate(changed + sorted(redo)):
+        path = "%s_%d.glb" % (stem, k + 1)
+        if export(path, {name}, None):
+            files.append((path, name) + objects[name])
+    last.update(static=rest, files=files)
+
+
+def _moved_by(now, then, after=None):
     """The `transform.matrix` (16 numbers, row-major, anamorph's axes) that takes an object
     exported at Blender's world matrix `then` to `now` (rows): C now then^-1 C^-1, C the glTF
-    axes (scene_toml.GLTF_FROM_BLENDER), in double precision."""
+    axes (scene_toml.GLTF_FROM_BLENDER), in double precision; times `after` (such a matrix)."""
     c = np.eye(4)
     c[:3, :3] = scene_toml.GLTF_FROM_BLENDER
     m = c @ np.array(now, dtype=np.float64) @ np.linalg.inv(np.array(then, dtype=np.float64)) \
         @ c.T
+    if after is not None:
+        m = m @ np.array(after, dtype=np.float64).reshape(4, 4)
     return [float(v) for v in m.ravel()]
 
 
@@ -788,6 +870,11 @@ def _prefs_path():
     return addon.preferences.module_path if addon else ""
 
 
+# anamorph's flow layers (docs/vision.md: x right, y down, pixels; and the fraction of the
+# pixel's hits that have a flow) as the passes of the view layer's Flow toggle.
+FLOW_PASSES = {"flow_forward": "Flow Forward", "flow_backward": "Flow Backward"}
+
+
 class AnamorphRenderEngine(bpy.types.RenderEngine):
     bl_idname = "ANAMORPH"
     bl_label = "anamorph"
@@ -804,6 +891,11 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "IndexOB", 1, "X", "VALUE")
         if getattr(renderlayer, "anamorph_albedo", False):
             self.register_pass(scene, renderlayer, "Albedo", 3, "RGB", "COLOR")
+        if renderlayer.use_pass_vector:
+            self.register_pass(scene, renderlayer, "Vector", 4, "XYZW", "VECTOR")
+        if getattr(renderlayer, "anamorph_flow", False):
+            for name in FLOW_PASSES.values():
+                self.register_pass(scene, renderlayer, name, 3, "XYZ", "VECTOR")
 
     def render(self, depsgraph):
         global last_error
@@ -826,9 +918,11 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         os.makedirs(folder, exist_ok=True)
         try:
             self.update_stats("anamorph", "exporting the scene")
-            path, warnings = build_scene(depsgraph, folder, scene.frame_current,
-                                         lambda: break_requested(self),
-                                         None if keep else _glb_cache())
+            layer = depsgraph.view_layer_eval
+            path, warnings = build_scene(
+                depsgraph, folder, scene.frame_current, lambda: break_requested(self),
+                None if keep else _glb_cache(),
+                motion=layer.use_pass_vector or getattr(layer, "anamorph_flow", False))
             for w in warnings:
                 self.report({"WARNING"}, "anamorph: " + w)
             self.update_stats("anamorph", "loading")
@@ -843,7 +937,10 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         aovs = [a for a, on in (("depth", view_layer.use_pass_z),
                                 ("normal", view_layer.use_pass_normal),
                                 ("albedo", getattr(view_layer, "anamorph_albedo", False)),
-                                ("id", view_layer.use_pass_object_index)) if on]
+                                ("id", view_layer.use_pass_object_index),
+                                ("motion", view_layer.use_pass_vector)) if on]
+        if getattr(view_layer, "anamorph_flow", False):
+            aovs += list(FLOW_PASSES)
         start = time.monotonic()
 
         def progress(p):
@@ -879,6 +976,11 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
             layer.passes["Albedo"].rect = np.flipud(img["albedo"]).reshape(-1, 3)
         if "id" in img:
             layer.passes["IndexOB"].rect = np.flipud(img["id"]).reshape(-1, 1)
+        if "motion" in img:  # Cycles' convention already (docs/vision.md), y up
+            layer.passes["Vector"].rect = np.flipud(img["motion"]).reshape(-1, 4)
+        for aov, name in FLOW_PASSES.items():
+            if aov in img:  # no flow (NaN): 0, its valid fraction 0
+                layer.passes[name].rect = np.nan_to_num(np.flipud(img[aov]).reshape(-1, 3))
         self.end_result(result)
 
     # The viewport (Rendered shading).
@@ -1117,10 +1219,11 @@ class _Preview:
     def mesh_objects(self, depsgraph, scene_name):
         """The meshes' files (mesh_files) for `depsgraph`, exported as far as they changed:
         a moved object is exported alone once, then placed by a transform."""
-        def export(path, only):
+        def export(path, only, skip):
+            done = _export_glb(path, scene_name, 0, 0.0, set_frame=False, only=only, skip=skip)
             del viewport_exports[:-20]
-            viewport_exports.append(time.monotonic())
-            return _export_glb(path, scene_name, 0, 0.0, set_frame=False, only=only)
+            viewport_exports.extend([time.monotonic()] if done else [])
+            return done
 
         self.glbs += 1
         return mesh_files(self.meshes, depsgraph, self.folder, self.folder,
@@ -1366,6 +1469,8 @@ class ANAMORPH_PT_passes(bpy.types.Panel):
         col.prop(vl, "use_pass_normal")
         col.prop(vl, "anamorph_albedo")
         col.prop(vl, "use_pass_object_index")
+        col.prop(vl, "use_pass_vector")
+        col.prop(vl, "anamorph_flow")
 
 
 def _passes_changed(view_layer, _context):
@@ -1430,6 +1535,11 @@ def register():
         name="Albedo", default=False, update=_passes_changed,
         description="anamorph's albedo layer as the pass 'Albedo': the base colour of the first "
         "surface hit (mean over the pixel's samples that hit one), 0 where nothing is hit")
+    bpy.types.ViewLayer.anamorph_flow = bpy.props.BoolProperty(
+        name="Flow", default=False, update=_passes_changed,
+        description="anamorph's optical flow to the next and previous frame as the passes "
+        "'Flow Forward' and 'Flow Backward': X right, Y down in pixels, Z the fraction of the "
+        "pixel's hits whose point is seen in that frame (0 and 0 where none is)")
     if _export_after_update not in bpy.app.handlers.depsgraph_update_post:
         bpy.app.handlers.depsgraph_update_post.append(_export_after_update)
     if not bpy.app.timers.is_registered(_serve_main_queue):
@@ -1453,7 +1563,8 @@ def unregister():
         bpy.app.timers.unregister(_serve_main_queue)
     _panels_for_engine(False)
     for attr, owner in (("anamorph", bpy.types.Camera), ("anamorph_coin", bpy.types.Object),
-                        ("anamorph", bpy.types.Scene), ("anamorph_albedo", bpy.types.ViewLayer)):
+                        ("anamorph", bpy.types.Scene), ("anamorph_albedo", bpy.types.ViewLayer),
+                        ("anamorph_flow", bpy.types.ViewLayer)):
         if hasattr(owner, attr):
             delattr(owner, attr)
     while _classes:

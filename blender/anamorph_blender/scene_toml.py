@@ -75,7 +75,8 @@ MESH_OBJECT = "blender"
 
 def write(scene, fmt):
     """TOML text of `scene`: {image, render, camera, coins, environment, mesh_file or
-    mesh_objects ([(file, transform matrix or None)]), lights}.
+    mesh_objects ([(file, transform matrix or None, ...)]), lights, animate (optional: the
+    [[animate]] tables, {key, keys})}.
     `fmt` is anamorph's TOML formatter (anamorph._toml: key(), value()), the one the Python
     module's keyword arguments go through, so numbers reach the reader exactly."""
     lines = ["# Written by the anamorph Blender add-on (blender/anamorph_blender).", ""]
@@ -94,7 +95,7 @@ def write(scene, fmt):
         _table(lines, "[environment]", scene["environment"], fmt)
     objects = scene.get("mesh_objects") or (
         [(scene["mesh_file"], None)] if scene.get("mesh_file") else [])
-    for file, matrix in objects:
+    for file, matrix, *_ in objects:
         _table(lines, "[[object]]", {"type": "mesh", "name": MESH_OBJECT, "file": file,
                                      "lights": False, "cameras": False, "animation": False},
                fmt)
@@ -102,6 +103,8 @@ def write(scene, fmt):
             lines.insert(-1, f"transform = {{ matrix = {fmt.value(matrix)} }}")
     for light in scene["lights"]:
         _table(lines, "[[light]]", light, fmt)
+    for table in scene.get("animate") or ():
+        _table(lines, "[[animate]]", table, fmt)
     return "\n".join(lines)
 
 
