@@ -1214,6 +1214,9 @@ class _Preview:
         # Whether _export_after_update exported for the view_update that follows it.
         self.exported_now = False
         self.engine = None  # the engine of the last view_update
+        # Loaded scenes: [_scene_key, anamorph Scene, rendering now, scene file], for
+        # view-only restarts (_loaded).
+        self.scenes = []
         _live_previews.add(self)
 
     def mesh_objects(self, depsgraph, scene_name):
@@ -1239,33 +1242,62 @@ class _Preview:
     def start(self, engine, data, width, height):
         """Renders `data` at width x height in a new thread. The running one is cancelled, not
         waited for: it stops at its next progress report (every 50 ms), meanwhile rendering
-        beside the new one (waiting for it took up to 60 ms of an edit's first image)."""
+        beside the new one (waiting for it took up to 60 ms of an edit's first image). When
+        only the view changed (camera, coins, image, render settings) a scene loaded before
+        and not rendering is rendered again with the new view (Scene.render's set: the meshes
+        are neither read nor their acceleration structure built again); else the scene file is
+        written and loaded."""
         self.cancel.set()
         self.count += 1
-        path = write_toml(dict(data, image={"width": width, "height": height}),
-                          os.path.join(self.folder, "view_%d.toml" % self.count))
-        log = {"started": time.monotonic(), "first_image": None, "passes": 0}
+        key = _scene_key(data)
+        with self.lock:
+            entry = next((e for e in self.scenes if e[0] == key and not e[2]), None)
+            if entry is not None:
+                entry[2] = True
+        path = None if entry is not None else write_toml(
+            dict(data, image={"width": width, "height": height}),
+            os.path.join(self.folder, "view_%d.toml" % self.count))
+        log = {"started": time.monotonic(), "first_image": None, "passes": 0,
+               "reused": entry is not None}
         del viewport_log[:-20]
         viewport_log.append(log)
         self.cancel = threading.Event()
         self.threads = [t for t in self.threads if t.is_alive()]
         self.threads.append(threading.Thread(target=self._run, daemon=True, args=(
-            engine, path, width, height, self.cancel, log)))
+            engine, path or entry, view_set(data, width, height), width, height, self.cancel,
+            log, key)))
         self.threads[-1].start()
 
-    def _run(self, engine, path, width, height, cancel, log):
-        am = locate.import_anamorph()
+    def _loaded(self, source, key):
+        """The pool entry [key, Scene, busy, its file] to render: `source` itself, or a new one
+        loaded from the scene file `source` (the pool keeps two idle ones of the newest key;
+        a view is read from the file again, so the file stays while its entry does)."""
+        if not isinstance(source, str):
+            return source
+        entry = [key, locate.import_anamorph().load(source), True, source]
+        with self.lock:
+            keep = [e for e in self.scenes if e[0] == key and not e[2]][-1:]
+            gone = [e for e in self.scenes if not e[2] and e not in keep]
+            self.scenes = [e for e in self.scenes if e[2]] + keep + [entry]
+        for e in gone:
+            try:
+                os.remove(e[3])
+            except OSError:
+                pass
+        return entry
 
+    def _run(self, engine, source, view, width, height, cancel, log, key):
         def progress(p):
             if cancel.is_set():
                 raise Cancelled()
 
+        entry = None
         try:
-            loaded = am.load(path)
+            entry = self._loaded(source, key)
             for fraction, spp in VIEWPORT_PASSES:
-                img = loaded.render(width=max(1, int(width * fraction)),
-                                    height=max(1, int(height * fraction)), spp=spp,
-                                    progress=progress)["rgba"]
+                img = entry[1].render(width=max(1, int(width * fraction)),
+                                      height=max(1, int(height * fraction)), spp=spp,
+                                      progress=progress, set=view)["rgba"]
                 with self.lock:
                     if cancel.is_set():  # a newer preview started: its images only
                         break
@@ -1279,16 +1311,43 @@ class _Preview:
             log["error"] = str(e)
             _redraw(engine)
         finally:
-            try:
-                os.remove(path)
-            except OSError:
-                pass
+            if entry is not None:
+                entry[2] = False
 
     def close(self):
         _live_previews.discard(self)
         self.engine = None
         self.stop()
+        self.scenes = []
         shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _scene_key(data):
+    """What a preview's loaded scene holds beyond its view: equal keys, one loaded scene."""
+    return repr({k: v for k, v in data.items() if k not in _VIEW_DATA})
+
+
+_VIEW_DATA = ("image", "render", "camera", "coins")
+
+
+def view_set(data, width, height):
+    """Scene.render's `set` giving `data`'s view (camera with its coins, render settings) at
+    width x height: whole tables, so a key no longer set takes its default."""
+    camera = {k: _plain(v) for k, v in data["camera"].items() if k != "matrix"}
+    camera["transform"] = {"matrix": data["camera"]["matrix"]}
+    if data["coins"]:
+        camera["coin"] = [{k: _plain(v) for k, v in c.items()} for c in data["coins"]]
+    return {"camera": camera, "image": {"width": width, "height": height},
+            "render": {k: _plain(v) for k, v in data["render"].items()}}
+
+
+def _plain(v):
+    """A value as Python data (TOML text the user typed, scene_toml.Raw, parsed)."""
+    if isinstance(v, scene_toml.Raw):
+        import tomllib
+
+        return tomllib.loads("v = " + v)["v"]
+    return v
 
 
 def _redraw(engine):

@@ -63,7 +63,8 @@ class Scene:
                aovs: Sequence[str] = (), threads: int = 0,
                progress: Callable[[dict[str, Any]], Any] | None = None, *,
                seed: int | None = None, integrator: str | None = None,
-               sampler: str | None = None, denoise: bool = False) -> dict[str, np.ndarray]:
+               sampler: str | None = None, denoise: bool = False,
+               set: Mapping[str, Any] | None = None) -> dict[str, np.ndarray]:
         """Renders the scene as ``anamorph render`` does, with the same options (``spp`` implies
         uniform sampling). Returns float32 arrays of shape (H, W, C): ``rgba`` (linear colour,
         straight alpha) and one per AOV (albedo, normal, depth, position, id, uv, spp, distance,
@@ -72,8 +73,16 @@ class Scene:
         ``progress`` is called on this thread with a dict (fraction, seconds, rays, pass,
         passes); an exception from it, or Ctrl-C, cancels the render and is raised. The GIL is
         released while rendering. ``denoise`` is the CLI's ``--denoise`` (docs/denoise.md: uniform
-        sampling, at least 2 samples; ValueError otherwise)."""
-        over = []
+        sampling, at least 2 samples; ValueError otherwise). ``set`` overrides keys of the view
+        for this render only, as ``load``'s ``set`` (``{"camera.fov": 90}``, or a whole table:
+        ``{"camera": {...}}``): keys under ``camera``, ``image`` and ``render``, which are read
+        again while the geometry, lights and acceleration structure are kept; others raise
+        ValueError."""
+        for k in set or ():
+            if not isinstance(k, str) or k.split(".")[0] not in _VIEW_TABLES:
+                raise ValueError(f"render(set=...): {k!r} is not under camera, image or "
+                                 "render (load the scene with it instead)")
+        over = _toml.overrides(set)
         for key, v in (("image.width", width), ("image.height", height), ("render.spp", spp),
                        ("render.seed", seed), ("render.integrator", integrator),
                        ("render.sampler", sampler)):
@@ -86,6 +95,10 @@ class Scene:
     def __repr__(self) -> str:
         i = self._impl.info()
         return f"<anamorph.Scene {i['path']} {i['width']}x{i['height']}>"
+
+
+# The tables a render's `set` may override: what the scene reader reads again for a view.
+_VIEW_TABLES = ("camera", "image", "render")
 
 
 def load(path: str | os.PathLike[str], set: Mapping[str, Any] | None = None,

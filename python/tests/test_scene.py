@@ -54,6 +54,22 @@ def test_set_overrides_are_the_clis_set(tmp_path):
     assert_layers_equal(scene.render(width=40, height=30), anamorph.read_exr(out))
 
 
+def test_render_set_reads_the_view_again_over_the_same_geometry():
+    # A whole camera table replaces the file's (a fisheye keeps none of the perspective's
+    # keys); a dotted key sets one. Each equals a scene loaded with the same set, bit for bit.
+    scene = anamorph.load(DEMO)
+    first = scene.render(width=40, height=30, spp=1)  # (builds the acceleration structure)
+    fisheye = {"preset": "fisheye", "fov": 170, "look_from": [0, 1, 5], "look_at": [0, 0.5, 0]}
+    for over in ({"camera": fisheye}, {"camera.fov": 75, "render.max_depth": 2}):
+        got = scene.render(width=40, height=30, spp=1, set=over)
+        assert_layers_equal(got, anamorph.load(DEMO, set=over).render(width=40, height=30,
+                                                                       spp=1))
+        assert not np.array_equal(got["rgba"], first["rgba"])
+    assert_layers_equal(scene.render(width=40, height=30, spp=1), first)  # for one render
+    with pytest.raises(ValueError, match="not under camera, image or render"):
+        scene.render(width=8, height=8, set={"object.0.name": "x"})
+
+
 def test_a_bad_override_names_the_key():
     with pytest.raises(anamorph.SceneError) as e:
         anamorph.load(DEMO, set={"camera.fov": "wide"})
