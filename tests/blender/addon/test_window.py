@@ -155,6 +155,8 @@ def viewport_step():
         common.check(len(bl.viewport_exports) == state["exports"],
                      "a coin edit restarts the preview without exporting the meshes (%d exports)"
                      % (len(bl.viewport_exports) - state["exports"]))
+        common.check(log.get("reused") is True, "a coin edit renders the scene loaded before "
+                     "with the new view (no scene file loaded: %s)" % log)
         after = area_picture("viewport_edit.png")
         common.check(not np.array_equal(after, state["before"]),
                      "the viewport shows the edited coin (the picture changed)")
