@@ -84,7 +84,8 @@ class Scene:
                progress: Callable[[dict[str, Any]], Any] | None = None, *,
                seed: int | None = None, integrator: Literal['whitted', 'path', 'albedo', 'normal', 'depth', 'position', 'id', 'uv'] | None = None,
                sampler: Literal['center', 'stratified', 'random'] | None = None,
-               denoise: bool = False) -> dict[str, np.ndarray]: ...
+               denoise: bool = False,
+               set: Mapping[str, Any] | None = None) -> dict[str, np.ndarray]: ...
 
 def load(path: str | os.PathLike[str], set: Mapping[str, Any] | None = None,
          frame: float = 0) -> Scene: ...

@@ -142,7 +142,8 @@ class Scene:
                spp: int | None = None, aovs: Sequence[str] = (), threads: int = 0,
                progress: Callable[[dict[str, Any]], Any] | None = None, *,
                seed: int | None = None, integrator: {integrators} | None = None,
-               sampler: {samplers} | None = None, denoise: bool = False,
+               sampler: {samplers} | None = None,
+               denoise: bool = False,
                set: Mapping[str, Any] | None = None) -> dict[str, np.ndarray]: ...
 
 def load(path: str | os.PathLike[str], set: Mapping[str, Any] | None = None,
