@@ -69,9 +69,9 @@ std::vector<float> beauty(const Film& f) { return f.output().layers[0].data; }
 }  // namespace
 
 // Measured (48 x 48, 1024-spp reference; release build): RMSE 4 spp 0.0445, 4 spp denoised
-// 0.0190, 256 spp 0.0034 (printed; at 16 spp 0.0178 -> 0.0121 since the light tree's pick made
-// the noisy frame 4.7x better). The test asks the denoised frame for 0.6 of the error of the
-// frame it came from.
+// 0.0161 (0.0190 with the features from the colour's own samples), 256 spp 0.0034 (printed; at 16
+// spp 0.0178 -> 0.0121 since the light tree's pick made the noisy frame 4.7x better). The test asks
+// the denoised frame for 0.6 of the error of the frame it came from.
 TEST(DenoiseFilm, CloserToTheReferenceThanTheNoisyRender) {
   const int side = 48;  // (at 24 x 24 the denoiser's windows cover the image: 0.87x, not 0.43x)
   const std::string scene = box(side, kPerspective);
