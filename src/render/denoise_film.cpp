@@ -20,6 +20,9 @@ namespace {
 // The positions a rim pixel's coverage is computed from: 32 x 32 (render/rim_coverage.h).
 constexpr int kRimGrid = 32;
 constexpr int kAlbedo = 0, kNormal = 3, kDepth = 6, kHit = 7, kFeatureChannels = 8;
+// The feature pass's samples: kFeatureSppFactor times the colour's, at most kFeatureSppMost (and
+// never fewer than the colour's); its films hold the albedo, normal and depth layers.
+constexpr int kFeatureSppFactor = 8, kFeatureSppMost = 256, kFeatureLayerFloats = 7;
 
 struct Layers {
   size_t albedo = 0, normal = 0, depth = 0;
@@ -45,27 +48,30 @@ struct Half {
   std::vector<uint8_t> has_color, has_hits;
 };
 
-// Pixel (x, y) of a half's tile (null: no samples) into its planes at index i.
-void gather_pixel(const TileBuffer* t, const Layers& l, int x, int y, size_t i, Half& h) {
+// Pixel (x, y) of a half's colour tile and feature tile (null: no samples) into its planes at
+// index i.
+void gather_pixel(const TileBuffer* t, const TileBuffer* ft, const Layers& l, int x, int y,
+                  size_t i, Half& h) {
   float* c = &h.color[i * 3];
   float* f = &h.features[i * kFeatureChannels];
   const PixelSum* p = t ? &t->at(x, y) : nullptr;
+  const PixelSum* q = ft ? &ft->at(x, y) : nullptr;
   h.alpha[i] = p ? p->alpha : 0;
   h.n[i] = p ? float(p->n) : 0;
   h.has_color[i] = p && p->alpha > 0;
-  h.has_hits[i] = p && p->hits > 0;
+  h.has_hits[i] = q && q->hits > 0 && q->alpha > 0;
   if (h.has_color[i])
     for (int k = 0; k < 3; ++k) c[k] = p->rgb[k] / p->alpha;
   if (!h.has_hits[i]) return;  // features 0 (filled from the other half where it has them)
-  t->aov_layer_values(x, y, l.albedo, f + kAlbedo);
-  t->aov_layer_values(x, y, l.normal, f + kNormal);
-  t->aov_layer_values(x, y, l.depth, f + kDepth);
-  f[kHit] = float(p->hits) / p->alpha;
+  ft->aov_layer_values(x, y, l.albedo, f + kAlbedo);
+  ft->aov_layer_values(x, y, l.normal, f + kNormal);
+  ft->aov_layer_values(x, y, l.depth, f + kDepth);
+  f[kHit] = float(q->hits) / q->alpha;
 }
 
-// Both halves' planes over the frame.
-void gather(const Film& a, const Film& b, Half& ha, Half& hb) {
-  const Layers la = find_layers(a.aovs()), lb = find_layers(b.aovs());
+// Both halves' planes over the frame: colour from `a` and `b`, features from `fa` and `fb`.
+void gather(const Film& a, const Film& b, const Film& fa, const Film& fb, Half& ha, Half& hb) {
+  const Layers la = find_layers(fa.aovs()), lb = find_layers(fb.aovs());
   const size_t pixels = size_t(a.width()) * size_t(a.height());
   for (Half* h : {&ha, &hb}) h->has_color.assign(pixels, 0), h->has_hits.assign(pixels, 0);
   const TileGrid& g = a.grid();
@@ -74,8 +80,8 @@ void gather(const Film& a, const Film& b, Half& ha, Half& hb) {
     for (int y = r.y0; y < r.y1; ++y)
       for (int x = r.x0; x < r.x1; ++x) {
         const size_t i = size_t(y) * size_t(a.width()) + size_t(x);
-        gather_pixel(a.tile_if_any(ti), la, x, y, i, ha);
-        gather_pixel(b.tile_if_any(ti), lb, x, y, i, hb);
+        gather_pixel(a.tile_if_any(ti), fa.tile_if_any(ti), la, x, y, i, ha);
+        gather_pixel(b.tile_if_any(ti), fb.tile_if_any(ti), lb, x, y, i, hb);
       }
   }
 }
@@ -190,20 +196,26 @@ std::optional<std::string> denoise_unsupported(const RenderSettings& rs) {
   return std::nullopt;
 }
 
+uint32_t denoise_feature_spp(int spp) {
+  return uint32_t(std::max(spp, std::min(kFeatureSppFactor * spp, kFeatureSppMost)));
+}
+
 uint64_t denoise_film_bytes(int width, int height, size_t film_aov_floats, int threads) {
   const uint64_t pixels = uint64_t(width) * uint64_t(height);
-  const uint64_t half = sizeof(PixelSum) + 4 * film_aov_floats;
+  // The other half's film, and the feature pass's two films (albedo, normal, depth layers).
+  const uint64_t half = sizeof(PixelSum) + 4 * film_aov_floats +
+                        2 * (sizeof(PixelSum) + 4 * uint64_t(kFeatureLayerFloats));
   // Inputs: two halves of colour and features, their coverage sums and counts, the merged
   // coverage, the output colour; flags.
   const uint64_t planes = 4 * (2 * (3 + kFeatureChannels + 2) + 1 + 3) + 4;
   return pixels * (half + planes) + denoise_bytes(width, height, kFeatureChannels, {}, threads);
 }
 
-DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options,
-                            const Scene* scene) {
+DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options, const Scene* scene,
+                            const Film* features_a, const Film* features_b) {
   const size_t pixels = size_t(film.width()) * size_t(film.height());
   Half ha(pixels), hb(pixels);
-  gather(a, film, ha, hb);
+  gather(a, film, features_a ? *features_a : a, features_b ? *features_b : film, ha, hb);
   std::vector<float> coverage = complete_halves(ha, hb);
   if (scene) exact_rim_coverage(*scene, film.width(), film.height(), coverage);
   DenoiseInput in;
@@ -219,6 +231,29 @@ DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options,
   if (!st.cancelled) write_beauty(film, out, coverage);
   return st;
 }
+
+namespace {
+
+// Renders `rs` (the albedo view, no light paths) into two films of the denoiser's layers, split
+// in halves as the colour is. False when cancelled.
+bool render_feature_halves(const Renderer& renderer, const RenderSettings& rs, RenderOptions opt,
+                           Film& fa, Film& fb) {
+  opt.settings = &rs;
+  opt.aovs = fa.aovs();
+  opt.on_progress = nullptr;  // (the colour's progress is the render's)
+  opt.on_tile_pass = nullptr;
+  opt.on_pass_start = nullptr;
+  opt.tile_times = nullptr;
+  opt.split_at = uint32_t(rs.spp) / 2;
+  opt.on_pass = [&](const Film&, int pass) {
+    if (pass == 0)
+      for (size_t i = 0; i < fb.grid().count(); ++i) fa.put(i, fb.take(i));
+  };
+  const RenderStats st = renderer.render(fb, opt);
+  return !st.cancelled && !st.time_limited;
+}
+
+}  // namespace
 
 DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& rs, Film& film,
                                RenderOptions opt, const DenoiseOptions& options) {
@@ -242,10 +277,20 @@ DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& r
     return r;
   }
   const auto t0 = std::chrono::steady_clock::now();
+  RenderSettings frs = rs;
+  frs.view = View::Albedo;
+  frs.spp = int(denoise_feature_spp(rs.spp));
+  const std::vector<Aov> layers = with_denoise_aovs({});
+  Film fa(film.width(), film.height(), layers, film.grid().size);
+  Film fb(film.width(), film.height(), layers, film.grid().size);
+  if (!render_feature_halves(renderer, frs, opt, fa, fb)) {
+    merge(a, film);
+    return r;
+  }
   tbb::task_arena arena(arena_concurrency(opt.threads));
   DenoiseOptions o = options;
   if (!o.cancel) o.cancel = opt.cancel;
-  arena.execute([&] { r.denoise = denoise_halves(a, film, o, &renderer.scene()); });
+  arena.execute([&] { r.denoise = denoise_halves(a, film, o, &renderer.scene(), &fa, &fb); });
   r.denoise_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.denoised = !r.denoise.cancelled;
   return r;

@@ -23,6 +23,13 @@ std::vector<Aov> with_denoise_aovs(std::vector<Aov> aovs);
 // Why these settings cannot be denoised ("needs uniform sampling ..."), or none.
 std::optional<std::string> denoise_unsupported(const RenderSettings& rs);
 
+// The samples per pixel of the features (albedo, normal, depth, hit fraction) a render of `spp`
+// samples is denoised with: more than the colour's (8 times, at most 256, never fewer than
+// spp). They are rendered apart, in the albedo view (first hits only, no light paths: cheap),
+// split in halves as the colour is, so that a pixel's share of each side of a texture or
+// geometry edge is nearer the truth in the regressors than in its 16-sample colour.
+uint32_t denoise_feature_spp(int spp);
+
 // What denoising a width x height frame holds besides the film it renders into: the other
 // half's film, the denoiser's input planes and its peak (denoise_bytes), with `threads` threads.
 uint64_t denoise_film_bytes(int width, int height, size_t film_aov_floats, int threads);
@@ -36,8 +43,9 @@ struct DenoisedRender {
 
 // Renders into `film` (whose AOVs must include with_denoise_aovs' layers: std::invalid_argument
 // otherwise) in two halves and denoises its beauty. `rs` are the renderer's scene's settings
-// (denoise_unsupported must accept them). Cancelled or out of time: the film holds every sample
-// taken, not denoised.
+// (denoise_unsupported must accept them); its features are rendered in a pass of their own
+// (denoise_feature_spp), counted in denoise_seconds. Cancelled or out of time: the film holds
+// every sample taken, not denoised.
 DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& rs, Film& film,
                                RenderOptions opt, const DenoiseOptions& options = {});
 
@@ -46,7 +54,10 @@ DenoisedRender render_denoised(const Renderer& renderer, const RenderSettings& r
 // ray in either half keeps its (transparent) value. With `scene` (whose camera and settings
 // rendered the film) and rim_coverage_applies: every pixel beside the no-ray boundary that has
 // a sample with a ray takes its coverage (alpha) from the camera (render/rim_coverage.h).
+// With `features_a` and `features_b` (films of with_denoise_aovs({}) layers, the same size), the
+// features come from them instead of from `a` and `film`.
 DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options = {},
-                            const Scene* scene = nullptr);
+                            const Scene* scene = nullptr, const Film* features_a = nullptr,
+                            const Film* features_b = nullptr);
 
 }  // namespace anamorph

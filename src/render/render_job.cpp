@@ -38,11 +38,12 @@ Color id_color(double id) {
 
 }  // namespace
 
-RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx, int width,
-                     int height, const std::vector<Aov>& aovs)
+RenderJob::RenderJob(const Scene& s, const Accel& a, const RenderContext& ctx,
+                     const RenderSettings& settings, int width, int height,
+                     const std::vector<Aov>& aovs)
     : scene(s),
       accel(a),
-      rs(s.render),
+      rs(settings),
       mode(mode_of(rs.view)),
       integrator(mode == RenderMode::Radiance ? make_integrator(rs.integrator, ctx) : nullptr),
       want_aovs(!aovs.empty() || mode != RenderMode::Radiance),

@@ -37,7 +37,9 @@ inline bool film_storable(const Color& L) {
 enum class RenderMode { Radiance, Albedo, Normal, Depth, Position, Id, Uv };
 
 struct RenderJob {
-  RenderJob(const Scene& scene, const Accel& accel, const RenderContext& ctx, int width, int height,
+  // `settings`: the scene's render settings, or a render's own (RenderOptions::settings).
+  RenderJob(const Scene& scene, const Accel& accel, const RenderContext& ctx,
+            const RenderSettings& settings, int width, int height,
             const std::vector<Aov>& film_aovs);
 
   const Scene& scene;

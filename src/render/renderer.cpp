@@ -194,20 +194,21 @@ bool Renderer::streams(const RenderSettings& rs) {
 }
 
 std::unique_ptr<TileSession> Renderer::session(std::vector<Aov> aovs, int width, int height,
-                                               const std::atomic<bool>* cancel) const {
+                                               const std::atomic<bool>* cancel,
+                                               const RenderSettings* settings) const {
   if (!accel_) throw std::logic_error("this renderer hands all its tiles to a farm");
-  return std::make_unique<TileSession>(TileSession::World{scene_, *accel_, *lights_},
+  return std::make_unique<TileSession>(TileSession::World{scene_, *accel_, *lights_, settings},
                                        std::move(aovs), width, height, cancel);
 }
 
 namespace {
 
 // The run of one render call: this process's threads render its tiles unless a farm does.
-std::unique_ptr<RenderRun> start_run(const Renderer& r, const Scene& scene,
-                                     const RenderOptions& opt, int width, int height) {
+std::unique_ptr<RenderRun> start_run(const Renderer& r, const RenderOptions& opt, int width,
+                                     int height) {
   std::unique_ptr<const TileSession> session;
-  if (!opt.farm) session = r.session(opt.aovs, width, height, opt.cancel);
-  return std::make_unique<RenderRun>(opt, std::move(session), scene.render.time_limit);
+  if (!opt.farm) session = r.session(opt.aovs, width, height, opt.cancel, opt.settings);
+  return std::make_unique<RenderRun>(opt, std::move(session), r.settings(opt).time_limit);
 }
 
 }  // namespace
@@ -228,8 +229,8 @@ RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt
                                   const std::vector<uint8_t>& skip,
                                   const std::vector<LayerRequest>* plan, const TileSink& sink,
                                   const std::function<void(ResolvedTile&&)>& resolved) const {
-  const std::unique_ptr<RenderRun> run = start_run(*this, scene_, opt, grid.width, grid.height);
-  const uint64_t per_pixel = TileSession::whole_work_per_pixel(scene_.render);
+  const std::unique_ptr<RenderRun> run = start_run(*this, opt, grid.width, grid.height);
+  const uint64_t per_pixel = TileSession::whole_work_per_pixel(settings(opt));
   run->set_work_total(uint64_t(grid.width) * uint64_t(grid.height) * per_pixel);
   for (size_t i = 0; i < grid.count(); ++i)
     if (i < skip.size() && skip[i]) run->add_done_work(grid.rect(i).pixels() * per_pixel);
@@ -241,7 +242,7 @@ RenderStats Renderer::whole_tiles(const TileGrid& grid, const RenderOptions& opt
 }
 
 RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
-  const RenderSettings& rs = scene_.render;
+  const RenderSettings& rs = settings(opt);
   const bool per_pixel = !streams(rs);
   const bool split = opt.split_at > 0 && !rs.adaptive() && opt.split_at < uint32_t(rs.spp);
   if (!per_pixel && !split && (!opt.progressive || rs.adaptive())) {
@@ -259,8 +260,8 @@ RenderStats Renderer::render(Film& film, const RenderOptions& opt) const {
 // Pass after pass over the film, each a sweep over the tiles; between passes the callback, the
 // stopping rule of per-pixel adaptive sampling and the time budget.
 RenderStats Renderer::render_passes(Film& film, const RenderOptions& opt) const {
-  const std::unique_ptr<RenderRun> run = start_run(*this, scene_, opt, film.width(), film.height());
-  PassSchedule schedule(scene_.render, opt, film);
+  const std::unique_ptr<RenderRun> run = start_run(*this, opt, film.width(), film.height());
+  PassSchedule schedule(settings(opt), opt, film);
   run->set_work_total(uint64_t(film.width()) * uint64_t(film.height()) *
                       schedule.samples_per_pixel());
   run->stats.passes = int(schedule.passes());

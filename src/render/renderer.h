@@ -71,6 +71,10 @@ struct RenderOptions {
   // denoiser, which averages across pixels itself; a wider footprint at few samples blurs
   // texture detail that both halves then agree on (a bias no filter removes).
   bool finest_footprint = false;
+  // When set, used instead of the scene's render settings (spp, view, ...): the denoiser's
+  // feature pass (render/denoise_film.h) renders the albedo view at more samples. Kept alive by
+  // the caller during the render.
+  const RenderSettings* settings = nullptr;
   // Pass renders, for checkpoints: a tile finished pass `pass` (called from its worker thread),
   // and pass `pass` is about to run over the pixels `active` leaves on. `resume` continues.
   std::function<void(size_t tile, int pass, const TileBuffer&)> on_tile_pass;
@@ -129,7 +133,12 @@ class Renderer {
   // The state tiles of a `width` x `height` frame of this renderer's scene are rendered with
   // (render/tile_session.h), summing `aovs`; a FarmOnly renderer has none (std::logic_error).
   std::unique_ptr<TileSession> session(std::vector<Aov> aovs, int width, int height,
-                                       const std::atomic<bool>* cancel = nullptr) const;
+                                       const std::atomic<bool>* cancel = nullptr,
+                                       const RenderSettings* settings = nullptr) const;
+  // The settings a render with `opt` uses: opt.settings, or the scene's.
+  const RenderSettings& settings(const RenderOptions& opt) const {
+    return opt.settings ? *opt.settings : scene_.render;
+  }
   // The scene it renders was posed at another frame (scene/scene_pose.h): the acceleration
   // structure moves its instances and rebuilds only deformed meshes and the top level
   // (Accel::repose; anew when that cannot), and the lights are gathered again. The same pixels

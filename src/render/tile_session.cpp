@@ -73,10 +73,10 @@ struct TileSession::Workspaces {
 
 TileSession::TileSession(const World& w, std::vector<Aov> aovs, int width, int height,
                          const std::atomic<bool>* cancel)
-    : rs_(w.scene.render),
+    : rs_(w.settings ? *w.settings : w.scene.render),
       aovs_(std::move(aovs)),
       ctx_{w.scene, w.accel, w.lights, rs_.max_depth, rs_.bailout, cancel},
-      job_(w.scene, w.accel, ctx_, width, height, aovs_),
+      job_(w.scene, w.accel, ctx_, rs_, width, height, aovs_),
       sampler_(job_),
       spaces_(std::make_unique<Workspaces>()) {
   // The paper's adaptive supersampling: corners shared between pixels, squares split where they

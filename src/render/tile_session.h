@@ -29,6 +29,7 @@ class TileSession {
     const Scene& scene;
     const Accel& accel;
     const Lights& lights;
+    const RenderSettings* settings = nullptr;  // instead of scene.render when set
   };
   // `aovs`: the layers a tile's buffer sums. `cancel`: when set, samples stop within a packet
   // (the tile is then incomplete).

@@ -69,9 +69,9 @@ std::vector<float> beauty(const Film& f) { return f.output().layers[0].data; }
 }  // namespace
 
 // Measured (48 x 48, 1024-spp reference; release build): RMSE 4 spp 0.0445, 4 spp denoised
-// 0.0190, 256 spp 0.0034 (printed; at 16 spp 0.0178 -> 0.0121 since the light tree's pick made
-// the noisy frame 4.7x better). The test asks the denoised frame for 0.6 of the error of the
-// frame it came from.
+// 0.0161 (0.0190 with the features from the colour's own samples), 256 spp 0.0034 (printed; at 16
+// spp 0.0178 -> 0.0121 since the light tree's pick made the noisy frame 4.7x better). The test asks
+// the denoised frame for 0.6 of the error of the frame it came from.
 TEST(DenoiseFilm, CloserToTheReferenceThanTheNoisyRender) {
   const int side = 48;  // (at 24 x 24 the denoiser's windows cover the image: 0.87x, not 0.43x)
   const std::string scene = box(side, kPerspective);
@@ -185,6 +185,44 @@ TEST(DenoiseFilm, RefusesWhatItCannotDenoise) {
   rs.time_limit = 0;
   rs.antialias = Antialias::Pixel;
   EXPECT_TRUE(denoise_unsupported(rs));
+}
+
+// The features' samples (denoise_feature_spp): 8 times the colour's, at most 256, never fewer
+// than the colour's.
+TEST(DenoiseFilm, FeatureSamplesOutnumberTheColours) {
+  const std::pair<int, uint32_t> cases[] = {{2, 16},   {16, 128},  {32, 256},
+                                            {64, 256}, {256, 256}, {1024, 1024}};
+  for (const auto& [spp, want] : cases) EXPECT_EQ(want, denoise_feature_spp(spp)) << spp << " spp";
+}
+
+// The feature pass renders with settings of its own (RenderOptions::settings: the albedo view at
+// more samples) through the path-traced scene's renderer: the same bits as a renderer of the
+// scene loaded with those settings.
+TEST(DenoiseFilm, SettingsOverrideEqualsTheSceneWithThem) {
+  const std::string scene = box(24, kPerspective);
+  const Scene path = load_scene_from_string(scene, "test.toml", {});
+  const Scene albedo =
+      load_scene_from_string(scene, "test.toml", {"render.integrator=albedo", "render.spp=8"});
+  RenderSettings rs = path.render;
+  rs.view = View::Albedo;
+  rs.spp = 8;
+  const std::vector<Aov> aovs = with_denoise_aovs({});
+  Film over(24, 24, aovs, 16), plain(24, 24, aovs, 16);
+  RenderOptions opt;
+  opt.threads = 2;
+  opt.aovs = aovs;
+  opt.progressive = false;
+  Renderer(albedo).render(plain, opt);
+  opt.settings = &rs;
+  Renderer(path).render(over, opt);
+  const OutputImage a = over.output(), b = plain.output();
+  ASSERT_EQ(a.layers.size(), b.layers.size());
+  for (size_t l = 0; l < a.layers.size(); ++l) {
+    ASSERT_EQ(a.layers[l].data.size(), b.layers[l].data.size());
+    EXPECT_EQ(0, std::memcmp(a.layers[l].data.data(), b.layers[l].data.data(),
+                             a.layers[l].data.size() * sizeof(float)))
+        << "layer " << l << " differs";
+  }
 }
 
 }  // namespace anamorph
