@@ -50,27 +50,18 @@ int run_import(const CalibArgs& a) {
   return kOk;
 }
 
-int run_calib(const CalibArgs& a) {
-  if (!a.import.empty()) {
-    if (!a.scene.scene.empty() || !a.format.empty()) {
-      print_error("--import takes only a file (and -o for the TOML): no scene or --format");
-      return kBadInput;
-    }
-    return run_import(a);
-  }
-  if (a.scene.scene.empty() || a.format.empty() || a.output.empty()) {
-    print_error("calib needs SCENE, --format and -o (or --import FILE)");
-    return kBadInput;
-  }
+// The files an export writes (COLMAP's three in the -o directory), each with its option's name
+// for errors; the empty list when -o's extension does not fit the format (the error printed).
+std::vector<std::pair<fs::path, std::string>> export_outputs(const CalibArgs& a) {
   const fs::path out = a.output;
   const std::string ext = out.extension().string();
   if (a.format == "opencv" && ext != ".yml" && ext != ".yaml" && ext != ".json") {
     print_error(fmt::format("-o {}: an OpenCV FileStorage file is .yml, .yaml or .json", a.output));
-    return kBadInput;
+    return {};
   }
   if (a.format == "kalibr" && ext != ".yml" && ext != ".yaml") {
     print_error(fmt::format("-o {}: a Kalibr camchain is .yaml or .yml", a.output));
-    return kBadInput;
+    return {};
   }
   std::vector<std::pair<fs::path, std::string>> outputs;
   if (a.format == "colmap") {
@@ -79,24 +70,14 @@ int run_calib(const CalibArgs& a) {
   } else {
     outputs.emplace_back(out, "-o " + a.output);
   }
-  check_outputs(scene_file_input(a.scene.scene), outputs);
-  set_interrupt_note(a.output + " not written");
-  const Scene s = load(a.scene);
-  check_outputs(s.inputs, outputs);
-  Calibration c;
-  std::string kalibr;
-  try {
-    c = calibration_of(s, nullptr);
-    if (a.format == "kalibr") kalibr = kalibr_text(c);
-  } catch (const NoCalibration& e) {
-    print_error(fmt::format(
-        "{}: no {} calibration: {}; `anamorph rays {} -o rays.exr` writes the ray of every "
-        "pixel instead",
-        a.scene.scene, a.format, e.why, a.scene.scene));
-    return kBadInput;
-  }
+  return outputs;
+}
+
+// Writes the calibration in a.format; kalibr is the Kalibr camchain already made.
+int write_calibration(const CalibArgs& a, const Calibration& c, const std::string& kalibr) {
+  const fs::path out = a.output;
   if (a.format == "opencv") {
-    write_text(out, opencv_text(c, ext == ".json"));
+    write_text(out, opencv_text(c, out.extension().string() == ".json"));
   } else if (a.format == "kalibr") {
     write_text(out, kalibr);
   } else if (a.format == "json") {
@@ -115,6 +96,39 @@ int run_calib(const CalibArgs& a) {
                "# Number of points: 0, mean track length: 0\n");
   }
   return kOk;
+}
+
+int run_calib(const CalibArgs& a) {
+  if (!a.import.empty()) {
+    if (!a.scene.scene.empty() || !a.format.empty()) {
+      print_error("--import takes only a file (and -o for the TOML): no scene or --format");
+      return kBadInput;
+    }
+    return run_import(a);
+  }
+  if (a.scene.scene.empty() || a.format.empty() || a.output.empty()) {
+    print_error("calib needs SCENE, --format and -o (or --import FILE)");
+    return kBadInput;
+  }
+  const std::vector<std::pair<fs::path, std::string>> outputs = export_outputs(a);
+  if (outputs.empty()) return kBadInput;
+  check_outputs(scene_file_input(a.scene.scene), outputs);
+  set_interrupt_note(a.output + " not written");
+  const Scene s = load(a.scene);
+  check_outputs(s.inputs, outputs);
+  Calibration c;
+  std::string kalibr;
+  try {
+    c = calibration_of(s, nullptr);
+    if (a.format == "kalibr") kalibr = kalibr_text(c);
+  } catch (const NoCalibration& e) {
+    print_error(fmt::format(
+        "{}: no {} calibration: {}; `anamorph rays {} -o rays.exr` writes the ray of every "
+        "pixel instead",
+        a.scene.scene, a.format, e.why, a.scene.scene));
+    return kBadInput;
+  }
+  return write_calibration(a, c, kalibr);
 }
 
 }  // namespace

@@ -19,7 +19,6 @@ class PathTracer final : public Integrator {
 
   Color radiance(const Ray& ray0, const Hit* first, const Footprint& fp0, Rng& rng,
                  uint64_t& rays) const override {
-    const Lights& lights = ctx_.lights;
     Color L, beta(1.0);
     double eta_scale = 1;  // product of eta^2 over the refractions so far (see survives_roulette)
     Ray ray = ray0;
@@ -27,28 +26,15 @@ class PathTracer final : public Integrator {
     bool found = first != nullptr;
     if (found) hit = *first;
     Footprint fp = fp0;
-    double prev_pdf = 0;
-    bool prev_delta = true;
-    Vec3 prev_p, prev_n;  // the point the ray left and its shading normal
+    Scattered prev;
     for (int depth = 0;; ++depth) {
       const Vec3 dir = normalize(ray.d);
       if (!found) {
-        if (lights.has_environment()) {
-          const double w =
-              prev_delta ? 1
-                         : power_heuristic(prev_pdf, lights.pdf_environment(dir, prev_p, prev_n));
-          L += beta * lights.environment(dir) * w;
-        }
+        add_environment(dir, beta, prev, L);
         break;
       }
       const Vec3 wo = -dir;
-      const Color le = lights.emitted(hit, wo);
-      if (max_component(le) > 0) {
-        const double w =
-            prev_delta ? 1
-                       : power_heuristic(prev_pdf, lights.pdf_emitter(hit, prev_p, prev_n, dir));
-        L += beta * le * w;
-      }
+      add_emission(hit, dir, beta, prev, L);
       if (depth >= ctx_.max_depth || ctx_.cancelled()) break;
       const Material& m = *ctx_.scene.materials[hit.material];
       const Bsdf b = m.bsdf(shading_point(hit, fp), wo);
@@ -68,12 +54,7 @@ class PathTracer final : public Integrator {
       if (!b.sample(wo, u_bsdf, u_lobe, &s)) break;
       beta *= s.weight;
       eta_scale *= s.eta_scale;
-      if (!s.pass_through) {
-        prev_pdf = s.pdf;
-        prev_delta = s.delta;
-        prev_p = hit.p;
-        prev_n = b.frame.n;
-      }
+      if (!s.pass_through) prev = {s.pdf, s.delta, hit.p, b.frame.n};
       if (!survives_roulette(depth, rng, eta_scale, beta)) break;
       ray = spawn(hit, s.wi);
       ++rays;
@@ -86,6 +67,35 @@ class PathTracer final : public Integrator {
   }
 
  private:
+  // The vertex a path last scattered at (pass-throughs keep the one before them): its sampling
+  // pdf, whether it was a delta lobe (then no MIS weight), its point and shading normal.
+  struct Scattered {
+    double pdf = 0;
+    bool delta = true;
+    Vec3 p, n;
+  };
+
+  // What the environment adds where the path leaves the scene in direction dir, weighted by MIS
+  // against the light sampling at the vertex before.
+  void add_environment(const Vec3& dir, const Color& beta, const Scattered& prev, Color& L) const {
+    const Lights& lights = ctx_.lights;
+    if (!lights.has_environment()) return;
+    const double w =
+        prev.delta ? 1 : power_heuristic(prev.pdf, lights.pdf_environment(dir, prev.p, prev.n));
+    L += beta * lights.environment(dir) * w;
+  }
+
+  // What an emitter hit by the path (arriving in direction dir) adds, weighted likewise.
+  void add_emission(const Hit& hit, const Vec3& dir, const Color& beta, const Scattered& prev,
+                    Color& L) const {
+    const Lights& lights = ctx_.lights;
+    const Color le = lights.emitted(hit, -dir);
+    if (!(max_component(le) > 0)) return;
+    const double w =
+        prev.delta ? 1 : power_heuristic(prev.pdf, lights.pdf_emitter(hit, prev.p, prev.n, dir));
+    L += beta * le * w;
+  }
+
   // Russian roulette from the fourth scattering event with pbrt-v4's rule (Pharr, Jakob &
   // Humphreys, 4th ed., 13.4.2): a path whose throughput, with the radiance scaling of its
   // refractions undone (eta_scale), is still >= 1 in some channel always goes on (white walls and

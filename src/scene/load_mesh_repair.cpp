@@ -34,9 +34,8 @@ bool is_degenerate(const TriangleMesh& m, size_t t) {
   return !(c2 > 1e-20 * length_squared(e1) * length_squared(e2));
 }
 
-}  // namespace
-
-void check_mesh(TriangleMesh& m, MeshRepairs& repairs) {
+// The errors no repair fixes: counts that disagree, non-finite positions, indices out of range.
+void check_mesh_shape(const TriangleMesh& m) {
   const std::string what = fmt::format("mesh '{}'", m.name);
   const size_t n = m.positions.size();
   if (m.indices.size() % 3 != 0)
@@ -55,7 +54,39 @@ void check_mesh(TriangleMesh& m, MeshRepairs& repairs) {
     if (m.indices[k] >= n)
       throw LoadError(fmt::format("{}: index {} (triangle {}) is out of range: {} vertices", what,
                                   m.indices[k], k / 3, n));
+}
 
+// Normals made unit; those of no length or not finite replaced by their faces' area-weighted sum.
+void repair_normals(TriangleMesh& m, MeshRepairs& repairs) {
+  const size_t n = m.positions.size();
+  std::vector<uint32_t> bad;
+  for (uint32_t v = 0; v < n; ++v) {
+    Vec3f& nv = m.normals[v];
+    const double len = length(to_d(nv));
+    if (std::isfinite(len) && len > 1e-12)
+      nv = Vec3f(to_d(nv) / len);
+    else
+      bad.push_back(v);
+  }
+  if (bad.empty()) return;
+  repairs.bad_normals += bad.size();
+  std::vector<Vec3> sum(n);
+  for (size_t t = 0; t < m.triangle_count(); ++t) {
+    const Vec3 an = area_normal(m, t);
+    for (int k = 0; k < 3; ++k) sum[m.indices[3 * t + k]] += an;
+  }
+  for (uint32_t v : bad) {
+    const double len = length(sum[v]);
+    // Faces that cancel out (a two-sided sheet) or an unused vertex: any unit vector is as
+    // good as another, so pick +z rather than leave a hole.
+    m.normals[v] = len > 0 ? Vec3f(sum[v] / len) : Vec3f{0, 0, 1};
+  }
+}
+
+}  // namespace
+
+void check_mesh(TriangleMesh& m, MeshRepairs& repairs) {
+  check_mesh_shape(m);
   // Drop zero-area triangles: they have no normal and only cost intersection time.
   size_t kept = 0;
   for (size_t t = 0; t < m.triangle_count(); ++t) {
@@ -66,31 +97,7 @@ void check_mesh(TriangleMesh& m, MeshRepairs& repairs) {
   repairs.degenerate_triangles += m.triangle_count() - kept;
   m.indices.resize(3 * kept);
 
-  if (!m.normals.empty()) {
-    std::vector<uint32_t> bad;
-    for (uint32_t v = 0; v < n; ++v) {
-      Vec3f& nv = m.normals[v];
-      const double len = length(to_d(nv));
-      if (std::isfinite(len) && len > 1e-12)
-        nv = Vec3f(to_d(nv) / len);
-      else
-        bad.push_back(v);
-    }
-    if (!bad.empty()) {
-      repairs.bad_normals += bad.size();
-      std::vector<Vec3> sum(n);
-      for (size_t t = 0; t < m.triangle_count(); ++t) {
-        const Vec3 an = area_normal(m, t);
-        for (int k = 0; k < 3; ++k) sum[m.indices[3 * t + k]] += an;
-      }
-      for (uint32_t v : bad) {
-        const double len = length(sum[v]);
-        // Faces that cancel out (a two-sided sheet) or an unused vertex: any unit vector is as
-        // good as another, so pick +z rather than leave a hole.
-        m.normals[v] = len > 0 ? Vec3f(sum[v] / len) : Vec3f{0, 0, 1};
-      }
-    }
-  }
+  if (!m.normals.empty()) repair_normals(m, repairs);
   for (Vec2f& uv : m.uvs)
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
       uv = {0, 0};
