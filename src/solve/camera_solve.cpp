@@ -128,7 +128,8 @@ class ChainCost : public ceres::CostFunction {
     if (!jac || !jac[0]) return true;
     const std::vector<std::vector<double>> dr_duv = goals_.by_positions(index_, *c0, uv);
     const int n = parameter_block_sizes()[0], m = num_residuals();
-    std::vector<double> x(p[0], p[0] + n), col(size_t(m));
+    std::vector<double> x(p[0], p[0] + n);
+    std::vector<double> col(static_cast<size_t>(m));
     for (int j = 0; j < n; ++j) {
       const double x0 = x[size_t(j)], step = 1e-6 * (x0 == 0 ? 1 : std::abs(x0));  // (as Ceres')
       x[size_t(j)] = x0 + step;
