@@ -103,7 +103,24 @@ class CameraBuilder {
   size_t next_ = 0;
 };
 
-// Every constraint's residuals r(uv(k), k) with uv the image positions of its world points
+// Magnification: Ceres' central differences of its whole residual (through the inverse map): its
+// chain rule (Goals::derivative) agrees with differences where tested but sent a coin's radius to
+// its bound on SolveCli.RecoversACoinsStrengthAndRadiusFromMagnificationAndAPin (docs/solve.md).
+struct GoalCost {
+  const Goals* goals;
+  size_t index;
+  CameraBuilder* builder;
+  bool operator()(double const* const* p, double* r) const {
+    const CameraPair* cam = builder->at(p[0]);
+    if (!cam) return false;
+    goals->residuals(index, *cam, r);
+    for (int k = 0; k < goals->residual_count(index); ++k)
+      if (!std::isfinite(r[k])) return false;
+    return true;
+  }
+};
+
+// Every other constraint's residuals r(uv(k), k) with uv the image positions of its world points
 // (Goals::points). The Jacobian by the chain rule, never through differences of the inverse map:
 // dr/dk = dr/duv duv/dk + (dr/dk at fixed uv), with duv/dk by image_position_derivative (the
 // implicit function theorem: the rays at uv, analytic in uv, through the cameras at x -+ h),
@@ -166,7 +183,16 @@ Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const 
   const int n = int(x0.size());
   ceres::Problem problem;
   for (size_t i : subset) {
-    ceres::CostFunction* cost = new ChainCost(goals, i, builder, n);
+    ceres::CostFunction* cost = nullptr;
+    if (goals.moves_at_fixed_positions(i)) {
+      auto* numeric = new ceres::DynamicNumericDiffCostFunction<GoalCost, ceres::CENTRAL>(
+          new GoalCost{&goals, i, &builder});
+      numeric->AddParameterBlock(n);
+      numeric->SetNumResiduals(goals.residual_count(i));
+      cost = numeric;
+    } else {
+      cost = new ChainCost(goals, i, builder, n);
+    }
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);
     if (opt.loss == "cauchy") loss = new ceres::CauchyLoss(opt.loss_scale);
