@@ -103,6 +103,9 @@ class CameraBuilder {
   size_t next_ = 0;
 };
 
+// Magnification: Ceres' central differences of its whole residual (through the inverse map): its
+// chain rule (Goals::derivative) agrees with differences where tested but sent a coin's radius to
+// its bound on SolveCli.RecoversACoinsStrengthAndRadiusFromMagnificationAndAPin (docs/solve.md).
 struct GoalCost {
   const Goals* goals;
   size_t index;
@@ -117,13 +120,17 @@ struct GoalCost {
   }
 };
 
-// Pins and keep: the residuals of GoalCost, their Jacobian by image_position_derivative (one
-// search for each point's image position, at x; then the rays at that position through the
-// cameras at x -+ h, analytic in the image position) instead of differences of the inverse map.
-class PointCost : public ceres::CostFunction {
+// Every other constraint's residuals r(uv(k), k) with uv the image positions of its world points
+// (Goals::points). The Jacobian by the chain rule, never through differences of the inverse map:
+// dr/dk = dr/duv duv/dk + (dr/dk at fixed uv), with duv/dk by image_position_derivative (the
+// implicit function theorem: the rays at uv, analytic in uv, through the cameras at x -+ h),
+// dr/duv by central differences of residuals_at in uv (closed-form functions of the positions, or
+// for magnification of the rays there) and the last term, only for magnification, by the rays at
+// the same uv through the cameras at x -+ h.
+class ChainCost : public ceres::CostFunction {
  public:
-  PointCost(const Goals& goals, size_t index, CameraBuilder& builder, int n)
-      : goals_(goals), index_(index), builder_(builder), goal_(goals.point_goal(index)) {
+  ChainCost(const Goals& goals, size_t index, CameraBuilder& builder, int n)
+      : goals_(goals), index_(index), builder_(builder) {
     set_num_residuals(goals.residual_count(index));
     mutable_parameter_block_sizes()->push_back(n);
   }
@@ -131,13 +138,15 @@ class PointCost : public ceres::CostFunction {
   bool Evaluate(double const* const* p, double* r, double** jac) const override {
     const std::shared_ptr<const CameraPair> c0 = builder_.hold(p[0]);
     if (!c0) return false;
-    goals_.residuals(index_, *c0, r);
+    const std::vector<Vec2> uv = goals_.positions(index_, *c0->camera);
+    goals_.residuals_at(index_, *c0, uv, r);
     for (int k = 0; k < num_residuals(); ++k)
       if (!std::isfinite(r[k])) return false;
     if (!jac || !jac[0]) return true;
-    const double w = goals_.width(), h = goals_.height(), unseen = 2 * std::max(w, h);
-    const int n = parameter_block_sizes()[0];
+    const std::vector<std::vector<double>> dr_duv = goals_.by_positions(index_, *c0, uv);
+    const int n = parameter_block_sizes()[0], m = num_residuals();
     std::vector<double> x(p[0], p[0] + n);
+    std::vector<double> col(static_cast<size_t>(m));
     for (int j = 0; j < n; ++j) {
       const double x0 = x[size_t(j)], step = 1e-6 * (x0 == 0 ? 1 : std::abs(x0));  // (as Ceres')
       x[size_t(j)] = x0 + step;
@@ -148,17 +157,8 @@ class PointCost : public ceres::CostFunction {
       const double span = (hi ? step : 0) + (lo ? step : 0);  // one-sided where one is refused
       if (!hi) hi = c0;
       if (!lo) lo = c0;
-      for (size_t k = 0; k < goal_.points.size(); ++k) {
-        double* row = jac[0] + 2 * k * size_t(n) + size_t(j);
-        Vec2 d{0, 0};
-        if (r[2 * k] != unseen || r[2 * k + 1] != unseen) {
-          const Vec2 uv{goal_.targets[k].x + r[2 * k] / w, goal_.targets[k].y + r[2 * k + 1] / h};
-          if (!image_position_derivative(*c0->camera, *lo->camera, *hi->camera, span,
-                                         goal_.points[k], uv, &d))
-            return false;
-        }
-        row[0] = d.x * w, row[size_t(n)] = d.y * h;
-      }
+      if (!goals_.derivative(index_, *c0, *lo, *hi, span, uv, dr_duv, col.data())) return false;
+      for (int i = 0; i < m; ++i) jac[0][size_t(i * n + j)] = col[size_t(i)];
     }
     return true;
   }
@@ -167,7 +167,6 @@ class PointCost : public ceres::CostFunction {
   const Goals& goals_;
   size_t index_;
   CameraBuilder& builder_;
-  Goals::PointGoal goal_;
 };
 
 struct Run {
@@ -185,14 +184,14 @@ Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const 
   ceres::Problem problem;
   for (size_t i : subset) {
     ceres::CostFunction* cost = nullptr;
-    if (!goals.point_goal(i).points.empty()) {
-      cost = new PointCost(goals, i, builder, n);
-    } else {
+    if (goals.moves_at_fixed_positions(i)) {
       auto* numeric = new ceres::DynamicNumericDiffCostFunction<GoalCost, ceres::CENTRAL>(
           new GoalCost{&goals, i, &builder});
       numeric->AddParameterBlock(n);
       numeric->SetNumResiduals(goals.residual_count(i));
       cost = numeric;
+    } else {
+      cost = new ChainCost(goals, i, builder, n);
     }
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);

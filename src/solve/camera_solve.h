@@ -1,7 +1,8 @@
 // `anamorph solve`: the camera's free keys solved for its constraints (docs/solve.md) with Ceres
-// (Levenberg-Marquardt, central numeric derivatives through the camera's inverse map `project`
-// and its ray differentials, a robust loss per constraint, bounds from the declarations). Each
-// evaluation builds the camera through the scene reader (load_view with the free values as
+// (Levenberg-Marquardt, a robust loss per constraint, bounds from the declarations; derivatives by
+// the chain rule through the image positions of the constraints' points and the implicit function
+// theorem, not by differences of the inverse map `project`, except magnification's: docs/solve.md).
+// Each evaluation builds the camera through the scene reader (load_view with the free values as
 // overrides), so every check and default is the reader's. Deterministic: one thread, no random
 // numbers. This library is the only one that links Ceres.
 #pragma once

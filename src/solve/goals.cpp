@@ -173,11 +173,12 @@ bool Goals::needs_plain() const {
   return false;
 }
 
-Goals::PointGoal Goals::point_goal(size_t i) const {
+std::vector<Vec3> Goals::points(size_t i) const {
   const Item& it = items_[i];
-  if (it.c.kind == "pin") return {{it.point}, {it.uv}};
-  if (it.c.kind == "keep") return {it.samples, it.at};
-  return {};
+  const std::string& k = it.c.kind;
+  if (k == "pin" || k == "magnification") return {it.point};
+  if (k == "size") return {it.point, it.to};
+  return it.samples;  // keep, straight
 }
 
 const char* Goals::unit(size_t i) const {
@@ -185,71 +186,79 @@ const char* Goals::unit(size_t i) const {
   return k == "pin" || k == "keep" || k == "straight" ? "px" : "%";
 }
 
-void Goals::residuals(size_t i, const CameraPair& cp, double* r, bool exact) const {
+std::vector<Vec2> Goals::positions(size_t i, const Camera& cam, bool exact) const {
   const Item& it = items_[i];
-  const Camera& cam = *cp.camera;
+  const std::string& k = it.c.kind;
+  const Vec2 none{kUnseen, kUnseen};
+  std::vector<Vec2> uv(points(i).size(), none);
+  if (k == "pin" || k == "keep") {
+    for (size_t j = 0; j < uv.size(); ++j) {
+      const Vec2 near = k == "pin" ? it.uv : it.at[j];
+      if (!seen_at(cam, k == "pin" ? it.point : it.samples[j], near, &uv[j], !exact)) uv[j] = none;
+    }
+    return uv;
+  }
+  // size, straight: each point found near the one before (the first near the centre).
+  Vec2 near{0.5, 0.5};
+  const std::vector<Vec3> p = points(i);
+  for (size_t j = 0; j < p.size(); ++j) {
+    if (!seen_at(cam, p[j], near, &uv[j])) return std::vector<Vec2>(p.size(), none);
+    near = uv[j];
+  }
+  return uv;
+}
+
+void Goals::residuals(size_t i, const CameraPair& cp, double* r, bool exact) const {
+  residuals_at(i, cp, positions(i, *cp.camera, exact), r);
+}
+
+void Goals::residuals_at(size_t i, const CameraPair& cp, const std::vector<Vec2>& uvs,
+                         double* r) const {
+  const Item& it = items_[i];
   const double w = width_, h = height_;
   // Not seen: a constant penalty of two image widths (the solver moves back toward seeing it).
   const double unseen = 2 * std::max(w, h);
-  if (it.c.kind == "pin") {
-    Vec2 uv;
-    if (!seen_at(cam, it.point, it.uv, &uv, !exact)) {
-      r[0] = r[1] = unseen;
-      return;
+  const auto seen = [](Vec2 uv) { return std::isfinite(uv.x); };
+  if (it.c.kind == "pin" || it.c.kind == "keep") {
+    for (size_t k = 0; k < uvs.size(); ++k) {
+      const Vec2 to = it.c.kind == "pin" ? it.uv : it.at[k];
+      r[2 * k] = seen(uvs[k]) ? (uvs[k].x - to.x) * w : unseen;
+      r[2 * k + 1] = seen(uvs[k]) ? (uvs[k].y - to.y) * h : unseen;
     }
-    r[0] = (uv.x - it.uv.x) * w, r[1] = (uv.y - it.uv.y) * h;
   } else if (it.c.kind == "size") {
-    Vec2 a, b;
-    if (!seen_at(cam, it.point, {0.5, 0.5}, &a) || !seen_at(cam, it.to, a, &b)) {
-      r[0] = 100;
-      return;
-    }
+    const Vec2 a = uvs[0], b = uvs[1];
     const double len = std::hypot((a.x - b.x) * w, (a.y - b.y) * h) / w;
-    r[0] = 100 * (len / it.c.values.number("fraction") - 1);
+    r[0] = seen(a) && seen(b) ? 100 * (len / it.c.values.number("fraction") - 1) : 100;
   } else if (it.c.kind == "magnification") {
-    Vec2 uv;
-    CameraSample cs;
-    std::optional<CameraRay> ray;
-    if (seen_at(cam, it.point, {0.5, 0.5}, &uv)) cs.uv = uv, ray = cam.generate(cs);
-    if (!ray) {
-      r[0] = 100;
-      return;
-    }
-    const double t = dot(it.point - ray->org, ray->dir);
-    const double a = footprint(cam, uv, t), ref = footprint(*cp.plain, uv, t);
-    const double m = a > 0 && ref > 0 ? std::sqrt(ref / a) : 0;
-    r[0] = 100 * (m / it.c.values.number("magnification") - 1);
-  } else if (it.c.kind == "straight") {
-    straight_residuals(it, cam, r);
-  } else {  // keep
-    for (size_t k = 0; k < it.samples.size(); ++k) {
-      Vec2 uv;
-      if (!seen_at(cam, it.samples[k], it.at[k], &uv, !exact)) {
-        r[2 * k] = r[2 * k + 1] = unseen;
-        continue;
-      }
-      r[2 * k] = (uv.x - it.at[k].x) * w, r[2 * k + 1] = (uv.y - it.at[k].y) * h;
+    r[0] = seen(uvs[0]) ? magnification_residual(it, cp, uvs[0]) : 100;
+  } else {  // straight
+    std::vector<Vec2> px;
+    for (const Vec2& uv : uvs) px.push_back({uv.x * w, uv.y * h});
+    if (!seen(uvs[0])) {
+      for (size_t k = 0; k < uvs.size(); ++k) r[k] = unseen;
+    } else if (it.c.values.string("shape") == "circle") {
+      const Vec2 c = it.c.values.vec2("center");
+      circle_distances(px, {c.x * w, c.y * h}, r);
+    } else {
+      line_distances(px, r);
     }
   }
 }
 
-void Goals::straight_residuals(const Item& it, const Camera& cam, double* r) const {
-  const double w = width_, h = height_;
-  std::vector<Vec2> px;
-  Vec2 uv{0.5, 0.5};
-  for (const Vec3& p : it.samples) {
-    if (!seen_at(cam, p, uv, &uv)) {
-      for (size_t k = 0; k < it.samples.size(); ++k) r[k] = 2 * std::max(w, h);
-      return;
-    }
-    px.push_back({uv.x * w, uv.y * h});
-  }
-  if (it.c.values.string("shape") == "circle") {
-    const Vec2 c = it.c.values.vec2("center");
-    circle_distances(px, {c.x * w, c.y * h}, r);
-  } else
-    line_distances(px, r);
+// The local magnification at `uv` (where the point is seen) relative to the camera without
+// coins, in percent of its target: from the ray differentials alone (no inverse map).
+double Goals::magnification_residual(const Item& it, const CameraPair& cp, Vec2 uv) const {
+  CameraSample cs;
+  cs.uv = uv;
+  const std::optional<CameraRay> ray = cp.camera->generate(cs);
+  if (!ray) return 100;
+  const double t = dot(it.point - ray->org, ray->dir);
+  const double a = footprint(*cp.camera, uv, t), ref = footprint(*cp.plain, uv, t);
+  const double m = a > 0 && ref > 0 ? std::sqrt(ref / a) : 0;
+  return 100 * (m / it.c.values.number("magnification") - 1);
 }
+
+bool Goals::moves_at_fixed_positions(size_t i) const { return items_[i].c.kind == "magnification"; }
 
 double Goals::measure(size_t i, const CameraPair& cam) const {
   std::vector<double> r(size_t(residual_count(i)));

@@ -38,21 +38,39 @@ class Goals {
   size_t size() const { return items_.size(); }
   const CameraConstraint& constraint(size_t i) const { return items_[i].c; }
   int residual_count(size_t i) const;
-  // Residuals of constraint i (residual_count of them, unweighted). Not `exact`: pins and keep
-  // find their points' image positions from their targets (Camera::project_near), the solver's
-  // fast path; measure() uses the whole inverse map.
+  // Residuals of constraint i (residual_count of them, unweighted): residuals_at the image
+  // positions of its points. Not `exact`: pins and keep find their points' image positions from
+  // their targets (Camera::project_near), the solver's fast path; measure() uses the whole
+  // inverse map.
   void residuals(size_t i, const CameraPair& cam, double* r, bool exact = false) const;
   // The reported size of constraint i's residual (pixels or percent; +inf when the camera does
   // not see its point) and its unit.
   double measure(size_t i, const CameraPair& cam) const;
   const char* unit(size_t i) const;
-  // Pins and keep: the world points whose image positions are the residuals (pixels from
-  // `targets`, u then v, in order); empty for the other kinds.
-  struct PointGoal {
-    std::vector<Vec3> points;
-    std::vector<Vec2> targets;
-  };
-  PointGoal point_goal(size_t i) const;
+  // The world points whose image positions the residuals of constraint i are a function of: pin,
+  // magnification: its point; size: from, to; keep: its samples; straight: its segment's.
+  std::vector<Vec3> points(size_t i) const;
+  // Where `cam` shows them (as residuals() finds them); (inf, inf) for a point not seen.
+  std::vector<Vec2> positions(size_t i, const Camera& cam, bool exact = false) const;
+  // The residuals at given image positions of points(i). They depend on the camera only through
+  // its rays at those positions (generate), never its inverse map, and only for the kinds that
+  // moves_at_fixed_positions (magnification: the ray differentials there); the others are
+  // functions of the positions alone.
+  void residuals_at(size_t i, const CameraPair& cam, const std::vector<Vec2>& uvs, double* r) const;
+  bool moves_at_fixed_positions(size_t i) const;
+  // dr/du and dr/dv of each point's position (rows 2 k, 2 k + 1, residual_count each) at the
+  // positions `uv` through `cam`: central differences of residuals_at in uv (zero for a point not
+  // seen; goals_jacobian.cpp).
+  std::vector<std::vector<double>> by_positions(size_t i, const CameraPair& cam,
+                                                const std::vector<Vec2>& uv) const;
+  // dr/dk (residual_count values into `col`) by the chain rule: dr/duv (by_positions at `uv`, the
+  // positions through `cam`) times duv/dk (image_position_derivative with `minus`, `plus`: the
+  // cameras with the key at k - h1, k + h2, step = h1 + h2), plus for moves_at_fixed_positions
+  // the difference of residuals_at through `minus` and `plus` at the same uv. Never the inverse
+  // map. False when a position's derivative is undecided.
+  bool derivative(size_t i, const CameraPair& cam, const CameraPair& minus, const CameraPair& plus,
+                  double step, const std::vector<Vec2>& uv,
+                  const std::vector<std::vector<double>>& dr_duv, double* col) const;
   int width() const { return width_; }
   int height() const { return height_; }
   bool needs_plain() const;
@@ -65,7 +83,7 @@ class Goals {
     std::vector<Vec3> samples;  // keep: points seen by the starting camera; straight: the segment's
     std::vector<Vec2> at;       // keep: where it saw them
   };
-  void straight_residuals(const Item& it, const Camera& cam, double* r) const;
+  double magnification_residual(const Item& it, const CameraPair& cp, Vec2 uv) const;
   std::vector<Item> items_;
   int width_, height_;
 };

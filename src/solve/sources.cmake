@@ -5,6 +5,7 @@ find_package(Ceres REQUIRED)
 add_library(anamorph_solve STATIC
   ${CMAKE_CURRENT_LIST_DIR}/free_params.cpp
   ${CMAKE_CURRENT_LIST_DIR}/goals.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/goals_jacobian.cpp
   ${CMAKE_CURRENT_LIST_DIR}/camera_solve.cpp)
 target_link_libraries(anamorph_solve PUBLIC anamorph_core
                       PRIVATE anamorph_warnings Ceres::ceres tomlplusplus::tomlplusplus)

@@ -2,6 +2,7 @@
 // strength 0 and beyond the radius, continuity, magnification, the paper's sum, differentials),
 // the (uc, vc) projection and the inverse map with coins, the [[camera.coin]] reader and the
 // `--aov coins` overlay.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "math/rng.h"
 #include "preset_test_util.h"
 #include "render/render_util.h"
+#include "scene/scene_loader.h"
 #include "scene/toml_reader.h"
 #include "test_util.h"
 
@@ -189,6 +191,33 @@ TEST(CoinWeight, NoFoldOverForAttractionAndWithinTheRepulsionLimit) {
     }
   EXPECT_THROW(make_coin("position = [0, 0, -1]\nstrength = -0.9\nstiffness = 10"), ParamError);
   EXPECT_NO_THROW(make_coin("position = [0, 0, -1]\nstrength = -0.1"));
+}
+
+// The declaration says strength lies in [-1, 1]: the reader takes its upper end, 1 (the image
+// surface moves all the way to the coin at (uc, vc)), and refuses just beyond it; a scene with it
+// builds a camera whose rays around the coin are finite.
+TEST(CoinWeight, DeclaredStrengthOfOneIsAccepted) {
+  const ParamSpec* spec = nullptr;
+  for (const ParamSpec& p : coin_params())
+    if (p.name == "strength") spec = &p;
+  ASSERT_NE(spec, nullptr);
+  EXPECT_EQ(spec->max, 1.0);
+  EXPECT_FALSE(spec->max_exclusive);
+  for (const char* affects : {"org", "dir", "both"}) {
+    const std::string c = fmt::format("position = [0, 0, -1]\naffects = \"{}\"\n", affects);
+    EXPECT_NO_THROW(make_coin(c + "strength = 1")) << affects;
+    EXPECT_THROW(make_coin(c + "strength = 1.000001"), ParamError) << affects;
+    const Scene s = load_scene_from_string("[[camera.coin]]\n" + c + "strength = 1\n", "one.toml");
+    for (double u : {0.4, 0.45, 0.49, 0.5, 0.51, 0.55, 0.6}) {
+      CameraSample cs;
+      cs.uv = {u, 0.5};
+      const std::optional<CameraRay> r = s.camera->generate(cs);
+      ASSERT_TRUE(r) << affects << " u " << u;
+      EXPECT_TRUE(std::isfinite(r->dir.x) && std::isfinite(r->org.x) &&
+                  std::isfinite(r->ddir_du.x) && std::isfinite(r->dorg_du.x))
+          << affects << " u " << u << ": dir " << r->dir.x << " org " << r->org.x;
+    }
+  }
 }
 
 // ---- cameras with coins

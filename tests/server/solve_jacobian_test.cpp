@@ -4,7 +4,10 @@
 // map (`Camera::project` of the cameras with the key moved), on cameras with coins: a
 // perspective camera with a coin over some of the points (fov, look_at, look_from, the coin's
 // strength and radius), and a tilted dome with a coin (tilt, fov, strength). Image positions in
-// units of the image (u, v in [0, 1]) per unit of the key.
+// units of the image (u, v in [0, 1]) per unit of the key. And the whole chain rule
+// (solve::Goals::derivative) for the kinds whose residuals are functions of several image
+// positions or of the rays there (size, straight, magnification) against differences of their
+// residuals measured with the whole inverse map.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -12,7 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "params/toml_parse.h"
+#include "scene/camera_goals.h"
 #include "scene/scene_loader.h"
+#include "scene/toml_reader.h"
 #include "solve/goals.h"
 
 namespace anamorph {
@@ -79,6 +85,63 @@ TEST(SolveJacobian, ImagePositionDerivativesAgreeWithDifferencesOfTheInverseMap)
   for (const auto& [key, k0] : std::vector<std::pair<std::string, double>>{
            {"camera.tilt={}", 30}, {"camera.fov={}", 200}, {"camera.coin.0.strength={}", 0.4}})
     expect_derivatives_agree(kDome, key, k0, dome);
+}
+
+const char* kGoals =
+    "[[camera.constraint]]\nkind = \"size\"\nfrom = [0.4, 0.1, 0.6]\nto = [0.8, 0.3, 0.5]\n"
+    "fraction = 0.1\n[[camera.constraint]]\nkind = \"straight\"\nfrom = [-1.5, 0.6, 0]\n"
+    "to = [1.2, 0.1, 0.7]\nsamples = 8\n[[camera.constraint]]\nkind = \"magnification\"\n"
+    "point = [0.62, 0.22, 0.6]\nmagnification = 2\n[[camera.free]]\nkey = \"camera.fov\"\n";
+
+// Goals::derivative of each constraint of kGoals against central differences (+-h2) of its
+// residuals measured exactly (the whole inverse map).
+void expect_chain_rule_agrees(const std::string& key, double k0) {
+  const std::string text = std::string(kPerspective) + kGoals;
+  const Scene s0 = at(text, key, k0);
+  const toml::table root = parse_toml(s0.effective_toml);
+  const CameraGoals g =
+      read_camera_goals(TableReader(*root.get_as<toml::table>("camera"), "camera"));
+  const solve::Goals goals(g, s0, *s0.camera, 320, 240);
+  const double h = 1e-6 * std::max(1.0, std::abs(k0)), h2 = 1e-4 * std::max(1.0, std::abs(k0));
+  const Scene lo = at(text, key, k0 - h), hi = at(text, key, k0 + h);
+  const Scene lo2 = at(text, key, k0 - h2), hi2 = at(text, key, k0 + h2);
+  const Scene plain = load_scene_from_string(
+      fmt::format("[image]\nwidth = 320\nheight = 240\n[camera]\nlook_from = [0, 1, 5]\n"
+                  "look_at = [0, 0, 0]\nfov = 50\n"),
+      "plain.toml",
+      key.starts_with("camera.coin")
+          ? std::vector<std::string>{}
+          : std::vector<std::string>{fmt::format(fmt::runtime(key), k0)});
+  const auto pair = [&](const Scene& s) {
+    return solve::CameraPair{s.camera.get(), plain.camera.get()};
+  };
+  for (size_t i = 0; i < goals.size(); ++i) {
+    const size_t m = size_t(goals.residual_count(i));
+    const std::vector<Vec2> uv = goals.positions(i, *s0.camera, true);
+    std::vector<double> col(m), rlo(m), rhi(m);
+    ASSERT_TRUE(goals.derivative(i, pair(s0), pair(lo), pair(hi), 2 * h, uv,
+                                 goals.by_positions(i, pair(s0), uv), col.data()))
+        << goals.constraint(i).kind << " " << key;
+    goals.residuals(i, pair(lo2), rlo.data(), true);
+    goals.residuals(i, pair(hi2), rhi.data(), true);
+    for (size_t j = 0; j < m; ++j) {
+      const double fd = (rhi[j] - rlo[j]) / (2 * h2);
+      // (Residuals in pixels or percent per unit of the key.)
+      EXPECT_NEAR(col[j], fd, 1e-4 * std::max(1.0, std::abs(fd)))
+          << goals.constraint(i).kind << " residual " << j << ", " << key << " at " << k0
+          << ": chain rule " << col[j] << " vs differences " << fd;
+    }
+  }
+}
+
+// (The camera without coins, for magnification, is held at k0 on both sides.)
+TEST(SolveJacobian, ChainRuleAgreesWithDifferencesForSizeStraightAndMagnification) {
+  for (const auto& [key, k0] :
+       std::vector<std::pair<std::string, double>>{{"camera.fov={}", 50},
+                                                   {"camera.look_at=[{}, 0, 0]", 0},
+                                                   {"camera.coin.0.strength={}", 0.3},
+                                                   {"camera.coin.0.radius={}", 0.15}})
+    expect_chain_rule_agrees(key, k0);
 }
 
 }  // namespace
