@@ -470,6 +470,12 @@ const ParamSpec kAnimation[] = {
      "Frames per second of the animation clock: a glTF animation is at time frame / fps "
      "(seconds), as Blender's glTF exporter writes its frames (frame 1 at 1/24 s at 24 fps).",
      0, 1e6, {}, true, false, "frames/s"},
+    {"motion_steps", ParamType::Integer, "3",
+     "Object motion blur: while the camera's shutter is open, the glTF animation is posed at this "
+     "many evenly spaced times from shutter open to close (instances and deforming meshes), and "
+     "each ray sees the pose at its own time, linearly interpolated between them. More steps "
+     "follow rotations and curved paths more closely. See gltf.md.",
+     2, 64},
 };
 
 const ParamSpec kTopLevel[] = {
