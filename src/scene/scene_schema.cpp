@@ -343,7 +343,9 @@ const ParamSpec kCameraCommon[] = {
      kInf, {}, false, false, "scene units"},
     {"shutter", ParamType::Vec2, "[0, 0]",
      "[open, close] relative to the frame rendered. With animated camera keys the rig is built "
-     "at open and close and interpolated per ray: camera motion blur.",
+     "at open and close and interpolated per ray: camera motion blur. Objects a glTF animation "
+     "moves blur too (animation.motion_steps). Blender's shutter S centred on the frame is "
+     "[-S/2, S/2].",
      -kInf, kInf, {}, false, false, "frames"},
     {"rolling_shutter", ParamType::String, "\"none\"",
      "A ray's time is its position along the readout direction instead of a random time in the "
