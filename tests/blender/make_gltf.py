@@ -580,6 +580,14 @@ def run_scene(name, a):
     if info.get("fisheye"):
         ref["variants"] = {"fisheye180": fisheye_variant(sc, name, info["frames"], cycles_dir,
                                                          a.spp, a.threads)}
+    if info.get("motion_blur"):
+        # The same frames without motion blur: what the blur changes, per block, with the two
+        # renderers' shading differences cancelled.
+        sc.render.use_motion_blur = False
+        ref["variants"] = {"still": {
+            "description": "The same frames with Cycles' motion blur off.",
+            "render": render_settings(sc),
+            "frames": render_frames(sc, name, "_still", info["frames"], cycles_dir)}}
     ref["generation_seconds"] = round(time.perf_counter() - t0, 1)
     path = os.path.join(outdir, name + ".reference.json")
     with open(path + ".partial", "w") as f:
