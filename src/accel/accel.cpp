@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "accel/accel_internal.h"
@@ -533,6 +534,21 @@ Vec3 shading_normal(const TriangleMesh& m, const uint32_t* idx, double time, dou
          accel_detail::lerp_vertex(m.motion_normals, idx[2], s) * double(bv);
 }
 
+uint32_t material_of(const Accel::Record& rec, unsigned geom) {
+  using Kind = Accel::Record::Kind;
+  return rec.kind == Kind::Shape      ? rec.shape->material
+         : rec.kind == Kind::FlatMesh ? rec.mesh->material
+                                      : rec.proto->meshes[geom].material;
+}
+
+// The shading normal: the interpolated vertex normal `ns` turned to ng's side; ng itself without
+// vertex normals (`smooth` false) or where they cancel.
+Vec3 facing_normal(bool smooth, Vec3 ns, const Vec3& ng) {
+  if (!smooth) return ng;
+  ns = length(ns) > 0 ? normalize(ns) : ng;
+  return dot(ns, ng) < 0 ? -ns : ns;
+}
+
 // An analytic shape's hit, recomputed in double from the object-space ray for an exact point.
 void fill_shape_hit(const Accel::Record& rec, const Ray& r, float t, Hit* h) {
   const AnalyticShape& s = *rec.shape;
@@ -563,21 +579,19 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   h->mesh = inst != RTC_INVALID_GEOMETRY_ID ? geom : 0;
   h->prim = prim;
   if (!surface) {
-    h->material = rec.kind == Record::Kind::Shape      ? rec.shape->material
-                  : rec.kind == Record::Kind::FlatMesh ? rec.mesh->material
-                                                       : rec.proto->meshes[geom].material;
+    h->material = material_of(rec, geom);
     return;
   }
   if (rec.kind == Record::Kind::Shape) return fill_shape_hit(rec, r, t, h);
   const TriangleMesh* m;
   const Transform* xf = nullptr;
-  Transform moved;  // (an instance's transform at the ray's time)
+  std::optional<Transform> moved;  // (an instance's transform at the ray's time)
   if (rec.kind == Record::Kind::FlatMesh) {
     m = rec.mesh;
   } else {
     m = &rec.proto->meshes[geom];
     xf = &rec.world_from_object;
-    if (!rec.motion.empty()) xf = &(moved = accel_detail::transform_at(rec.motion, r.time));
+    if (!rec.motion.empty()) xf = &moved.emplace(accel_detail::transform_at(rec.motion, r.time));
   }
   const uint32_t* idx = &m->indices[size_t(prim) * 3];
   Vec3 p0, p1, p2;
@@ -610,13 +624,7 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
     h->object_from_world = nullptr;
   }
   h->p = po;
-  // Without vertex normals the shading normal is the geometric one (normalized once).
-  if (smooth) {
-    ns = length(ns) > 0 ? normalize(ns) : h->ng;
-    h->ns = dot(ns, h->ng) < 0 ? -ns : ns;
-  } else {
-    h->ns = h->ng;
-  }
+  h->ns = facing_normal(smooth, ns, h->ng);
   h->dpdu = dpdu;
   h->dpdv = dpdv;
   h->material = m->material;
