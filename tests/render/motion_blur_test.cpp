@@ -50,12 +50,11 @@ std::filesystem::path write_strip(const test::ScratchDir& dir, bool morph) {
     path = "translation";
   }
   w.node({{"mesh", mesh}, {"translation", {-0.2, 0, 0}}});
-  w.j["animations"] = {
-    {{"samplers", {{{"input", times}, {"output", out}}}},
-     {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", path}}}}}}}
-  }
-};
-return dir.write("strip.gltf", w.text());
+  const Json sampler = {{"input", times}, {"output", out}};
+  const Json channel = {{"sampler", 0}, {"target", {{"node", 0}, {"path", path}}}};
+  w.j["animations"] =
+      Json::array({{{"samplers", Json::array({sampler})}, {"channels", Json::array({channel})}}});
+  return dir.write("strip.gltf", w.text());
 }
 
 // The strip seen head-on (every pixel's rays meet z = -1 within |x| < 0.13), frame 0 with the
