@@ -33,7 +33,7 @@ Scene tessellated_sphere_scene(int n) {
     }
   p.meshes.push_back(std::move(m));
   s.prototypes.push_back(std::move(p));
-  s.instances.push_back(Instance{0, Transform(), "sphere"});
+  s.instances.push_back(Instance{0, Transform(), "sphere", {}});
   return s;
 }
 

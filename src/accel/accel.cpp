@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "accel/accel_internal.h"
+#include "accel/motion.h"
 #include "accel/shapes.h"
 #include "math/frame.h"
 #include "math/input_limits.h"
@@ -118,13 +120,28 @@ void shape_occluded(const RTCOccludedFunctionNArguments* args) { shape_query<tru
 // (it asserts past 1.8e18). So the prototype's own coordinates lie within the world, and the
 // inverse magnifies at most 1e5 times (2e12 from the instance's origin to 2e17). Other instances
 // (a model in micrometres scaled by 1e-6, say) are moved to world space like a single-use one.
+// (A moving instance: at each of its time steps.)
 bool instanceable(const Instance& inst, bool prototype_within_world) {
-  const auto& a = inst.world_from_object.inverse_matrix().m;
   double magnification = 0;
-  for (int r = 0; r < 3; ++r)
-    magnification =
-        std::max(magnification, std::abs(a[r][0]) + std::abs(a[r][1]) + std::abs(a[r][2]));
+  const auto magnify = [&](const Transform& t) {
+    const auto& a = t.inverse_matrix().m;
+    for (int r = 0; r < 3; ++r)
+      magnification =
+          std::max(magnification, std::abs(a[r][0]) + std::abs(a[r][1]) + std::abs(a[r][2]));
+  };
+  magnify(inst.world_from_object);
+  for (const Transform& t : inst.motion) magnify(t);
   return prototype_within_world && magnification <= 1e5;
+}
+
+// Whether some instance moves or mesh deforms over the shutter.
+bool blurs(const Scene& scene) {
+  for (const Instance& inst : scene.instances)
+    if (!inst.motion.empty()) return true;
+  for (const Prototype& p : scene.prototypes)
+    for (const TriangleMesh& m : p.meshes)
+      if (!m.motion_positions.empty()) return true;
+  return false;
 }
 
 bool within_world(const Prototype& proto) {
@@ -134,15 +151,21 @@ bool within_world(const Prototype& proto) {
   return true;
 }
 
-// The mesh's vertices and triangles into the geometry's buffers (made by make_triangles, of the
-// mesh's sizes).
-void fill_triangles(RTCGeometry g, const TriangleMesh& m) {
-  auto* v = static_cast<float*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, 0));
-  for (size_t i = 0; i < m.positions.size(); ++i) {
-    v[3 * i] = m.positions[i].x;
-    v[3 * i + 1] = m.positions[i].y;
-    v[3 * i + 2] = m.positions[i].z;
+void fill_vertices(RTCGeometry g, unsigned slot, const std::vector<Vec3f>& positions) {
+  auto* v = static_cast<float*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_VERTEX, slot));
+  for (size_t i = 0; i < positions.size(); ++i) {
+    v[3 * i] = positions[i].x;
+    v[3 * i + 1] = positions[i].y;
+    v[3 * i + 2] = positions[i].z;
   }
+}
+
+// The mesh's vertices and triangles into the geometry's buffers (made by make_triangles, of the
+// mesh's sizes): one vertex buffer per time step when it deforms over the shutter.
+void fill_triangles(RTCGeometry g, const TriangleMesh& m) {
+  if (m.motion_positions.empty()) fill_vertices(g, 0, m.positions);
+  for (size_t k = 0; k < m.motion_positions.size(); ++k)
+    fill_vertices(g, unsigned(k), m.motion_positions[k]);
   auto* ix = static_cast<uint32_t*>(rtcGetGeometryBufferData(g, RTC_BUFFER_TYPE_INDEX, 0));
   std::copy(m.indices.begin(), m.indices.end(), ix);
 }
@@ -151,8 +174,11 @@ RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Material&
                            std::vector<std::unique_ptr<MaskData>>& masks) {
   RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryMask(g, mask_of(mat));
-  rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                          m.positions.size());
+  const size_t steps = std::max<size_t>(1, m.motion_positions.size());
+  if (steps > 1) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+  for (size_t k = 0; k < steps; ++k)
+    rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(k), RTC_FORMAT_FLOAT3,
+                            3 * sizeof(float), m.positions.size());
   rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t),
                           m.triangle_count());
   fill_triangles(g, m);
@@ -166,24 +192,40 @@ RTCGeometry make_triangles(RTCDevice dev, const TriangleMesh& m, const Material&
   return g;
 }
 
+void to_world(std::vector<Vec3f>& ps, std::vector<Vec3f>& ns, const Transform& world_from_object) {
+  for (auto& p : ps) p = Vec3f(world_from_object.point(Vec3(p)));
+  for (auto& nn : ns) nn = Vec3f(normalize(world_from_object.normal(Vec3(nn))));
+}
+
 // A mesh moved to world space (normals by the inverse transpose; triangles turned around when
-// the transform mirrors).
-TriangleMesh flattened(const TriangleMesh& m, const Transform& world_from_object) {
+// the transform mirrors). With `motion` (the instance's transforms over the shutter) or its own
+// deformation, each time step moved by its transform. (A mirroring that changes over the shutter
+// is taken at the frame.)
+TriangleMesh flattened(const TriangleMesh& m, const Transform& world_from_object,
+                       const std::vector<Transform>& motion = {}) {
   TriangleMesh w = m;
-  for (auto& p : w.positions) p = Vec3f(world_from_object.point(Vec3(p)));
-  for (auto& nn : w.normals) nn = Vec3f(normalize(world_from_object.normal(Vec3(nn))));
+  to_world(w.positions, w.normals, world_from_object);
+  if (!motion.empty() && w.motion_positions.empty()) {
+    w.motion_positions.assign(motion.size(), m.positions);
+    if (!m.normals.empty()) w.motion_normals.assign(motion.size(), m.normals);
+  }
+  for (size_t k = 0; k < w.motion_positions.size(); ++k) {
+    std::vector<Vec3f> no_normals;
+    to_world(w.motion_positions[k], k < w.motion_normals.size() ? w.motion_normals[k] : no_normals,
+             motion.empty() ? world_from_object : motion[k]);
+  }
   if (world_from_object.swaps_handedness())
     for (size_t t = 0; t < w.indices.size(); t += 3) std::swap(w.indices[t + 1], w.indices[t + 2]);
   return w;
 }
 
-// An instance's transform as Embree takes it (3x4, column-major).
-void set_transform(RTCGeometry g, const Transform& world_from_object) {
+// An instance's transform as Embree takes it (3x4, column-major), at time step `step`.
+void set_transform(RTCGeometry g, const Transform& world_from_object, unsigned step = 0) {
   float xfm[12];
   const auto& a = world_from_object.matrix().m;
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = float(a[r][c]);
-  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+  rtcSetGeometryTransform(g, step, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
 }
 
 }  // namespace
@@ -246,6 +288,7 @@ Accel::Accel(const Scene& scene) {
   prototype_scenes_.assign(scene.prototypes.size(), nullptr);
 
   deforming_ = deforming_prototypes(scene);  // (before the plan, which asks it)
+  has_motion_ = blurs(scene);
   flatten_ = plan_flattening(scene);
   placed_.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) placed_.push_back(inst.world_from_object);
@@ -279,7 +322,7 @@ void Accel::attach(RTCGeometry g, std::unique_ptr<Record> rec, unsigned mask) {
 void Accel::add_flat_meshes(const Scene& scene, const Instance& inst) {
   const auto& meshes = scene.prototypes[inst.prototype].meshes;
   for (size_t k = 0; k < meshes.size(); ++k) {
-    flat_meshes_.push_back(flattened(meshes[k], inst.world_from_object));
+    flat_meshes_.push_back(flattened(meshes[k], inst.world_from_object, inst.motion));
     const TriangleMesh& fm = flat_meshes_.back();
     const Material& mat = *scene.materials[fm.material];
     RTCGeometry g = make_triangles(device_, fm, mat, masks_->list);
@@ -314,11 +357,17 @@ void Accel::add_instance(const Scene& scene, const Instance& inst) {
   unsigned mask = 0;  // (an instance holds what its meshes hold; each keeps its own mask)
   for (const auto& m : proto.meshes) mask |= mask_of(*scene.materials[m.material]);
   rtcSetGeometryMask(g, mask);
-  set_transform(g, inst.world_from_object);
+  if (inst.motion.empty()) {
+    set_transform(g, inst.world_from_object);
+  } else {
+    rtcSetGeometryTimeStepCount(g, unsigned(inst.motion.size()));
+    for (size_t k = 0; k < inst.motion.size(); ++k) set_transform(g, inst.motion[k], unsigned(k));
+  }
   rtcCommitGeometry(g);
   auto rec = std::make_unique<Record>();
   rec->kind = Record::Kind::Instance;
   rec->proto = &proto;
+  rec->motion = inst.motion;
   rec->source = uint32_t(&inst - scene.instances.data());
   rec->world_from_object = inst.world_from_object;
   rec->object_from_world = inst.world_from_object.inverse();
@@ -386,7 +435,8 @@ void Accel::commit_and_bound() {
 bool Accel::repose(const Scene& scene) {
   if (scene.instances.size() != placed_.size() || scene.prototypes.size() != deforming_.size())
     throw std::logic_error("Accel::repose: not the scene it was built from");
-  if (!same_plan(scene)) return false;
+  // (Blurred frames are built anew: their time steps need not be those built.)
+  if (has_motion_ || blurs(scene) || !same_plan(scene)) return false;
   for (size_t p = 0; p < prototype_scenes_.size(); ++p) {
     if (!deforming_[p] || !prototype_scenes_[p]) continue;
     const auto& meshes = scene.prototypes[p].meshes;
@@ -458,6 +508,47 @@ void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec2 uv0,
   }
 }
 
+// A triangle's vertices at time `time` (a deforming mesh's interpolated between its steps).
+void vertices_at(const TriangleMesh& m, const uint32_t* idx, double time, Vec3* p0, Vec3* p1,
+                 Vec3* p2) {
+  if (m.motion_positions.empty()) {
+    *p0 = Vec3(m.positions[idx[0]]), *p1 = Vec3(m.positions[idx[1]]);
+    *p2 = Vec3(m.positions[idx[2]]);
+    return;
+  }
+  const auto s = accel_detail::time_segment(time, m.motion_positions.size());
+  *p0 = accel_detail::lerp_vertex(m.motion_positions, idx[0], s);
+  *p1 = accel_detail::lerp_vertex(m.motion_positions, idx[1], s);
+  *p2 = accel_detail::lerp_vertex(m.motion_positions, idx[2], s);
+}
+
+// The interpolated (not normalized) vertex normal at barycentrics (w, bu, bv) and `time`.
+Vec3 shading_normal(const TriangleMesh& m, const uint32_t* idx, double time, double w, float bu,
+                    float bv) {
+  if (m.motion_normals.empty())
+    return Vec3(m.normals[idx[0]]) * w + Vec3(m.normals[idx[1]]) * double(bu) +
+           Vec3(m.normals[idx[2]]) * double(bv);
+  const auto s = accel_detail::time_segment(time, m.motion_normals.size());
+  return accel_detail::lerp_vertex(m.motion_normals, idx[0], s) * w +
+         accel_detail::lerp_vertex(m.motion_normals, idx[1], s) * double(bu) +
+         accel_detail::lerp_vertex(m.motion_normals, idx[2], s) * double(bv);
+}
+
+uint32_t material_of(const Accel::Record& rec, unsigned geom) {
+  using Kind = Accel::Record::Kind;
+  return rec.kind == Kind::Shape      ? rec.shape->material
+         : rec.kind == Kind::FlatMesh ? rec.mesh->material
+                                      : rec.proto->meshes[geom].material;
+}
+
+// The shading normal: the interpolated vertex normal `ns` turned to ng's side; ng itself without
+// vertex normals (`smooth` false) or where they cancel.
+Vec3 facing_normal(bool smooth, Vec3 ns, const Vec3& ng) {
+  if (!smooth) return ng;
+  ns = length(ns) > 0 ? normalize(ns) : ng;
+  return dot(ns, ng) < 0 ? -ns : ns;
+}
+
 // An analytic shape's hit, recomputed in double from the object-space ray for an exact point.
 void fill_shape_hit(const Accel::Record& rec, const Ray& r, float t, Hit* h) {
   const AnalyticShape& s = *rec.shape;
@@ -481,28 +572,30 @@ void fill_shape_hit(const Accel::Record& rec, const Ray& r, float t, Hit* h) {
 void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsigned inst, float bu,
                      float bv, Hit* h, bool surface) const {
   h->t = t;
+  h->time = r.time;
   const unsigned top_id = inst != RTC_INVALID_GEOMETRY_ID ? inst : geom;
   const Record& rec = *records_[top_id];
   h->object_id = top_id;
   h->mesh = inst != RTC_INVALID_GEOMETRY_ID ? geom : 0;
   h->prim = prim;
   if (!surface) {
-    h->material = rec.kind == Record::Kind::Shape      ? rec.shape->material
-                  : rec.kind == Record::Kind::FlatMesh ? rec.mesh->material
-                                                       : rec.proto->meshes[geom].material;
+    h->material = material_of(rec, geom);
     return;
   }
   if (rec.kind == Record::Kind::Shape) return fill_shape_hit(rec, r, t, h);
   const TriangleMesh* m;
   const Transform* xf = nullptr;
+  std::optional<Transform> moved;  // (an instance's transform at the ray's time)
   if (rec.kind == Record::Kind::FlatMesh) {
     m = rec.mesh;
   } else {
     m = &rec.proto->meshes[geom];
     xf = &rec.world_from_object;
+    if (!rec.motion.empty()) xf = &moved.emplace(accel_detail::transform_at(rec.motion, r.time));
   }
   const uint32_t* idx = &m->indices[size_t(prim) * 3];
-  const Vec3 p0(m->positions[idx[0]]), p1(m->positions[idx[1]]), p2(m->positions[idx[2]]);
+  Vec3 p0, p1, p2;
+  vertices_at(*m, idx, r.time, &p0, &p1, &p2);
   const double w = 1.0 - bu - bv;
   Vec3 po = p0 * w + p1 * double(bu) + p2 * double(bv);
   Vec3 ngo = cross(p1 - p0, p2 - p0);
@@ -516,9 +609,7 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
   triangle_tangents(p0, p1, p2, uv0, uv1, uv2, ngo, &dpdu, &dpdv);
   const bool smooth = !m->normals.empty();
   Vec3 ns;
-  if (smooth)
-    ns = Vec3(m->normals[idx[0]]) * w + Vec3(m->normals[idx[1]]) * double(bu) +
-         Vec3(m->normals[idx[2]]) * double(bv);
+  if (smooth) ns = shading_normal(*m, idx, r.time, w, bu, bv);
   h->p_object = po;
   h->n_object = normalize(ngo);
   if (xf) {
@@ -533,13 +624,7 @@ void Accel::fill_hit(const Ray& r, float t, unsigned geom, unsigned prim, unsign
     h->object_from_world = nullptr;
   }
   h->p = po;
-  // Without vertex normals the shading normal is the geometric one (normalized once).
-  if (smooth) {
-    ns = length(ns) > 0 ? normalize(ns) : h->ng;
-    h->ns = dot(ns, h->ng) < 0 ? -ns : ns;
-  } else {
-    h->ns = h->ng;
-  }
+  h->ns = facing_normal(smooth, ns, h->ng);
   h->dpdu = dpdu;
   h->dpdv = dpdv;
   h->material = m->material;

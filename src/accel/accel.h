@@ -18,6 +18,7 @@ namespace anamorph {
 struct Ray {
   Vec3 o, d;  // d need not be unit; t is in units of |d|
   double tmin = 0, tmax = kInf;
+  double time = 0;  // in [0, 1] of the shutter: where moving objects are (object motion blur)
 };
 
 // Everything shading needs about a hit, in world space (double precision).
@@ -34,7 +35,9 @@ struct Hit {
   uint32_t prim = 0;       // triangle index within the mesh
   Vec3 p_object;           // position in object space (procedural textures)
   Vec3 n_object;           // geometric normal in object space
+  // (For an object blurred by its motion, the transform at the frame: for texture footprints.)
   const Transform* object_from_world = nullptr;
+  double time = 0;  // the ray's (rays leaving the hit take it on)
 };
 
 struct AccelStats {
@@ -82,10 +85,14 @@ class Accel {
   // component c of lane i), as camera batches hold them: no Ray per lane on the way in. Without
   // `surface`, a hit has only t, its ids and its material (renders of depth, ids or untextured
   // albedo need nothing else).
+  // `time`: each lane's shutter time (null: all 0).
   void intersect16(const double (&org)[3][16], const double (&dir)[3][16], const bool* valid,
-                   Hit* hits, bool* found, bool surface = true) const;
+                   Hit* hits, bool* found, bool surface = true, const double* time = nullptr) const;
   Bounds3 bounds() const { return bounds_; }
   const AccelStats& stats() const { return stats_; }
+  // Whether some geometry moves while the shutter is open (Instance::motion,
+  // TriangleMesh::motion_positions): then rays need their time.
+  bool has_motion() const { return has_motion_; }
   uint32_t object_count() const { return uint32_t(records_.size()); }
 
   // What each top-level geometry (object id) is; lights use it to find emissive triangles.
@@ -96,6 +103,7 @@ class Accel {
     const Prototype* proto = nullptr;      // Instance (object-space meshes)
     const AnalyticShape* shape = nullptr;  // Shape
     Transform world_from_object, object_from_world;
+    std::vector<Transform> motion;  // Instance: world_from_object over the shutter (or none)
     // What it came from: an index into the scene's instances (FlatMesh, Instance) or shapes.
     uint32_t source = 0;
     uint32_t part = 0;  // FlatMesh: which mesh of the instance's prototype it is
@@ -151,6 +159,7 @@ class Accel {
   std::vector<int> uses_;
   Bounds3 bounds_;
   AccelStats stats_;
+  bool has_motion_ = false;
 };
 
 }  // namespace anamorph

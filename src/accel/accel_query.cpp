@@ -39,7 +39,7 @@ static void set_ray(RTCRay& ray, const Ray& r, unsigned mask = kAll) {
   ray.dir_z = float(r.d.z);
   ray.tnear = float(r.tmin);
   ray.tfar = far_of(r.tmax);
-  ray.time = 0;
+  ray.time = float(r.time);
   ray.mask = mask;
   ray.id = 0;
   ray.flags = 0;
@@ -137,9 +137,9 @@ bool Accel::intersect_see_through(const Ray& r, Hit* hit, ShadowSet set) const {
   return nearest(see_through_[int(set)].scene, r, kSetMembers[int(set)], hit);
 }
 
-// One packet: `load(rh)` writes the lanes' origins and directions, `bound(o, d, tmin, &tfar)`
-// tests what is not in the BVH (shortening tfar; the id it hit, or none; called only when
-// `bounded`, i.e. the scene has unbounded shapes), the rest is set here.
+// One packet: `load(rh)` writes the lanes' origins, directions, extents and times, `bound(o, d,
+// tmin, &tfar)` tests what is not in the BVH (shortening tfar; the id it hit, or none; called only
+// when `bounded`, i.e. the scene has unbounded shapes), the rest is set here.
 template <int N, class RayHitN, class Load, class Bound, class F>
 static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Load&& load,
                              bool bounded, Bound&& bound, F&& fill,
@@ -162,7 +162,6 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
   for (int i = 0; i < N; ++i) {
     take[i] = valid[i] && in_range[i];
     v[i] = take[i] ? -1 : 0;
-    rh.ray.time[i] = 0;
     rh.ray.mask[i] = kAll;
     rh.ray.id[i] = unsigned(i);
     rh.ray.flags[i] = 0;
@@ -203,6 +202,7 @@ void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* fou
           rh.ray.dir_z[i] = float(r.d.z);
           rh.ray.tnear[i] = float(r.tmin);
           rh.ray.tfar[i] = far_of(r.tmax);
+          rh.ray.time[i] = float(r.time);
         }
       },
       !unbounded_.empty(),
@@ -216,7 +216,7 @@ void Accel::intersect16(const Ray* rays, const bool* valid, Hit* hits, bool* fou
 }
 
 void Accel::intersect16(const double (&org)[3][16], const double (&dir)[3][16], const bool* valid,
-                        Hit* hits, bool* found, bool surface) const {
+                        Hit* hits, bool* found, bool surface, const double* time) const {
   intersect_packet<16, RTCRayHit16>(
       valid, found, top_,
       [&](RTCRayHit16& rh) {
@@ -229,13 +229,18 @@ void Accel::intersect16(const double (&org)[3][16], const double (&dir)[3][16], 
         for (int i = 0; i < 16; ++i) rh.ray.dir_z[i] = float(dir[2][i]);
         for (int i = 0; i < 16; ++i) rh.ray.tnear[i] = 0.0f;
         for (int i = 0; i < 16; ++i) rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+        for (int i = 0; i < 16; ++i) rh.ray.time[i] = time ? float(time[i]) : 0.0f;
       },
       !unbounded_.empty(),
       [&](const Vec3& o, const Vec3& d, float tmin, float* tfar) {
         return nearest_unbounded(o, d, tmin, tfar, kAll);
       },
       [&](int i, float t, unsigned g, unsigned p, unsigned in, float u, float v) {
-        const Ray r{{org[0][i], org[1][i], org[2][i]}, {dir[0][i], dir[1][i], dir[2][i]}, 0, kInf};
+        const Ray r{{org[0][i], org[1][i], org[2][i]},
+                    {dir[0][i], dir[1][i], dir[2][i]},
+                    0,
+                    kInf,
+                    time ? time[i] : 0};
         fill_hit(r, t, g, p, in, u, v, &hits[i], surface);
       },
       rtcIntersect16);

@@ -131,6 +131,8 @@ void load_view_into(const SceneOptions& o, const std::vector<std::string>& extra
   loaded.camera_toml = std::move(v.camera_toml);
   loaded.effective_toml = std::move(v.effective_toml);
   loaded.frame = frame;
+  loaded.shutter_open = v.shutter_open;
+  loaded.shutter_close = v.shutter_close;
   loaded.inputs.insert(loaded.inputs.end(), v.inputs.begin(), v.inputs.end());
 }
 

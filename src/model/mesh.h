@@ -19,6 +19,10 @@ struct TriangleMesh {
   std::vector<Vec2f> uvs;         // empty, or one per position
   std::vector<uint32_t> indices;  // 3 per triangle
   uint32_t material = 0;          // index into Scene::materials
+  // Object motion blur of a deforming mesh: the positions (and normals, when it has them) at
+  // evenly spaced times over the shutter, first at open, last at close (scene/scene_pose.h);
+  // empty when it does not deform while the shutter is open.
+  std::vector<std::vector<Vec3f>> motion_positions, motion_normals;
   size_t triangle_count() const { return indices.size() / 3; }
 };
 
@@ -32,6 +36,9 @@ struct Instance {
   uint32_t prototype = 0;
   Transform world_from_object;
   std::string name;
+  // Object motion blur: world_from_object at evenly spaced times over the shutter, first at open,
+  // last at close (scene/scene_pose.h); empty when it does not move while the shutter is open.
+  std::vector<Transform> motion;
 };
 
 }  // namespace anamorph

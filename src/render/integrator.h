@@ -79,12 +79,12 @@ double shadow_transmittance(const RenderContext& ctx, const Hit& h, const LightS
   };
   ++rays;
   if (!(to_light() > 0)) return 1;
-  if (ctx.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light()}, set)) return 0;
+  if (ctx.accel.occluded_by_opaque(Ray{o, ls.wi, 0, to_light(), h.time}, set)) return 0;
   double T = 1;
   for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
     const double d = to_light();
     if (!(d > 0)) return T;
-    const Ray segment{o, ls.wi, 0, d};
+    const Ray segment{o, ls.wi, 0, d, h.time};
     if (!ctx.accel.near_see_through(segment, set)) return T;
     Hit x;
     if (!ctx.accel.intersect_see_through(segment, &x, set)) return T;

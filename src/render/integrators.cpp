@@ -35,14 +35,14 @@ bool light_visible(const RenderContext& ctx, const Hit& h, const LightSample& ls
   // Stop short of the light by a relative margin: float rays may otherwise graze the emitter
   // itself near its silhouette (measured: 20% of sphere-light samples lost at 1e-6).
   const Vec3 n = dot(ls.wi, h.ng) >= 0 ? h.ng : -h.ng;
-  Ray r{h.p + n * eps, ls.wi, 0, std::isinf(ls.dist) ? kInf : ls.dist * (1 - 1e-3) - eps};
+  Ray r{h.p + n * eps, ls.wi, 0, std::isinf(ls.dist) ? kInf : ls.dist * (1 - 1e-3) - eps, h.time};
   ++rays;
   return !ctx.accel.occluded(r);
 }
 
 Ray Integrator::spawn(const Hit& h, const Vec3& dir) {
   const Vec3 n = dot(dir, h.ng) >= 0 ? h.ng : -h.ng;
-  return Ray{h.p + n * ray_offset(h.p), dir, 0, kInf};
+  return Ray{h.p + n * ray_offset(h.p), dir, 0, kInf, h.time};
 }
 
 }  // namespace anamorph

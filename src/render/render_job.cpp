@@ -240,10 +240,14 @@ Color RenderJob::aov_beauty(const AovSample& a) const {
   return {};
 }
 
+double RenderJob::ray_time(const CameraSample& cs) const {
+  return accel.has_motion() ? scene.camera->shutter_time(cs) : 0;
+}
+
 CameraSample RenderJob::camera_sample(Vec2 uv, Rng& rng) const {
   CameraSample cs;
   cs.uv = uv;
-  if (scene.camera->uses_lens_or_time()) {
+  if (scene.camera->uses_lens_or_time() || accel.has_motion()) {
     cs.lens = {rng.uniform(), rng.uniform()};
     cs.time = rng.uniform();
   }
@@ -251,9 +255,10 @@ CameraSample RenderJob::camera_sample(Vec2 uv, Rng& rng) const {
 }
 
 SampleResult RenderJob::sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint) const {
-  const auto cam = scene.camera->generate(camera_sample(uv, rng));
+  const CameraSample cs = camera_sample(uv, rng);
+  const auto cam = scene.camera->generate(cs);
   if (!cam) return SampleResult{};  // no ray: transparent
-  const Ray ray{cam->org, cam->dir, 0, kInf};
+  const Ray ray{cam->org, cam->dir, 0, kInf, ray_time(cs)};
   Hit h;
   ++rays;
   const bool found = accel.intersect(ray, &h);
@@ -287,7 +292,9 @@ void RenderJob::lattice_samples(const Vec2* uv, const uint64_t* keys, const doub
   scene.camera->generate_batch(cs, N, &cam);
   bool valid[N], found[N];
   for (int k = 0; k < N; ++k) valid[k] = use[k] && cam.valid[k];
-  accel.intersect16(cam.org, cam.dir, valid, hits, found);
+  double time[N];
+  for (int k = 0; k < N; ++k) time[k] = ray_time(cs[k]);
+  accel.intersect16(cam.org, cam.dir, valid, hits, found, true, time);
   for (int k = 0; k < N; ++k) {
     if (!valid[k]) {
       out[k] = SampleResult{};  // no ray (or not wanted): transparent
@@ -295,7 +302,7 @@ void RenderJob::lattice_samples(const Vec2* uv, const uint64_t* keys, const doub
     }
     ++rays;
     finish(
-        Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
+        Ray{cam.origin(k), cam.direction(k), 0, kInf, time[k]}, [&] { return cam.ray(k); },
         found[k] ? &hits[k] : nullptr, uv[k], rng[k], rays, out[k], footprints[k]);
   }
 }

@@ -111,6 +111,9 @@ struct RenderJob {
 
   // The camera sample at image position uv: lens and time drawn from rng when the camera uses them.
   CameraSample camera_sample(Vec2 uv, Rng& rng) const;
+  // A camera sample's time in the shutter, as its ray carries it to moving objects (0 when none
+  // moves).
+  double ray_time(const CameraSample& cs) const;
   // One full camera sample at image position uv (single ray; adaptive subdivision, tests).
   SampleResult sample_at(Vec2 uv, Rng& rng, uint64_t& rays, double footprint = 1) const;
   // kCameraBatch lattice points of adaptive sampling as sample_at gives them (each lane's random

@@ -9,7 +9,7 @@ namespace anamorph {
 
 TileSampler::TileSampler(const RenderJob& job)
     : job_(job),
-      lens_time_(job.scene.camera->uses_lens_or_time()),
+      lens_time_(job.scene.camera->uses_lens_or_time() || job.accel.has_motion()),
       gaussian_(job.rs.filter == PixelFilter::Gaussian) {
   needs_rng_ = lens_time_ || job.rs.sampler != SamplerKind::Center ||
                (job.mode == RenderMode::Radiance && job.integrator->draws_random_numbers());
@@ -85,7 +85,10 @@ void TileSampler::trace(Packet& p, uint32_t s, double footprint, TileBuffer& til
   const CameraRayBatch& cam = p.cam;
   job_.scene.camera->generate_batch(p.cs, kPacket, &p.cam);
   for (int k = 0; k < kPacket; ++k) p.valid[k] = cam.valid[k] && p.use[k];
-  job_.accel.intersect16(cam.org, cam.dir, p.valid, p.hits, p.found, job_.hit_surface);
+  double time[kPacket] = {};  // (where moving objects are: the ray's time in the shutter)
+  if (job_.accel.has_motion())
+    for (int k = 0; k < kPacket; ++k) time[k] = job_.scene.camera->shutter_time(p.cs[k]);
+  job_.accel.intersect16(cam.org, cam.dir, p.valid, p.hits, p.found, job_.hit_surface, time);
   SampleResult& res = p.res;
   for (int k = 0; k < kPacket; ++k) {
     if (!p.use[k]) continue;
@@ -96,7 +99,7 @@ void TileSampler::trace(Packet& p, uint32_t s, double footprint, TileBuffer& til
     }
     st.rays++;
     job_.finish(
-        Ray{cam.origin(k), cam.direction(k), 0, kInf}, [&] { return cam.ray(k); },
+        Ray{cam.origin(k), cam.direction(k), 0, kInf, time[k]}, [&] { return cam.ray(k); },
         p.found[k] ? &p.hits[k] : nullptr, p.cs[k].uv, p.rng[k], st.rays, res, footprint);
     if (!film_storable(res.L)) {
       st.nan(p.x[k], p.y[k], int(s));  // dropped

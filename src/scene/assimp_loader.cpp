@@ -122,7 +122,7 @@ class AssimpBuilder {
     }
     if (!main.meshes.empty()) {
       out_.prototypes.push_back(std::move(main));
-      out_.instances.push_back({uint32_t(out_.prototypes.size() - 1), Transform(), stem_});
+      out_.instances.push_back({uint32_t(out_.prototypes.size() - 1), Transform(), stem_, {}});
     }
 
     std::vector<std::string> repair;
@@ -163,7 +163,7 @@ class AssimpBuilder {
       ++singular_;
       return;
     }
-    out_.instances.push_back({proto, Transform(m, inv), node});
+    out_.instances.push_back({proto, Transform(m, inv), node, {}});
   }
 
   // Applies a node transform to a mesh that only that node uses.

@@ -292,7 +292,7 @@ class GltfBuilder {
         const Mat4 placed = skinned ? Mat4::identity() : world;
         const Mat4 inv = inverse(placed, &ok);
         if (ok) {
-          out_.instances.push_back({uint32_t(proto), Transform(placed, inv), name});
+          out_.instances.push_back({uint32_t(proto), Transform(placed, inv), name, {}});
           rig_.instance_nodes.push_back(index);
           rig_.instance_skinned.push_back(skinned);
         } else {

@@ -23,7 +23,12 @@ std::shared_ptr<const FrameMotion> frame_motion(Scene&& other, const Scene* geom
   for (const Instance& i : g.instances) m->instances.push_back(i.world_from_object);
   for (const AnalyticShape& s : g.shapes) m->shapes.push_back(s.world_from_object);
   m->camera = std::move(other.camera);
-  if (!geometry) m->geometry = std::make_shared<const Scene>(std::move(other));
+  if (geometry) return m;
+  // (Its occlusion test asks where the objects are at that frame, not over its shutter.)
+  for (Instance& i : other.instances) i.motion.clear();
+  for (Prototype& p : other.prototypes)
+    for (TriangleMesh& mesh : p.meshes) mesh.motion_positions.clear(), mesh.motion_normals.clear();
+  m->geometry = std::make_shared<const Scene>(std::move(other));
   return m;
 }
 

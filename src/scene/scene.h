@@ -110,6 +110,10 @@ struct Scene {
   std::vector<ModelCamera> model_cameras;    // cameras found in loaded models (`gltf_camera`)
   std::vector<SceneRig> rigs;                // glTF models' animation
   double fps = 24;                           // [animation] fps: glTF time = frame / fps
+  // Object motion blur (scene/scene_pose.h): the camera's shutter [open, close] in frames
+  // relative to `frame`, and [animation] motion_steps, the times the animation is posed at.
+  double shutter_open = 0, shutter_close = 0;
+  int motion_steps = 3;
   // Every file the load read (scene, includes, textures, models and their buffers, ray tables),
   // with its role: no output of the run may overwrite one (app/output_guard.h).
   std::vector<FileRead> inputs;

@@ -479,7 +479,7 @@ void add_area_light(const TableReader& r, const ParamValues& v, const std::strin
     pr.name = name;
     pr.meshes.push_back(std::move(m));
     s.prototypes.push_back(std::move(pr));
-    s.instances.push_back(Instance{uint32_t(s.prototypes.size() - 1), Transform(), name});
+    s.instances.push_back(Instance{uint32_t(s.prototypes.size() - 1), Transform(), name, {}});
     return;
   }
   AnalyticShape sh;
@@ -675,6 +675,7 @@ void read_settings(const TableReader& top, Scene& s) {
   if (const toml::table* t = sub_table(top, "animation")) {
     const ParamValues v = TableReader(*t, "animation").params({animation_schema().common});
     s.fps = v.number("fps");
+    s.motion_steps = int(v.integer("motion_steps"));
   }
   if (const toml::table* t = sub_table(top, "image")) {
     const ParamValues v = TableReader(*t, "image").params({image_schema().common});
@@ -773,6 +774,8 @@ Scene build_frame(toml::table& root, const toml::table& original,
     s.effective_toml = to_toml_text(root);
   }
   CameraSpec cam = read_scene_camera(top, original, overrides, rigs, s, texts);
+  s.shutter_open = cam.shutter_open;
+  s.shutter_close = cam.shutter_close;
   if (build == Build::Full) pose_scene(s, frame);
   s.camera = std::make_unique<VirtualCamera>(std::move(cam.parts), cam.dof);
   for (const std::string& w : s.camera->coin_warnings()) s.warnings.push_back("camera." + w);

@@ -96,7 +96,9 @@ std::pair<double, double> gltf_frame_range(const Scene& s) {
   return {a * s.fps, b * s.fps};
 }
 
-void pose_scene(Scene& s, double frame) {
+namespace {
+
+void pose_at(Scene& s, double frame) {
   for (const SceneRig& r : s.rigs) {
     if (!animates(r)) continue;
     const RigPose pose = pose_rig(*r.rig, seconds(frame, s.fps));
@@ -104,6 +106,39 @@ void pose_scene(Scene& s, double frame) {
     deform_meshes(s, r, pose);
     place_lights(s, r, pose);
   }
+}
+
+// The moving instances' transforms and the deforming meshes' vertices at the shutter's steps.
+void pose_motion(Scene& s, double frame) {
+  const std::vector<bool> moving = moving_instances(s), deforming = deforming_prototypes(s);
+  const int n = s.motion_steps;
+  for (int k = 0; k < n; ++k) {
+    const double f = double(k) / (n - 1);
+    pose_at(s, frame + s.shutter_open + (s.shutter_close - s.shutter_open) * f);
+    for (size_t i = 0; i < s.instances.size(); ++i)
+      if (moving[i]) s.instances[i].motion.push_back(s.instances[i].world_from_object);
+    for (size_t p = 0; p < s.prototypes.size(); ++p) {
+      if (!deforming[p]) continue;
+      for (TriangleMesh& m : s.prototypes[p].meshes) {
+        m.motion_positions.push_back(m.positions);
+        if (!m.normals.empty()) m.motion_normals.push_back(m.normals);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+bool object_motion_blur(const Scene& s) {
+  return s.shutter_close > s.shutter_open && s.motion_steps >= 2 && gltf_moves_world(s);
+}
+
+void pose_scene(Scene& s, double frame) {
+  for (Instance& inst : s.instances) inst.motion.clear();
+  for (Prototype& p : s.prototypes)
+    for (TriangleMesh& m : p.meshes) m.motion_positions.clear(), m.motion_normals.clear();
+  if (object_motion_blur(s)) pose_motion(s, frame);
+  pose_at(s, frame);
 }
 
 void pose_model_cameras(const std::vector<SceneRig>& rigs, double fps, double frame,

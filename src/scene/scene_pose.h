@@ -27,9 +27,15 @@ bool gltf_moves_world(const Scene& s);
 std::vector<bool> moving_instances(const Scene& s);
 std::vector<bool> deforming_prototypes(const Scene& s);
 
+// Whether the scene's objects blur: the camera's shutter is open (Scene::shutter_open <
+// shutter_close) and the glTF animation moves geometry or lights.
+bool object_motion_blur(const Scene& s);
+
 // Poses every animating rig at `frame`: its instances' transforms, its lights' positions and
-// directions, its deforming meshes' vertices (no object motion blur: the pose at the frame's
-// time). Model cameras are left alone (pose_model_cameras).
+// directions, its deforming meshes' vertices. Model cameras are left alone (pose_model_cameras).
+// Under object_motion_blur, also the moving instances' Instance::motion and the deforming meshes'
+// TriangleMesh::motion_positions (and motion_normals): the pose at Scene::motion_steps times
+// evenly spaced from frame + shutter_open to frame + shutter_close (lights keep the frame's).
 void pose_scene(Scene& s, double frame);
 
 // `cameras` (a scene's model cameras, in its order) at `frame`, as `rigs` move them.

@@ -343,7 +343,9 @@ const ParamSpec kCameraCommon[] = {
      kInf, {}, false, false, "scene units"},
     {"shutter", ParamType::Vec2, "[0, 0]",
      "[open, close] relative to the frame rendered. With animated camera keys the rig is built "
-     "at open and close and interpolated per ray: camera motion blur.",
+     "at open and close and interpolated per ray: camera motion blur. Objects a glTF animation "
+     "moves blur too (animation.motion_steps). Blender's shutter S centred on the frame is "
+     "[-S/2, S/2].",
      -kInf, kInf, {}, false, false, "frames"},
     {"rolling_shutter", ParamType::String, "\"none\"",
      "A ray's time is its position along the readout direction instead of a random time in the "
@@ -470,6 +472,12 @@ const ParamSpec kAnimation[] = {
      "Frames per second of the animation clock: a glTF animation is at time frame / fps "
      "(seconds), as Blender's glTF exporter writes its frames (frame 1 at 1/24 s at 24 fps).",
      0, 1e6, {}, true, false, "frames/s"},
+    {"motion_steps", ParamType::Integer, "3",
+     "Object motion blur: while the camera's shutter is open, the glTF animation is posed at this "
+     "many evenly spaced times from shutter open to close (instances and deforming meshes), and "
+     "each ray sees the pose at its own time, linearly interpolated between them. More steps "
+     "follow rotations and curved paths more closely. See gltf.md.",
+     2, 64},
 };
 
 const ParamSpec kTopLevel[] = {

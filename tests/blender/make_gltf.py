@@ -240,7 +240,10 @@ def render_settings(sc):
                         "note": "Cycles' max_bounces N allows N + 1 scattering events, "
                                 "anamorph's max_depth N + 1 (docs/performance.md)"},
             "caustics_reflective": True, "caustics_refractive": True, "clamp": 0,
-            "filter_glossy": 0, "light_sampling_threshold": 0, "motion_blur": False,
+            "filter_glossy": 0, "light_sampling_threshold": 0,
+            "motion_blur": ({"shutter_frames": sc.render.motion_blur_shutter,
+                             "position": cy.motion_blur_position}
+                            if sc.render.use_motion_blur else False),
             "view_transform": "Standard (not applied: the EXRs are linear)",
             "film_exposure": 1.0, "threads": sc.render.threads,
             "output": "EXR RGBA float32, linear"}
@@ -565,6 +568,11 @@ def run_scene(name, a):
            "frame_range": [sc.frame_start, sc.frame_end], "conventions": CONVENTIONS,
            "gltf": gltf}
     configure_cycles(sc, a.spp, a.threads, WIDTH, HEIGHT)
+    if info.get("motion_blur"):
+        # Blender's shutter: a fraction of a frame centred on the frame.
+        sc.render.use_motion_blur = True
+        sc.render.motion_blur_shutter = info["motion_blur"]
+        sc.cycles.motion_blur_position = "CENTER"
     ref["render"] = render_settings(sc)
     ref["frames"] = render_frames(sc, name, "", info["frames"], cycles_dir)
     if info.get("vector"):
@@ -572,6 +580,14 @@ def run_scene(name, a):
     if info.get("fisheye"):
         ref["variants"] = {"fisheye180": fisheye_variant(sc, name, info["frames"], cycles_dir,
                                                          a.spp, a.threads)}
+    if info.get("motion_blur"):
+        # The same frames without motion blur: what the blur changes, per block, with the two
+        # renderers' shading differences cancelled.
+        sc.render.use_motion_blur = False
+        ref["variants"] = {"still": {
+            "description": "The same frames with Cycles' motion blur off.",
+            "render": render_settings(sc),
+            "frames": render_frames(sc, name, "_still", info["frames"], cycles_dir)}}
     ref["generation_seconds"] = round(time.perf_counter() - t0, 1)
     path = os.path.join(outdir, name + ".reference.json")
     with open(path + ".partial", "w") as f:

@@ -39,7 +39,7 @@ LoadedModel curved_grid(int n, bool normals, Transform world_from_object = {}) {
         m.indices.push_back(k);
   LoadedModel model;
   model.prototypes.push_back({"proto", {m}});
-  model.instances.push_back({0, world_from_object, "node"});
+  model.instances.push_back({0, world_from_object, "node", {}});
   return model;
 }
 

@@ -12,6 +12,7 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/integrator_registry_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_blender_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/gltf_materials_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/motion_blur_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/vision_aov_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bsdf_layers_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/denoise_film_test.cpp
