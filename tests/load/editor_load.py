@@ -344,8 +344,11 @@ def main():
                 failures.append(f"wrk's {name} got unexpected statuses: {unexpected}")
             if run["statuses"].get("200", 0) == 0:
                 failures.append(f"wrk's {name} got no 200 at all: {run['statuses']}")
-        if abs(growth) > 0.10:
-            failures.append(f"RSS moved {growth:+.1%} between the warm-up ({rss_warm} KiB) and "
+        # Growth is what a leak shows; a drop only means the warm-up's reading came before the
+        # server handed idle pages back (seen at -32 % on a loaded 2-core machine), so it is
+        # reported above but is not a failure.
+        if growth > 0.10:
+            failures.append(f"RSS grew {growth:+.1%} between the warm-up ({rss_warm} KiB) and "
                             f"the end ({rss_end} KiB); the bound is 10 %")
         if threads_end > threads_warm + 2:
             failures.append(f"{threads_end} threads at the end against {threads_warm} after the "
