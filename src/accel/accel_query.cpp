@@ -159,9 +159,20 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
     in_range[i] = ray_in_range_f(rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i], rh.ray.dir_x[i],
                                  rh.ray.dir_y[i], rh.ray.dir_z[i]);
   bool take[N];
+  bool any = false;
   for (int i = 0; i < N; ++i) {
     take[i] = valid[i] && in_range[i];
+    any |= take[i];
     v[i] = take[i] ? -1 : 0;
+    // A lane not taken holds a finite ray all the same: Debian's Embree 3.13 on AVX2 (16-wide
+    // packets run as two 8-wide halves) asserted `ray.valid()` on a packet whose every lane was
+    // masked off but held NaN directions (a table camera's no-ray region), aborting the process.
+    if (!take[i]) {
+      rh.ray.org_x[i] = rh.ray.org_y[i] = rh.ray.org_z[i] = 0.0f;
+      rh.ray.dir_x[i] = rh.ray.dir_y[i] = 0.0f;
+      rh.ray.dir_z[i] = 1.0f;
+      rh.ray.tnear[i] = rh.ray.tfar[i] = 0.0f;
+    }
     rh.ray.mask[i] = kAll;
     rh.ray.id[i] = unsigned(i);
     rh.ray.flags[i] = 0;
@@ -175,7 +186,7 @@ static void intersect_packet(const bool* valid, bool* found, RTCScene scene, Loa
         beside[i] = bound(Vec3{rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]},
                           Vec3{rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]}, rh.ray.tnear[i],
                           &rh.ray.tfar[i]);
-  trace(v, scene, &ctx, &rh);
+  if (any) trace(v, scene, &ctx, &rh);
   for (int i = 0; i < N; ++i) {
     const bool in_bvh = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
     found[i] = take[i] && (in_bvh || beside[i] != RTC_INVALID_GEOMETRY_ID);

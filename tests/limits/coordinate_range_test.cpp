@@ -188,7 +188,9 @@ TEST(CoordinateRange, ATinyInstanceFarFromTheRayIsHit) {
   const Accel accel(scene);
   Hit hit;
   ASSERT_TRUE(accel.intersect(Ray{{5e-13, 5e-13, 1e7}, {0, 0, -1}}, &hit));
-  EXPECT_NEAR(hit.t, 1e7, 1e-3);
+  // Embree's t is a float: at 1e7 one step of it is 1. Its AVX-512 kernels return 1e7 here, the
+  // AVX2 ones 9999999 (measured on an AVX2-only EPYC); the point is that the instance is hit.
+  EXPECT_NEAR(hit.t, 1e7, 1.0);
   ASSERT_TRUE(accel.intersect(Ray{{2.5e-12, 5e-13, 1e7}, {0, 0, -1}}, &hit));
 }
 
