@@ -278,16 +278,20 @@ def warm_up(server, lua):
     """The main run's mix (wrk and the misbehaving clients) in rounds of 10 s until the resting RSS
     grows less than 5 % in a round: the heap's working size depends on how requests interleave,
     which a busy machine changes."""
-    rounds, rss = [], None
+    # (The largest resting RSS of the rounds is returned: the resting size moves between working
+    # sizes of the heap, 47 and 70 MB in two runs on a loaded 2-core machine, one run's warm-up
+    # ending low and its end high, the other the other way round. A leak grows past all of them.)
+    rounds, rss, largest = [], None, 0
     for _ in range(5):
         bad = Misbehavers(server)
         bad.start()
         rounds.append(run_wrk(server, lua, 10))
         bad.join()
         previous, (rss, threads) = rss, settle(server)
+        largest = max(largest, rss)
         if previous and rss < previous * 1.05:
             break
-    return rounds, rss, threads
+    return rounds, largest, threads
 
 
 def main():
@@ -314,11 +318,20 @@ def main():
         alive = server.alive()
         rss_end, threads_end = settle(server) if alive else (0, 0)
         growth = (rss_end - rss_warm) / rss_warm if rss_warm else 0
+        rss_again = None
+        if alive and growth > 0.10:
+            # Past the bound: a leak keeps climbing, a heap that moved to its other working size
+            # does not. One more round of the mix tells them apart.
+            bad_again = Misbehavers(server)
+            bad_again.start()
+            run_wrk(server, lua, 10)
+            bad_again.join()
+            rss_again = settle(server)[0]
         report = {
             "seconds": seconds, "warmup_rounds": len(warm_rounds), "wrk_warmup": warm,
             "wrk": main_run,
             "rss_kib": {"start": rss0, "after_warmup": rss_warm, "end": rss_end,
-                        "growth": round(growth, 4)},
+                        "growth": round(growth, 4), "after_another_round": rss_again},
             "threads": {"start": threads0, "after_warmup": threads_warm, "end": threads_end},
             "misbehaving_clients": {k: {str(s): n for s, n in v.items()}
                                     for k, v in bad.seen.items()},
@@ -347,9 +360,10 @@ def main():
         # Growth is what a leak shows; a drop only means the warm-up's reading came before the
         # server handed idle pages back (seen at -32 % on a loaded 2-core machine), so it is
         # reported above but is not a failure.
-        if growth > 0.10:
+        if growth > 0.10 and (rss_again is None or rss_again > rss_end * 1.05):
             failures.append(f"RSS grew {growth:+.1%} between the warm-up ({rss_warm} KiB) and "
-                            f"the end ({rss_end} KiB); the bound is 10 %")
+                            f"the end ({rss_end} KiB), the bound is 10 %, and went on growing "
+                            f"in another round ({rss_again} KiB)")
         if threads_end > threads_warm + 2:
             failures.append(f"{threads_end} threads at the end against {threads_warm} after the "
                             "warm-up: connections were not let go")
