@@ -17,6 +17,7 @@ anamorph_add_test(test_render
   ${CMAKE_CURRENT_LIST_DIR}/bsdf_layers_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/denoise_film_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/light_tree_test.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/env_sampling_test.cpp
 )
 anamorph_add_test(test_form_factors
   ${CMAKE_CURRENT_LIST_DIR}/form_factors_test.cpp
