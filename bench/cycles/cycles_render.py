@@ -349,7 +349,8 @@ def main():
         # anamorph: longitude 0 (the image centre) is -z, u grows towards +x, top row +y. Cycles'
         # centre is Blender's +x, u growing towards -y; TO_BLENDER takes -z to +y and +x to +x,
         # so the lookup direction is turned by -90 degrees (less anamorph's `rotation` about +y,
-        # Blender's +z) about z. Closest: the texels are looked up unfiltered, as ours.
+        # Blender's +z) about z. Closest: the texels unfiltered (ours is bilinear, which blurs the
+        # sun by half a texel; the image means agree within 0.3 %).
         nt = world.node_tree
         tex = nt.nodes.new("ShaderNodeTexEnvironment")
         tex.image = bpy.data.images.load(os.path.join(os.path.dirname(os.path.abspath(a.scene)),
