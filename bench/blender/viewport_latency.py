@@ -30,7 +30,8 @@ import bpy
 REPO, OUT = sys.argv[sys.argv.index("--") + 1:][:2]
 REPS = int(os.environ.get("REPS", "10"))
 POLL = float(os.environ.get("POLL", "0.002"))
-sys.path.insert(0, os.path.join(REPO, "blender"))
+# ADDON_DIR: another copy of the add-on's folder (e.g. an older one, to compare).
+sys.path.insert(0, os.environ.get("ADDON_DIR") or os.path.join(REPO, "blender"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import demo_scene  # noqa: E402
 
@@ -120,13 +121,21 @@ def record(kind, t0, exports_before):
                  default=float("nan"))
     r = {"update": update - t0, "started": log["started"] - t0,
          "image": log["first_image"] - t0, "drawn": log["first_drawn"] - t0,
+         "draw": draw_call(log["first_drawn"]),
          "exports": len(bl.viewport_exports) - exports_before,
          "reused": bool(log.get("reused"))}
     state["results"].setdefault(kind, []).append(r)
-    print("%s: view_update %.0f, restart %.0f, image rendered %.0f, drawn %.0f ms (%d export)"
-          % (kind, *(1e3 * r[k] for k in ("update", "started", "image", "drawn")),
-             r["exports"]), flush=True)
+    print("%s: view_update %.0f, restart %.0f, image rendered %.0f, drawn %.0f ms (%d export; "
+          "its view_draw %.1f ms)" % (kind, *(1e3 * r[k] for k in (
+              "update", "started", "image", "drawn")), r["exports"], 1e3 * r["draw"]),
+          flush=True)
     timeline(t0)
+
+
+def draw_call(t):
+    """How long the view_draw call that first drew an image (at time t) took [s]."""
+    calls = [(s, w) for s, w in events if w.startswith("view_draw") and s <= t]
+    return float(calls[-1][1].split()[1]) * 1e-3 if calls else float("nan")
 
 
 def drawn_after(t0):
@@ -162,6 +171,8 @@ PLAN = [("camera edit, idle", edit_fov, "idle")] * REPS + \
     [("camera edit, busy", edit_fov, "busy")] * REPS + \
     [("mesh edit, idle", edit_mesh, "idle")] * REPS + \
     [("vertex edit, idle", edit_vertices, "idle")] * REPS
+if os.environ.get("CASES"):  # e.g. CASES="camera edit, idle;mesh edit, idle"
+    PLAN = [p for p in PLAN if p[0] in os.environ["CASES"].split(";")]
 
 
 _last_step = [0.0]
@@ -223,17 +234,19 @@ def report():
     """Medians over the runs of each case [ms after the edit], and the first image drawn's
     90th percentile; `reused`: restarts that rendered a scene loaded before (a new view only)."""
     print("\n| case | runs | view_update | preview restarted | first image rendered | "
-          "first image drawn: median, p90 (min-max) | exports | reused |\n"
-          "|---|---:|---:|---:|---:|---:|---:|---:|")
+          "first image drawn: median, p90 (min-max) | image to view_draw | its view_draw | exports "
+          "| reused |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for kind, rs in state["results"].items():
         med = {k: 1e3 * statistics.median(r[k] for r in rs)
-               for k in ("update", "started", "image", "drawn")}
+               for k in ("update", "started", "image", "drawn", "draw")}
+        med["wait"] = 1e3 * statistics.median(r["drawn"] - r["draw"] - r["image"] for r in rs)
         drawn = [1e3 * r["drawn"] for r in rs]
         p90 = statistics.quantiles(drawn, n=10)[-1] if len(drawn) > 1 else drawn[0]
-        print("| %s | %d | %.0f ms | %.0f ms | %.0f ms | **%.0f ms**, %.0f ms (%.0f-%.0f) | %d "
-              "| %d |" % (kind, len(rs), med["update"], med["started"], med["image"],
-                          med["drawn"], p90, min(drawn), max(drawn),
-                          max(r["exports"] for r in rs), sum(r["reused"] for r in rs)))
+        print("| %s | %d | %.0f ms | %.0f ms | %.0f ms | **%.0f ms**, %.0f ms (%.0f-%.0f) | "
+              "%.0f ms | %.1f ms | %d | %d |" % (
+                  kind, len(rs), med["update"], med["started"], med["image"], med["drawn"], p90,
+                  min(drawn), max(drawn), med["wait"], med["draw"], max(r["exports"] for r in rs),
+                  sum(r["reused"] for r in rs)))
     print("\nviewport passes %s; load average %s" % (
         bl.VIEWPORT_PASSES, open("/proc/loadavg").read().split()[:3]), flush=True)
     os._exit(0)

@@ -1091,28 +1091,42 @@ class AnamorphRenderEngine(bpy.types.RenderEngine):
         if view is None:
             return
         self._restart(preview, view)
+        preview.wait_first_image()
         self._draw_image(preview, scene, view[0])
 
     def _draw_image(self, preview, scene, frame):
+        """Draws the preview's newest image into `frame`. Its pixels were made ready for the
+        texture on the preview's thread (_texture_pixels) and its texture is made once, at its
+        first draw: Blender draws the viewport again for every redraw of the window."""
         import gpu
         from gpu_extras.presets import draw_texture_2d
 
+        t0 = time.monotonic()
         with preview.lock:
-            img, log = preview.image, preview.image_log
-        if img is None:
+            pixels, log = preview.pixels, preview.image_log
+        if pixels is None:
             return
-        h, w = img.shape[:2]
-        rgba = np.flipud(img).copy()
-        rgba[..., :3] *= rgba[..., 3:4]  # premultiplied, as Blender draws
-        texture = gpu.types.GPUTexture((w, h), format="RGBA16F", data=gpu.types.Buffer(
-            "FLOAT", rgba.size, rgba.ravel()))
+        if preview.texture is None or preview.texture[0] is not pixels:
+            h, w = pixels.shape[:2]
+            preview.texture = (pixels, gpu.types.GPUTexture((w, h), format="RGBA16F", data=(
+                gpu.types.Buffer("FLOAT", pixels.shape, pixels))))
         gpu.state.blend_set("ALPHA_PREMULT")
         self.bind_display_space_shader(scene)
-        draw_texture_2d(texture, (frame[0], frame[1]), frame[2], frame[3])
+        draw_texture_2d(preview.texture[1], (frame[0], frame[1]), frame[2], frame[3])
         self.unbind_display_space_shader()
         gpu.state.blend_set("NONE")
         if log.get("first_drawn") is None:
             log["first_drawn"] = time.monotonic()
+            log["first_draw_ms"] = 1e3 * (log["first_drawn"] - t0)
+
+
+def _texture_pixels(img):
+    """An image's pixels as the viewport's texture takes them (rows from the bottom,
+    premultiplied, as Blender draws): made on the preview's thread, not in view_draw, which
+    runs on Blender's main thread (20 ms for a 908 x 511 image)."""
+    rgba = np.flipud(img).copy()
+    rgba[..., :3] *= rgba[..., 3:4]
+    return rgba
 
 
 _glb_cache_folder = []
@@ -1149,6 +1163,9 @@ def _pass_indices(ids, names, depsgraph):
 
 # What the viewport renders after each restart: (fraction of the size, samples per pixel).
 VIEWPORT_PASSES = ((0.25, 1), (1.0, 1), (1.0, 4), (1.0, 16), (1.0, 64))
+# How long the first view_draw after a restart waits for the restarted preview's first image
+# [s] (_Preview.wait_first_image): 0 draws the last image at once.
+FIRST_IMAGE_WAIT = 0.1
 # The last viewport restarts, for scripts and tests: [{started, first_image, first_drawn,
 # passes}] (seconds of time.monotonic(); first_drawn: when view_draw first drew one of its
 # images), newest last; and the times of the viewport's exports.
@@ -1200,9 +1217,12 @@ class _Preview:
         self.data = None  # scene_data of the last view_update
         self.key = None  # the view the running preview shows
         self.image = None  # (H, W, 4) float32, rows from the top, straight alpha
+        self.pixels = None  # the image as the texture takes it (_texture_pixels)
+        self.texture = None  # (pixels, its GPUTexture): made by view_draw at the first draw
         self.image_log = None  # the viewport_log entry of the preview that rendered it
         self.lock = threading.Lock()
         self.cancel = threading.Event()
+        self.first_image = None  # set by its first image: the restart view_draw waits for
         self.threads = []  # the running preview's thread last, cancelled ones before it
         self.count = 0
         self.exports = 0
@@ -1231,6 +1251,16 @@ class _Preview:
         self.glbs += 1
         return mesh_files(self.meshes, depsgraph, self.folder, self.folder,
                           "view_glb_%d" % self.glbs, export, True)
+
+    def wait_first_image(self):
+        """Waits, once per restart and at most FIRST_IMAGE_WAIT, for the restarted preview's
+        first image, so that the window's frame being drawn shows it: Blender drew the window
+        right after the edit with the last image, and the new one, ready meanwhile, waited for
+        the next frame (under Xvfb's software OpenGL 25 ms per frame at a load of 3-6 and
+        130-160 ms at 8-10, bench/blender/run)."""
+        first, self.first_image = self.first_image, None
+        if first is not None:
+            first.wait(FIRST_IMAGE_WAIT)
 
     def stop(self):
         """Cancels the running preview and waits for its thread (before its files go)."""
@@ -1262,10 +1292,11 @@ class _Preview:
         del viewport_log[:-20]
         viewport_log.append(log)
         self.cancel = threading.Event()
+        self.first_image = threading.Event()
         self.threads = [t for t in self.threads if t.is_alive()]
         self.threads.append(threading.Thread(target=self._run, daemon=True, args=(
             engine, path or entry, view_set(data, width, height), width, height, self.cancel,
-            log, key)))
+            log, key, self.first_image)))
         self.threads[-1].start()
 
     def _loaded(self, source, key):
@@ -1286,7 +1317,7 @@ class _Preview:
                 pass
         return entry
 
-    def _run(self, engine, source, view, width, height, cancel, log, key):
+    def _run(self, engine, source, view, width, height, cancel, log, key, first):
         def progress(p):
             if cancel.is_set():
                 raise Cancelled()
@@ -1298,12 +1329,14 @@ class _Preview:
                 img = entry[1].render(width=max(1, int(width * fraction)),
                                       height=max(1, int(height * fraction)), spp=spp,
                                       progress=progress, set=view)["rgba"]
+                pixels = _texture_pixels(img)
                 with self.lock:
                     if cancel.is_set():  # a newer preview started: its images only
                         break
-                    self.image, self.image_log = img, log
+                    self.image, self.pixels, self.image_log = img, pixels, log
                 log["passes"] += 1
                 log["first_image"] = log["first_image"] or time.monotonic()
+                first.set()
                 _redraw(engine)
         except Cancelled:
             pass
@@ -1311,6 +1344,7 @@ class _Preview:
             log["error"] = str(e)
             _redraw(engine)
         finally:
+            first.set()
             if entry is not None:
                 entry[2] = False
 
@@ -1323,8 +1357,12 @@ class _Preview:
 
 
 def _scene_key(data):
-    """What a preview's loaded scene holds beyond its view: equal keys, one loaded scene."""
-    return repr({k: v for k, v in data.items() if k not in _VIEW_DATA})
+    """What a preview's loaded scene holds beyond its view: equal keys, one loaded scene. The
+    mesh files' transforms are not in it: a render's set moves those objects (view_set)."""
+    key = {k: v for k, v in data.items() if k not in _VIEW_DATA}
+    key["mesh_objects"] = [(f[0], f[1] is None) + tuple(f[2:])
+                           for f in key.get("mesh_objects") or ()]
+    return repr(key)
 
 
 _VIEW_DATA = ("image", "render", "camera", "coins")
@@ -1332,13 +1370,19 @@ _VIEW_DATA = ("image", "render", "camera", "coins")
 
 def view_set(data, width, height):
     """Scene.render's `set` giving `data`'s view (camera with its coins, render settings) at
-    width x height: whole tables, so a key no longer set takes its default."""
+    width x height, and the place of each mesh file placed by a transform (`object.N.transform`:
+    the object moves without a load; scene_toml.write writes them as the first [[object]]
+    tables): whole tables, so a key no longer set takes its default."""
     camera = {k: _plain(v) for k, v in data["camera"].items() if k != "matrix"}
     camera["transform"] = {"matrix": data["camera"]["matrix"]}
     if data["coins"]:
         camera["coin"] = [{k: _plain(v) for k, v in c.items()} for c in data["coins"]]
-    return {"camera": camera, "image": {"width": width, "height": height},
+    view = {"camera": camera, "image": {"width": width, "height": height},
             "render": {k: _plain(v) for k, v in data["render"].items()}}
+    for n, (_, matrix, *_) in enumerate(data.get("mesh_objects") or ()):
+        if matrix is not None:
+            view["object.%d.transform" % n] = {"matrix": matrix}
+    return view
 
 
 def _plain(v):

@@ -4,6 +4,7 @@ arrays."""
 from __future__ import annotations
 
 import os
+import re
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
@@ -77,11 +78,18 @@ class Scene:
         for this render only, as ``load``'s ``set`` (``{"camera.fov": 90}``, or a whole table:
         ``{"camera": {...}}``): keys under ``camera``, ``image`` and ``render``, which are read
         again while the geometry, lights and acceleration structure are kept; others raise
-        ValueError."""
+        ValueError, except ``object.N.transform`` (N the index of a mesh ``[[object]]`` table,
+        as ``set`` addresses it; a whole table such as ``{"matrix": [...]}`` or keys under it):
+        the object moves without a load (its instances take the new transform and the
+        acceleration structure is posed again, as for a glTF animation's frames), giving the
+        same pixels as a scene loaded with that transform. Objects not named are at their
+        file's place; one that brought its model's lights or cameras cannot move so."""
         for k in set or ():
-            if not isinstance(k, str) or k.split(".")[0] not in _VIEW_TABLES:
+            if not isinstance(k, str) or not (k.split(".")[0] in _VIEW_TABLES
+                                               or _OBJECT_TRANSFORM.fullmatch(k)):
                 raise ValueError(f"render(set=...): {k!r} is not under camera, image or "
-                                 "render (load the scene with it instead)")
+                                 "render, nor an object.N.transform (load the scene with it "
+                                 "instead)")
         over = _toml.overrides(set)
         for key, v in (("image.width", width), ("image.height", height), ("render.spp", spp),
                        ("render.seed", seed), ("render.integrator", integrator),
@@ -99,6 +107,8 @@ class Scene:
 
 # The tables a render's `set` may override: what the scene reader reads again for a view.
 _VIEW_TABLES = ("camera", "image", "render")
+# An object's transform, which a render's `set` may override too (the object moves, no load).
+_OBJECT_TRANSFORM = re.compile(r"object\.[0-9]+\.transform(\..+)?")
 
 
 def load(path: str | os.PathLike[str], set: Mapping[str, Any] | None = None,

@@ -23,6 +23,7 @@
 #include "render/renderer.h"
 #include "render/tile_buffer.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_pose.h"
 #include "scene/scene_schema.h"
 
 namespace anamorph::py {
@@ -87,7 +88,9 @@ void check_render_memory(const Scene& s, const std::vector<Aov>& aovs, int threa
 class SceneHandle {
  public:
   explicit SceneHandle(SceneSource s)
-      : source_(std::move(s)), scene_(std::make_shared<Scene>(source_.load())) {}
+      : source_(std::move(s)),
+        scene_(std::make_shared<Scene>(source_.load())),
+        loaded_places_(scene_->placed_objects) {}
 
   const Scene& scene() const { return *scene_; }
   CameraHandle camera() const { return CameraHandle(source_, view({}), scene_); }
@@ -124,6 +127,13 @@ class SceneHandle {
     if (animates_view_only(*scene_)) return frame_motion(s.load_view(extra, *scene_), scene_.get());
     return frame_motion(s.load(extra));
   }
+  // Moves the mesh objects to `want` (a view's object.N.transform overrides, or the places
+  // loaded) and the acceleration structure with them (Renderer::repose: no load).
+  void place(const std::vector<PlacedObject>& want) {
+    if (!place_objects(*scene_, want) || !renderer_) return;
+    pb::gil_scoped_release release;
+    renderer_->repose();
+  }
   // Takes the render lock (without the GIL, so a render on another thread can finish) and
   // builds the acceleration structure on first use.
   std::unique_lock<std::mutex> lock_and_build() {
@@ -138,6 +148,7 @@ class SceneHandle {
 
   SceneSource source_;
   std::shared_ptr<Scene> scene_;
+  std::vector<PlacedObject> loaded_places_;  // the mesh objects' transforms in the file
   std::unique_ptr<Renderer> renderer_;
   std::mutex render_mutex_;  // one render at a time (a render swaps the view into scene_)
   std::atomic<std::thread::id> render_thread_{};  // the thread inside run(), if any
@@ -169,10 +180,12 @@ pb::dict SceneHandle::render(const RenderRequest& req) {
   }
   aovs = parse_aovs(list);
   const auto lock = lock_and_build();
+  Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
+  // Objects the overrides place move for this render (and stay until one places them else).
+  place(view.placed_objects.empty() ? loaded_places_ : view.placed_objects);
   // Flow and motion layers look at frames + 1 and - 1: loaded beside this one for this render,
   // with the same overrides, as `anamorph render` does.
   const OtherFrames others(*this, aovs, req.overrides);
-  Scene view = req.overrides.empty() ? Scene() : source_.load_view(req.overrides, *scene_);
   std::optional<ViewSwap> swap;
   if (!req.overrides.empty()) swap.emplace(*scene_, view);
   if (req.denoise)

@@ -66,8 +66,57 @@ def test_render_set_reads_the_view_again_over_the_same_geometry():
                                                                        spp=1))
         assert not np.array_equal(got["rgba"], first["rgba"])
     assert_layers_equal(scene.render(width=40, height=30, spp=1), first)  # for one render
-    with pytest.raises(ValueError, match="not under camera, image or render"):
+    with pytest.raises(ValueError, match="not under camera, image or render, nor"):
         scene.render(width=8, height=8, set={"object.0.name": "x"})
+
+
+GLTF = ROOT / "tests/data/gltf/blender"
+KNOT = "object.4.transform"  # examples/demo.toml's torus knot, the one mesh [[object]]
+
+
+def test_render_set_moves_a_mesh_object_without_a_load():
+    # An object's transform in a render's set moves its instances over the loaded geometry:
+    # the same bits as a scene loaded with that transform (a whole table, a key under it),
+    # and a render without it puts the object back where the file has it.
+    scene = anamorph.load(DEMO)
+    first = scene.render(width=40, height=30, spp=1)
+    for over in ({KNOT: {"scale": 0.8, "translate": [0.6, 0.4, 2.0]}},
+                 {KNOT + ".translate": [-0.5, 0.7, 2.4], "camera.fov": 70}):
+        got = scene.render(width=40, height=30, spp=1, set=over)
+        assert_layers_equal(got, anamorph.load(DEMO, set=over).render(width=40, height=30,
+                                                                       spp=1))
+        assert not np.array_equal(got["rgba"], first["rgba"])
+    assert_layers_equal(scene.render(width=40, height=30, spp=1), first)
+
+
+def test_render_set_moves_an_animated_models_object(tmp_path):
+    # A glTF rig's instances: moved by the object's transform and posed at the scene's frame.
+    text = (f'[image]\nwidth = 32\nheight = 24\n[camera]\nlook_from = [4, 3, 6]\n'
+            f'look_at = [0, 0.5, 0]\n[[object]]\ntype = "mesh"\n'
+            f'file = "{GLTF / "animated.glb"}"\nlights = false\ncameras = false\n')
+    path = tmp_path / "animated.toml"
+    path.write_text(text)
+    over = {"object.0.transform": {"rotate": [30, 0, 1, 0], "translate": [0.3, 0, 0]}}
+    scene = anamorph.load(path, frame=12)
+    first = scene.render(spp=1, aovs=["id", "depth"])
+    got = scene.render(spp=1, aovs=["id", "depth"], set=over)
+    assert_layers_equal(got, anamorph.load(path, frame=12, set=over).render(
+        spp=1, aovs=["id", "depth"]))
+    assert not np.array_equal(got["depth"], first["depth"])
+
+
+def test_objects_that_cannot_move_without_a_load_say_why(tmp_path):
+    scene = anamorph.load(DEMO)
+    with pytest.raises(ValueError, match="only a mesh object moves without a load"):
+        scene.render(width=8, height=8, set={"object.1.transform": {"translate": [1, 0, 0]}})
+    with pytest.raises(ValueError, match=KNOT.replace(".", r"\.") + ": it reaches"):
+        scene.render(width=8, height=8, set={KNOT: {"translate": [1e12, 0, 0]}})
+    lit = tmp_path / "lit.toml"
+    lit.write_text(f'[[object]]\ntype = "mesh"\nfile = "{GLTF / "point_only.glb"}"\n')
+    with pytest.raises(ValueError, match="brought lights or cameras"):
+        anamorph.load(lit).render(width=8, height=8,
+                                  set={"object.0.transform": {"translate": [0, 1, 0]}})
+    assert scene.render(width=8, height=8)["rgba"].shape == (8, 8, 4)  # (still usable)
 
 
 def test_a_bad_override_names_the_key():

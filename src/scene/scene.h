@@ -75,6 +75,19 @@ struct SceneRig {
   bool animate = true;                      // false: the file's static pose, always
 };
 
+// A mesh [[object]] as loaded: its table's index under `object`, its `transform`, and its
+// instances (Scene::instances from first_instance on) within its model, so that it can be moved
+// without loading it again (place_objects, scene_pose.h). A view read by load_view with
+// `object.N.transform` overrides holds only `table` and `transform` of each mesh object.
+struct PlacedObject {
+  int table = 0;
+  Transform transform;
+  uint32_t first_instance = 0;
+  std::vector<Transform> model_from_object;
+  int rig = -1;               // its Scene::rigs entry, or -1
+  bool moves_others = false;  // it brought lights or cameras (placed once, at the load)
+};
+
 struct Scene;
 
 // The scene at another frame, as motion vectors need it: that frame's camera and the transforms
@@ -109,6 +122,7 @@ struct Scene {
   double first_key = 0, last_key = 0;        // frame range covered by the keys
   std::vector<ModelCamera> model_cameras;    // cameras found in loaded models (`gltf_camera`)
   std::vector<SceneRig> rigs;                // glTF models' animation
+  std::vector<PlacedObject> placed_objects;  // the mesh objects, by table order
   double fps = 24;                           // [animation] fps: glTF time = frame / fps
   // Object motion blur (scene/scene_pose.h): the camera's shutter [open, close] in frames
   // relative to `frame`, and [animation] motion_steps, the times the animation is posed at.

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
+#include <set>
 #include <span>
 
 #include "io/image_io.h"
@@ -318,8 +320,22 @@ std::vector<uint32_t> model_material_ids(Context& c, const ParamValues& v,
   return ids;
 }
 
+// What place_objects needs to move a model's object later: where its instances sit in it.
+void record_placement(Scene& s, const ParamValues& v, const LoadedModel& m, const Transform& xf,
+                      int table, uint32_t inst_base) {
+  PlacedObject p;
+  p.table = table;
+  p.transform = xf;
+  p.first_instance = inst_base;
+  for (const Instance& inst : m.instances) p.model_from_object.push_back(inst.world_from_object);
+  p.rig = m.rig ? int(s.rigs.size()) : -1;  // (add_model_rig adds it next)
+  p.moves_others =
+      (v.boolean("lights") && !m.lights.empty()) || (v.boolean("cameras") && !m.cameras.empty());
+  s.placed_objects.push_back(std::move(p));
+}
+
 void add_model(Context& c, const TableReader& r, const ParamValues& v, const std::string& name,
-               const Transform& xf) {
+               const Transform& xf, int table) {
   Scene& s = *c.scene;
   if (c.check_only) {
     material_ref(c, r, v, "material");
@@ -345,6 +361,7 @@ void add_model(Context& c, const TableReader& r, const ParamValues& v, const std
   std::vector<Bounds3> boxes;  // of the model's prototypes, in their own space
   for (const Prototype& pr : std::span(s.prototypes).subspan(proto_base))
     boxes.push_back(prototype_bounds(pr));
+  record_placement(s, v, m, xf, table, inst_base);
   for (auto& inst : m.instances) {
     const std::string e = placement_error(xf * inst.world_from_object, boxes[inst.prototype]);
     if (!e.empty())
@@ -424,7 +441,7 @@ void read_object(Context& c, const TableReader& r, int index) {
   const std::string name = v.has("name") ? v.string("name") : fmt::format("{}{}", type, index);
   const Transform xf = transform_or_identity(v, "transform");
   if (type == "mesh") {
-    add_model(c, r, v, name, xf);
+    add_model(c, r, v, name, xf, index);
     return;
   }
   AnalyticShape sh;
@@ -574,6 +591,39 @@ toml::table at_frame(const toml::table& original, const std::vector<std::string>
     set_path(root, a.key, *value_node(a, frame).get("v"), a.loc);
   for (const auto& o : overrides) apply_override(root, o);
   return root;
+}
+
+// The [[object]] tables `overrides` place ("object.N.transform=..." or a key under it).
+std::set<int> placed_tables(const std::vector<std::string>& overrides) {
+  std::set<int> tables;
+  for (const std::string& o : overrides) {
+    if (o.rfind("object.", 0) != 0) continue;
+    const size_t dot = o.find('.', 7), end = dot + 10;
+    if (dot != std::string::npos && o.compare(dot, 10, ".transform") == 0 && end < o.size() &&
+        (o[end] == '=' || o[end] == '.'))
+      tables.insert(std::atoi(o.c_str() + 7));
+  }
+  return tables;
+}
+
+// A view's mesh objects with their transforms, read again when `overrides` place objects (the
+// geometry stays the loaded scene's, moved by place_objects); the others are not read.
+void read_object_transforms(const TableReader& top, const std::vector<std::string>& overrides,
+                            Scene& s) {
+  const std::set<int> placed = placed_tables(overrides);
+  if (placed.empty()) return;
+  for_each_table(top, "object", [&](const TableReader& r, int i) {
+    const ParamValues v = r.params(object_schema());
+    if (v.string("type") != "mesh") {
+      if (placed.count(i))
+        r.fail("transform", "only a mesh object moves without a load: load the scene with it");
+      return;
+    }
+    PlacedObject p;
+    p.table = i;
+    p.transform = transform_or_identity(v, "transform");
+    s.placed_objects.push_back(std::move(p));
+  });
 }
 
 // Materials, objects, lights and the environment of a scene.
@@ -769,6 +819,7 @@ Scene build_frame(toml::table& root, const toml::table& original,
   read_settings(top, s);
   const Scene* lender = view_from ? view_from : c.check_only ? loaded : nullptr;
   const ModelCameraRigs rigs = read_world_and_model_cameras(c, top, lender);
+  if (view_from) read_object_transforms(top, overrides, s);
   if (is_gltf_scene_file(file)) {
     complete_gltf_view(root, lender ? *lender : s, s.model_cameras, s.render);
     s.effective_toml = to_toml_text(root);

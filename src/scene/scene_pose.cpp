@@ -1,10 +1,15 @@
 #include "scene/scene_pose.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include "scene/gltf_animation.h"
 #include "scene/gltf_lights.h"
 #include "scene/skinning.h"
+#include "scene/world_extent.h"
 
 namespace anamorph {
 
@@ -139,6 +144,52 @@ void pose_scene(Scene& s, double frame) {
     for (TriangleMesh& m : p.meshes) m.motion_positions.clear(), m.motion_normals.clear();
   if (object_motion_blur(s)) pose_motion(s, frame);
   pose_at(s, frame);
+}
+
+namespace {
+
+// The entry of s.placed_objects for table `table` (null: not a mesh object).
+PlacedObject* placed(Scene& s, int table) {
+  for (PlacedObject& p : s.placed_objects)
+    if (p.table == table) return &p;
+  return nullptr;
+}
+
+// Why `to` cannot move the object `p` of `s` (empty: it can).
+std::string placing_error(const Scene& s, const PlacedObject* p, const PlacedObject& to) {
+  const std::string key = fmt::format("object.{}.transform", to.table);
+  if (!p) return key + ": not a mesh object of the scene (only those move without a load)";
+  if (p->moves_others)
+    return key +
+           ": the object brought lights or cameras of its model, which move only with a "
+           "load (load the scene with this transform)";
+  for (size_t k = 0; k < p->model_from_object.size(); ++k) {
+    const Instance& inst = s.instances[p->first_instance + k];
+    const std::string e = placement_error(to.transform * p->model_from_object[k],
+                                          prototype_bounds(s.prototypes[inst.prototype]));
+    if (!e.empty()) return key + ": " + e;
+  }
+  return "";
+}
+
+}  // namespace
+
+bool place_objects(Scene& s, const std::vector<PlacedObject>& want) {
+  std::vector<std::pair<PlacedObject*, const PlacedObject*>> moves;
+  for (const PlacedObject& w : want) {
+    PlacedObject* p = placed(s, w.table);
+    if (p && p->transform.matrix() == w.transform.matrix()) continue;
+    if (const std::string e = placing_error(s, p, w); !e.empty()) throw std::invalid_argument(e);
+    moves.emplace_back(p, &w);
+  }
+  for (const auto& [p, w] : moves) {
+    p->transform = w->transform;
+    for (size_t k = 0; k < p->model_from_object.size(); ++k)
+      s.instances[p->first_instance + k].world_from_object = p->transform * p->model_from_object[k];
+    if (p->rig >= 0) s.rigs[size_t(p->rig)].world_from_model = p->transform;
+  }
+  if (!moves.empty() && has_gltf_animation(s)) pose_scene(s, s.frame);
+  return !moves.empty();
 }
 
 void pose_model_cameras(const std::vector<SceneRig>& rigs, double fps, double frame,

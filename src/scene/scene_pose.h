@@ -38,6 +38,15 @@ bool object_motion_blur(const Scene& s);
 // evenly spaced from frame + shutter_open to frame + shutter_close (lights keep the frame's).
 void pose_scene(Scene& s, double frame);
 
+// Moves the mesh objects of `s` to the transforms `want` gives them (PlacedObject entries by
+// table index, e.g. a view's from load_view with `object.N.transform` overrides; objects it does
+// not name keep theirs) as a load with those transforms places them, bit for bit: each instance at
+// the transform times its place in the model, the animated rigs posed again at s.frame. Updates
+// s.placed_objects. Whether an object moved (then the renderer's repose() takes it). Throws
+// std::invalid_argument, s unchanged, for a table that is no mesh object of s, an object that
+// brought lights or cameras, or a transform taking a part beyond the world.
+bool place_objects(Scene& s, const std::vector<PlacedObject>& want);
+
 // `cameras` (a scene's model cameras, in its order) at `frame`, as `rigs` move them.
 void pose_model_cameras(const std::vector<SceneRig>& rigs, double fps, double frame,
                         std::vector<ModelCamera>& cameras);

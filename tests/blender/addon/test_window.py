@@ -3,7 +3,8 @@
 frames equal `anamorph render` of the kept scene files bit for bit and the exported cube follows
 its keys. The camera panel's picture for docs/blender.md. The viewport's Rendered shading in the
 camera view: the progressive preview completes its passes; a coin edit restarts it with a
-different picture and no export, moving the cube exports the meshes once; leaving the camera
+different picture and no export, moving the cube exports the meshes once and moving it again
+neither exports nor loads (the loaded scene moves it); leaving the camera
 view restarts it without an export."""
 
 import os
@@ -178,6 +179,9 @@ def viewport_step():
         common.check(len(bl.viewport_exports) == state["exports"],
                      "moving the cube again exported nothing (%d exports)"
                      % (len(bl.viewport_exports) - state["exports"]))
+        common.check(bl.viewport_log[-1].get("reused") is True,
+                     "moving the cube again moved it in the scene loaded before (no load: %s)"
+                     % bl.viewport_log[-1])
         after = area_picture("viewport_move_again.png")
         common.check(not np.array_equal(after, state["before"]),
                      "the viewport shows the cube moved again (the picture changed)")
