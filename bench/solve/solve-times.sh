@@ -27,5 +27,7 @@ for scene in "$root"/examples/solve/dome_specimen.toml "$root"/examples/solve/fo
   "$tmp/demo_pins.toml" "$root"/examples/solve/dome_horizon.toml; do
   echo "== $(basename "$scene")"
   for bin in "$old" "$new"; do "$bin" solve "$scene" | head -1; done
-  hyperfine -N -w 1 -r "$runs" -L bin "$old,$new" "{bin} solve $scene -o $tmp/out.toml"
+  # (each binary three times, alternating: old new old new old new)
+  hyperfine -N -w 1 -r "$runs" -L bin "$old,$new,$old,$new,$old,$new" \
+    "{bin} solve $scene -o $tmp/out.toml"
 done

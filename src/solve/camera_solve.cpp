@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
 #include <optional>
 
@@ -150,7 +149,9 @@ struct GoalCost {
 // Every other constraint's residuals r(uv(k), k) with uv the image positions of its world points
 // (Goals::points). The Jacobian by the chain rule, never through differences of the inverse map:
 // dr/dk = dr/duv duv/dk + (dr/dk at fixed uv), with duv/dk by image_position_derivative (the
-// implicit function theorem: the rays at uv, analytic in uv, through the cameras at x -+ h),
+// implicit function theorem: the rays at uv, analytic in uv, and their derivative with respect to
+// the key, exact from the camera where it gives one (VirtualCamera::key_derivative), else through
+// the cameras at x -+ h),
 // dr/duv by central differences of residuals_at in uv (closed-form functions of the positions, or
 // for magnification of the rays there) and the last term, only for magnification, by the rays at
 // the same uv through the cameras at x -+ h.
@@ -238,7 +239,7 @@ Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const 
   ceres::Problem problem;
   for (size_t i : subset) {
     ceres::CostFunction* cost = nullptr;
-    if (goals.moves_at_fixed_positions(i) && !std::getenv("XX_MAG_CHAIN")) {
+    if (goals.moves_at_fixed_positions(i)) {
       auto* numeric = new ceres::DynamicNumericDiffCostFunction<GoalCost, ceres::CENTRAL>(
           new GoalCost{&goals, i, &builder});
       numeric->AddParameterBlock(n);

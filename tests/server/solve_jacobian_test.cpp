@@ -143,7 +143,7 @@ TEST(SolveJacobian, ExactRayDerivativesAgreeWithDifferencesOfRebuiltCameras) {
   for (const auto& [key, ck, k0] : std::vector<std::tuple<std::string, CameraKey, double>>{
            {"camera.tilt={}", {-1, "tilt", 0}, 30},
            {"camera.fov={}", {-1, "fov", 0}, 200},
-           {"camera.look_at=[0, 0, {}]", {-1, "look_at", 2}, 0},
+           {"camera.look_at=[{}, 0, 0]", {-1, "look_at", 0}, 0},
            {"camera.coin.0.strength={}", {0, "strength", 0}, 0.4},
            {"camera.coin.0.position=[{}, -0.4, 1]", {0, "position", 0}, -2}})
     expect_ray_derivatives_agree(kDome, key, ck, k0);
