@@ -306,6 +306,7 @@ VirtualCameraParts fisheye_parts(const FisheyeGeometry& g, const ParamValues& v,
   p.org = make_point_org(g.eye);
   p.dir = std::make_unique<FisheyeDir>(g);
   p.world_from_camera = rig_from_look_at(v);
+  p.derivatives.rig = look_at_rig_derivative(v);
   p.description = std::move(description);
   p.inverse = make_inverse([g](const Vec3& q) { return fisheye_project(g, q); });
   return p;
@@ -536,6 +537,26 @@ const ParamSpec kDomeParams[] = {
      .unit = "scene units"},
 };
 
+// d dir / d key of a dome seen from its centre (the rays the unit directions of the frame): tilt
+// turns the frame about x (axis = (0, cos t, -sin t)): d dir = -x cross dir per radian; fov scales
+// the polar angle theta (equidistant: theta = r fov / 2) by theta / fov per degree.
+PresetDerivatives::RayFn dome_ray_derivative(const Vec3& axis, double fov) {
+  return [axis, fov](std::string_view key, const CameraRay& r, Vec3* dorg, Vec3* ddir) {
+    *dorg = {};
+    if (key == "tilt") {
+      *ddir = cross(Vec3{1, 0, 0}, r.dir) * -(kPi / 180);
+      return true;
+    }
+    if (key != "fov") return false;
+    const double c = dot(r.dir, axis);
+    const Vec3 perp = r.dir - axis * c;
+    const double s = length(perp), theta = std::atan2(s, c);
+    const double k = s > 1e-12 ? theta / s : 1;  // theta / sin(theta)
+    *ddir = (perp * (k * c) - axis * (theta * s)) * (1 / fov);
+    return true;
+  };
+}
+
 VirtualCameraParts create_dome(const ParamValues& v, const ImageInfo& img) {
   check_params(kDomeParams, v);
   FisheyeGeometry g;
@@ -551,7 +572,9 @@ VirtualCameraParts create_dome(const ParamValues& v, const ImageInfo& img) {
   if (!(length(g.eye) < g.radius))
     throw ParamError("eye_offset", "eye_offset must lie inside the dome (|eye_offset| < radius)");
   set_circle(&g, img, std::min(img.width, img.height));
-  return fisheye_parts(g, v, "dome master (org point eye + dir dome sphere)");
+  VirtualCameraParts p = fisheye_parts(g, v, "dome master (org point eye + dir dome sphere)");
+  if (g.eye == Vec3{}) p.derivatives.ray = dome_ray_derivative(g.frame.axis, v.number("fov"));
+  return p;
 }
 
 }  // namespace

@@ -42,6 +42,18 @@ VirtualCameraParts create(const ParamValues& v, const ImageInfo& img) {
   p.org = make_point_org({0, 0, 0});
   p.dir = make_surface_dir(make_plane_org(center, {w, 0, 0}, {0, -h, 0}), {0, 0, 0});
   p.world_from_camera = rig_from_look_at(v);
+  p.derivatives.rig = look_at_rig_derivative(v);
+  // fov: the window's extents are t = tan(fov / 2) times constants, so the unnormalized direction
+  // q = dir / -dir.z on the plane z = -1 moves by (q.x, q.y, 0) dt / t.
+  const double t = std::tan(radians(v.number("fov")) * 0.5);
+  p.derivatives.ray = [t](std::string_view key, const CameraRay& r, Vec3* dorg, Vec3* ddir) {
+    if (key != "fov" || !(r.dir.z < 0)) return false;
+    const Vec3 q = r.dir / -r.dir.z;
+    const Vec3 dq = Vec3{q.x, q.y, 0} * ((1 + t * t) * (kPi / 360) / t);
+    *dorg = {};
+    *ddir = (dq - r.dir * dot(r.dir, dq)) / length(q);
+    return true;
+  };
   p.description = "perspective (org point + dir plane)";
   // Central projection onto z = -1, then the window.
   p.inverse = make_inverse([w, h, center](const Vec3& q) -> std::vector<Vec2> {

@@ -7,6 +7,7 @@
 
 #include "camera/functions.h"
 #include "camera/preset_list.h"
+#include "math/dual.h"
 #include "params/param_docs.h"
 
 namespace anamorph {
@@ -18,6 +19,26 @@ Transform rig_from_look_at(const ParamValues& v) {
     throw ParamError("up",
                      "up must not be parallel to the viewing direction (look_at - look_from)");
   return Transform::look_at(from, at, up);
+}
+
+std::function<bool(std::string_view, int, Mat4*)> look_at_rig_derivative(const ParamValues& v) {
+  const Vec3 from = v.vec3("look_from"), at = v.vec3("look_at"), up = v.vec3("up");
+  const Mat4 inv = rig_from_look_at(v).inverse_matrix();
+  return [=](std::string_view key, int c, Mat4* g) {
+    const int which = key == "look_from" ? 0 : key == "look_at" ? 1 : key == "up" ? 2 : -1;
+    if (which < 0 || c < 0 || c > 2) return false;
+    DVec3 f = dual(from), a = dual(at), u = dual(up);
+    (which == 0 ? f : which == 1 ? a : u)[c].d = 1;
+    // As Transform::look_at: columns right, true up, -forward and the eye.
+    const DVec3 fw = dual_normalize(a - f), r = dual_normalize(cross(fw, u)), tu = cross(r, fw);
+    Mat4 dm;
+    for (int k = 0; k < 3; ++k) {
+      dm.m[size_t(k)][0] = r[k].d, dm.m[size_t(k)][1] = tu[k].d;
+      dm.m[size_t(k)][2] = -fw[k].d, dm.m[size_t(k)][3] = f[k].d;
+    }
+    *g = inv * dm;
+    return true;
+  };
 }
 
 std::span<const PresetInfo> camera_presets() {

@@ -2,6 +2,7 @@
 // its own ray-generation code path; it only builds VirtualCameraParts.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -39,6 +40,10 @@ std::string preset_params_markdown(const PresetInfo& p);
 // Shared by presets: the rig from look_from / look_at / up (forward f, right r = f x up,
 // true up = r x f), mapping camera space (x right, y up, -z forward) to world.
 Transform rig_from_look_at(const ParamValues& v);
+// Its derivatives (PresetDerivatives::rig) with respect to look_from, look_at and up, exact (dual
+// numbers through Transform::look_at).
+std::function<bool(std::string_view key, int component, Mat4* g)> look_at_rig_derivative(
+    const ParamValues& v);
 
 // The common keys of look-at presets, to splice into their tables.
 #define ANAMORPH_LOOK_AT_PARAMS                                                           \

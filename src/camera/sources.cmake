@@ -1,6 +1,7 @@
 list(APPEND ANAMORPH_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/camera.cpp
   ${CMAKE_CURRENT_LIST_DIR}/virtual_camera.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/key_derivative.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ray_kernels.cpp
   ${CMAKE_CURRENT_LIST_DIR}/ray_field.cpp
 )

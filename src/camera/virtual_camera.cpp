@@ -17,7 +17,8 @@ VirtualCamera::VirtualCamera(VirtualCameraParts parts, DepthOfField dof)
       world_from_camera_(parts.world_from_camera),
       rig_identity_(parts.world_from_camera.is_identity()),
       dof_(dof),
-      description_(std::move(parts.description)) {
+      description_(std::move(parts.description)),
+      derivatives_(std::move(parts.derivatives)) {
   shutter_ = parts.shutter;
   if (parts.world_from_camera_close) {
     moving_ = !(parts.world_from_camera_close->matrix() == world_from_camera_.matrix());
@@ -138,6 +139,13 @@ void VirtualCamera::detect_point_origin() {
 }
 
 std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
+  std::optional<CameraRay> r = generate_uncoined(uv);
+  // Coins deform the ray field org/dir define (the paper: independent of the functions).
+  if (r && !coins_.apply(uv, &*r)) return std::nullopt;
+  return r;
+}
+
+std::optional<CameraRay> VirtualCamera::generate_uncoined(Vec2 uv) const {
   SurfaceSample s;
   DirSample d;
   // An affine field under a coin: its closed form instead of the function calls (samples no coin
@@ -152,8 +160,6 @@ std::optional<CameraRay> VirtualCamera::generate_pinhole(Vec2 uv) const {
   CameraRay r{s.p, d.d, s.dpdu, s.dpdv, d.dd_du, d.dd_dv};
   unit_direction<true>(len, r.dir.x, r.dir.y, r.dir.z, r.ddir_du.x, r.ddir_du.y, r.ddir_du.z,
                        r.ddir_dv.x, r.ddir_dv.y, r.ddir_dv.z);
-  // Coins deform the ray field org/dir define (the paper: independent of the functions).
-  if (!coins_.apply(uv, &r)) return std::nullopt;
   return r;
 }
 

@@ -2,9 +2,11 @@
 // Presets build one of these; the renderer sees only the Camera interface.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "camera/camera.h"
@@ -34,6 +36,27 @@ struct Shutter {
   double rolling_angle = 90;
 };
 
+// A camera key the solver differentiates by (docs/solve.md): a preset key ("fov", "look_at") or,
+// with coin >= 0, a key of that [[camera.coin]] ("strength", "radius", "stiffness", "position");
+// `component` of a vector.
+struct CameraKey {
+  int coin = -1;
+  std::string name;
+  int component = 0;
+};
+
+// Derivatives a preset gives in closed form with respect to its own keys (the camera solver's).
+struct PresetDerivatives {
+  // G = rig^-1 d(rig)/d(key[component]) (look_from, look_at, up): a factor on the right, so that a
+  // transform put before the rig (`transform`) leaves it valid. False: not a key of the rig.
+  std::function<bool(std::string_view key, int component, Mat4* g)> rig;
+  // d(org, dir)/d(key) of the camera-space ray `plain` at its (u, v) held fixed (before coins;
+  // `plain` has a unit direction). False: not a key it differentiates.
+  using RayFn =
+      std::function<bool(std::string_view key, const CameraRay& plain, Vec3* dorg, Vec3* ddir)>;
+  RayFn ray;
+};
+
 struct VirtualCameraParts {
   std::unique_ptr<OrgFunction> org;
   std::unique_ptr<DirFunction> dir;
@@ -44,6 +67,7 @@ struct VirtualCameraParts {
   // Motion blur: the rig at shutter close (world_from_camera is the rig at open); none = still.
   std::optional<Transform> world_from_camera_close;
   Shutter shutter;
+  PresetDerivatives derivatives;  // none: the solver differentiates by differences
 };
 
 struct DepthOfField {
@@ -70,6 +94,13 @@ class VirtualCamera final : public Camera {
 
   // The ray before depth of field and in camera space (for tests and the inverse map).
   std::optional<CameraRay> generate_pinhole(Vec2 uv) const;
+  // The same before the coins deform it (what they deform).
+  std::optional<CameraRay> generate_uncoined(Vec2 uv) const;
+  // d(org, dir)/d(key) of generate()'s ray at uv (world space), exact: forward-mode dual numbers
+  // through the coins and the rig, with the coins' image positions moved by the implicit function
+  // theorem (camera/key_derivative.cpp). False where not given: a key the preset does not
+  // differentiate, a dropped coin's strength, lens, motion, a projective rig.
+  bool key_derivative(const CameraKey& key, Vec2 uv, Vec3* dorg, Vec3* ddir) const;
   // True when org and dir are affine in (u, v) (perspective, orthographic, off-axis views): rays
   // then come from a closed form precomputed in world space instead of the function calls.
   // With coins, only samples that no coin reaches take it.
@@ -124,6 +155,7 @@ class VirtualCamera final : public Camera {
   AffineRig rig34_{};  // the rig's upper 3x4, as the kernels apply it
   DepthOfField dof_;
   std::string description_;
+  PresetDerivatives derivatives_;
   // An affine ray field (detect_linear_field), in world space and in camera space (rays under
   // coins).
   bool linear_ = false;

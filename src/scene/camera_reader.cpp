@@ -226,6 +226,7 @@ CameraSpec read_camera(const TableReader& r, ImageInfo img,
   if (gltf_camera) {
     const ModelCamera& mc = named_model_camera(r, model_cameras);
     parts.world_from_camera = mc.world_from_camera;
+    parts.derivatives.rig = nullptr;  // (the preset's look_at no longer places it)
     if (composed || r.has("preset"))
       parts.description += fmt::format(" at glTF camera '{}'", mc.name);
   }

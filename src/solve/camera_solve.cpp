@@ -24,6 +24,29 @@ bool is_coin_key(const std::string& override_or_key) {
   return override_or_key.starts_with("camera.coin.") || override_or_key.starts_with("camera.coin=");
 }
 
+// The camera key of a free scalar ("camera.look_at" component 1: look_at, 1;
+// "camera.coin.0.radius": coin 0's radius), none for a key of a list or net or an org/dir
+// function's key (those are differentiated through rebuilt cameras) or a value another follows (a
+// polynomial's fov).
+std::optional<CameraKey> camera_key(const FreeValues& free, const FreeScalar& s) {
+  const FreeValue& v = free.values[s.value];
+  if (v.dims.size() > 1 || !v.key.starts_with("camera.")) return std::nullopt;
+  for (const DerivedValue& d : free.derived)
+    if (d.value == s.value) return std::nullopt;
+  CameraKey k;
+  std::string name = v.key.substr(7);
+  if (name.starts_with("coin.")) {
+    const size_t end = name.find('.', 5);
+    if (end == std::string::npos) return std::nullopt;
+    k.coin = std::stoi(name.substr(5, end - 5));
+    name = name.substr(end + 1);
+  }
+  if (name.find('.') != std::string::npos) return std::nullopt;
+  k.name = name;
+  k.component = s.component;
+  return k;
+}
+
 // Cameras at given free values, built by the scene reader from the text parsed once
 // (ViewTemplate). The last few are kept: Ceres asks for each residual block at the same points in
 // turn (the point and its 2n central differences), so each camera is built once per Jacobian, not
@@ -40,6 +63,7 @@ class CameraBuilder {
         plain_(plain),
         capacity_(2 * free.scalars.size() + 2),
         view_(in.text, in.file, kGoalTables) {
+    for (const FreeScalar& s : free.scalars) keys_.push_back(camera_key(free, s));
     std::vector<std::string> without = kGoalTables;
     without.emplace_back("camera.coin");
     if (plain) plain_view_.emplace(in.text, in.file, without);
@@ -48,6 +72,7 @@ class CameraBuilder {
   // Null when the reader refuses the values (the solver then takes a shorter step). Valid until
   // 2n + 2 other values were asked for.
   const CameraPair* at(const double* x) { return hold(x).get(); }
+  const std::vector<std::optional<CameraKey>>& keys() const { return keys_; }
   // The same, kept alive as long as the caller holds it.
   std::shared_ptr<const CameraPair> hold(const double* x) {
     const std::vector<double> xs(x, x + free_.scalars.size());
@@ -101,6 +126,7 @@ class CameraBuilder {
   std::optional<ViewTemplate> plain_view_;
   std::vector<std::shared_ptr<Built>> cache_;
   size_t next_ = 0;
+  std::vector<std::optional<CameraKey>> keys_;
 };
 
 // Magnification: Ceres' central differences of its whole residual (through the inverse map): its
@@ -123,14 +149,17 @@ struct GoalCost {
 // Every other constraint's residuals r(uv(k), k) with uv the image positions of its world points
 // (Goals::points). The Jacobian by the chain rule, never through differences of the inverse map:
 // dr/dk = dr/duv duv/dk + (dr/dk at fixed uv), with duv/dk by image_position_derivative (the
-// implicit function theorem: the rays at uv, analytic in uv, through the cameras at x -+ h),
+// implicit function theorem: the rays at uv, analytic in uv, and their derivative with respect to
+// the key, exact from the camera where it gives one (VirtualCamera::key_derivative), else through
+// the cameras at x -+ h),
 // dr/duv by central differences of residuals_at in uv (closed-form functions of the positions, or
 // for magnification of the rays there) and the last term, only for magnification, by the rays at
 // the same uv through the cameras at x -+ h.
 class ChainCost : public ceres::CostFunction {
  public:
-  ChainCost(const Goals& goals, size_t index, CameraBuilder& builder, int n)
-      : goals_(goals), index_(index), builder_(builder) {
+  ChainCost(const Goals& goals, size_t index, CameraBuilder& builder, int n,
+            const std::vector<std::optional<CameraKey>>& keys)
+      : goals_(goals), index_(index), builder_(builder), keys_(keys) {
     set_num_residuals(goals.residual_count(index));
     mutable_parameter_block_sizes()->push_back(n);
   }
@@ -148,25 +177,51 @@ class ChainCost : public ceres::CostFunction {
     std::vector<double> x(p[0], p[0] + n);
     std::vector<double> col(static_cast<size_t>(m));
     for (int j = 0; j < n; ++j) {
-      const double x0 = x[size_t(j)], step = 1e-6 * (x0 == 0 ? 1 : std::abs(x0));  // (as Ceres')
-      x[size_t(j)] = x0 + step;
-      std::shared_ptr<const CameraPair> hi = builder_.hold(x.data());
-      x[size_t(j)] = x0 - step;
-      std::shared_ptr<const CameraPair> lo = builder_.hold(x.data());
-      x[size_t(j)] = x0;
-      const double span = (hi ? step : 0) + (lo ? step : 0);  // one-sided where one is refused
-      if (!hi) hi = c0;
-      if (!lo) lo = c0;
-      if (!goals_.derivative(index_, *c0, *lo, *hi, span, uv, dr_duv, col.data())) return false;
+      if (!exact_column(*c0, size_t(j), uv, dr_duv, col.data()) &&
+          !difference_column(c0, x, j, uv, dr_duv, col.data()))
+        return false;
       for (int i = 0; i < m; ++i) jac[0][size_t(i * n + j)] = col[size_t(i)];
     }
     return true;
   }
 
  private:
+  // Column j with duv/dk from the camera's exact ray derivative (VirtualCamera::key_derivative);
+  // false where it gives none (then by differences). Magnification's term at fixed positions is a
+  // derivative of the ray differentials, which the camera does not give: by differences.
+  bool exact_column(const CameraPair& c0, size_t j, const std::vector<Vec2>& uv,
+                    const std::vector<std::vector<double>>& dr_duv, double* col) const {
+    const auto* cam = dynamic_cast<const VirtualCamera*>(c0.camera);
+    if (!cam || !keys_[j] || goals_.moves_at_fixed_positions(index_)) return false;
+    const CameraKey& key = *keys_[j];
+    const PositionDerivative exact = [&](const Vec3& p, Vec2 at, Vec2* d) {
+      Vec3 dorg, ddir;
+      return cam->key_derivative(key, at, &dorg, &ddir) &&
+             image_position_derivative(*cam, p, at, dorg, ddir, d);
+    };
+    return goals_.derivative(index_, exact, uv, dr_duv, col);
+  }
+
+  // Column j through the cameras rebuilt with the key at x -+ h.
+  bool difference_column(const std::shared_ptr<const CameraPair>& c0, std::vector<double>& x, int j,
+                         const std::vector<Vec2>& uv,
+                         const std::vector<std::vector<double>>& dr_duv, double* col) const {
+    const double x0 = x[size_t(j)], step = 1e-6 * (x0 == 0 ? 1 : std::abs(x0));  // (as Ceres')
+    x[size_t(j)] = x0 + step;
+    std::shared_ptr<const CameraPair> hi = builder_.hold(x.data());
+    x[size_t(j)] = x0 - step;
+    std::shared_ptr<const CameraPair> lo = builder_.hold(x.data());
+    x[size_t(j)] = x0;
+    const double span = (hi ? step : 0) + (lo ? step : 0);  // one-sided where one is refused
+    if (!hi) hi = c0;
+    if (!lo) lo = c0;
+    return goals_.derivative(index_, *c0, *lo, *hi, span, uv, dr_duv, col);
+  }
+
   const Goals& goals_;
   size_t index_;
   CameraBuilder& builder_;
+  const std::vector<std::optional<CameraKey>>& keys_;
 };
 
 struct Run {
@@ -191,7 +246,7 @@ Run run(const std::vector<size_t>& subset, const std::vector<double>& x0, const 
       numeric->SetNumResiduals(goals.residual_count(i));
       cost = numeric;
     } else {
-      cost = new ChainCost(goals, i, builder, n);
+      cost = new ChainCost(goals, i, builder, n, builder.keys());
     }
     ceres::LossFunction* loss = nullptr;
     if (opt.loss == "huber") loss = new ceres::HuberLoss(opt.loss_scale);

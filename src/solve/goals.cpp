@@ -108,16 +108,12 @@ Vec3 off_ray_d(const Vec3& p, const CameraRay& r, const Vec3& dorg, const Vec3& 
 
 }  // namespace
 
-bool image_position_derivative(const Camera& cam, const Camera& minus, const Camera& plus,
-                               double step, const Vec3& p, Vec2 uv, Vec2* duv_dk) {
-  CameraSample cs;
-  cs.uv = uv;
-  const std::optional<CameraRay> r = cam.generate(cs), lo = minus.generate(cs),
-                                 hi = plus.generate(cs);
-  if (!r || !lo || !hi || !(step > 0)) return false;
-  const Vec3 fu = off_ray_d(p, *r, r->dorg_du, r->ddir_du);
-  const Vec3 fv = off_ray_d(p, *r, r->dorg_dv, r->ddir_dv);
-  const Vec3 fk = (off_ray(p, *hi) - off_ray(p, *lo)) * (1 / step);
+namespace {
+
+// duv/dk from F's derivative fk = dF/dk at uv (the normal equations of [fu fv] duv = -fk).
+bool solve_position(const CameraRay& r, const Vec3& p, const Vec3& fk, Vec2* duv_dk) {
+  const Vec3 fu = off_ray_d(p, r, r.dorg_du, r.ddir_du);
+  const Vec3 fv = off_ray_d(p, r, r.dorg_dv, r.ddir_dv);
   // The normal equations of [fu fv] duv = -fk.
   const double a = dot(fu, fu), b = dot(fu, fv), c = dot(fv, fv);
   const double det = a * c - b * b;
@@ -125,6 +121,26 @@ bool image_position_derivative(const Camera& cam, const Camera& minus, const Cam
   const double gu = -dot(fu, fk), gv = -dot(fv, fk);
   *duv_dk = {(c * gu - b * gv) / det, (a * gv - b * gu) / det};
   return std::isfinite(duv_dk->x) && std::isfinite(duv_dk->y);
+}
+
+}  // namespace
+
+bool image_position_derivative(const Camera& cam, const Camera& minus, const Camera& plus,
+                               double step, const Vec3& p, Vec2 uv, Vec2* duv_dk) {
+  CameraSample cs;
+  cs.uv = uv;
+  const std::optional<CameraRay> r = cam.generate(cs), lo = minus.generate(cs),
+                                 hi = plus.generate(cs);
+  if (!r || !lo || !hi || !(step > 0)) return false;
+  return solve_position(*r, p, (off_ray(p, *hi) - off_ray(p, *lo)) * (1 / step), duv_dk);
+}
+
+bool image_position_derivative(const Camera& cam, const Vec3& p, Vec2 uv, const Vec3& dorg,
+                               const Vec3& ddir, Vec2* duv_dk) {
+  CameraSample cs;
+  cs.uv = uv;
+  const std::optional<CameraRay> r = cam.generate(cs);
+  return r && solve_position(*r, p, off_ray_d(p, *r, dorg, ddir), duv_dk);
 }
 
 Goals::Goals(const CameraGoals& goals, const Scene& loaded, const Camera& start, int width,

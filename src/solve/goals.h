@@ -3,6 +3,7 @@
 // magnification in percent of their target.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,12 @@ struct CameraPair {
 // h2). False when a camera has no ray at uv or the rays do not decide duv (dF/duv singular).
 bool image_position_derivative(const Camera& cam, const Camera& minus, const Camera& plus,
                                double step, const Vec3& p, Vec2 uv, Vec2* duv_dk);
+// The same with dF/dk from the rays' own derivative with respect to the key at uv (`dorg`,
+// `ddir`: VirtualCamera::key_derivative, exact).
+bool image_position_derivative(const Camera& cam, const Vec3& p, Vec2 uv, const Vec3& dorg,
+                               const Vec3& ddir, Vec2* duv_dk);
+// How the image position `uv` of the world point `p` moves with a key: duv/dk (false: undecided).
+using PositionDerivative = std::function<bool(const Vec3& p, Vec2 uv, Vec2* duv_dk)>;
 
 class Goals {
  public:
@@ -64,10 +71,15 @@ class Goals {
   std::vector<std::vector<double>> by_positions(size_t i, const CameraPair& cam,
                                                 const std::vector<Vec2>& uv) const;
   // dr/dk (residual_count values into `col`) by the chain rule: dr/duv (by_positions at `uv`, the
-  // positions through `cam`) times duv/dk (image_position_derivative with `minus`, `plus`: the
-  // cameras with the key at k - h1, k + h2, step = h1 + h2), plus for moves_at_fixed_positions
-  // the difference of residuals_at through `minus` and `plus` at the same uv. Never the inverse
-  // map. False when a position's derivative is undecided.
+  // positions through `cam`) times duv/dk (`duv_dk`), plus for moves_at_fixed_positions
+  // `at_fixed_positions` (dr/dk at the same uv). Never the inverse map. False when a position's
+  // derivative is undecided.
+  bool derivative(size_t i, const PositionDerivative& duv_dk, const std::vector<Vec2>& uv,
+                  const std::vector<std::vector<double>>& dr_duv, double* col,
+                  const double* at_fixed_positions = nullptr) const;
+  // The same with duv/dk by image_position_derivative with `minus`, `plus` (the cameras with the
+  // key at k - h1, k + h2, step = h1 + h2), and the fixed-position term the difference of
+  // residuals_at through them.
   bool derivative(size_t i, const CameraPair& cam, const CameraPair& minus, const CameraPair& plus,
                   double step, const std::vector<Vec2>& uv,
                   const std::vector<std::vector<double>>& dr_duv, double* col) const;

@@ -29,25 +29,36 @@ std::vector<std::vector<double>> Goals::by_positions(size_t i, const CameraPair&
   return d;
 }
 
+bool Goals::derivative(size_t i, const PositionDerivative& duv_dk, const std::vector<Vec2>& uv,
+                       const std::vector<std::vector<double>>& dr_duv, double* col,
+                       const double* at_fixed_positions) const {
+  const size_t m = size_t(residual_count(i));
+  const std::vector<Vec3> p = points(i);
+  for (size_t j = 0; j < m; ++j) col[j] = at_fixed_positions ? at_fixed_positions[j] : 0;
+  for (size_t k = 0; k < uv.size(); ++k) {
+    if (!std::isfinite(uv[k].x)) continue;  // unseen: a constant penalty
+    Vec2 d;
+    if (!duv_dk(p[k], uv[k], &d)) return false;
+    for (size_t j = 0; j < m; ++j) col[j] += dr_duv[2 * k][j] * d.x + dr_duv[2 * k + 1][j] * d.y;
+  }
+  return true;
+}
+
 bool Goals::derivative(size_t i, const CameraPair& cam, const CameraPair& minus,
                        const CameraPair& plus, double step, const std::vector<Vec2>& uv,
                        const std::vector<std::vector<double>>& dr_duv, double* col) const {
   const size_t m = size_t(residual_count(i));
-  const std::vector<Vec3> p = points(i);
-  for (size_t j = 0; j < m; ++j) col[j] = 0;
-  for (size_t k = 0; k < uv.size(); ++k) {
-    if (!std::isfinite(uv[k].x)) continue;  // unseen: a constant penalty
-    Vec2 d;
-    if (!image_position_derivative(*cam.camera, *minus.camera, *plus.camera, step, p[k], uv[k], &d))
-      return false;
-    for (size_t j = 0; j < m; ++j) col[j] += dr_duv[2 * k][j] * d.x + dr_duv[2 * k + 1][j] * d.y;
+  std::vector<double> fixed(m, 0.0);
+  if (moves_at_fixed_positions(i) && step > 0) {
+    std::vector<double> lo(m), hi(m);
+    residuals_at(i, minus, uv, lo.data());
+    residuals_at(i, plus, uv, hi.data());
+    for (size_t j = 0; j < m; ++j) fixed[j] = (hi[j] - lo[j]) / step;
   }
-  if (!moves_at_fixed_positions(i) || !(step > 0)) return true;
-  std::vector<double> lo(m), hi(m);
-  residuals_at(i, minus, uv, lo.data());
-  residuals_at(i, plus, uv, hi.data());
-  for (size_t j = 0; j < m; ++j) col[j] += (hi[j] - lo[j]) / step;
-  return true;
+  const PositionDerivative by_cameras = [&](const Vec3& p, Vec2 at, Vec2* d) {
+    return image_position_derivative(*cam.camera, *minus.camera, *plus.camera, step, p, at, d);
+  };
+  return derivative(i, by_cameras, uv, dr_duv, col, fixed.data());
 }
 
 }  // namespace anamorph::solve
