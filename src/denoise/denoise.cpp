@@ -44,15 +44,30 @@ struct Halves {
   const Planes& vb() const { return var_b.empty() ? var_a : var_b; }
 };
 
+// Divides channels of `p` by in.demodulation (to the power `power`) where covered.
+void demodulate(const DenoiseInput& in, const Planes& cov, int power, Planes& p) {
+  if (!in.demodulation) return;
+  for (int c = 0; c < 3; ++c)
+    for (size_t i = 0; i < p.pixels(); ++i) {
+      if (!(cov.plane(0)[i] > 0.0f)) continue;
+      const float d = in.demodulation[3 * i + size_t(c)];
+      p.plane(c)[i] /= power == 2 ? d * d : d;
+    }
+}
+
 Halves read_colors(const DenoiseInput& in, const Planes& cov, MemoryMeter* meter) {
   const int w = in.width, h = in.height;
   Halves c{Planes(w, h, 3, meter), Planes(w, h, 3, meter), Planes(w, h, 3, meter), Planes()};
   copy_channels(in.color_a, 3, cov, c.a, 0);
   copy_channels(in.color_b, 3, cov, c.b, 0);
+  demodulate(in, cov, 1, c.a);
+  demodulate(in, cov, 1, c.b);
   if (in.variance_a) {
     c.var_b = Planes(w, h, 3, meter);
     copy_channels(in.variance_a, 3, cov, c.var_a, 0);
     copy_channels(in.variance_b, 3, cov, c.var_b, 0);
+    demodulate(in, cov, 2, c.var_a);
+    demodulate(in, cov, 2, c.var_b);
   } else {
     nfor::two_buffer_variance(c.a, c.b, cov, kColorVariance, c.var_a, meter);
   }
@@ -155,13 +170,15 @@ void second_pass(Candidate& r, std::pair<Planes, Planes>& features, const Planes
   nfor::collaborative_regression(in, outs, meter, o.cancel);
 }
 
-// Interleaved straight RGB: 0 where uncovered, negative values clamped to 0.
-void write_output(const Planes& result, const Planes& cov, float* out_rgb) {
+// Interleaved straight RGB (modulated again): 0 where uncovered, negative values clamped to 0.
+void write_output(const DenoiseInput& in, const Planes& result, const Planes& cov, float* out_rgb) {
   const size_t n = result.pixels();
   for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c)
-      out_rgb[3 * i + size_t(c)] =
-          cov.plane(0)[i] > 0.0f ? std::max(result.plane(c)[i], 0.0f) : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+      const size_t o = 3 * i + size_t(c);
+      const float d = in.demodulation ? in.demodulation[o] : 1.0f;
+      out_rgb[o] = cov.plane(0)[i] > 0.0f ? std::max(result.plane(c)[i] * d, 0.0f) : 0.0f;
+    }
 }
 
 }  // namespace
@@ -202,7 +219,7 @@ DenoiseStats denoise(const DenoiseInput& in, const DenoiseOptions& o, float* out
         result.plane(c)[i] = 0.5f * (r.a.plane(c)[i] + r.b.plane(c)[i]);
   }
   if (cancelled(o)) return stop();
-  write_output(result, cov, out_rgb);
+  write_output(in, result, cov, out_rgb);
   stats.peak_bytes = meter.peak();
   return stats;
 }

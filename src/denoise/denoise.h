@@ -3,6 +3,11 @@
 // Moon, Iglesias-Guitián, Adler, Mitchell, Jarosz, Novák; EGSR 2016, CGF 35(4)).
 //
 // The pipeline, and where each step lives:
+//  0. Demodulation (optional, DenoiseInput::demodulation; not in the paper, the common practice of
+//     production denoisers): the colour divided by a per-pixel factor, typically the albedo, and
+//     the result multiplied by it. Beside a texture edge the NL-means weights compare patches
+//     that the edge makes unlike, so an edge pixel keeps few neighbours and most of its noise;
+//     demodulated, the texture is gone from what the weights compare.
 //  1. Variances (variance.h): from the two half buffers, (a - b)²/2 averaged over a 5×5 box,
 //     unless the renderer supplies the variance of each half's mean.
 //  2. Feature prefiltering (feature_prefilter.h, paper 5.1): every feature channel of every half
@@ -86,6 +91,12 @@ struct DenoiseInput {
   // Coverage (alpha) in [0, 1], one float per pixel: the fraction of the pixel's samples that had
   // a ray. nullptr: every pixel fully covered.
   const float* coverage = nullptr;
+  // Optional demodulation, RGB per pixel (> 0 where covered): the colour of both halves (and
+  // their variances, by its square) is divided by it before filtering and the result multiplied
+  // by it after. Typically the first hit's albedo (1 where the samples miss), from samples
+  // enough that its edges are nearly noise-free: a texture edge is then flat in what the weights
+  // compare, so the neighbours across it count.
+  const float* demodulation = nullptr;
   // Regressors, each averaged over the samples that hit a surface: typically albedo (3), normal
   // (3) and depth (1), optionally the direct light's visibility (1); at most 12 channels in all.
   // Any units and space (depth in scene units, world-space normals), the same in both halves.

@@ -53,6 +53,14 @@ void check_planes(const DenoiseInput& in) {
              ", not in [0, 1]");
   check_finite(in.color_a, 3, in.coverage, in, "color_a");
   check_finite(in.color_b, 3, in.coverage, in, "color_b");
+  if (in.demodulation) {
+    check_finite(in.demodulation, 3, in.coverage, in, "demodulation");
+    const size_t n3 = 3 * n;
+    for (size_t i = 0; i < n3; ++i)
+      if (!(in.coverage && !(in.coverage[i / 3] > 0.0f)) && !(in.demodulation[i] > 0.0f))
+        fail("demodulation at pixel " + pixel(i / 3, in.width) + " is " + text(in.demodulation[i]) +
+             ", not > 0");
+  }
   if (in.variance_a) {
     check_finite(in.variance_a, 3, in.coverage, in, "variance_a");
     check_finite(in.variance_b, 3, in.coverage, in, "variance_b");

@@ -23,6 +23,8 @@ constexpr int kAlbedo = 0, kNormal = 3, kDepth = 6, kHit = 7, kFeatureChannels =
 // The feature pass's samples: kFeatureSppFactor times the colour's, at most kFeatureSppMost (and
 // never fewer than the colour's); its films hold the albedo, normal and depth layers.
 constexpr int kFeatureSppFactor = 8, kFeatureSppMost = 256, kFeatureLayerFloats = 7;
+// The least factor the colour is demodulated by (demodulation_of).
+constexpr float kLeastDemodulation = 0.02f;
 
 struct Layers {
   size_t albedo = 0, normal = 0, depth = 0;
@@ -159,6 +161,25 @@ void exact_rim_coverage(const Scene& scene, int w, int h, std::vector<float>& co
     if (rim[i]) coverage[i] = std::max(exact[i], least);
 }
 
+// What the colour is demodulated by (denoise.h), per pixel and channel: the albedo of the hits
+// mixed with 1 for the misses by the hit fraction (the features' mean over both halves: many
+// samples), at least kLeastDemodulation (a black texture's colour is not divided by 0).
+std::vector<float> demodulation_of(const Half& a, const Half& b,
+                                   const std::vector<float>& coverage) {
+  std::vector<float> d(coverage.size() * 3, 1.0f);
+  for (size_t i = 0; i < coverage.size(); ++i) {
+    if (coverage[i] <= 0) continue;
+    const float* fa = &a.features[i * kFeatureChannels];
+    const float* fb = &b.features[i * kFeatureChannels];
+    const float hit = 0.5f * (fa[kHit] + fb[kHit]);
+    for (int c = 0; c < 3; ++c) {
+      const float albedo = 0.5f * (fa[kAlbedo + c] + fb[kAlbedo + c]);
+      d[i * 3 + size_t(c)] = std::max(hit * albedo + (1 - hit), kLeastDemodulation);
+    }
+  }
+  return d;
+}
+
 // The denoised straight colour written as the film's beauty: rgb sums = colour x coverage sum,
 // and the coverage sum = coverage x samples (the camera's coverage at a rim).
 void write_beauty(Film& film, const std::vector<float>& rgb, const std::vector<float>& coverage) {
@@ -206,8 +227,8 @@ uint64_t denoise_film_bytes(int width, int height, size_t film_aov_floats, int t
   const uint64_t half = sizeof(PixelSum) + 4 * film_aov_floats +
                         2 * (sizeof(PixelSum) + 4 * uint64_t(kFeatureLayerFloats));
   // Inputs: two halves of colour and features, their coverage sums and counts, the merged
-  // coverage, the output colour; flags.
-  const uint64_t planes = 4 * (2 * (3 + kFeatureChannels + 2) + 1 + 3) + 4;
+  // coverage, the demodulation, the output colour; flags.
+  const uint64_t planes = 4 * (2 * (3 + kFeatureChannels + 2) + 1 + 3 + 3) + 4;
   return pixels * (half + planes) + denoise_bytes(width, height, kFeatureChannels, {}, threads);
 }
 
@@ -226,6 +247,8 @@ DenoiseStats denoise_halves(Film& a, Film& film, const DenoiseOptions& options, 
   in.coverage = coverage.data();
   in.features = {{ha.features.data(), hb.features.data(), kFeatureChannels}};
   std::vector<float> out(pixels * 3);
+  const std::vector<float> demodulation = demodulation_of(ha, hb, coverage);
+  in.demodulation = demodulation.data();
   const DenoiseStats st = denoise(in, options, out.data());
   merge(a, film);
   if (!st.cancelled) write_beauty(film, out, coverage);

@@ -12,11 +12,13 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "denoise/denoise.h"
+#include "math/rng.h"
 #include "math/simd.h"
 #include "synthetic.h"
 
@@ -183,6 +185,81 @@ TEST(Denoise, PiecewiseConstantEdgeStaysSharp) {
         << (texture ? "texture" : "shadow") << ": RMSE " << before << " -> " << after;
     EXPECT_LT(worst, 0.1) << (texture ? "texture" : "shadow") << ": worst error beside the edge";
   }
+}
+
+// A textured plane: a disc and a slanted stripe of albedo (edges at every angle and sub-pixel
+// position) under light that varies smoothly. Each half's colour is the light times the albedo at
+// 8 random points of the pixel (a 16-spp render's half: beside an edge the noise is which side
+// its samples fall on), plus Gaussian noise; the albedo feature is the pixel's exact mean (16 × 16
+// points: the feature pass's many samples). Demodulated by that albedo, the texture is flat to
+// the weights, the edge pixels keep their neighbours across the edge, and the colour comes back
+// as the light (smooth) times the exact albedo.
+Synthetic textured_plane(int side, std::vector<uint8_t>& edge) {
+  Synthetic s(side, side);
+  const auto albedo_at = [&](double x, double y, int c) {
+    const float disc[3] = {0.2f, 0.5f, 0.8f}, stripe[3] = {0.3f, 0.6f, 0.1f};
+    const double dx = x - 0.42 * side, dy = y - 0.45 * side;
+    if (dx * dx + dy * dy < 0.06 * side * side) return disc[c];
+    if (std::fabs(x - 0.4 * y - 0.62 * side) < 0.09 * side) return stripe[c];
+    return 0.8f;
+  };
+  const auto light = [&](int x, int y) {
+    return 0.7f + 0.2f * std::sin(float(x) / 9.0f) * std::cos(float(y) / 13.0f);
+  };
+  edge.assign(s.pixels(), 0);
+  std::vector<float> a(3 * s.pixels()), b(3 * s.pixels());
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const size_t i = size_t(y) * side + x;
+      float first[3] = {albedo_at(x, y, 0), 0, 0}, mean[3] = {0, 0, 0};
+      for (int j = 0; j < 256; ++j)
+        for (int c = 0; c < 3; ++c) {
+          const float v = albedo_at(x + (j % 16 + 0.5) / 16, y + (j / 16 + 0.5) / 16, c);
+          mean[c] += v / 256.0f;
+          if (c == 0 && v != first[0]) edge[i] = 1;
+        }
+      Rng rng(i, 7);
+      for (std::vector<float>* half : {&a, &b}) {
+        float sum[3] = {0, 0, 0};
+        for (int k = 0; k < 8; ++k) {
+          const double u = rng.uniform(), v = rng.uniform();
+          for (int c = 0; c < 3; ++c) sum[c] += albedo_at(x + u, y + v, c) / 8.0f;
+        }
+        for (int c = 0; c < 3; ++c) (*half)[3 * i + c] = light(x, y) * sum[c];
+      }
+      for (int c = 0; c < 3; ++c) {
+        s.albedo[3 * i + c] = mean[c];
+        s.clean[3 * i + c] = light(x, y) * mean[c];
+      }
+    }
+  s.add_noise(0.03f, 5);
+  for (size_t i = 0; i < a.size(); ++i) {
+    s.a[i] += a[i] - s.clean[i];
+    s.b[i] += b[i] - s.clean[i];
+  }
+  return s;
+}
+
+// Measured (48 × 48): RMSE at the edge pixels (those whose albedo mixes two values) 0.0365 in the
+// input, 0.0201 denoised without demodulation, 0.0068 with it (MSE 8.9× lower); elsewhere 0.0212,
+// 0.0069 and 0.0059. The test asks for 4× at the edges and no loss elsewhere.
+TEST(Denoise, DemodulatedTextureEdgesKeepTheirNeighbours) {
+  std::vector<uint8_t> edge;
+  const Synthetic s = textured_plane(48, edge);
+  const auto at_edge = [&](int x, int y) { return edge[size_t(y) * 48 + x] != 0; };
+  const auto inside = [&](int x, int y) { return !at_edge(x, y); };
+  DenoiseInput in = s.input();
+  const std::vector<float> plain = run(in);
+  in.demodulation = s.albedo.data();
+  const std::vector<float> demodulated = run(in);
+  const std::vector<float> noisy = test::mean_of_halves(s);
+  for (const auto& [name, keep] : {std::pair{"edge", std::function<bool(int, int)>(at_edge)},
+                                   std::pair{"inside", std::function<bool(int, int)>(inside)}})
+    std::printf("%s RMSE: input %.5f, plain %.5f, demodulated %.5f\n", name,
+                std::sqrt(test::mse(s, noisy, keep)), std::sqrt(test::mse(s, plain, keep)),
+                std::sqrt(test::mse(s, demodulated, keep)));
+  EXPECT_LT(test::mse(s, demodulated, at_edge), 0.25 * test::mse(s, plain, at_edge));
+  EXPECT_LT(test::mse(s, demodulated, inside), test::mse(s, plain, inside));
 }
 
 // A fisheye's image circle in a side × side frame: no ray in the corners, a partially covered
@@ -391,6 +468,12 @@ TEST(Denoise, RejectsBadInputNamingIt) {
   in.features.push_back({s.albedo.data(), s.albedo.data(), 3});
   in.features.push_back({s.albedo.data(), s.albedo.data(), 3});
   EXPECT_NE(message(in).find("13 feature channels, at most 12"), std::string::npos) << message(in);
+  in = s.input();
+  std::vector<float> demodulation(s.clean.size(), 1.0f);
+  demodulation[3 * (32 * 64 + 32) + 2] = 0.0f;  // covered
+  in.demodulation = demodulation.data();
+  EXPECT_NE(message(in).find("demodulation at pixel (32, 32) is 0, not > 0"), std::string::npos)
+      << message(in);
   DenoiseOptions o;
   o.window_radius = 17;
   EXPECT_NE(message(s.input(), o).find("window_radius is 17"), std::string::npos);
