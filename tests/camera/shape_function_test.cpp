@@ -196,7 +196,9 @@ TEST(QuadricOrg, OtherKindsSatisfyTheirEquations) {
       {"hyperboloid_two_sheets", [](Vec3 x) { return x.y * x.y - x.x * x.x - x.z * x.z - 1; }},
       {"paraboloid", [](Vec3 x) { return x.x * x.x + x.z * x.z - x.y; }},
   };
-  for (const auto& [kind, implicit] : kinds) {
+  for (const auto& entry : kinds) {
+    const char* kind = entry.first;  // (clang 14 cannot capture a structured binding)
+    const auto& implicit = entry.second;
     const auto f = make_org("quadric", cat("kind = \"", kind, "\"\n", m));
     for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
       const Vec3 x = solve(rows, s.p - Vec3{0, 1, 0});
