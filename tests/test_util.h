@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "math/sanitizers.h"
+
 namespace anamorph::test {
 
 inline std::filesystem::path data_dir() { return ANAMORPH_TEST_DATA; }
@@ -26,7 +28,7 @@ inline bool have_shared() { return std::filesystem::exists(shared_scenes() / "MA
 
 // Whether this build runs under AddressSanitizer or ThreadSanitizer: 5-20x slower, so end-to-end
 // renders there use smaller images (the same code paths; the suite's time is bounded).
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if defined(ANAMORPH_ASAN) || defined(ANAMORPH_TSAN)
 inline constexpr bool kSanitized = true;
 #else
 inline constexpr bool kSanitized = false;

@@ -20,6 +20,8 @@
 #include <thread>
 #include <vector>
 
+#include "math/sanitizers.h"
+
 namespace anamorph {
 
 // The most threads a caller may ask for (0 means all cores): the one check behind the CLI's
@@ -41,7 +43,7 @@ inline int arena_concurrency(long long n) {
   return n > 0 ? int(n) : tbb::task_arena::automatic;
 }
 
-#if defined(__SANITIZE_THREAD__)
+#if defined(ANAMORPH_TSAN)
 inline constexpr bool kParallelWithStdThreads = true;
 #else
 inline constexpr bool kParallelWithStdThreads = false;

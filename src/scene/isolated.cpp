@@ -20,6 +20,7 @@
 #include <fstream>
 #include <new>
 
+#include "math/sanitizers.h"
 #include "scene/loaders.h"
 
 #if defined(__has_feature)
@@ -27,7 +28,7 @@
 #define ANAMORPH_SANITIZER_DEATH_CALLBACK 1
 #endif
 #endif
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(ANAMORPH_ASAN)
 #define ANAMORPH_SANITIZER_DEATH_CALLBACK 1
 #endif
 #ifdef ANAMORPH_SANITIZER_DEATH_CALLBACK

@@ -42,7 +42,7 @@ Outcome run_bounded(const std::vector<std::string>& args, const fs::path& log,
                     std::chrono::seconds limit = std::chrono::seconds(30)) {
   const pid_t pid = fork();
   if (pid == 0) {
-#ifndef __SANITIZE_ADDRESS__
+#ifndef ANAMORPH_ASAN
     const rlimit as{rlim_t(4) << 30, rlim_t(4) << 30};
     setrlimit(RLIMIT_AS, &as);
 #endif

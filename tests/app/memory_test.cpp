@@ -75,7 +75,7 @@ TEST(MemoryLimit, AFrameTooBigForTheMachineIsRefused) {
 // An address-space limit (ulimit -v) counts: 16384^2 in a film (8.8 GB) does not fit in 4 GB.
 // (Not under AddressSanitizer, which reserves terabytes of address space at start.)
 TEST(MemoryLimit, AnAddressSpaceLimitIsRespected) {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if defined(ANAMORPH_ASAN) || defined(ANAMORPH_TSAN)
   GTEST_SKIP() << "sanitizers need unlimited address space";
 #else
   const fs::path out =

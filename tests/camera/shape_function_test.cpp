@@ -140,8 +140,10 @@ TEST(TorusOrg, ImplicitEquation) {
 
 TEST(SuperquadricOrg, ImplicitEquation) {
   const Vec3 c{0.5, 0, 1}, r{1, 2, 0.5};
-  for (const auto& [ens, eew] :
+  for (const auto& exponents :
        {std::pair{1.0, 1.0}, std::pair{0.3, 1.7}, std::pair{2.0, 0.5}, std::pair{0.8, 2.0}}) {
+    // (Not a structured binding: clang 14 cannot capture one in the lambda below.)
+    const double ens = exponents.first, eew = exponents.second;
     const auto f = make_org("superquadric",
                             cat("center = [0.5, 0, 1]\nradii = [1, 2, 0.5]\naxis = [0, 0, 1]\n",
                                 "exponent_ns = ", ens, "\nexponent_ew = ", eew));
@@ -194,7 +196,9 @@ TEST(QuadricOrg, OtherKindsSatisfyTheirEquations) {
       {"hyperboloid_two_sheets", [](Vec3 x) { return x.y * x.y - x.x * x.x - x.z * x.z - 1; }},
       {"paraboloid", [](Vec3 x) { return x.x * x.x + x.z * x.z - x.y; }},
   };
-  for (const auto& [kind, implicit] : kinds) {
+  for (const auto& entry : kinds) {
+    const char* kind = entry.first;  // (clang 14 cannot capture a structured binding)
+    const auto& implicit = entry.second;
     const auto f = make_org("quadric", cat("kind = \"", kind, "\"\n", m));
     for_grid(*f, [&](Vec2 uv, const SurfaceSample& s) {
       const Vec3 x = solve(rows, s.p - Vec3{0, 1, 0});

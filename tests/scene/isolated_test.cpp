@@ -75,7 +75,7 @@ TEST(Isolated, HangIsStoppedAtTheTimeLimit) {
 }
 
 TEST(Isolated, RunawayAllocationHitsTheMemoryLimit) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(ANAMORPH_ASAN)
   GTEST_SKIP() << "AddressSanitizer's allocator reports, not throws, past the limit";
 #else
   IsolationLimits l;

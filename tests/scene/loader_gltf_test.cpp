@@ -297,7 +297,7 @@ class GltfMaterials : public ::testing::Test {
                                                              test::data_dir() / "models" / png))}}};
     w.j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}}};
     w.j["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}}};
-    w.j["materials"] = {material};
+    w.j["materials"] = json::array({material});
     json attrs = {{"POSITION", w.floats(kQuad, "VEC3")},
                   {"TEXCOORD_0", w.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2")}};
     if (uv1) attrs["TEXCOORD_1"] = w.floats({9, 9, 9, 9, 9, 9, 9, 9}, "VEC2");
