@@ -17,9 +17,6 @@ build_lock() {
 }
 
 # ccache, when the machine has it, makes rebuilds and second checkouts cheap; nothing needs it.
-# (The tests' precompiled headers are cacheable only with these sloppiness settings.)
 cmake_launcher_args() {
-  if command -v ccache >/dev/null; then
-    echo "-DCMAKE_CXX_COMPILER_LAUNCHER=env;CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime;ccache"
-  fi
+  if command -v ccache >/dev/null; then echo "-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"; fi
 }
